@@ -1,0 +1,225 @@
+"""Command line: `python -m dynpaint_addon <command>` (see --help of each command).
+
+User mistakes (missing files, unreadable images, bad recipes or options) end with one line
+`error: …` on stderr and exit status 1 (2 for malformed command lines); never a traceback.
+"""
+import argparse
+import os
+import sys
+import time
+
+import numpy as np
+
+from . import params as P
+from .core.colour import linear_to_srgb
+from .core.lights import Light
+from .core.pipeline import render
+from .core.sampling import resample
+from .core.shadow import QUALITY, ShadowStats, cos_theta_shadow
+from .core.shape import default_preblur_px, height_field_px, normals_from_height_px, \
+    decode_normal_map, slopes_from_normals
+from .imageio import ImageReadError, read_image, write_exr, write_png
+from .recipe import RecipeError, load_images, load_recipe
+
+
+class CommandError(Exception):
+    """A user-facing problem with a command's options."""
+
+
+def write_render(path, rgba):
+    """Write premultiplied linear RGBA: .exr as is (float), .png as 8-bit sRGB straight alpha."""
+    ext = os.path.splitext(path)[1].lower()
+    if ext == ".exr":
+        write_exr(path, rgba)
+    elif ext == ".png":
+        a = rgba[..., 3:4]
+        straight = np.where(a > 0, rgba[..., :3] / np.where(a > 0, a, 1), 0)
+        write_png(path, np.concatenate([linear_to_srgb(straight), a], axis=-1), bits=8)
+    else:
+        raise CommandError(f"{path}: unsupported output format '{ext}' (use .png or .exr)")
+
+
+def _resample_images(images, width):
+    """--width: resample every per-pixel image so the shape image is `width` pixels wide."""
+    shape = images["shape"].pixels
+    h0, w0 = shape.shape[:2]
+    height = max(1, round(h0 * width / w0))
+    out = {}
+    for ch, img in images.items():
+        if ch in ("environment", "background"):
+            out[ch] = img   # sampled by UV: any size works
+        else:
+            img.pixels = resample(img.pixels, height, width)
+            out[ch] = img
+    return out
+
+
+def cmd_render(args):
+    if args.engine != "numpy":
+        raise CommandError(f"--engine {args.engine}: only 'numpy' is available from the command "
+                           "line so far (EEVEE and Cycles come with the Blender add-on)")
+    if args.width is not None and args.width < 1:
+        raise CommandError(f"--width must be at least 1 pixel, got {args.width}")
+    recipe = load_recipe(args.recipe)
+    images = load_images(recipe)
+    if args.width:
+        images = _resample_images(images, args.width)
+    dtype = np.float64 if args.float64 else np.float32
+    t = time.perf_counter()
+    result = render(images, recipe.lights, recipe.params, dtype)
+    ms = (time.perf_counter() - t) * 1000
+    for w in result.warnings:
+        print(f"warning: {w}", file=sys.stderr)
+    write_render(args.out, result.rgba)
+    h, w = result.rgba.shape[:2]
+    print(f"rendered {w}×{h} in {ms:.0f} ms → {args.out}")
+
+
+def _shape_for_bake(args):
+    img = read_image(args.shape)
+    dtype = np.float64 if args.quality == "reference" else np.float32
+    if args.kind == "height":
+        sigma = default_preblur_px(img.bits) if args.preblur is None else args.preblur
+        z = height_field_px(img.grey().astype(dtype), args.height_scale, sigma)
+        return normals_from_height_px(z, args.z_min), z, None, dtype
+    n = decode_normal_map(img.rgb().astype(dtype), args.flip_green, args.z_min)
+    return n, None, slopes_from_normals(n), dtype
+
+
+def cmd_bake_shadow(args):
+    if not os.path.splitext(args.out)[1].lower() == ".exr":
+        raise CommandError(f"--out {args.out}: the shadow term is written as a float EXR (.exr)")
+    if args.offset < 0:
+        raise CommandError(f"--offset must be ≥ 0 image widths, got {args.offset}")
+    if args.steps is not None and args.steps < 0:
+        raise CommandError(f"--steps must be ≥ 0, got {args.steps}")
+    if args.height_scale < 0:
+        raise CommandError(f"--height-scale must be ≥ 0 image widths, got {args.height_scale}")
+    try:
+        light = Light("sun", args.light) if args.light else Light("point", args.point_light)
+    except ValueError as exc:
+        raise CommandError(str(exc)) from None
+    preset = QUALITY[args.quality]
+    steps = preset["steps"] if args.steps is None else args.steps
+    n, z, slopes, dtype = _shape_for_bake(args)
+    stats = ShadowStats()
+    t0 = time.perf_counter()
+    t = cos_theta_shadow(n, light, args.offset, steps, heights_px=z, slopes=slopes, stats=stats)
+    ms = (time.perf_counter() - t0) * 1000
+    write_exr(args.out, t)
+    if args.verbose:
+        h, w = t.shape
+        print(f"bake: {ms:.1f} ms for {w}×{h} ({args.kind} map, {light.kind} light)")
+        print(f"settings: quality={args.quality} steps={steps} (marched {stats.steps}) "
+              f"dtype={np.dtype(dtype).name} offset={args.offset} image widths "
+              f"longest march={stats.max_march_px:.1f} px")
+    print(f"wrote {args.out}")
+
+
+def cmd_demo(args):
+    from .testpainting import test_images, test_recipe
+    recipe = test_recipe()
+    t = time.perf_counter()
+    result = render(test_images(args.size), recipe.lights, recipe.params)
+    ms = (time.perf_counter() - t) * 1000
+    write_render(args.out, result.rgba)
+    print(f"rendered the built-in test painting ({args.size}×{args.size}, numpy core, "
+          f"cos-θ shadows, 2 lights) in {ms:.0f} ms → {args.out}")
+
+
+def cmd_make_test_painting(args):
+    from .testpainting import write_test_painting
+    path = write_test_painting(args.folder, args.size)
+    print(f"wrote {path}")
+
+
+def cmd_params(args):
+    section = None
+    for p in P.PARAMS:
+        if p.section != section:
+            section = p.section
+            print(f"\n[{section}]")
+        rng = f" range [{p.min}, {p.max}]" if p.min is not None else ""
+        choices = f" one of: {', '.join(p.choices)}" if p.choices else ""
+        unit = f" ({p.unit})" if p.unit else ""
+        print(f"  {p.key} = {p.default!r}{unit}{rng}{choices}  {p.spec}\n      {p.help}")
+    print("\n[images]  (paths relative to the recipe)")
+    for ch, (what, space) in P.CHANNELS.items():
+        print(f"  {ch}: {what} [{space}]")
+    print("\n[[lights]]  type = \"sun\" with direction = [x, y, z] (toward the light), or "
+          "\"point\" with position = [x, y, z] (image widths from the painting's centre);\n"
+          "            color = [r, g, b] (linear), strength = k ≥ 0 (pipeline.md §5)")
+
+
+def build_parser():
+    ap = argparse.ArgumentParser(
+        prog="python -m dynpaint_addon",
+        description="Dynamic Painting: relight a painting from its images (pipeline.md). "
+                    "Lengths are in image widths; the painting frame has x right, y up, z toward "
+                    "the viewer, origin at the painting's centre.")
+    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    r = sub.add_parser("render", help="render a recipe to an image",
+                       description="Render a painting recipe (painting.toml) to PNG (8-bit sRGB) "
+                                   "or EXR (linear float, premultiplied RGBA).")
+    r.add_argument("recipe", help="painting recipe (.toml)")
+    r.add_argument("--out", required=True, help="output image (.png or .exr)")
+    r.add_argument("--engine", default="numpy", help="renderer (default numpy, the reference core)")
+    r.add_argument("--width", type=int, help="output width in pixels (default: the shape image's); "
+                                             "every per-pixel image is resampled to it")
+    r.add_argument("--float64", action="store_true", help="compute in float64 (reference)")
+    r.set_defaults(func=cmd_render)
+
+    b = sub.add_parser("bake-shadow", help="bake the raw cos-θ shadow term t = d/max(r, d) to EXR",
+                       description="Bake the raw cos-θ term (pipeline.md §6) of one light as a "
+                                   "one-channel float EXR of the shape image's size.")
+    b.add_argument("shape", metavar="SHAPE", help="normal map or height map image")
+    b.add_argument("--kind", required=True, choices=("height", "normal"), help="what SHAPE holds")
+    b.add_argument("--height-scale", type=float, default=0.05,
+                   help="relief of a white height pixel, in image widths (default 0.05)")
+    b.add_argument("--preblur", type=float, help="height pre-blur σ in pixels (default: 1.5 for "
+                                                 "8-bit images, 0 for 16-bit and float)")
+    b.add_argument("--flip-green", action="store_true", help="normal map with DirectX-style green")
+    b.add_argument("--z-min", type=float, default=0.05, help="smallest normal z (default 0.05)")
+    lg = b.add_mutually_exclusive_group(required=True)
+    lg.add_argument("--light", nargs=3, type=float, metavar=("X", "Y", "Z"),
+                    help="sun: direction toward the light in the painting frame (any length)")
+    lg.add_argument("--point-light", nargs=3, type=float, metavar=("X", "Y", "Z"),
+                    help="point light position, image widths from the painting's centre")
+    b.add_argument("--offset", type=float, default=0.01,
+                   help="d: ray start depth below the surface, image widths (default 0.01)")
+    b.add_argument("--steps", type=int, help="K: march steps (default: from --quality)")
+    b.add_argument("--quality", choices=tuple(QUALITY), default="final",
+                   help="; ".join(f"{k}: K={v['steps']} {v['dtype']}" for k, v in QUALITY.items())
+                   + " (default final)")
+    b.add_argument("--out", required=True, help="output .exr (one channel, Y)")
+    b.add_argument("-v", "--verbose", action="store_true",
+                   help="print the bake's own time (ms, no process start or file I/O) and settings")
+    b.set_defaults(func=cmd_bake_shadow)
+
+    d = sub.add_parser("demo", help="render the built-in test painting (the README's main job)")
+    d.add_argument("--out", default="out/demo.png", help="output image (default out/demo.png)")
+    d.add_argument("--size", type=int, default=256, help="size in pixels (default 256)")
+    d.set_defaults(func=cmd_demo)
+
+    m = sub.add_parser("make-test-painting", help="write the built-in test painting as files")
+    m.add_argument("folder", help="folder for painting.toml and its images")
+    m.add_argument("--size", type=int, default=256, help="size in pixels (default 256)")
+    m.set_defaults(func=cmd_make_test_painting)
+
+    pa = sub.add_parser("params", help="list every recipe parameter with its unit, range, default")
+    pa.set_defaults(func=cmd_params)
+    return ap
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    try:
+        args.func(args)
+    except (CommandError, RecipeError, ImageReadError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    except (ValueError, OSError, MemoryError) as exc:
+        print(f"error: {type(exc).__name__}: {exc}", file=sys.stderr)
+        return 1
+    return 0

@@ -1,0 +1,264 @@
+"""The whole 2.5D pipeline on whole images (pipeline.md §2–§11): the reference for every backend.
+
+Inputs are `ImageData` (pixels y-up as read from a file, 0..1 for 8/16-bit; floats for EXR)
+keyed by channel name (§1). Output is premultiplied linear RGBA plus the intermediate passes.
+
+Neutral defaults of missing channels (§12). A pruned graph must give the pixels of the full
+graph fed these values:
+  dark / bright   one may stand in for the other (§1); at least one is required
+  specular_colour white (1, 1, 1)
+  gloss           1 everywhere
+  transparency    1 everywhere (the slider alone sets k; its 'auto' default is then 0)
+  environment     the refracted background stands in for it (C_M := C_T): G = C_T, F unused
+  background      the reflected environment stands in for it (C_T := C_M): G = C_M, F unused,
+                  and outside the silhouette the result is transparent (alpha 0)
+  both E and B    G = transparent black: transparent parts show what lies behind the plane
+  silhouette      alpha 1 everywhere
+"""
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import fresnel as fr
+from . import shading, warps
+from .colour import srgb_to_linear
+from .lights import light_vectors
+from .sampling import gaussian_blur, pixel_centres, resample, sample_bilinear
+from .shadow import cos_theta_shadow
+from .shape import (decode_normal_map, default_preblur_px, height_field_px, normals_from_height_px,
+                    slopes_from_normals)
+
+COLOUR_CHANNELS = ("dark", "bright", "specular_color", "environment", "background")
+PER_PIXEL_CHANNELS = ("dark", "bright", "specular_color", "gloss", "transparency")
+
+
+@dataclass
+class ImageData:
+    """One input image in core convention: pixels (H, W, C) with row 0 at the bottom (§0).
+
+    bits: 8, 16 or 32 (float). Integer images hold file values scaled to 0..1 (colour ones are
+    sRGB-encoded); float images are linear already.
+    """
+    pixels: np.ndarray
+    bits: int = 8
+    name: str = ""
+
+    def __post_init__(self):
+        px = np.asarray(self.pixels)
+        if px.ndim == 2:
+            px = px[..., None]
+        self.pixels = px
+
+    @property
+    def size(self):
+        return self.pixels.shape[1], self.pixels.shape[0]
+
+    @property
+    def has_alpha(self):
+        return self.pixels.shape[2] in (2, 4)
+
+    def rgb(self):
+        """RGB view: grey is repeated, alpha dropped."""
+        c = self.pixels.shape[2]
+        if c >= 3:
+            return self.pixels[..., :3]
+        return np.repeat(self.pixels[..., :1], 3, axis=2)
+
+    def grey(self):
+        """One channel: grey as is; colour by Rec.709 luminance."""
+        c = self.pixels.shape[2]
+        if c < 3:
+            return self.pixels[..., 0]
+        return self.pixels[..., :3] @ np.array([0.2126, 0.7152, 0.0722], dtype=self.pixels.dtype)
+
+    def alpha(self):
+        c = self.pixels.shape[2]
+        return self.pixels[..., c - 1] if c in (2, 4) else None
+
+
+@dataclass
+class RenderResult:
+    rgba: np.ndarray                           # premultiplied linear RGBA (H, W, 4), y-up
+    passes: dict = field(default_factory=dict)  # 't' (per light), 'W', 's', 'F', 'k', 'normal'
+    warnings: list = field(default_factory=list)
+
+
+def _linear(img, dtype):
+    """sRGB-decoded RGB for 8/16-bit colour images; float images are linear already (§0)."""
+    rgb = img.rgb().astype(dtype, copy=False)
+    return rgb if img.bits >= 32 else srgb_to_linear(rgb)
+
+
+def _premultiplied(img, dtype):
+    """Linear premultiplied RGBA of a colour image (straight alpha in files)."""
+    rgb = _linear(img, dtype)
+    a = img.alpha()
+    a = np.ones(rgb.shape[:2], dtype) if a is None else np.clip(a.astype(dtype), 0, 1)
+    return np.concatenate([rgb * a[..., None], a[..., None]], axis=2)
+
+
+def shape_normals(shape, p, dtype=np.float32):
+    """§2: decode the shape image → (normals, heights_px or None, slopes or None, preblur_px)."""
+    if p.shape.kind == "height":
+        sigma = p.shape.preblur
+        if sigma == "auto":
+            sigma = default_preblur_px(shape.bits)
+        z_px = height_field_px(shape.grey().astype(dtype), p.shape.height_scale, float(sigma))
+        return normals_from_height_px(z_px, p.shape.z_min), z_px, None, float(sigma)
+    n = decode_normal_map(shape.rgb().astype(dtype), p.shape.flip_green, p.shape.z_min)
+    return n, None, slopes_from_normals(n), 0.0
+
+
+def light_terms(n, z_px, slopes, lights, p, dtype=np.float32):
+    """Per light: the raw light term (cos-θ or N·L, §4/§6) and the specular term (§7)."""
+    h, w = n.shape[:2]
+    x, y = pixel_centres(h, w, dtype)
+    zs = z_px if z_px is not None else np.zeros((h, w), dtype)
+    raw, spec = [], []
+    for light in lights:
+        lvec, _ = light_vectors(light, x, y, zs, dtype)
+        if p.shadows.enabled:
+            t = cos_theta_shadow(n, light, p.shadows.offset, p.shadows.steps, heights_px=z_px,
+                                 slopes=slopes, occupancy=p.shadows.occupancy)
+        else:
+            t = shading.n_dot_l(n, lvec)
+        raw.append(t)
+        if p.specular.enabled:
+            spec.append(shading.specular_term(n, lvec, p.specular.s0, p.specular.s1,
+                                              p.specular.curve))
+    return raw, spec
+
+
+def _blurred(img_rgba, sigma_widths, extension, cache):
+    """Glossy/translucent copies (§11), blurred once per (image, σ, extension)."""
+    key = (id(img_rgba), float(sigma_widths), extension)
+    if key not in cache:
+        cache[key] = gaussian_blur(img_rgba, sigma_widths * img_rgba.shape[1], extension)
+    return cache[key]
+
+
+def _warped_lookup(img_rgba, offset, painting_shape, extension):
+    """Sample an image mapped onto the painting's UV square at each pixel + offset (§8, §9)."""
+    h, w = painting_shape
+    x, y = pixel_centres(h, w, img_rgba.dtype.type)
+    dx, dy = warps.offset_to_pixels(offset, img_rgba.shape, painting_shape)
+    eh, ew = img_rgba.shape[:2]
+    return sample_bilinear(img_rgba, x * (ew / w) + dx, y * (eh / h) + dy, extension)
+
+
+def render(images, lights, p, dtype=np.float32, cache=None):
+    """Render a painting (pipeline.md §2–§11) → RenderResult.
+
+    images: {channel: ImageData} (§1); lights: [core.lights.Light]; p: params namespace
+    (params.defaults() and the recipe's values). dtype float32 by default, float64 for references.
+    """
+    cache = {} if cache is None else cache
+    warnings = []
+    if "shape" not in images:
+        raise ValueError("a painting needs a shape image (normal or height map)")
+    if "dark" not in images and "bright" not in images:
+        raise ValueError("a painting needs a dark or a bright image (one may serve both)")
+    shape = images["shape"]
+    hs, ws = shape.pixels.shape[:2]
+    if not np.any(np.isfinite(shape.pixels)):
+        raise ValueError("the shape image has no finite pixel (all NaN or Inf)")
+    bad = int(np.size(shape.pixels) - np.count_nonzero(np.isfinite(shape.pixels)))
+    if bad:
+        warnings.append(f"shape image: {bad} NaN/Inf values treated as flat")
+
+    imgs = {}
+    for name, img in images.items():
+        if name in PER_PIXEL_CHANNELS and img.pixels.shape[:2] != (hs, ws):
+            warnings.append(f"{name} image is {img.size[0]}×{img.size[1]}, resampled to the shape "
+                            f"image's {ws}×{hs}")
+            img = ImageData(resample(img.pixels.astype(dtype), hs, ws), img.bits, img.name)
+        imgs[name] = img
+
+    n, z_px, slopes, _ = shape_normals(imgs["shape"], p, dtype)
+    c0 = _linear(imgs.get("dark", imgs.get("bright")), dtype)
+    c1 = _linear(imgs.get("bright", imgs.get("dark")), dtype)
+    c0 = np.where(np.isfinite(c0), c0, 0)
+    c1 = np.where(np.isfinite(c1), c1, 0)
+
+    # §4–§5 diffuse, barycentric mix with coloured lights
+    raw, spec = light_terms(n, z_px, slopes, lights, p, dtype)
+    terms = [shading.clamp_step(t, p.diffuse.t0, p.diffuse.t1, p.diffuse.curve) for t in raw]
+    colours = [lt.colour for lt in lights]
+    strengths = [lt.strength for lt in lights]
+    if lights:
+        w_mix = shading.light_weight(terms, colours, strengths)
+    else:
+        w_mix = np.zeros((hs, ws, 3), dtype)
+    c_d = shading.barycentric_mix(c0, c1, w_mix)
+    passes = {"normal": n, "t": raw, "W": w_mix}
+
+    # §7 opaque highlight
+    s_mix = np.zeros((hs, ws, 3), dtype)
+    c_spec = _linear(imgs["specular_color"], dtype) if "specular_color" in imgs else np.ones(3, dtype)
+    if p.specular.enabled and lights:
+        s_mix = shading.light_weight(spec, colours, strengths)
+        gloss = imgs["gloss"].grey().astype(dtype) if "gloss" in imgs else np.ones((hs, ws), dtype)
+        g = np.clip(gloss * dtype(p.specular.amount), 0, 1)
+        c_s = shading.opaque_highlight(c_d, c_spec, g[..., None] * s_mix)
+        passes["s"] = s_mix
+    else:
+        c_s = c_d
+    rgba = np.concatenate([c_s, np.ones((hs, ws, 1), dtype)], axis=2)
+
+    # §11 transparency: G = F·C_M + (1 − F)·C_T; C2' = clip(G + s·C_spec); C = (1−k)C_s + k·C2'
+    amount = p.transparency.amount
+    if amount == "auto":
+        amount = 1.0 if "transparency" in imgs else 0.0
+    kmap = imgs["transparency"].grey().astype(dtype) if "transparency" in imgs else np.ones((hs, ws), dtype)
+    k = np.clip(kmap * dtype(amount), 0, 1)
+    env = _premultiplied(imgs["environment"], dtype) if "environment" in imgs else None
+    bg = _premultiplied(imgs["background"], dtype) if "background" in imgs else None
+    if amount > 0 and np.any(k > 0):
+        c_m = c_t = None
+        if env is not None:
+            e = _blurred(env, p.reflection.blur, p.reflection.extension, cache)
+            off = warps.reflection_offset(n, p.reflection.distance, p.reflection.mode,
+                                          p.reflection.max_offset)
+            c_m = _warped_lookup(e, off, (hs, ws), p.reflection.extension)
+        if bg is not None:
+            b = _blurred(bg, p.refraction.blur, p.refraction.extension, cache)
+            if p.refraction.mode == "physical":
+                off = warps.refraction_offset_physical(n, p.refraction.distance, p.refraction.ior)
+            else:
+                off = warps.refraction_offset_linear(n, p.refraction.distance, p.refraction.mu)
+            c_t = _warped_lookup(b, off, (hs, ws), p.refraction.extension)
+        if c_m is not None and c_t is not None:
+            eta = p.refraction.ior if p.refraction.mode == "physical" else 2.0 ** p.refraction.mu
+            if p.fresnel.mode == "physical":
+                f = fr.fresnel_physical(n, eta)
+            else:
+                f = fr.fresnel_art(n, p.fresnel.x1, p.fresnel.x2, p.fresnel.kappa, p.fresnel.domain)
+            g_mix = f[..., None] * c_m + (1 - f[..., None]) * c_t
+            passes["F"] = f
+        elif c_m is not None or c_t is not None:
+            g_mix = c_m if c_m is not None else c_t
+        else:
+            g_mix = np.zeros((hs, ws, 4), dtype)
+        c2 = g_mix.copy()
+        c2[..., :3] = np.clip(g_mix[..., :3] + s_mix * c_spec, 0, 1)
+        rgba = (1 - k[..., None]) * rgba + k[..., None] * c2
+        passes["k"] = k
+
+    # §11 silhouette: final = B·(1 − α) + C·α (B at the pixel itself, unwarped)
+    alpha = _silhouette(imgs, p.silhouette.source)
+    if alpha is not None:
+        alpha = np.clip(np.where(np.isfinite(alpha), alpha, 0), 0, 1).astype(dtype)[..., None]
+        behind = _warped_lookup(bg, np.zeros((hs, ws, 2), dtype), (hs, ws), "extend") \
+            if bg is not None else np.zeros((hs, ws, 4), dtype)
+        rgba = behind * (1 - alpha) + rgba * alpha
+    rgba = np.where(np.isfinite(rgba), rgba, 0)
+    return RenderResult(rgba.astype(dtype, copy=False), passes, warnings)
+
+
+def _silhouette(imgs, source):
+    """§1: alpha of the shape (or dark) image, by the recipe's silhouette.source."""
+    order = {"auto": ("shape", "dark"), "shape": ("shape",), "dark": ("dark",), "none": ()}[source]
+    for name in order:
+        if name in imgs and imgs[name].has_alpha:
+            return imgs[name].alpha()
+    return None

@@ -1,0 +1,99 @@
+"""Image lookups shared by every stage: bilinear sampling, extension modes, resampling, blur.
+
+Convention (pipeline.md §0): arrays are indexed [row, column] with row 0 at the *bottom*
+(y up), so a pixel (i, j) has its centre at x = j + 0.5, y = i + 0.5 in pixel units.
+The same lookups are what Blender's Image Texture node does with Linear interpolation and
+REPEAT / EXTEND / MIRROR extension, which is what the node-tree parity tests rely on.
+"""
+import numpy as np
+
+EXTENSIONS = ("wrap", "extend", "mirror")
+
+
+def wrap_index(k, n, extension):
+    """Map integer texel indices k into [0, n) by the lookup's extension rule (§8: the paper's
+    modulo is a floor-mod, so negative offsets wrap too)."""
+    if extension == "wrap":
+        return np.mod(k, n)
+    if extension == "extend":
+        return np.clip(k, 0, n - 1)
+    if extension == "mirror":
+        m = np.mod(k, 2 * n)
+        return np.where(m >= n, 2 * n - 1 - m, m)
+    raise ValueError(f"unknown extension {extension!r} (expected one of {', '.join(EXTENSIONS)})")
+
+
+def sample_bilinear(img, x, y, extension="extend"):
+    """Bilinearly sample `img` (H, W) or (H, W, C) at pixel coordinates x, y (any equal shapes).
+
+    Non-finite coordinates are treated as 0 so a bad warp never produces an index error.
+    Returns an array of shape x.shape (+ (C,) for multi-channel images), in img's dtype.
+    """
+    h, w = img.shape[:2]
+    dtype = img.dtype
+    px = np.asarray(x, dtype=dtype) - dtype.type(0.5)
+    py = np.asarray(y, dtype=dtype) - dtype.type(0.5)
+    px = np.where(np.isfinite(px), px, 0)
+    py = np.where(np.isfinite(py), py, 0)
+    j0f = np.floor(px)
+    i0f = np.floor(py)
+    fx = (px - j0f).astype(dtype, copy=False)
+    fy = (py - i0f).astype(dtype, copy=False)
+    j0 = j0f.astype(np.int64)
+    i0 = i0f.astype(np.int64)
+    j1 = wrap_index(j0 + 1, w, extension)
+    i1 = wrap_index(i0 + 1, h, extension)
+    j0 = wrap_index(j0, w, extension)
+    i0 = wrap_index(i0, h, extension)
+    if img.ndim == 3:
+        fx = fx[..., None]
+        fy = fy[..., None]
+    top = img[i1, j0] * (1 - fx) + img[i1, j1] * fx
+    bottom = img[i0, j0] * (1 - fx) + img[i0, j1] * fx
+    return bottom * (1 - fy) + top * fy
+
+
+def pixel_centres(height, width, dtype=np.float32):
+    """x, y pixel-centre coordinates (pixel units, origin at the bottom-left corner)."""
+    x = (np.arange(width, dtype=dtype) + dtype(0.5))[None, :]
+    y = (np.arange(height, dtype=dtype) + dtype(0.5))[:, None]
+    return np.broadcast_to(x, (height, width)), np.broadcast_to(y, (height, width))
+
+
+def resample(img, height, width, extension="extend"):
+    """Resample `img` to (height, width) by sampling at the new pixel centres (bilinear).
+
+    Used for control images whose size differs from the shape image (the documented rule:
+    every per-pixel channel is resampled to the shape image's size) and for `render --width`.
+    """
+    h, w = img.shape[:2]
+    if (h, w) == (height, width):
+        return img
+    x, y = pixel_centres(height, width, img.dtype.type)
+    return sample_bilinear(img, x * (w / width), y * (h / height), extension)
+
+
+def gaussian_blur(img, sigma_px, extension="extend"):
+    """Separable Gaussian blur of an (H, W[, C]) image, sigma in pixels, borders by extension.
+
+    Used for the height pre-blur (§2) and for glossy / translucent copies of E and B (§11).
+    sigma_px <= 0 returns the image unchanged.
+    """
+    if not sigma_px > 0:
+        return img
+    radius = max(1, int(np.ceil(3 * sigma_px)))
+    offsets = np.arange(-radius, radius + 1)
+    kernel = np.exp(-0.5 * (offsets / sigma_px) ** 2)
+    kernel = (kernel / kernel.sum()).astype(img.dtype)
+    out = img
+    for axis in (0, 1):
+        n = out.shape[axis]
+        # Padding by index mapping is exact for every extension, even when radius > n.
+        padded = out.take(wrap_index(np.arange(-radius, n + radius), n, extension), axis=axis)
+        acc = np.zeros_like(out)
+        for k, weight in enumerate(kernel):
+            sl = [slice(None)] * out.ndim
+            sl[axis] = slice(k, k + n)
+            acc += weight * padded[tuple(sl)]
+        out = acc
+    return out

@@ -1,0 +1,178 @@
+"""cos-θ shadows (pipeline.md §6): diffuse, cast shadow and a subsurface look in one number.
+
+For a surface point P_S with normal N_S, start at P0 = P_S − d·N_S, march P(s) = P0 + s·L and
+measure r, the length of the ray inside the relief. t = d / max(r, d). On a plane r = d/cos θ,
+so t = cos θ exactly, for any d.
+
+This is the straightforward, correct march (one bilinear gather per pixel per step); it is the
+reference every faster bake is measured against. Everything inside works in pixels.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from .lights import light_vectors
+from .sampling import pixel_centres, sample_bilinear
+
+OCCUPANCIES = ("linear", "midpoint")
+MAX_STEPS_PER_PIXEL = 4  # more steps than this per pixel of march length add nothing (bilinear H)
+
+
+@dataclass
+class ShadowStats:
+    """What a bake did, for `bake-shadow -v` and the benchmarks."""
+    steps: int = 0
+    max_march_px: float = 0.0
+
+
+def occupancy_fraction(delta0, delta1, occupancy="linear"):
+    """Inside fraction of one step from δ = H − z at its ends (§6).
+
+    'linear': the crossing is linearly interpolated: (δ0⁺ + δ1⁺)/(|δ0| + |δ1|) (1 when both are
+    inside, 0 when both outside). 'midpoint': the paper's binary count of the step's midpoint
+    (sign of the mean), error ≈ a·cos²θ/(2d); a fallback only.
+    """
+    if occupancy == "linear":
+        pos = np.maximum(delta0, 0) + np.maximum(delta1, 0)
+        total = np.abs(delta0) + np.abs(delta1)
+        return np.where(total > 0, pos / np.where(total > 0, total, 1), 0)
+    if occupancy == "midpoint":
+        return ((delta0 + delta1) > 0).astype(delta0.dtype)
+    raise ValueError(f"unknown occupancy {occupancy!r} (expected one of {', '.join(OCCUPANCIES)})")
+
+
+def _exit_distance(x0, y0, lx, ly, height, width):
+    """Distance along (lx, ly) from (x0, y0) until the ray leaves the box of pixel centres
+    [½, W − ½] × [½, H − ½] (0 if already outside). Bilinear lookups are exact inside that box
+    only (beyond it "extend" flattens the relief), so the march stops there and the tail
+    extrapolates the rest: that keeps tilted planes exact up to the border.
+    """
+    lo = 0.5
+    big = np.asarray(np.inf, dtype=x0.dtype)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tx = np.where(lx > 0, (width - lo - x0) / lx, np.where(lx < 0, (lo - x0) / lx, big))
+        ty = np.where(ly > 0, (height - lo - y0) / ly, np.where(ly < 0, (lo - y0) / ly, big))
+    return np.where(_inside_box(x0, y0, height, width), np.maximum(np.minimum(tx, ty), 0), 0)
+
+
+def _inside_box(x0, y0, height, width):
+    return (x0 >= 0.5) & (x0 <= width - 0.5) & (y0 >= 0.5) & (y0 <= height - 0.5)
+
+
+def cos_theta_shadow(normals, light, offset, steps, *, heights_px=None, slopes=None,
+                     occupancy="linear", stats=None):
+    """The raw cos-θ term t = d / max(r, d) ∈ [0, 1] for one light (§6), shape (H, W).
+
+    normals: unit normals (H, W, 3) (N.z ≥ z_min, §2), in the dtype to compute in.
+    light: core.lights.Light (sun or point; positions in image widths from the centre).
+    offset: d in image widths. steps: K (≥ 0).
+    heights_px: the relief z = h·H in pixels, for height maps; or
+    slopes: (H, W, 2) implied gradient −N.xy/N.z, for normal maps (height is reconstructed
+    along each ray only, so non-conservative maps work).
+
+    Edge cases (§6, §14): a sun with L.z ≤ 0 gives t = 0; a point light inside the relief caps
+    the segment at the light; d = 0 gives max(N·L, 0) × hard visibility; K = 0 marches nothing
+    and extrapolates along the tangent plane (t = N·L on any surface); K is capped at
+    MAX_STEPS_PER_PIXEL steps per pixel of the longest march, so a huge K stays finite in time.
+    """
+    if (heights_px is None) == (slopes is None):
+        raise ValueError("give exactly one of heights_px (height map) or slopes (normal map)")
+    dtype = normals.dtype
+    f = dtype.type
+    h, w = normals.shape[:2]
+    x, y = pixel_centres(h, w, f)
+    zs = heights_px.astype(dtype, copy=False) if heights_px is not None else np.zeros((h, w), dtype)
+    lvec, light_dist = light_vectors(light, x, y, zs, dtype)
+    lx, ly, lz = lvec[..., 0], lvec[..., 1], lvec[..., 2]
+    nx, ny, nz = normals[..., 0], normals[..., 1], normals[..., 2]
+    ndl = nx * lx + ny * ly + nz * lz
+    steps = max(0, int(steps))
+    d = f(max(0.0, float(offset)) * w)
+
+    # P0 = P_S − d·N_S
+    x0 = x - d * nx
+    y0 = y - d * ny
+    z0 = zs - d * nz
+    if heights_px is not None:
+        # δ0 from the relief where it is known; on the tangent plane of P_S (d/N.z) where P0
+        # lies outside the box of pixel centres (border pixels whose normal points outward).
+        delta = np.where(_inside_box(x0, y0, h, w), sample_bilinear(zs, x0, y0, "extend") - z0, d / nz)
+        zmax = f(np.max(zs))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ell_top = np.where(lz > 0, (zmax - z0) / lz, np.inf)
+    else:
+        # Start on the tangent plane of P_S: H(P0.xy) = d|N.xy|²/N.z, δ0 = d/N.z.
+        h_rec = d * (nx * nx + ny * ny) / nz
+        delta = h_rec - z0
+        # The reconstructed height climbs at most S·|L.xy| per unit s (S = steepest slope):
+        # once the ray outclimbs that, it can never be inside again.
+        s_max = f(np.max(np.hypot(slopes[..., 0], slopes[..., 1])))
+        climb = lz - s_max * np.hypot(lx, ly)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ell_top = np.where(climb > 0, delta / climb, np.inf)
+    ell = np.minimum(_exit_distance(x0, y0, lx, ly, h, w), ell_top)
+    if light_dist is not None:
+        # The ray reaches the light's closest approach at s = (P_L − P0)·L.
+        p_l = light.position_px(h, w).astype(dtype)
+        ell_light = np.maximum((p_l[0] - x0) * lx + (p_l[1] - y0) * ly + (p_l[2] - z0) * lz, 0)
+        stopped_by_light = ell_light <= ell
+        ell = np.minimum(ell, ell_light)
+    else:
+        ell_light = None
+        stopped_by_light = np.zeros((h, w), bool)
+    ell = np.where(np.isfinite(ell), ell, 0).astype(dtype, copy=False)
+
+    max_ell = float(ell.max()) if ell.size else 0.0
+    k_eff = min(steps, max(1, int(np.ceil(MAX_STEPS_PER_PIXEL * max_ell)))) if steps else 0
+    if stats is not None:
+        stats.steps, stats.max_march_px = k_eff, max_ell
+
+    inside = np.zeros((h, w), dtype)
+    if k_eff:
+        delta_start = delta
+        a = ell / f(k_eff)
+        ax, ay, az = a * lx, a * ly, a * lz
+        for k in range(1, k_eff + 1):
+            px = x0 + f(k) * ax
+            py = y0 + f(k) * ay
+            if heights_px is not None:
+                h_here = sample_bilinear(zs, px, py, "extend")
+            else:
+                g = sample_bilinear(slopes, px - f(0.5) * ax, py - f(0.5) * ay, "extend")
+                h_rec = h_rec + g[..., 0] * ax + g[..., 1] * ay
+                h_here = h_rec
+            new_delta = h_here - (z0 + f(k) * az)
+            inside += occupancy_fraction(delta, new_delta, occupancy) * a
+            delta = new_delta
+        # A zero-length march (P0 already outside the box) learns nothing: keep δ0 for the tail.
+        delta = np.where(ell > 0, delta, delta_start)
+
+    # Tail: the march ended inside (image border, or K = 0): extrapolate along the tangent
+    # plane of P_S, where δ falls at (N·L)/N.z per unit s. Never past a point light.
+    rate = ndl / nz
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tail = np.where(rate > 0, delta / rate, np.inf)
+    if ell_light is not None:
+        tail = np.minimum(tail, ell_light - ell)
+    tail = np.where((delta > 0) & ~stopped_by_light, tail, 0)
+    r = inside + tail
+
+    if d > 0:
+        t = d / np.maximum(r, d)
+    else:
+        # d → 0: max(N·L, 0) × hard visibility (nothing of the ray inside the relief).
+        t = np.where(r > f(1e-3), 0, np.maximum(ndl, 0))
+    if light.kind == "sun" and light.vector[2] <= 0:
+        t = np.zeros_like(t)
+    t = np.where(np.isfinite(t), t, 0)
+    return np.clip(t, 0, 1).astype(dtype, copy=False)
+
+
+# §13 quality levels of the bake. The straightforward march above is the baseline: these
+# presets only choose K and the precision (the fast bake of a later issue refines them).
+QUALITY = {
+    "draft": {"steps": 16, "dtype": "float32"},
+    "preview": {"steps": 32, "dtype": "float32"},
+    "final": {"steps": 64, "dtype": "float32"},
+    "reference": {"steps": 1024, "dtype": "float64"},
+}

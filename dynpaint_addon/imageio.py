@@ -1,0 +1,142 @@
+"""Reading and writing image files; the only place rows are flipped (pipeline.md §0).
+
+Files store the top row first; the core works y-up (row 0 at the bottom), so `read_image`
+returns y-up arrays and the writers take y-up arrays. EXR goes through the OpenEXR package;
+PNG, JPEG, TIFF and the rest through Blender's own image loader (bpy, imported on first use,
+so the core and EXR-only commands never need it). PNGs are written by a small exact encoder.
+"""
+import os
+import struct
+import zlib
+
+import numpy as np
+
+from .core.pipeline import ImageData
+
+EXR_MAGIC = b"\x76\x2f\x31\x01"
+
+
+class ImageReadError(ValueError):
+    """An image could not be read; the message names the file and the problem."""
+
+
+def read_image(path):
+    """Read any supported image → ImageData (float32, y-up, channels 1–4, bits 8/16/32)."""
+    path = os.fspath(path)
+    if not os.path.exists(path):
+        raise ImageReadError(f"{path}: file not found")
+    if os.path.isdir(path):
+        raise ImageReadError(f"{path}: is a folder, not an image")
+    with open(path, "rb") as fh:
+        head = fh.read(4)
+    if not head:
+        raise ImageReadError(f"{path}: file is empty")
+    if head == EXR_MAGIC:
+        return _read_exr(path)
+    return _read_with_blender(path)
+
+
+def _read_exr(path):
+    import OpenEXR
+    try:
+        with OpenEXR.File(path, separate_channels=True) as f:
+            channels = {name: np.asarray(ch.pixels) for name, ch in f.channels().items()}
+    except Exception as exc:  # the bindings raise plain Exceptions for corrupt files
+        raise ImageReadError(f"{path}: not a readable OpenEXR file ({exc})") from None
+    if not channels:
+        raise ImageReadError(f"{path}: the EXR file has no channels")
+    names = _pick_exr_channels(channels)
+    px = np.stack([channels[c].astype(np.float32) for c in names], axis=-1)
+    return ImageData(np.ascontiguousarray(px[::-1]), bits=32, name=os.path.basename(path))
+
+
+def _pick_exr_channels(channels):
+    """RGBA / RGB / Y(A) by name (layer prefixes allowed), else the first four in file order."""
+    def find(suffix):
+        hits = [c for c in channels if c == suffix or c.endswith("." + suffix)]
+        return hits[0] if hits else None
+    rgb = [find(c) for c in "RGB"]
+    a = find("A")
+    if all(rgb):
+        return rgb + ([a] if a else [])
+    y = find("Y") or find("Z") or find("V")
+    if y:
+        return [y] + ([a] if a else [])
+    return sorted(channels)[:4]
+
+
+def _read_with_blender(path):
+    import bpy
+    try:
+        img = bpy.data.images.load(path, check_existing=False)
+    except RuntimeError as exc:
+        raise ImageReadError(f"{path}: Blender cannot read it ({str(exc).strip()})") from None
+    try:
+        # Data, never colour-managed here: the core decodes sRGB itself (§0).
+        img.colorspace_settings.name = "Non-Color"
+        w, h = img.size
+        c = img.channels
+        if w == 0 or h == 0 or not img.has_data or c == 0:
+            raise ImageReadError(f"{path}: not an image Blender can read (unknown or corrupt format)")
+        px = np.empty(w * h * c, dtype=np.float32)
+        img.pixels.foreach_get(px)
+        if img.is_float:
+            bits = 16 if img.file_format in ("PNG", "TIFF") else 32
+        else:
+            bits = 8
+        px = px.reshape(h, w, c)   # Blender buffers are bottom row first: already y-up
+        keep = _FILE_CHANNELS.get((img.is_float, img.depth), c)
+        px = px[..., :1] if keep == 1 else px[..., :keep]
+        return ImageData(np.ascontiguousarray(px), bits=bits, name=os.path.basename(path))
+    finally:
+        bpy.data.images.remove(img)
+
+
+# Blender always hands out RGBA; its `depth` (bits per pixel) says what the file held.
+# Measured on bpy 5.0.1: 8-bit grey 8, RGB 24, RGB(A)/grey+alpha 32; 16-bit grey 32 (float),
+# RGB 96, RGBA 128. Grey+alpha comes back as RGBA with R = G = B, which reads the same.
+_FILE_CHANNELS = {(False, 8): 1, (False, 24): 3, (False, 32): 4,
+                  (True, 32): 1, (True, 96): 3, (True, 128): 4}
+
+
+def write_exr(path, pixels, channel_names=None):
+    """Write a y-up float array (H, W) or (H, W, C) as a 32-bit float EXR (ZIP compressed)."""
+    import OpenEXR
+    px = np.asarray(pixels, dtype=np.float32)
+    if px.ndim == 2:
+        px = px[..., None]
+    names = channel_names or {1: ["Y"], 2: ["Y", "A"], 3: list("RGB"), 4: list("RGBA")}[px.shape[2]]
+    top_first = px[::-1]
+    channels = {name: np.ascontiguousarray(top_first[..., i]) for i, name in enumerate(names)}
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    _ensure_parent(path)
+    with OpenEXR.File(header, channels) as f:
+        f.write(os.fspath(path))
+
+
+def write_png(path, pixels, bits=8):
+    """Write y-up values in 0..1 (already display-encoded) as an 8- or 16-bit PNG.
+
+    (H, W) or (H, W, C) with C = 1 grey, 2 grey+alpha, 3 RGB, 4 RGBA.
+    """
+    px = np.asarray(pixels, dtype=np.float64)
+    if px.ndim == 2:
+        px = px[..., None]
+    h, w, c = px.shape
+    colour_type = {1: 0, 2: 4, 3: 2, 4: 6}[c]
+    scale, dt = (255, ">u1") if bits == 8 else (65535, ">u2")
+    q = np.round(np.clip(np.nan_to_num(px[::-1]), 0, 1) * scale).astype(dt)
+    raw = b"".join(b"\x00" + row.tobytes() for row in q)
+
+    def chunk(tag, data):
+        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data))
+    ihdr = struct.pack(">IIBBBBB", w, h, bits, colour_type, 0, 0, 0)
+    _ensure_parent(path)
+    with open(path, "wb") as fh:
+        fh.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(raw, 6))
+                 + chunk(b"IEND", b""))
+
+
+def _ensure_parent(path):
+    parent = os.path.dirname(os.path.abspath(path))
+    os.makedirs(parent, exist_ok=True)

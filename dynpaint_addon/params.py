@@ -1,0 +1,143 @@
+"""Every painting parameter, once: type, default, range, unit and tooltip.
+
+The recipe reader (recipe.py), the command line's help, the docs and the add-on's Blender
+properties are all generated from this table, so a parameter is added in one place.
+No bpy import here. Lengths are in image widths (pipeline.md §0) unless a unit says otherwise.
+"""
+from dataclasses import dataclass
+from types import SimpleNamespace
+
+from .core.fresnel import DOMAINS
+from .core.sampling import EXTENSIONS
+from .core.shading import CURVES
+from .core.shadow import OCCUPANCIES
+from .core.warps import REFLECTION_MODES, REFRACTION_MODES
+
+
+@dataclass(frozen=True)
+class Param:
+    section: str
+    key: str
+    kind: type | str     # bool, int, float, 'enum', 'auto_float' (a number or "auto")
+    default: object
+    help: str
+    unit: str = ""
+    min: float | None = None
+    max: float | None = None
+    choices: tuple = ()
+    spec: str = ""       # pipeline.md section
+
+    @property
+    def path(self):
+        return f"{self.section}.{self.key}"
+
+
+P = Param
+PARAMS = (
+    # §2 shape
+    P("shape", "kind", "enum", "normal", "What the shape image holds: a normal map (RGB) or a "
+      "height map (grey, lighter = nearer the viewer)", choices=("normal", "height"), spec="§2"),
+    P("shape", "flip_green", bool, False, "Normal maps whose green channel means 'lit from below' "
+      "(DirectX style)", spec="§2"),
+    P("shape", "z_min", float, 0.05, "Smallest allowed N.z: steeper normals are tilted back up so "
+      "slopes stay finite", min=0.001, max=1.0, spec="§2"),
+    P("shape", "height_scale", float, 0.05, "Relief height of a white height-map pixel",
+      unit="image widths", min=0.0, max=10.0, spec="§2"),
+    P("shape", "preblur", "auto_float", "auto", "Gaussian blur of the height map before slopes "
+      "are taken, against 8-bit terracing; 'auto' = 1.5 px for 8-bit images, 0 for 16-bit and float",
+      unit="pixels", min=0.0, max=64.0, spec="§2"),
+    # §3–§5 diffuse style
+    P("diffuse", "t0", float, 0.0, "Clamp&Step start: light terms below this give the dark image",
+      min=-1.0, max=1.0, spec="§3"),
+    P("diffuse", "t1", float, 1.0, "Clamp&Step end: light terms above this give the bright image "
+      "(t0 = t1 is a cartoon step; t0 > t1 inverts)", min=-1.0, max=1.0, spec="§3"),
+    P("diffuse", "curve", "enum", "linear", "Shape of the ramp between t0 and t1", choices=CURVES,
+      spec="§3"),
+    # §6 shadows
+    P("shadows", "enabled", bool, False, "cos-θ shadows: cast shadows, shading and a subsurface "
+      "look in one number (replaces N·L in the diffuse term)", spec="§6"),
+    P("shadows", "offset", float, 0.01, "d: how deep below the surface each shadow ray starts; "
+      "larger = softer, more translucent look", unit="image widths", min=0.0, max=1.0, spec="§6"),
+    P("shadows", "steps", int, 64, "K: march steps per pixel (more = more accurate, slower)",
+      min=0, max=100000, spec="§6"),
+    P("shadows", "occupancy", "enum", "linear", "How a march step counts as inside the relief: "
+      "linear crossing (accurate) or the paper's midpoint test", choices=OCCUPANCIES, spec="§6"),
+    # §7 specular
+    P("specular", "enabled", bool, False, "Opaque highlights of the specular colour", spec="§7"),
+    P("specular", "s0", float, 0.9, "Highlight Clamp&Step start (on R_L·I)", min=-1.0, max=1.0,
+      spec="§7"),
+    P("specular", "s1", float, 1.0, "Highlight Clamp&Step end", min=-1.0, max=1.0, spec="§7"),
+    P("specular", "curve", "enum", "smoothstep", "Shape of the highlight ramp", choices=CURVES,
+      spec="§7"),
+    P("specular", "amount", float, 1.0, "g: gloss strength (multiplies the gloss map)",
+      min=0.0, max=1.0, spec="§7"),
+    # §8 reflection
+    P("reflection", "distance", float, 0.05, "d_E: how far the environment appears behind the "
+      "surface (reflection offset scale)", unit="image widths", min=0.0, max=10.0, spec="§8"),
+    P("reflection", "mode", "enum", "stereographic", "Bounded offset: stereographic 2·d_E·N.xy/N.z,"
+      " or the paper's R.xy/R.z clamped at the maximum offset", choices=REFLECTION_MODES, spec="§8"),
+    P("reflection", "max_offset", float, 0.5, "Largest reflection offset", unit="image widths",
+      min=0.0, max=10.0, spec="§8"),
+    P("reflection", "extension", "enum", "wrap", "Environment lookups beyond its edges",
+      choices=EXTENSIONS, spec="§8"),
+    P("reflection", "blur", float, 0.0, "Glossy reflection: Gaussian blur σ of the environment",
+      unit="image widths", min=0.0, max=1.0, spec="§11"),
+    # §9 refraction
+    P("refraction", "distance", float, 0.05, "d_B: how far the background lies behind the surface",
+      unit="image widths", min=0.0, max=10.0, spec="§9"),
+    P("refraction", "mode", "enum", "physical", "physical (index of refraction η) or art-directed "
+      "(linear in μ)", choices=REFRACTION_MODES, spec="§9"),
+    P("refraction", "ior", float, 1.5, "η = η₂/η₁, the relative index of refraction (also drives "
+      "the physical Fresnel)", min=0.5, max=2.0, spec="§9"),
+    P("refraction", "mu", float, 0.585, "μ = log₂ η for art-directed refraction: 0 = none, "
+      "+1 magnifies most, −1 shrinks most", min=-1.0, max=1.0, spec="§9"),
+    P("refraction", "extension", "enum", "extend", "Background lookups beyond its edges",
+      choices=EXTENSIONS, spec="§9"),
+    P("refraction", "blur", float, 0.0, "Translucent refraction: Gaussian blur σ of the background",
+      unit="image widths", min=0.0, max=1.0, spec="§11"),
+    # §10 Fresnel
+    P("fresnel", "mode", "enum", "physical", "Reflection/refraction ratio: physical Fresnel of η, "
+      "or the art-directed piecewise-linear curve", choices=("physical", "art"), spec="§10"),
+    P("fresnel", "domain", "enum", "cos", "Art-directed curve placed along 1 − cos θ (fits the "
+      "physical curve better) or sin θ", choices=DOMAINS, spec="§10"),
+    P("fresnel", "x1", float, 0.45, "Art-directed 'total refraction' point: F = 0 up to here",
+      min=0.0, max=1.0, spec="§10"),
+    P("fresnel", "x2", float, 0.9, "Art-directed 'equal mix' point: F = ½ here", min=0.0, max=1.0,
+      spec="§10"),
+    P("fresnel", "kappa", float, 0.0, "κ: −1 total refraction … 0 as the curve says … +1 total "
+      "reflection", min=-1.0, max=1.0, spec="§10"),
+    # §11 composite
+    P("transparency", "amount", "auto_float", "auto", "k: where the surface shows the reflection/"
+      "refraction mix (multiplies the transparency map); 'auto' = 1 with a map, 0 without",
+      min=0.0, max=1.0, spec="§11"),
+    P("silhouette", "source", "enum", "auto", "Whose alpha cuts the painting out over the "
+      "background: auto (shape, else dark), shape, dark, none",
+      choices=("auto", "shape", "dark", "none"), spec="§11"),
+)
+
+SECTIONS = tuple(dict.fromkeys(p.section for p in PARAMS))
+BY_PATH = {p.path: p for p in PARAMS}
+
+# §1 channels: recipe key → (what it is, colour or data)
+CHANNELS = {
+    "shape": ("normal map (RGB) or height map (grey)", "data"),
+    "dark": ("dark control image C0", "colour"),
+    "bright": ("bright control image C1", "colour"),
+    "specular_color": ("colour of highlights (default white)", "colour"),
+    "gloss": ("gloss map g (grey, default 1)", "data"),
+    "environment": ("environment E, reflected", "colour"),
+    "background": ("background B, refracted and shown outside the silhouette", "colour"),
+    "transparency": ("transparency map k (grey)", "data"),
+}
+REQUIRED_CHANNELS = ("shape",)
+
+
+def defaults():
+    """A namespace per section holding every default: p.shadows.offset, …"""
+    return SimpleNamespace(**{s: SimpleNamespace(**{p.key: p.default for p in PARAMS
+                                                    if p.section == s}) for s in SECTIONS})
+
+
+def as_dict(params):
+    """Section → {key: value}, the inverse of `from_dict` (for writing recipes)."""
+    return {s: dict(vars(getattr(params, s))) for s in SECTIONS}

@@ -1,0 +1,225 @@
+"""The painting recipe: a small human-editable TOML file naming the images, parameters and lights.
+
+    name = "Dome"
+    [images]                  # paths relative to this file
+    shape = "height.png"
+    dark = "dark.png"
+    bright = "bright.png"
+    [shape]
+    kind = "height"
+    height_scale = 0.1
+    [[lights]]
+    type = "sun"              # or "point" with position = [x, y, z]
+    direction = [0.5, 0.4, 0.7]
+    color = [1.0, 0.9, 0.8]
+    strength = 1.0
+
+Every section and key is listed by `python -m dynpaint_addon params` (generated from params.py).
+Unknown keys, wrong types and out-of-range values raise RecipeError naming the key.
+"""
+import difflib
+import math
+import os
+import tomllib
+from dataclasses import dataclass, field
+
+from . import params as P
+from .core.lights import LIGHT_KINDS, Light
+
+LIGHT_KEYS = ("type", "direction", "position", "color", "strength", "name")
+
+
+class RecipeError(ValueError):
+    """A recipe problem; the message starts with the file and the key."""
+
+
+@dataclass
+class Recipe:
+    params: object
+    lights: list
+    images: dict = field(default_factory=dict)   # channel → absolute path
+    name: str = ""
+    path: str = ""
+
+
+def _suggest(key, options):
+    close = difflib.get_close_matches(key, list(options), n=1)
+    return f" (did you mean '{close[0]}'?)" if close else ""
+
+
+def _check_value(param, value, where):
+    kind = param.kind
+    if kind is bool:
+        if not isinstance(value, bool):
+            raise RecipeError(f"{where}: expected true or false, got {value!r}")
+        return value
+    if kind == "enum":
+        if value not in param.choices:
+            raise RecipeError(f"{where}: must be one of {', '.join(param.choices)}, got {value!r}")
+        return value
+    if kind == "auto_float" and value == "auto":
+        return value
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        expected = "an integer" if kind is int else ("a number or \"auto\"" if kind == "auto_float"
+                                                     else "a number")
+        raise RecipeError(f"{where}: expected {expected}, got {value!r}")
+    if kind is int and not isinstance(value, int):
+        raise RecipeError(f"{where}: expected an integer, got {value!r}")
+    if not math.isfinite(value):
+        raise RecipeError(f"{where}: must be a finite number, got {value!r}")
+    if param.min is not None and value < param.min or param.max is not None and value > param.max:
+        unit = f" {param.unit}" if param.unit else ""
+        raise RecipeError(f"{where}: {value!r} is out of range [{param.min}, {param.max}]{unit}")
+    return int(value) if kind is int else float(value)
+
+
+def _vector(value, where, minimum=None):
+    if (not isinstance(value, list) or len(value) != 3
+            or any(isinstance(c, bool) or not isinstance(c, (int, float)) for c in value)):
+        raise RecipeError(f"{where}: expected three numbers [x, y, z], got {value!r}")
+    if not all(math.isfinite(c) for c in value):
+        raise RecipeError(f"{where}: must be finite, got {value!r}")
+    if minimum is not None and any(c < minimum for c in value):
+        raise RecipeError(f"{where}: components must be ≥ {minimum}, got {value!r}")
+    return tuple(float(c) for c in value)
+
+
+def _parse_light(i, table, where):
+    where = f"{where}lights[{i}]"
+    if not isinstance(table, dict):
+        raise RecipeError(f"{where}: expected a table ([[lights]])")
+    for key in table:
+        if key not in LIGHT_KEYS:
+            raise RecipeError(f"{where}.{key}: unknown key{_suggest(key, LIGHT_KEYS)}")
+    kind = table.get("type", "sun")
+    if kind not in LIGHT_KINDS:
+        raise RecipeError(f"{where}.type: must be one of {', '.join(LIGHT_KINDS)}, got {kind!r}")
+    vec_key = "direction" if kind == "sun" else "position"
+    other = "position" if kind == "sun" else "direction"
+    if other in table:
+        raise RecipeError(f"{where}.{other}: a {kind} light takes '{vec_key}', not '{other}'")
+    if vec_key not in table:
+        raise RecipeError(f"{where}.{vec_key}: missing (a {kind} light needs one)")
+    vec = _vector(table[vec_key], f"{where}.{vec_key}")
+    if kind == "sun" and vec == (0.0, 0.0, 0.0):
+        raise RecipeError(f"{where}.direction: must not be [0, 0, 0]")
+    colour = _vector(table.get("color", [1.0, 1.0, 1.0]), f"{where}.color", minimum=0)
+    strength = table.get("strength", 1.0)
+    if isinstance(strength, bool) or not isinstance(strength, (int, float)) \
+            or not math.isfinite(strength) or strength < 0:
+        raise RecipeError(f"{where}.strength: expected a number ≥ 0, got {strength!r}")
+    name = table.get("name", "")
+    if not isinstance(name, str):
+        raise RecipeError(f"{where}.name: expected a string, got {name!r}")
+    return Light(kind, vec, colour, float(strength), name)
+
+
+def parse_recipe(data, base_dir=".", source="recipe", check_files=True):
+    """Validate a recipe dict (as read from TOML) → Recipe. Image paths resolve from base_dir."""
+    where = f"{source}: "
+    params = P.defaults()
+    name = ""
+    images, lights = {}, []
+    for key, value in data.items():
+        if key == "name":
+            if not isinstance(value, str):
+                raise RecipeError(f"{where}name: expected a string, got {value!r}")
+            name = value
+        elif key == "images":
+            if not isinstance(value, dict):
+                raise RecipeError(f"{where}images: expected a table [images]")
+            for ch, rel in value.items():
+                if ch not in P.CHANNELS:
+                    raise RecipeError(f"{where}images.{ch}: unknown image channel"
+                                      f"{_suggest(ch, P.CHANNELS)}; channels: {', '.join(P.CHANNELS)}")
+                if not isinstance(rel, str) or not rel:
+                    raise RecipeError(f"{where}images.{ch}: expected a file path, got {rel!r}")
+                full = os.path.normpath(os.path.join(base_dir, rel))
+                if check_files and not os.path.isfile(full):
+                    raise RecipeError(f"{where}images.{ch}: file not found: {full}")
+                images[ch] = full
+        elif key == "lights":
+            if not isinstance(value, list):
+                raise RecipeError(f"{where}lights: expected an array of tables [[lights]]")
+            lights = [_parse_light(i, t, where) for i, t in enumerate(value)]
+        elif key in P.SECTIONS:
+            if not isinstance(value, dict):
+                raise RecipeError(f"{where}{key}: expected a table [{key}]")
+            section = getattr(params, key)
+            for k, v in value.items():
+                param = P.BY_PATH.get(f"{key}.{k}")
+                if param is None:
+                    keys = [p.key for p in P.PARAMS if p.section == key]
+                    raise RecipeError(f"{where}{key}.{k}: unknown key{_suggest(k, keys)}")
+                setattr(section, k, _check_value(param, v, f"{where}{key}.{k}"))
+        else:
+            options = ("name", "images", "lights") + P.SECTIONS
+            raise RecipeError(f"{where}{key}: unknown key{_suggest(key, options)}")
+    for ch in P.REQUIRED_CHANNELS:
+        if ch not in images:
+            raise RecipeError(f"{where}images.{ch}: missing (a painting needs a shape image)")
+    if "dark" not in images and "bright" not in images:
+        raise RecipeError(f"{where}images.dark: missing (a painting needs a dark or a bright image)")
+    return Recipe(params, lights, images, name)
+
+
+def load_recipe(path):
+    """Read and validate a recipe file → Recipe."""
+    path = os.fspath(path)
+    if not os.path.isfile(path):
+        raise RecipeError(f"{path}: recipe file not found")
+    try:
+        with open(path, "rb") as fh:
+            data = tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise RecipeError(f"{path}: not valid TOML ({exc})") from None
+    except UnicodeDecodeError:
+        raise RecipeError(f"{path}: not a text file") from None
+    recipe = parse_recipe(data, os.path.dirname(os.path.abspath(path)), path)
+    recipe.path = os.path.abspath(path)
+    return recipe
+
+
+def _toml_value(v):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(v)
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(c) for c in v) + "]"
+    return '"' + str(v).replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def recipe_to_toml(recipe, base_dir, only_changed=True):
+    """Serialize a Recipe to TOML text with image paths relative to base_dir.
+
+    only_changed writes parameters that differ from their defaults (the file stays short and
+    keeps following new defaults); False writes every parameter.
+    """
+    lines = ["# Dynamic Painting recipe (see `python -m dynpaint_addon params`)"]
+    if recipe.name:
+        lines.append(f"name = {_toml_value(recipe.name)}")
+    lines += ["", "[images]"]
+    for ch, full in recipe.images.items():
+        rel = os.path.relpath(full, base_dir).replace(os.sep, "/")
+        lines.append(f"{ch} = {_toml_value(rel)}")
+    defaults = P.as_dict(P.defaults())
+    for section, values in P.as_dict(recipe.params).items():
+        changed = {k: v for k, v in values.items() if not only_changed or v != defaults[section][k]}
+        if changed:
+            lines += ["", f"[{section}]"] + [f"{k} = {_toml_value(v)}" for k, v in changed.items()]
+    for light in recipe.lights:
+        lines += ["", "[[lights]]", f"type = {_toml_value(light.kind)}"]
+        lines.append(f"{'direction' if light.kind == 'sun' else 'position'} = "
+                     f"{_toml_value(list(light.vector))}")
+        lines.append(f"color = {_toml_value(list(light.colour))}")
+        lines.append(f"strength = {_toml_value(light.strength)}")
+        if light.name:
+            lines.append(f"name = {_toml_value(light.name)}")
+    return "\n".join(lines) + "\n"
+
+
+def load_images(recipe):
+    """Read every image the recipe names → {channel: ImageData}."""
+    from .imageio import read_image
+    return {ch: read_image(path) for ch, path in recipe.images.items()}

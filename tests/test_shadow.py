@@ -1,0 +1,164 @@
+"""§6 cos-θ shadows and its §14 rows: planes are exact, extremes stay finite and in [0, 1]."""
+import numpy as np
+import pytest
+
+from conftest import flat_normals, unit
+from dynpaint_addon.core.lights import Light
+from dynpaint_addon.core.shadow import QUALITY, ShadowStats, cos_theta_shadow
+from dynpaint_addon.core.shape import decode_normal_map, height_field_px, normals_from_height_px, \
+    slopes_from_normals
+
+LIGHTS = [(0.3, 0.2, 0.8), (1, 0, 0.2), (-1, -1, 0.1), (0, 0, 1), (-0.2, 0.9, 0.4)]
+
+
+def _both(n, z_px, light, d, k, **kw):
+    """(height-map bake, normal-map bake) of the same surface."""
+    return (cos_theta_shadow(n, light, d, k, heights_px=z_px, **kw),
+            cos_theta_shadow(n, light, d, k, slopes=slopes_from_normals(n), **kw))
+
+
+@pytest.mark.parametrize("L", LIGHTS)
+@pytest.mark.parametrize("d", [1e-4, 0.003, 0.05, 0.4])
+@pytest.mark.parametrize("k", [0, 1, 7, 64, 100000])
+def test_flat_plane_gives_cos_theta(L, d, k):
+    """§6/§14: flat plane, any L, d, K → t = cos θ to float precision (1e-5 in float32)."""
+    n = flat_normals(24, 32)
+    z = np.zeros((24, 32), np.float32)
+    for t in _both(n, z, Light("sun", L), d, k):
+        assert t.dtype == np.float32
+        np.testing.assert_allclose(t, unit(L)[2], atol=1e-5)
+
+
+@pytest.mark.parametrize("L", LIGHTS + [(-0.9, 0.1, 0.1)])
+@pytest.mark.parametrize("d", [0.001, 0.02, 0.5])
+@pytest.mark.parametrize("k", [0, 1, 16])
+def test_tilted_plane_gives_clamped_n_dot_l(L, d, k):
+    """§6: on a tilted plane t = max(N·L, 0), for height maps and normal maps, up to the border."""
+    w = 48
+    y, x = np.mgrid[0:w, 0:w].astype(np.float64) + 0.5
+    z = (0.3 * x + 0.1 * y).astype(np.float32)               # pixels: slopes 0.3 and 0.1
+    n = normals_from_height_px(z)
+    expected = max(float(n[5, 5] @ unit(L)), 0.0)
+    for t in _both(n, z, Light("sun", L), d, k):
+        np.testing.assert_allclose(t, expected, atol=1e-4)
+
+
+def test_vertical_light_on_a_normal_map_gives_n_z(rng):
+    """§6: with L = (0, 0, 1) the normal-map march gives t = N.z exactly, even when the map is
+    non-conservative (random normals: no height field produces them)."""
+    rgb = rng.uniform(0, 1, (40, 50, 3)).astype(np.float32)
+    n = decode_normal_map(rgb)
+    for d, k in [(0.01, 64), (0.2, 8), (0.001, 1)]:
+        t = cos_theta_shadow(n, Light("sun", (0, 0, 1)), d, k, slopes=slopes_from_normals(n))
+        np.testing.assert_allclose(t, n[..., 2], atol=2e-5)
+
+
+def test_point_light_over_a_plane_gives_per_pixel_cos_theta():
+    n = flat_normals(32, 32)
+    z = np.zeros((32, 32), np.float32)
+    light = Light("point", (0.2, -0.1, 0.3))
+    y, x = np.mgrid[0:32, 0:32].astype(np.float64) + 0.5
+    p = light.position_px(32, 32)
+    expected = (p[2] - 0) / np.sqrt((p[0] - x) ** 2 + (p[1] - y) ** 2 + p[2] ** 2)
+    for t in _both(n, z, light, 0.02, 32):
+        np.testing.assert_allclose(t, expected, atol=1e-5)
+
+
+@pytest.mark.parametrize("L", [(1, 0, 0), (0.5, 0.5, -0.2), (0, 0, -1)])
+def test_sun_at_or_below_the_horizon_gives_zero(L):
+    """§14: L.z = 0 or < 0 → finite; t = 0 below the horizon."""
+    n = flat_normals(8, 8)
+    for t in _both(n, np.zeros((8, 8), np.float32), Light("sun", L), 0.01, 16):
+        assert np.all(t == 0)
+
+
+def _bumpy(size=64, seed=3):
+    rng = np.random.default_rng(seed)
+    hgt = np.zeros((size, size))
+    y, x = np.mgrid[0:size, 0:size] / size
+    for _ in range(6):
+        cx, cy, r = rng.uniform(0.2, 0.8), rng.uniform(0.2, 0.8), rng.uniform(0.05, 0.2)
+        hgt = np.maximum(hgt, np.sqrt(np.clip(1 - ((x - cx) ** 2 + (y - cy) ** 2) / r**2, 0, 1)))
+    z = height_field_px(hgt.astype(np.float32), 0.15)
+    return normals_from_height_px(z), z
+
+
+@pytest.mark.parametrize("d", [0.0, 1e-7, 1e-3])
+@pytest.mark.parametrize("k", [0, 1, 3, 50000])
+def test_extremes_stay_finite_and_in_range(d, k):
+    """§14: d → 0, K = 0, K = 1, huge K → finite, t ∈ [0, 1], on a relief with cast shadows."""
+    n, z = _bumpy()
+    for light in (Light("sun", (1, 0.3, 0.25)), Light("point", (0.1, 0.1, 0.05)),
+                  Light("point", (0.0, 0.0, -0.2))):
+        for t in _both(n, z, light, d, k):
+            assert np.all(np.isfinite(t)) and t.min() >= 0 and t.max() <= 1
+
+
+def test_huge_k_is_capped_per_pixel_of_march():
+    n, z = _bumpy(32)
+    stats = ShadowStats()
+    cos_theta_shadow(n, Light("sun", (1, 0, 1)), 0.01, 10**9, heights_px=z, stats=stats)
+    assert stats.steps <= 4 * 32 * np.sqrt(2) + 1
+
+
+def test_d_to_zero_is_n_dot_l_times_hard_visibility():
+    """§6: d → 0 gives max(N·L, 0) × hard visibility: lit pixels equal N·L, shadowed ones 0."""
+    n, z = _bumpy(64)
+    light = Light("sun", (1, 0.2, 0.35))
+    t0 = cos_theta_shadow(n, light, 0.0, 256, heights_px=z)
+    ndl = np.maximum(n @ unit(light.vector), 0).astype(np.float32)
+    lit = t0 > 0
+    np.testing.assert_allclose(t0[lit], ndl[lit], atol=1e-6)
+    assert np.mean(~lit & (ndl > 0.2)) > 0.01    # some sunlit-facing pixels are in cast shadow
+    # A tiny offset sees the same lit/shadowed split, and on most lit pixels the same value.
+    # (Not on all: as d → 0 the march follows the bilinear surface, whose slope differs slightly
+    # from the central-difference normal used for N·L.)
+    t_small = cos_theta_shadow(n.astype(np.float64), light, 1e-5, 256, heights_px=z.astype(np.float64))
+    assert np.mean((t_small > 0.05) == lit) > 0.98
+    assert np.median(np.abs(t_small - t0)[lit]) < 1e-6
+
+
+def test_point_light_inside_the_relief_caps_the_segment():
+    """§6: a point light inside the relief: the segment stops at the light; t stays in [0, 1]."""
+    n, z = _bumpy(64)
+    light = Light("point", (0.0, 0.0, 0.005))     # below the tops of the bumps
+    t = cos_theta_shadow(n, light, 0.01, 64, heights_px=z)
+    assert np.all(np.isfinite(t)) and t.min() >= 0 and t.max() <= 1
+    # pixels right under the light see it through very little relief: lit
+    assert t[32, 32] > 0.0
+
+
+def test_linear_crossing_beats_the_midpoint_count():
+    """§6: linear-crossing occupancy is far more accurate than the paper's binary midpoint count."""
+    n, z = _bumpy(64)
+    light = Light("sun", (0.8, 0.3, 0.6))
+    ref = cos_theta_shadow(n.astype(np.float64), light, 0.01, 2048, heights_px=z.astype(np.float64))
+    lin = cos_theta_shadow(n, light, 0.01, 16, heights_px=z)
+    mid = cos_theta_shadow(n, light, 0.01, 16, heights_px=z, occupancy="midpoint")
+    e_lin, e_mid = np.mean(np.abs(lin - ref)), np.mean(np.abs(mid - ref))
+    assert e_lin < e_mid / 3
+
+
+def test_more_steps_converge_to_the_reference():
+    n, z = _bumpy(64)
+    light = Light("sun", (-0.6, 0.5, 0.5))
+    ref = cos_theta_shadow(n.astype(np.float64), light, 0.01, 4096, heights_px=z.astype(np.float64))
+    errs = [np.mean(np.abs(cos_theta_shadow(n, light, 0.01, k, heights_px=z) - ref))
+            for k in (4, 16, 64, 256)]
+    assert errs == sorted(errs, reverse=True) and errs[-1] < 2e-3 and errs[0] > 5 * errs[-1]
+    assert QUALITY["reference"]["dtype"] == "float64"
+
+
+def test_cast_shadow_falls_away_from_the_light():
+    """A tall box on the ground, sun from +x: the ground at −x of the box is dark, +x lit."""
+    size = 64
+    hgt = np.zeros((size, size), np.float32)
+    hgt[24:40, 28:36] = 1
+    z = height_field_px(hgt, 0.2)
+    n = normals_from_height_px(z)
+    t = cos_theta_shadow(n, Light("sun", (1, 0, 0.6)), 0.005, 128, heights_px=z)
+    cos_sun = unit((1, 0, 0.6))[2]
+    assert t[32, 20] < 0.05                    # in the box's shadow
+    assert t[32, 45] == pytest.approx(cos_sun, abs=1e-3)   # lit ground on the light's side
+    tn = cos_theta_shadow(n, Light("sun", (1, 0, 0.6)), 0.005, 128, slopes=slopes_from_normals(n))
+    assert tn[32, 45] == pytest.approx(cos_sun, abs=1e-3)
