@@ -48,12 +48,12 @@ def test_recipe():
     """Parameters and lights of the test painting (images not attached)."""
     p = P.defaults()
     p.shape.kind = "height"
-    p.shape.height_scale = 0.12
+    p.shape.height_scale = 0.25
     p.shadows.enabled = True
     p.shadows.offset = 0.01
     p.specular.enabled = True
     p.specular.s0 = 0.92
-    lights = [Light("sun", (-0.55, 0.45, 0.70), (1.0, 0.92, 0.8), 1.0, "Key"),
+    lights = [Light("sun", (-0.6, 0.5, 0.45), (1.0, 0.92, 0.8), 1.0, "Key"),
               Light("point", (0.45, -0.1, 0.35), (0.45, 0.55, 1.0), 0.25, "Fill")]
     return Recipe(p, lights, {}, "Built-in test painting")
 

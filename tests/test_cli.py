@@ -1,0 +1,115 @@
+"""The command line, run as users run it: `python -m dynpaint_addon …` in a fresh process."""
+import numpy as np
+import pytest
+
+from conftest import run_cli, unit
+from dynpaint_addon.core.lights import Light
+from dynpaint_addon.core.shadow import cos_theta_shadow
+from dynpaint_addon.core.shape import height_field_px, normals_from_height_px
+from dynpaint_addon.core.pipeline import render
+from dynpaint_addon.imageio import read_image, write_png
+from dynpaint_addon.recipe import load_images, load_recipe
+from dynpaint_addon.testpainting import write_test_painting
+
+
+@pytest.fixture(scope="module")
+def painting(tmp_path_factory):
+    return write_test_painting(str(tmp_path_factory.mktemp("cli")), size=48)
+
+
+def test_help_documents_every_command_with_units():
+    top = run_cli("--help")
+    assert top.returncode == 0
+    for cmd in ("render", "bake-shadow", "demo", "make-test-painting", "params"):
+        assert cmd in top.stdout
+    bake = run_cli("bake-shadow", "--help").stdout
+    for word in ("image widths", "pixels", "--steps", "--quality", "--point-light", "ms"):
+        assert word in bake
+    assert "pixels" in run_cli("render", "--help").stdout
+    params = run_cli("params").stdout
+    assert "offset = 0.01 (image widths)" in params and "preblur" in params
+
+
+def test_render_png_and_exr_match_the_core(painting, tmp_path):
+    exr = tmp_path / "out.exr"
+    res = run_cli("render", painting, "--out", exr, "--engine", "numpy")
+    assert res.returncode == 0, res.stderr
+    recipe = load_recipe(painting)
+    expected = render(load_images(recipe), recipe.lights, recipe.params).rgba
+    np.testing.assert_array_equal(read_image(str(exr)).pixels, expected)
+    png = tmp_path / "out.png"
+    assert run_cli("render", painting, "--out", png, "--width", 20).returncode == 0
+    assert read_image(str(png)).pixels.shape == (20, 20, 4)
+
+
+def test_bake_shadow_height_map(tmp_path):
+    size = 40
+    hgt = np.zeros((size, size), np.float32)
+    hgt[14:26, 16:24] = 1.0
+    write_png(str(tmp_path / "h.png"), hgt, bits=16)
+    out = tmp_path / "t.exr"
+    res = run_cli("bake-shadow", tmp_path / "h.png", "--kind", "height", "--height-scale", 0.2,
+                  "--light", 1, 0, 0.6, "--offset", 0.005, "--steps", 96, "--out", out, "-v")
+    assert res.returncode == 0, res.stderr
+    assert "ms for 40×40" in res.stdout and "steps=96" in res.stdout and "offset=0.005" in res.stdout
+    t = read_image(str(out))
+    assert t.pixels.shape == (40, 40, 1) and t.bits == 32
+    z = height_field_px(hgt, 0.2)
+    ref = cos_theta_shadow(normals_from_height_px(z), Light("sun", (1, 0, 0.6)), 0.005, 96, heights_px=z)
+    np.testing.assert_array_equal(t.pixels[..., 0], ref)
+    assert t.pixels[20, 8, 0] < 0.05 and t.pixels[20, 32, 0] == pytest.approx(unit((1, 0, 0.6))[2], abs=1e-3)
+
+
+def test_bake_shadow_normal_map_and_point_light(tmp_path):
+    flat = np.tile(np.array([0.5, 0.5, 1.0]), (16, 24, 1))
+    write_png(str(tmp_path / "n.png"), flat, bits=16)   # 16-bit: 0.5 is within 1e-5 of flat
+    for light_args, check in ((("--light", 0, 0.6, 0.8), 0.8), (("--point-light", 0, 0, 0.5), None)):
+        out = tmp_path / "n.exr"
+        res = run_cli("bake-shadow", tmp_path / "n.png", "--kind", "normal", *light_args,
+                      "--quality", "draft", "--out", out)
+        assert res.returncode == 0, res.stderr
+        t = read_image(str(out)).pixels[..., 0]
+        assert t.shape == (16, 24)
+        if check:
+            np.testing.assert_allclose(t, check, atol=1e-4)
+        else:
+            assert t[8, 12] > t[0, 0] > 0      # brightest under the point light
+
+
+@pytest.mark.parametrize("args,message", [
+    (("render", "missing.toml", "--out", "x.png"), "missing.toml: recipe file not found"),
+    (("bake-shadow", "missing.png", "--kind", "height", "--light", 0, 0, 1, "--out", "t.exr"),
+     "missing.png: file not found"),
+    (("bake-shadow", "notimage.png", "--kind", "height", "--light", 0, 0, 1, "--out", "t.exr"),
+     "notimage.png: not an image Blender can read"),
+    (("bake-shadow", "notimage.png", "--kind", "height", "--light", 0, 0, 1, "--out", "t.png"),
+     "the shadow term is written as a float EXR"),
+    (("bake-shadow", "notimage.png", "--kind", "height", "--light", 0, 0, 0, "--out", "t.exr"),
+     "sun direction must not be (0, 0, 0)"),
+    (("bake-shadow", "notimage.png", "--kind", "height", "--light", 0, 0, 1, "--steps", -3,
+      "--out", "t.exr"), "--steps must be ≥ 0"),
+    (("render", "bad.toml", "--out", "x.png"), "bad.toml: shadows.stpes: unknown key (did you mean 'steps'?)"),
+    (("render", "good.toml", "--out", "x.jpg"), "unsupported output format '.jpg'"),
+    (("render", "good.toml", "--out", "x.png", "--engine", "cycles"), "--engine cycles: only 'numpy'"),
+])
+def test_user_mistakes_give_one_clear_line(tmp_path, painting, args, message):
+    (tmp_path / "notimage.png").write_text("hello")
+    (tmp_path / "bad.toml").write_text('[images]\nshape = "notimage.png"\ndark = "notimage.png"\n[shadows]\nstpes = 3\n')
+    args = [painting if a == "good.toml" else a for a in args]
+    res = run_cli(*args, cwd=tmp_path)
+    assert res.returncode == 1
+    assert "Traceback" not in res.stderr
+    lines = [ln for ln in res.stderr.splitlines() if ln.startswith("error:")]
+    assert len(lines) == 1 and message in lines[0], res.stderr
+
+
+def test_malformed_command_lines_exit_2():
+    res = run_cli("bake-shadow", "x.png", "--kind", "sphere", "--light", 0, 0, 1, "--out", "t.exr")
+    assert res.returncode == 2 and "invalid choice" in res.stderr and "Traceback" not in res.stderr
+
+
+def test_demo_writes_an_image(tmp_path):
+    res = run_cli("demo", "--out", tmp_path / "demo.png", "--size", 32)
+    assert res.returncode == 0, res.stderr
+    img = read_image(str(tmp_path / "demo.png")).pixels
+    assert img.shape == (32, 32, 4) and img[..., :3].std() > 0.02

@@ -1,0 +1,78 @@
+"""Image files: EXR through OpenEXR, PNG through Blender's loader; row order handled once."""
+import numpy as np
+import pytest
+
+from dynpaint_addon.core.pipeline import ImageData, render
+from dynpaint_addon import params as P
+from dynpaint_addon.core.lights import Light
+from dynpaint_addon.imageio import ImageReadError, read_image, write_exr, write_png
+
+
+def test_exr_round_trip_multichannel_float32(tmp_path, rng):
+    for c in (1, 2, 3, 4):
+        px = rng.normal(size=(5, 7, c)).astype(np.float32) * 100
+        px[0, 0, 0] = np.inf
+        path = str(tmp_path / f"x{c}.exr")
+        write_exr(path, px)
+        back = read_image(path)
+        assert back.bits == 32 and back.pixels.dtype == np.float32
+        np.testing.assert_array_equal(back.pixels, px)
+
+
+@pytest.mark.parametrize("bits", [8, 16])
+@pytest.mark.parametrize("channels", [1, 2, 3, 4])
+def test_png_round_trip_through_blender(tmp_path, rng, bits, channels):
+    px = rng.uniform(0, 1, (6, 9, channels))
+    path = str(tmp_path / "x.png")
+    write_png(path, px, bits)
+    back = read_image(path)
+    q = 2 ** bits - 1
+    assert back.bits == bits
+    expected = np.round(px * q) / q
+    if channels == 2:                       # Blender hands grey+alpha back as RGBA
+        np.testing.assert_allclose(back.grey(), expected[..., 0], atol=1e-6)
+        np.testing.assert_allclose(back.alpha(), expected[..., 1], atol=1e-6)
+    else:
+        assert back.pixels.shape == (6, 9, channels)
+        np.testing.assert_allclose(back.pixels, expected, atol=1e-6)
+
+
+def test_files_store_the_top_row_first(tmp_path):
+    """§0: a y-up array written and read back is unchanged, and the file's first row is the top."""
+    px = np.zeros((4, 3), np.float32)
+    px[3] = 1.0                              # top row (y up: the last array row)
+    write_png(str(tmp_path / "t.png"), px)
+    import zlib
+    data = (tmp_path / "t.png").read_bytes()
+    raw = zlib.decompress(data[data.index(b"IDAT") + 4:])
+    assert raw[1:4] == b"\xff\xff\xff" and raw[5:8] == b"\x00\x00\x00"
+    np.testing.assert_array_equal(read_image(str(tmp_path / "t.png")).pixels[..., 0], px)
+    write_exr(str(tmp_path / "t.exr"), px)
+    np.testing.assert_array_equal(read_image(str(tmp_path / "t.exr")).pixels[..., 0], px)
+
+
+def test_colour_images_are_decoded_from_srgb_data_are_not(tmp_path):
+    """§0: an 8-bit mid-grey colour image shades as linear 0.214; an EXR colour image as is."""
+    shape = ImageData(np.tile(np.array([0.5, 0.5, 1.0], np.float32), (2, 2, 1)), 8)
+    p = P.defaults()
+    dark = np.full((2, 2, 3), 0.5, np.float32)
+    out = render({"shape": shape, "dark": ImageData(dark, 8)}, [Light("sun", (0, 0, 1))], p).rgba
+    assert out[0, 0, 0] == pytest.approx(0.2140, abs=1e-4)
+    out = render({"shape": shape, "dark": ImageData(dark, 32)}, [Light("sun", (0, 0, 1))], p).rgba
+    assert out[0, 0, 0] == pytest.approx(0.5)
+
+
+def test_bad_files_give_clear_errors(tmp_path):
+    with pytest.raises(ImageReadError, match="file not found"):
+        read_image(str(tmp_path / "missing.png"))
+    (tmp_path / "text.png").write_text("this is not an image")
+    with pytest.raises(ImageReadError, match="text.png: not an image Blender can read"):
+        read_image(str(tmp_path / "text.png"))
+    (tmp_path / "empty.png").write_bytes(b"")
+    with pytest.raises(ImageReadError, match="empty"):
+        read_image(str(tmp_path / "empty.png"))
+    (tmp_path / "broken.exr").write_bytes(b"\x76\x2f\x31\x01" + b"\x00" * 40)
+    with pytest.raises(ImageReadError, match="broken.exr: not a readable OpenEXR file"):
+        read_image(str(tmp_path / "broken.exr"))
+    with pytest.raises(ImageReadError, match="is a folder"):
+        read_image(str(tmp_path))

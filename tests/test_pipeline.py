@@ -1,0 +1,188 @@
+"""The whole pipeline (§2–§11): hand-computed pixels, §12 neutral defaults, §14 input extremes."""
+import numpy as np
+import pytest
+
+from dynpaint_addon import params as P
+from dynpaint_addon.core.lights import Light
+from dynpaint_addon.core.pipeline import ImageData, render
+
+
+def srgb_decode(v):
+    return v / 12.92 if v <= 0.04045 else ((v + 0.055) / 1.055) ** 2.4
+
+
+def const(h, w, value, bits=8):
+    value = np.atleast_1d(np.asarray(value, np.float32))
+    return ImageData(np.broadcast_to(value, (h, w, value.size)).copy(), bits)
+
+
+def hand_painting():
+    """1×3 normal map: N = (0, 0, 1), (0.6, 0, 0.8), (−0.6, 0, 0.8); dark 64/255, bright 200/255."""
+    shape = np.array([[[0.5, 0.5, 1.0], [0.8, 0.5, 0.9], [0.2, 0.5, 0.9]]], np.float32)
+    return {"shape": ImageData(shape, 16), "dark": const(1, 3, 64 / 255), "bright": const(1, 3, 200 / 255)}
+
+
+def test_end_to_end_against_values_computed_by_hand():
+    p = P.defaults()
+    p.specular.enabled = True
+    p.specular.s0, p.specular.s1, p.specular.curve = 0.0, 1.0, "linear"
+    colour = (1.0, 0.5, 0.25)
+    out = render(hand_painting(), [Light("sun", (0.6, 0, 0.8), colour)], p).rgba
+    c0, c1 = srgb_decode(64 / 255), srgb_decode(200 / 255)
+    ndl = [0.8, 1.0, 0.28]                          # N·L by hand
+    rz = [2 * 0.8 * 1.0 - 0.8, 2 * 1.0 * 0.8 - 0.8, 2 * 0.28 * 0.8 - 0.8]   # R_L.z = 0.8, 0.8, −0.352
+    for i in range(3):
+        for ch in range(3):
+            w = min(ndl[i] * colour[ch], 1)
+            cd = c0 * (1 - w) + c1 * w
+            s = min(max(rz[i], 0) * colour[ch], 1)
+            expected = cd * (1 - s) + 1.0 * s
+            assert out[0, i, ch] == pytest.approx(expected, abs=2e-6), (i, ch)
+        assert out[0, i, 3] == 1
+
+
+def test_float64_path_matches_float32():
+    p = P.defaults()
+    lights = [Light("sun", (0.6, 0, 0.8))]
+    a = render(hand_painting(), lights, p, np.float32).rgba
+    b = render(hand_painting(), lights, p, np.float64).rgba
+    assert b.dtype == np.float64 and np.abs(a - b).max() < 1e-6
+
+
+def dome_painting(size=24, with_alpha=False):
+    y, x = (np.mgrid[0:size, 0:size] + 0.5) / size - 0.5
+    z = np.sqrt(np.clip(0.3 - x * x - y * y, 0.01, None))
+    n = np.stack([x, y, z], -1) / np.sqrt(x * x + y * y + z * z)[..., None]
+    rgb = (n + 1) / 2
+    if with_alpha:
+        rgb = np.concatenate([rgb, (x * x + y * y < 0.16)[..., None]], -1)
+    rng = np.random.default_rng(0)
+    return {"shape": ImageData(rgb.astype(np.float32), 16),
+            "dark": ImageData(rng.uniform(0, 0.5, (size, size, 3)).astype(np.float32)),
+            "bright": ImageData(rng.uniform(0.5, 1, (size, size, 3)).astype(np.float32))}
+
+
+def glass_params(**fresnel):
+    p = P.defaults()
+    p.transparency.amount = 0.7
+    p.specular.enabled = True
+    p.specular.s0 = 0.5
+    for k, v in fresnel.items():
+        setattr(p.fresnel, k, v)
+    return p
+
+
+LIGHTS = [Light("sun", (0.5, 0.3, 0.8), (1, 0.9, 0.8)), Light("point", (-0.3, 0.2, 0.4), (0.3, 0.4, 1), 0.7)]
+
+
+def test_pruned_graph_equals_full_graph_fed_the_neutral_defaults():
+    """§12: each missing channel has a neutral default; leaving it out changes no pixel."""
+    base = dome_painting()
+    size = 24
+    env = ImageData(np.random.default_rng(1).uniform(0, 1, (16, 20, 3)).astype(np.float32))
+    bg = ImageData(np.random.default_rng(2).uniform(0, 1, (30, 12, 3)).astype(np.float32))
+    p = glass_params()
+
+    def same(a, b):
+        np.testing.assert_array_equal(render(a, LIGHTS, p).rgba, render(b, LIGHTS, p).rgba)
+
+    same(base, {**base, "specular_color": const(size, size, 1.0)})          # white highlights
+    same(base, {**base, "gloss": const(size, size, 1.0)})                   # gloss 1
+    same(base, {**base, "transparency": const(size, size, 1.0)})            # k = slider
+    # one control image serves both
+    same({k: v for k, v in base.items() if k != "bright"}, {**base, "bright": base["dark"]})
+    # no silhouette = alpha 1 everywhere
+    opaque = ImageData(np.concatenate([base["shape"].pixels, np.ones((size, size, 1), np.float32)], -1), 16)
+    same({**base, "background": bg}, {**base, "background": bg, "shape": opaque})
+    # no E and no B: G is transparent black; the same as E and B fully transparent
+    clear = ImageData(np.zeros((5, 5, 4), np.float32))
+    p.silhouette.source = "none"
+    same(base, {**base, "environment": clear, "background": clear})
+    # E missing: G = C_T, i.e. F = 0 (art Fresnel with κ = −1); B missing: G = C_M (κ = +1)
+    full = {**base, "environment": env, "background": bg}
+    for drop, kappa in (("environment", -1.0), ("background", 1.0)):
+        p_full = glass_params(mode="art", kappa=kappa)
+        p_full.silhouette.source = "none"
+        pruned = {k: v for k, v in full.items() if k != drop}
+        np.testing.assert_array_equal(render(pruned, LIGHTS, p_full).rgba, render(full, LIGHTS, p_full).rgba)
+
+
+def test_transparency_composite_weights_sum_to_one():
+    """§11: C = (1 − k)·C_s + k·C2′; at k = 1, s = 0 the result is G = F·E + (1 − F)·B exactly."""
+    size = 6
+    flat = ImageData(np.tile(np.array([0.5, 0.5, 1.0], np.float32), (size, size, 1)), 16)
+    e_val, b_val = 0.8, 0.2
+    imgs = {"shape": flat, "dark": const(size, size, 0.1), "bright": const(size, size, 0.9),
+            "environment": const(3, 3, e_val, 32), "background": const(3, 3, b_val, 32)}
+    p = P.defaults()
+    p.transparency.amount = 1.0
+    out = render(imgs, [Light("sun", (0, 0, 1))], p).rgba
+    f = ((1.5 - 1) / 2.5) ** 2
+    np.testing.assert_allclose(out[..., :3], f * e_val + (1 - f) * b_val, atol=1e-6)
+    np.testing.assert_allclose(out[..., 3], 1)
+
+
+def test_silhouette_shows_the_background_outside():
+    imgs = dome_painting(with_alpha=True)
+    imgs["background"] = const(4, 4, (0.25, 0.5, 0.75), 32)
+    out = render(imgs, LIGHTS, P.defaults()).rgba
+    np.testing.assert_allclose(out[0, 0], [0.25, 0.5, 0.75, 1], atol=1e-6)     # outside
+    no_bg = render({k: v for k, v in imgs.items() if k != "background"}, LIGHTS, P.defaults()).rgba
+    np.testing.assert_allclose(no_bg[0, 0], 0)                                 # transparent
+    assert no_bg[12, 12, 3] == 1
+
+
+def test_mismatched_sizes_are_resampled_to_the_shape_image():
+    imgs = dome_painting(24)
+    imgs["dark"] = const(7, 11, 0.3)
+    result = render(imgs, LIGHTS, P.defaults())
+    assert result.rgba.shape == (24, 24, 4)
+    assert any("resampled" in w and "dark" in w for w in result.warnings)
+
+
+def test_nan_shape_and_tiny_images():
+    """§14: a whole image of NaN → a clear error; 1×1 images render; partial NaN is reported."""
+    with pytest.raises(ValueError, match="no finite pixel"):
+        render({"shape": const(4, 4, np.nan, 32), "dark": const(4, 4, 0.5)}, LIGHTS, P.defaults())
+    for kind in ("normal", "height"):
+        p = P.defaults()
+        p.shape.kind = kind
+        p.shadows.enabled = True
+        for hw in ((1, 1), (2, 2), (1, 5)):
+            out = render({"shape": const(*hw, 0.7), "dark": const(*hw, 0.2)}, LIGHTS, p).rgba
+            assert out.shape == hw + (4,) and np.all(np.isfinite(out))
+    shape = dome_painting()["shape"].pixels.copy()
+    shape[3, 4] = np.nan
+    res = render({"shape": ImageData(shape, 32), "dark": const(24, 24, 0.5)}, LIGHTS, P.defaults())
+    assert np.all(np.isfinite(res.rgba)) and any("NaN" in w for w in res.warnings)
+
+
+def test_random_parameter_sweep_stays_finite_and_in_range():
+    """§14 across the whole pipeline: 300 random parameter sets (extremes included) on a small
+    painting with every channel present: no NaN/Inf, every value in [0, 1]."""
+    rng = np.random.default_rng(42)
+    size = 12
+    imgs = dome_painting(size, with_alpha=True)
+    imgs.update(environment=ImageData(rng.uniform(0, 4, (9, 7, 3)).astype(np.float32), 32),
+                background=ImageData(rng.uniform(0, 1, (5, 13, 4)).astype(np.float32)),
+                transparency=ImageData(rng.uniform(0, 1, (size, size, 1)).astype(np.float32)),
+                gloss=ImageData(rng.uniform(0, 1, (size, size, 1)).astype(np.float32)),
+                specular_color=ImageData(rng.uniform(0, 1, (size, size, 3)).astype(np.float32)))
+    for _ in range(300):
+        p = P.defaults()
+        for prm in P.PARAMS:
+            if prm.kind is bool:
+                value = bool(rng.integers(2))
+            elif prm.kind == "enum":
+                value = prm.choices[rng.integers(len(prm.choices))]
+            elif prm.kind is int:
+                value = int(rng.choice([0, 1, 2, 8]))
+            else:
+                lo, hi = prm.min, prm.max
+                value = float(rng.choice([lo, hi, rng.uniform(lo, hi)]))
+            setattr(getattr(p, prm.section), prm.key, value)
+        lights = [Light("sun", rng.normal(size=3) + [0, 0, 0.01], rng.uniform(0, 2, 3), rng.uniform(0, 3)),
+                  Light("point", rng.uniform(-1, 1, 3) * [1, 1, 0.3], rng.uniform(0, 1, 3), 1.0)]
+        out = render(imgs, lights, p).rgba
+        assert np.all(np.isfinite(out)), vars(p)
+        assert out.min() >= 0 and out.max() <= 1 + 1e-6, vars(p)

@@ -1,0 +1,86 @@
+"""The painting recipe: validation names the key; writing and reading round-trips."""
+import os
+
+import pytest
+
+from dynpaint_addon import params as P
+from dynpaint_addon.recipe import RecipeError, load_recipe, parse_recipe, recipe_to_toml
+from dynpaint_addon.testpainting import write_test_painting
+
+
+@pytest.fixture(scope="module")
+def painting(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("painting")
+    return write_test_painting(str(folder), size=32)
+
+
+BASE = {"images": {"shape": "height.png", "dark": "dark.png"}}
+
+
+def parse(extra, folder):
+    return parse_recipe({**BASE, **extra}, folder, "r.toml")
+
+
+@pytest.mark.parametrize("extra,message", [
+    ({"shadows": {"ofset": 0.1}}, "r.toml: shadows.ofset: unknown key (did you mean 'offset'?)"),
+    ({"shadow": {}}, "r.toml: shadow: unknown key (did you mean 'shadows'?)"),
+    ({"shadows": {"steps": "many"}}, "r.toml: shadows.steps: expected an integer, got 'many'"),
+    ({"shadows": {"steps": 2.5}}, "r.toml: shadows.steps: expected an integer, got 2.5"),
+    ({"shadows": {"enabled": 1}}, "r.toml: shadows.enabled: expected true or false, got 1"),
+    ({"shadows": {"offset": -1.0}}, "r.toml: shadows.offset: -1.0 is out of range [0.0, 1.0] image widths"),
+    ({"refraction": {"ior": 3.0}}, "r.toml: refraction.ior: 3.0 is out of range [0.5, 2.0]"),
+    ({"diffuse": {"curve": "cubic"}}, "r.toml: diffuse.curve: must be one of linear, smoothstep, smootherstep"),
+    ({"shape": {"preblur": "lots"}}, "r.toml: shape.preblur: expected a number or \"auto\", got 'lots'"),
+    ({"diffuse": {"t0": float("nan")}}, "r.toml: diffuse.t0: must be a finite number"),
+    ({"lights": [{"type": "spot", "direction": [0, 0, 1]}]}, "r.toml: lights[0].type: must be one of sun, point"),
+    ({"lights": [{"direction": [0, 0]}]}, "r.toml: lights[0].direction: expected three numbers"),
+    ({"lights": [{"direction": [0, 0, 0]}]}, "r.toml: lights[0].direction: must not be [0, 0, 0]"),
+    ({"lights": [{"type": "point", "direction": [0, 0, 1]}]}, "r.toml: lights[0].direction: a point light takes 'position'"),
+    ({"lights": [{"direction": [0, 0, 1], "colour": [1, 1, 1]}]}, "r.toml: lights[0].colour: unknown key (did you mean 'color'?)"),
+    ({"lights": [{"direction": [0, 0, 1], "strength": -2}]}, "r.toml: lights[0].strength: expected a number ≥ 0"),
+    ({"images": {"shape": "height.png", "dark": "dark.png", "drak": "x.png"}}, "r.toml: images.drak: unknown image channel (did you mean 'dark'?)"),
+    ({"images": {"shape": "missing.png", "dark": "dark.png"}}, "r.toml: images.shape: file not found"),
+    ({"images": {"dark": "dark.png"}}, "r.toml: images.shape: missing"),
+    ({"images": {"shape": "height.png"}}, "r.toml: images.dark: missing"),
+])
+def test_bad_recipes_name_the_key(painting, extra, message):
+    with pytest.raises(RecipeError) as err:
+        parse(extra, os.path.dirname(painting))
+    assert str(err.value).startswith(message)
+
+
+def test_every_parameter_accepts_its_default_and_bounds(painting):
+    folder = os.path.dirname(painting)
+    for prm in P.PARAMS:
+        values = [prm.default] + [v for v in (prm.min, prm.max) if v is not None] + list(prm.choices)
+        for v in values:
+            v = int(v) if prm.kind is int else v
+            r = parse({prm.section: {prm.key: v}}, folder)
+            assert getattr(getattr(r.params, prm.section), prm.key) == v
+
+
+def test_round_trip(painting, tmp_path):
+    r = load_recipe(painting)
+    assert r.name == "Built-in test painting" and r.params.shape.kind == "height"
+    assert [lt.kind for lt in r.lights] == ["sun", "point"]
+    r.params.fresnel.mode = "art"
+    r.params.diffuse.t0 = -0.25
+    for only_changed in (True, False):
+        out = tmp_path / f"copy{only_changed}.toml"
+        out.write_text(recipe_to_toml(r, str(tmp_path), only_changed))
+        back = load_recipe(str(out))
+        assert P.as_dict(back.params) == P.as_dict(r.params)
+        assert back.lights == r.lights and back.images == r.images and back.name == r.name
+
+
+def test_unreadable_recipe_files(tmp_path):
+    with pytest.raises(RecipeError, match="recipe file not found"):
+        load_recipe(str(tmp_path / "nope.toml"))
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[shape\nkind = 1")
+    with pytest.raises(RecipeError, match="not valid TOML"):
+        load_recipe(str(bad))
+    binary = tmp_path / "bin.toml"
+    binary.write_bytes(b"\xff\xfe\x00garbage")
+    with pytest.raises(RecipeError):
+        load_recipe(str(binary))

@@ -1,0 +1,65 @@
+"""Layout promises: extension manifest, zip contents, CI = README's test command, bpy-free core."""
+import glob
+import os
+import re
+import subprocess
+import sys
+import zipfile
+
+import bpy
+import pytest
+
+from conftest import REPO
+
+BLENDER_EXT = os.path.join(bpy.utils.system_resource("SCRIPTS"), "addons_core", "bl_pkg", "cli",
+                           "blender_ext.py")
+
+
+def test_manifest_validates():
+    res = subprocess.run([sys.executable, BLENDER_EXT, "validate", REPO], capture_output=True, text=True)
+    assert res.returncode == 0 and "Success" in res.stdout, res.stdout + res.stderr
+
+
+def test_built_zip_excludes_dev_files(tmp_path):
+    res = subprocess.run([sys.executable, BLENDER_EXT, "build", "--source-dir", REPO,
+                          "--output-dir", str(tmp_path)], capture_output=True, text=True)
+    assert res.returncode == 0, res.stdout + res.stderr
+    names = zipfile.ZipFile(glob.glob(str(tmp_path / "*.zip"))[0]).namelist()
+    assert "blender_manifest.toml" in names and "__init__.py" in names
+    assert "dynpaint_addon/core/shadow.py" in names
+    for dev in ("tests/", ".ci/", "scripts/", "benchmarks/", "docs/", ".venv/", "requirements-dev.txt",
+                "pytest.ini", "__pycache__"):
+        assert not any(n.startswith(dev) or f"/{dev}" in n for n in names), dev
+
+
+def readme_commands():
+    text = open(os.path.join(REPO, "README.md")).read()
+    return re.findall(r"```sh\n(.*?)\n```", text, re.S)
+
+
+def test_ci_runs_the_readme_test_command_exactly():
+    commands = readme_commands()
+    tests_cmd = [c for c in commands if "pytest" in c]
+    assert len(tests_cmd) == 1
+    ci = open(os.path.join(REPO, ".ci", "run")).read()
+    assert tests_cmd[0].strip() in [ln.strip() for ln in ci.splitlines()]
+    assert any("dynpaint_addon demo" in c for c in commands)      # the main job
+
+
+def test_core_never_imports_bpy():
+    code = ("import sys; sys.modules['bpy'] = None\n"
+            "import numpy as np\n"
+            "from dynpaint_addon.core import pipeline, shadow, shape, warps, fresnel, shading\n"
+            "from dynpaint_addon import params, recipe, cli\n"
+            "from dynpaint_addon.testpainting import test_images, test_recipe\n"
+            "r = test_recipe(); out = pipeline.render(test_images(16), r.lights, r.params)\n"
+            "print(out.rgba.shape)")
+    res = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True,
+                         env={**os.environ, "PYTHONPATH": REPO})
+    assert res.returncode == 0 and "(16, 16, 4)" in res.stdout, res.stderr
+    for path in glob.glob(os.path.join(REPO, "dynpaint_addon", "core", "*.py")):
+        assert not re.search(r"^\s*(import|from)\s+bpy", open(path).read(), re.M), path
+
+
+def test_venv_is_ignored():
+    assert ".venv/" in open(os.path.join(REPO, ".gitignore")).read().split()
