@@ -76,3 +76,28 @@ def test_bad_files_give_clear_errors(tmp_path):
         read_image(str(tmp_path / "broken.exr"))
     with pytest.raises(ImageReadError, match="is a folder"):
         read_image(str(tmp_path))
+
+
+@pytest.mark.parametrize("fmt,ext,depth", [("JPEG", "jpg", "8"), ("TIFF", "tif", "8"), ("TIFF", "tif", "16")])
+def test_jpeg_and_tiff_through_blender(tmp_path, fmt, ext, depth):
+    """JPEG and 8/16-bit TIFF written by Blender read back y-up with their bit depth."""
+    import bpy
+    img = bpy.data.images.new("t", 8, 6, alpha=False, float_buffer=True)
+    img.colorspace_settings.name = "Non-Color"
+    px = np.zeros((6, 8, 4), np.float32)
+    px[..., 3] = 1
+    px[3:, :, 0] = 1.0                       # top half red
+    px[:, :4, 1] = 0.5                       # left half half-green
+    img.pixels.foreach_set(px.ravel())
+    settings = bpy.context.scene.render.image_settings
+    settings.file_format, settings.color_mode = fmt, "RGB"
+    if fmt == "TIFF":
+        settings.color_depth = depth
+    path = str(tmp_path / f"x.{ext}")
+    img.save_render(path)
+    bpy.data.images.remove(img)
+    back = read_image(path)
+    assert back.bits == int(depth) and back.pixels.shape == (6, 8, 3)
+    tol = 0.02 if fmt == "JPEG" else 1 / 255
+    np.testing.assert_allclose(back.pixels[0, 0], [0, 0.5, 0], atol=tol)    # bottom-left
+    np.testing.assert_allclose(back.pixels[5, 7], [1, 0, 0], atol=tol)      # top-right
