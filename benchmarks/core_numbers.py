@@ -18,29 +18,20 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from dynpaint_addon.core.fresnel import fit_art_fresnel  # noqa: E402
+from dynpaint_addon.testpainting import quantized_dome  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.shadow import cos_theta_shadow  # noqa: E402
 from dynpaint_addon.core.shape import (default_preblur_px, height_field_px,  # noqa: E402
                                        normals_from_height_px)
 
 
-def dome(size, bits):
-    y, x = np.mgrid[0:size, 0:size].astype(np.float64)
-    r2 = ((x + 0.5 - size / 2) ** 2 + (y + 0.5 - size / 2) ** 2) / (0.4 * size) ** 2
-    h = np.sqrt(np.clip(1 - r2, 0, 1))
-    if bits < 32:
-        q = 2 ** bits - 1
-        h = np.round(h * q) / q
-    return h, r2 < 0.8 ** 2
-
-
 def bit_depth_table(size=256):
-    exact, mask = dome(size, 32)
+    exact, mask = quantized_dome(size, 32)
     light = np.array([1, 0, 1]) / np.sqrt(2)
     n_exact = normals_from_height_px(height_field_px(exact, 0.4))
     rows = []
     for bits in (8, 16, 32):
-        h, _ = dome(size, bits)
+        h, _ = quantized_dome(size, bits)
         for sigma in sorted({0.0, default_preblur_px(bits), 1.5}):
             n = normals_from_height_px(height_field_px(h.astype(np.float32), 0.4, sigma))
             err = np.abs((n @ light) - (n_exact @ light))[mask]

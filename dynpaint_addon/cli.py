@@ -13,11 +13,9 @@ import numpy as np
 from . import params as P
 from .core.colour import linear_to_srgb
 from .core.lights import Light
-from .core.pipeline import render
+from .core.pipeline import render, shape_normals
 from .core.sampling import resample
 from .core.shadow import QUALITY, ShadowStats, cos_theta_shadow
-from .core.shape import default_preblur_px, height_field_px, normals_from_height_px, \
-    decode_normal_map, slopes_from_normals
 from .imageio import ImageReadError, read_image, write_exr, write_png
 from .recipe import RecipeError, load_images, load_recipe
 
@@ -76,14 +74,14 @@ def cmd_render(args):
 
 
 def _shape_for_bake(args):
-    img = read_image(args.shape)
-    dtype = np.float64 if args.quality == "reference" else np.float32
-    if args.kind == "height":
-        sigma = default_preblur_px(img.bits) if args.preblur is None else args.preblur
-        z = height_field_px(img.grey().astype(dtype), args.height_scale, sigma)
-        return normals_from_height_px(z, args.z_min), z, None, dtype
-    n = decode_normal_map(img.rgb().astype(dtype), args.flip_green, args.z_min)
-    return n, None, slopes_from_normals(n), dtype
+    """The shape image decoded exactly as a render decodes it (pipeline.shape_normals, §2)."""
+    p = P.defaults()
+    p.shape.kind, p.shape.height_scale = args.kind, args.height_scale
+    p.shape.flip_green, p.shape.z_min = args.flip_green, args.z_min
+    p.shape.preblur = "auto" if args.preblur is None else args.preblur
+    dtype = np.dtype(QUALITY[args.quality]["dtype"]).type
+    n, z, slopes, _ = shape_normals(read_image(args.shape), p, dtype)
+    return n, z, slopes, dtype
 
 
 def cmd_bake_shadow(args):
@@ -117,10 +115,10 @@ def cmd_bake_shadow(args):
 
 
 def cmd_demo(args):
-    from .testpainting import test_images, test_recipe
-    recipe = test_recipe()
+    from .testpainting import builtin_images, builtin_recipe
+    recipe = builtin_recipe()
     t = time.perf_counter()
-    result = render(test_images(args.size), recipe.lights, recipe.params)
+    result = render(builtin_images(args.size), recipe.lights, recipe.params)
     ms = (time.perf_counter() - t) * 1000
     write_render(args.out, result.rgba)
     print(f"rendered the built-in test painting ({args.size}×{args.size}, numpy core, "

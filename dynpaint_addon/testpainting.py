@@ -23,7 +23,19 @@ def _strokes(x, y, seed):
     return v / np.max(np.abs(v))
 
 
-def test_images(size=256):
+def quantized_dome(size, bits):
+    """A hemisphere height map (radius 0.4 image widths, centred) quantized to `bits` (32 =
+    float), and the mask of its inner 80 %: the §2/§14 bit-depth yardstick."""
+    y, x = np.mgrid[0:size, 0:size].astype(np.float64)
+    r2 = ((x + 0.5 - size / 2) ** 2 + (y + 0.5 - size / 2) ** 2) / (0.4 * size) ** 2
+    height = np.sqrt(np.clip(1 - r2, 0, 1))
+    if bits < 32:
+        q = 2 ** bits - 1
+        height = np.round(height * q) / q
+    return height, r2 < 0.8 ** 2
+
+
+def builtin_images(size=256):
     """{channel: ImageData} with y-up arrays: 16-bit height, 8-bit sRGB dark and bright."""
     w = h = int(size)
     y, x = np.mgrid[0:h, 0:w].astype(np.float64)
@@ -44,7 +56,7 @@ def test_images(size=256):
             "bright": ImageData(enc(bright).astype(np.float32), 8, "bright.png")}
 
 
-def test_recipe():
+def builtin_recipe():
     """Parameters and lights of the test painting (images not attached)."""
     p = P.defaults()
     p.shape.kind = "height"
@@ -62,8 +74,8 @@ def write_test_painting(folder, size=256):
     """Write the test painting's images and painting.toml into folder → the recipe's path."""
     from .imageio import write_png
     os.makedirs(folder, exist_ok=True)
-    recipe = test_recipe()
-    for channel, img in test_images(size).items():
+    recipe = builtin_recipe()
+    for channel, img in builtin_images(size).items():
         path = os.path.join(folder, img.name)
         write_png(path, img.pixels, bits=img.bits)
         recipe.images[channel] = os.path.abspath(path)

@@ -186,3 +186,21 @@ def test_random_parameter_sweep_stays_finite_and_in_range():
         out = render(imgs, lights, p).rgba
         assert np.all(np.isfinite(out)), vars(p)
         assert out.min() >= 0 and out.max() <= 1 + 1e-6, vars(p)
+
+
+def test_blur_cache_is_reused_and_never_stale():
+    """Glossy/translucent copies are blurred once per image; a new image is never served stale."""
+    imgs = dome_painting()
+    p = glass_params()
+    p.reflection.blur = p.refraction.blur = 0.05
+    rng = np.random.default_rng(9)
+    env = ImageData(rng.uniform(0, 1, (16, 16, 3)).astype(np.float32), 32)
+    cache = {}
+    first = render({**imgs, "environment": env}, LIGHTS, p, cache=cache).rgba
+    assert len(cache) == 1
+    again = render({**imgs, "environment": env}, [Light("sun", (0, 0, 1))], p, cache=cache).rgba
+    assert len(cache) == 1 and not np.array_equal(first, again)
+    for _ in range(3):   # fresh image objects (ids may be recycled) always give fresh results
+        other = ImageData(rng.uniform(0, 1, (16, 16, 3)).astype(np.float32), 32)
+        cached = render({**imgs, "environment": other}, LIGHTS, p, cache=cache).rgba
+        np.testing.assert_array_equal(cached, render({**imgs, "environment": other}, LIGHTS, p).rgba)

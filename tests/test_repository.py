@@ -51,8 +51,8 @@ def test_core_never_imports_bpy():
             "import numpy as np\n"
             "from dynpaint_addon.core import pipeline, shadow, shape, warps, fresnel, shading\n"
             "from dynpaint_addon import params, recipe, cli\n"
-            "from dynpaint_addon.testpainting import test_images, test_recipe\n"
-            "r = test_recipe(); out = pipeline.render(test_images(16), r.lights, r.params)\n"
+            "from dynpaint_addon.testpainting import builtin_images, builtin_recipe\n"
+            "r = builtin_recipe(); out = pipeline.render(builtin_images(16), r.lights, r.params)\n"
             "print(out.rgba.shape)")
     res = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True,
                          env={**os.environ, "PYTHONPATH": REPO})

@@ -3,6 +3,7 @@ import numpy as np
 import pytest
 
 from dynpaint_addon.core.sampling import gaussian_blur
+from dynpaint_addon.testpainting import quantized_dome
 from dynpaint_addon.core.shape import (decode_normal_map, default_preblur_px, finalize_normals,
                                        height_field_px, normals_from_height_px)
 
@@ -57,16 +58,6 @@ def test_height_pixels_without_neighbours_and_nan():
     assert np.all(np.isfinite(z))
 
 
-def _dome(size, bits):
-    y, x = np.mgrid[0:size, 0:size].astype(np.float64)
-    r2 = ((x + 0.5 - size / 2) ** 2 + (y + 0.5 - size / 2) ** 2) / (0.4 * size) ** 2
-    hgt = np.sqrt(np.clip(1 - r2, 0, 1))
-    if bits < 32:
-        q = 2 ** bits - 1
-        hgt = np.round(hgt * q) / q
-    return hgt, r2 < 0.8 ** 2
-
-
 @pytest.mark.parametrize("bits", [8, 16, 32])
 def test_height_bit_depth_error_and_preblur_default(bits):
     """§14: 8 vs 16 bit vs float height — documented error, pre-blur default per bit depth.
@@ -76,8 +67,8 @@ def test_height_bit_depth_error_and_preblur_default(bits):
     cuts the error several-fold; 16-bit and float need no blur.
     """
     size = 256
-    exact, mask = _dome(size, 32)
-    hq, _ = _dome(size, bits)
+    exact, mask = quantized_dome(size, 32)
+    hq, _ = quantized_dome(size, bits)
     light = np.array([1, 0, 1]) / np.sqrt(2)
 
     def mean_err(hgt, sigma):

@@ -28,7 +28,6 @@ from .shadow import cos_theta_shadow
 from .shape import (decode_normal_map, default_preblur_px, height_field_px, normals_from_height_px,
                     slopes_from_normals)
 
-COLOUR_CHANNELS = ("dark", "bright", "specular_color", "environment", "background")
 PER_PIXEL_CHANNELS = ("dark", "bright", "specular_color", "gloss", "transparency")
 
 
@@ -129,12 +128,21 @@ def light_terms(n, z_px, slopes, lights, p, dtype=np.float32):
     return raw, spec
 
 
-def _blurred(img_rgba, sigma_widths, extension, cache):
-    """Glossy/translucent copies (§11), blurred once per (image, σ, extension)."""
-    key = (id(img_rgba), float(sigma_widths), extension)
-    if key not in cache:
-        cache[key] = gaussian_blur(img_rgba, sigma_widths * img_rgba.shape[1], extension)
-    return cache[key]
+def _lookup_source(imgs, name, sigma_widths, extension, dtype, cache):
+    """Linear premultiplied copy of E or B, blurred for glossy/translucent looks (§11).
+
+    Cached per input image object and settings, so re-rendering with a moving light does not
+    blur again; the entry holds the image itself, so a hit can never be a different image.
+    """
+    img = imgs[name]
+    key = (name, float(sigma_widths), extension, np.dtype(dtype).str)
+    hit = cache.get(key)
+    if hit is not None and hit[0] is img:
+        return hit[1]
+    rgba = _premultiplied(img, dtype)
+    out = gaussian_blur(rgba, sigma_widths * rgba.shape[1], extension)
+    cache[key] = (img, out)
+    return out
 
 
 def _warped_lookup(img_rgba, offset, painting_shape, extension):
@@ -152,7 +160,7 @@ def render(images, lights, p, dtype=np.float32, cache=None):
     images: {channel: ImageData} (§1); lights: [core.lights.Light]; p: params namespace
     (params.defaults() and the recipe's values). dtype float32 by default, float64 for references.
     """
-    cache = {} if cache is None else cache
+    cache = {} if cache is None else cache   # keep one across renders of the same images
     warnings = []
     if "shape" not in images:
         raise ValueError("a painting needs a shape image (normal or height map)")
@@ -211,17 +219,15 @@ def render(images, lights, p, dtype=np.float32, cache=None):
         amount = 1.0 if "transparency" in imgs else 0.0
     kmap = imgs["transparency"].grey().astype(dtype) if "transparency" in imgs else np.ones((hs, ws), dtype)
     k = np.clip(kmap * dtype(amount), 0, 1)
-    env = _premultiplied(imgs["environment"], dtype) if "environment" in imgs else None
-    bg = _premultiplied(imgs["background"], dtype) if "background" in imgs else None
     if amount > 0 and np.any(k > 0):
         c_m = c_t = None
-        if env is not None:
-            e = _blurred(env, p.reflection.blur, p.reflection.extension, cache)
+        if "environment" in imgs:
+            e = _lookup_source(imgs, "environment", p.reflection.blur, p.reflection.extension, dtype, cache)
             off = warps.reflection_offset(n, p.reflection.distance, p.reflection.mode,
                                           p.reflection.max_offset)
             c_m = _warped_lookup(e, off, (hs, ws), p.reflection.extension)
-        if bg is not None:
-            b = _blurred(bg, p.refraction.blur, p.refraction.extension, cache)
+        if "background" in imgs:
+            b = _lookup_source(imgs, "background", p.refraction.blur, p.refraction.extension, dtype, cache)
             if p.refraction.mode == "physical":
                 off = warps.refraction_offset_physical(n, p.refraction.distance, p.refraction.ior)
             else:
@@ -248,8 +254,9 @@ def render(images, lights, p, dtype=np.float32, cache=None):
     alpha = _silhouette(imgs, p.silhouette.source)
     if alpha is not None:
         alpha = np.clip(np.where(np.isfinite(alpha), alpha, 0), 0, 1).astype(dtype)[..., None]
-        behind = _warped_lookup(bg, np.zeros((hs, ws, 2), dtype), (hs, ws), "extend") \
-            if bg is not None else np.zeros((hs, ws, 4), dtype)
+        behind = _warped_lookup(_lookup_source(imgs, "background", 0.0, "extend", dtype, cache),
+                                np.zeros((hs, ws, 2), dtype), (hs, ws), "extend") \
+            if "background" in imgs else np.zeros((hs, ws, 4), dtype)
         rgba = behind * (1 - alpha) + rgba * alpha
     rgba = np.where(np.isfinite(rgba), rgba, 0)
     return RenderResult(rgba.astype(dtype, copy=False), passes, warnings)
