@@ -13,7 +13,7 @@ import numpy as np
 from . import params as P
 from .core.colour import linear_to_srgb
 from .core.lights import Light
-from .core.pipeline import render, shape_normals
+from .core.pipeline import PER_PIXEL_CHANNELS, ImageData, render, shape_normals
 from .core.sampling import resample
 from .core.shadow import QUALITY, ShadowStats, cos_theta_shadow
 from .imageio import ImageReadError, read_image, write_exr, write_png
@@ -38,18 +38,15 @@ def write_render(path, rgba):
 
 
 def _resample_images(images, width):
-    """--width: resample every per-pixel image so the shape image is `width` pixels wide."""
-    shape = images["shape"].pixels
-    h0, w0 = shape.shape[:2]
+    """--width: resample the shape and every per-pixel image so the shape is `width` px wide.
+
+    Environment and background are looked up by UV (§8, §9), so their size does not matter.
+    """
+    h0, w0 = images["shape"].pixels.shape[:2]
     height = max(1, round(h0 * width / w0))
-    out = {}
-    for ch, img in images.items():
-        if ch in ("environment", "background"):
-            out[ch] = img   # sampled by UV: any size works
-        else:
-            img.pixels = resample(img.pixels, height, width)
-            out[ch] = img
-    return out
+    return {ch: ImageData(resample(img.pixels, height, width), img.bits, img.name)
+            if ch == "shape" or ch in PER_PIXEL_CHANNELS else img
+            for ch, img in images.items()}
 
 
 def cmd_render(args):
@@ -80,8 +77,7 @@ def _shape_for_bake(args):
     p.shape.flip_green, p.shape.z_min = args.flip_green, args.z_min
     p.shape.preblur = "auto" if args.preblur is None else args.preblur
     dtype = np.dtype(QUALITY[args.quality]["dtype"]).type
-    n, z, slopes, _ = shape_normals(read_image(args.shape), p, dtype)
-    return n, z, slopes, dtype
+    return (*shape_normals(read_image(args.shape), p, dtype), dtype)
 
 
 def cmd_bake_shadow(args):

@@ -97,15 +97,15 @@ def _premultiplied(img, dtype):
 
 
 def shape_normals(shape, p, dtype=np.float32):
-    """§2: decode the shape image → (normals, heights_px or None, slopes or None, preblur_px)."""
+    """§2: decode the shape image → (normals, heights_px or None, slopes or None)."""
     if p.shape.kind == "height":
         sigma = p.shape.preblur
         if sigma == "auto":
             sigma = default_preblur_px(shape.bits)
         z_px = height_field_px(shape.grey().astype(dtype), p.shape.height_scale, float(sigma))
-        return normals_from_height_px(z_px, p.shape.z_min), z_px, None, float(sigma)
+        return normals_from_height_px(z_px, p.shape.z_min), z_px, None
     n = decode_normal_map(shape.rgb().astype(dtype), p.shape.flip_green, p.shape.z_min)
-    return n, None, slopes_from_normals(n), 0.0
+    return n, None, slopes_from_normals(n)
 
 
 def light_terms(n, z_px, slopes, lights, p, dtype=np.float32):
@@ -182,7 +182,7 @@ def render(images, lights, p, dtype=np.float32, cache=None):
             img = ImageData(resample(img.pixels.astype(dtype), hs, ws), img.bits, img.name)
         imgs[name] = img
 
-    n, z_px, slopes, _ = shape_normals(imgs["shape"], p, dtype)
+    n, z_px, slopes = shape_normals(imgs["shape"], p, dtype)
     c0 = _linear(imgs.get("dark", imgs.get("bright")), dtype)
     c1 = _linear(imgs.get("bright", imgs.get("dark")), dtype)
     c0 = np.where(np.isfinite(c0), c0, 0)

@@ -79,15 +79,9 @@ def normals_from_height_px(z_px, z_min=Z_MIN_DEFAULT):
     z_px is the relief in pixels, so the gradient is dimensionless (the same as in image
     widths): pixels cancel.
     """
-    if min(z_px.shape) < 2:
-        gy = np.zeros_like(z_px)
-        gx = np.zeros_like(z_px)
-        if z_px.shape[1] >= 2:
-            gx = np.gradient(z_px, axis=1)
-        if z_px.shape[0] >= 2:
-            gy = np.gradient(z_px, axis=0)
-    else:
-        gy, gx = np.gradient(z_px)
+    # np.gradient needs two samples along an axis; a 1-pixel-wide axis has no slope.
+    gx = np.gradient(z_px, axis=1) if z_px.shape[1] >= 2 else np.zeros_like(z_px)
+    gy = np.gradient(z_px, axis=0) if z_px.shape[0] >= 2 else np.zeros_like(z_px)
     n = np.stack([-gx, -gy, np.ones_like(z_px)], axis=-1)
     return finalize_normals(n, z_min)
 
