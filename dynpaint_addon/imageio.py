@@ -74,28 +74,42 @@ def _read_with_blender(path):
     try:
         # Data, never colour-managed here: the core decodes sRGB itself (§0).
         img.colorspace_settings.name = "Non-Color"
-        w, h = img.size
-        c = img.channels
-        if w == 0 or h == 0 or not img.has_data or c == 0:
-            raise ImageReadError(f"{path}: not an image Blender can read (unknown or corrupt format)")
-        px = np.empty(w * h * c, dtype=np.float32)
-        img.pixels.foreach_get(px)
-        if img.is_float:
-            bits = 16 if img.file_format in ("PNG", "TIFF") else 32
-        else:
-            bits = 8
-        px = px.reshape(h, w, c)   # Blender buffers are bottom row first: already y-up
-        keep = _FILE_CHANNELS.get((img.is_float, img.depth), c)
-        px = px[..., :1] if keep == 1 else px[..., :keep]
-        return ImageData(np.ascontiguousarray(px), bits=bits, name=os.path.basename(path))
+        return image_data_from_blender(img, path)
     finally:
         bpy.data.images.remove(img)
+
+
+def image_data_from_blender(img, path=None):
+    """A Blender image's pixels → ImageData, exactly what an Image Texture node samples.
+
+    Byte images hold file values (bits 8; colour ones are sRGB-decoded by the core, as Blender
+    does when sampling). Float buffers hold what Blender made of the file: linear values for
+    colour-managed images, raw ones for Non-Color: bits 32, except the 16-bit PNG/TIFF files
+    `read_image` loads as data (bits 16, for the core's sRGB decode and pre-blur default).
+    """
+    where = path or img.filepath or img.name
+    w, h = img.size
+    c = img.channels
+    if w == 0 or h == 0 or not img.has_data or c == 0:
+        raise ImageReadError(f"{where}: not an image Blender can read (unknown or corrupt format)")
+    px = np.empty(w * h * c, dtype=np.float32)
+    img.pixels.foreach_get(px)
+    if not img.is_float:
+        bits = 8
+    elif path is not None and img.file_format in ("PNG", "TIFF"):
+        bits = 16
+    else:
+        bits = 32
+    px = px.reshape(h, w, c)   # Blender buffers are bottom row first: already y-up
+    keep = FILE_CHANNELS.get((img.is_float, img.depth), c) if img.source == "FILE" else c
+    px = px[..., :1] if keep == 1 else px[..., :keep]
+    return ImageData(np.ascontiguousarray(px), bits=bits, name=os.path.basename(where))
 
 
 # Blender always hands out RGBA; its `depth` (bits per pixel) says what the file held.
 # Measured on bpy 5.0.1: 8-bit grey 8, RGB 24, RGB(A)/grey+alpha 32; 16-bit grey 32 (float),
 # RGB 96, RGBA 128. Grey+alpha comes back as RGBA with R = G = B, which reads the same.
-_FILE_CHANNELS = {(False, 8): 1, (False, 24): 3, (False, 32): 4,
+FILE_CHANNELS = {(False, 8): 1, (False, 24): 3, (False, 32): 4,
                   (True, 32): 1, (True, 96): 3, (True, 128): 4}
 
 

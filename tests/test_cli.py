@@ -90,7 +90,7 @@ def test_bake_shadow_normal_map_and_point_light(tmp_path):
       "--out", "t.exr"), "--steps must be ≥ 0"),
     (("render", "bad.toml", "--out", "x.png"), "bad.toml: shadows.stpes: unknown key (did you mean 'steps'?)"),
     (("render", "good.toml", "--out", "x.jpg"), "unsupported output format '.jpg'"),
-    (("render", "good.toml", "--out", "x.png", "--engine", "cycles"), "--engine cycles: only 'numpy'"),
+    (("render", "good.toml", "--out", "x.png", "--frame", 3), "--frame needs --engine eevee or cycles"),
 ])
 def test_user_mistakes_give_one_clear_line(tmp_path, painting, args, message):
     (tmp_path / "notimage.png").write_text("hello")

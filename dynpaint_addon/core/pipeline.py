@@ -139,10 +139,16 @@ def _lookup_source(imgs, name, sigma_widths, extension, dtype, cache):
     hit = cache.get(key)
     if hit is not None and hit[0] is img:
         return hit[1]
-    rgba = _premultiplied(img, dtype)
-    out = gaussian_blur(rgba, sigma_widths * rgba.shape[1], extension)
+    out = lookup_copy(img, sigma_widths, extension, dtype)
     cache[key] = (img, out)
     return out
+
+
+def lookup_copy(img, sigma_widths=0.0, extension="extend", dtype=np.float32):
+    """E or B as the warped lookups read it (§8, §9): linear premultiplied RGBA, blurred by
+    σ (image widths) for glossy / translucent looks (§11). Node trees sample this same copy."""
+    rgba = _premultiplied(img, dtype)
+    return gaussian_blur(rgba, sigma_widths * rgba.shape[1], extension)
 
 
 def _warped_lookup(img_rgba, offset, painting_shape, extension):

@@ -65,12 +65,20 @@ def height_field_px(height, height_scale, preblur_px=0.0):
     Non-finite samples are replaced by 0 (the caller reports them); the optional Gaussian
     pre-blur (σ in pixels) is applied before scaling.
     """
+    height = preblurred_height(height, preblur_px)
+    return height * height.dtype.type(height_scale * height.shape[1])
+
+
+def preblurred_height(height, preblur_px=0.0):
+    """The height image H (0..1) as the gradient sees it: NaN/Inf → 0, then the §2 pre-blur.
+
+    Node trees sample this copy and scale it by h·W themselves, so the relief stays live.
+    """
     height = np.asarray(height)
     if height.ndim == 3:
         height = height[..., 0]
     height = np.where(np.isfinite(height), height, 0).astype(height.dtype, copy=False)
-    height = gaussian_blur(height, preblur_px, "extend")
-    return height * height.dtype.type(height_scale * height.shape[1])
+    return gaussian_blur(height, preblur_px, "extend")
 
 
 def normals_from_height_px(z_px, z_min=Z_MIN_DEFAULT):

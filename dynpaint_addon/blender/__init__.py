@@ -1,0 +1,22 @@
+"""Blender glue: properties, operators, panels and handlers (everything that imports bpy
+besides the node-graph builders). `register()` is called by the extension's root __init__."""
+_registered = [False]
+
+
+def register():
+    from . import properties
+    properties.register()
+    _registered[0] = True
+
+
+def unregister():
+    from . import properties
+    properties.unregister()
+    _registered[0] = False
+
+
+def register_once():
+    """Register for command-line use (the extension may not be installed)."""
+    import bpy
+    if not hasattr(bpy.types.Material, "dynamic_painting"):
+        register()

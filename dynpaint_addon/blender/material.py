@@ -1,0 +1,285 @@
+"""A painting's material: build the node tree, the derived images and the shadow bake.
+
+Three kinds of work, each done only when its inputs change (pipeline.md §12):
+  - the node tree (pipeline_graph.describe → build_bpy.build) when the *structure* changes:
+    a feature toggled, an image slot filled or emptied, a light linked or unlinked;
+  - derived images (the pre-blurred height map, the blurred E/B lookup copies) when the
+    image or its blur settings change;
+  - the cos-θ shadow images (§6) when asked (creation, "Bake Shadows", each rendered frame).
+Live values (t0, η, …) never come here: drivers carry them (shader_backend.py).
+"""
+from contextlib import contextmanager
+
+import numpy as np
+
+import bpy
+
+from .. import params as P
+from ..core.lights import Light
+from ..core.pipeline import lookup_copy, shape_normals
+from ..core.shadow import cos_theta_shadow
+from ..core.shape import default_preblur_px, preblurred_height
+from ..imageio import FILE_CHANNELS, image_data_from_blender
+from ..nodegraph import build_bpy
+from ..nodegraph.pipeline_graph import Features, describe
+from ..nodegraph.shader_backend import POINT_POWER_UNIT, ShaderBackend
+from .properties import DERIVED, SHADOW_INPUTS, STRUCTURAL, channel_images, settings_to_params
+
+COLOUR_CHANNELS = {c for c, (_, kind) in P.CHANNELS.items() if kind == "colour"}
+_suspended = [0]
+
+
+@contextmanager
+def batch():
+    """Write many settings without refreshing after each one; refresh once after."""
+    _suspended[0] += 1
+    try:
+        yield
+    finally:
+        _suspended[0] -= 1
+
+
+def on_setting_changed(mat, path):
+    """Property update callback (properties.py): do only the work this change needs."""
+    if _suspended[0] or not mat.dynamic_painting.is_painting:
+        return
+    try:
+        refresh(mat, structure=path in STRUCTURAL or path.startswith("images.")
+                or path == "light_collection",
+                derived=path in DERIVED or path.startswith("images."),
+                shadows=path in SHADOW_INPUTS or path.startswith("images.shape"))
+    except Exception as exc:     # never let a callback raise into Blender's UI
+        print(f"Dynamic Painting: {mat.name}: {exc}")
+
+
+# -- images ---------------------------------------------------------------------------------
+def prepare_channel_image(img, channel):
+    """Colour images are sRGB-decoded by Blender (8/16-bit) or linear (float); data images
+    are never colour-managed (§0). Alpha is kept apart from colour (channel packed)."""
+    if channel in COLOUR_CHANNELS and not img.is_float:
+        img.colorspace_settings.name = "sRGB"
+    else:
+        img.colorspace_settings.name = "Non-Color"
+    img.alpha_mode = "CHANNEL_PACKED"
+    img.use_half_precision = False   # 16-bit GPU textures cost EEVEE ~1e-2 on steep slopes
+
+
+def float_image(name, rgba):
+    """A float RGBA image holding `rgba` (y-up (H, W, 4)), reused when the name exists."""
+    h, w = rgba.shape[:2]
+    img = bpy.data.images.get(name)
+    if img is None or tuple(img.size) != (w, h) or not img.is_float:
+        if img is not None:
+            bpy.data.images.remove(img)
+        img = bpy.data.images.new(name, w, h, alpha=True, float_buffer=True, is_data=True)
+    img.colorspace_settings.name = "Non-Color"   # before the pixels: it regenerates them
+    img.alpha_mode = "CHANNEL_PACKED"
+    img.use_half_precision = False
+    img.pixels.foreach_set(np.ascontiguousarray(rgba, dtype=np.float32).ravel())
+    return img
+
+
+def _grey_rgba(grey, alpha=None):
+    a = np.ones_like(grey) if alpha is None else alpha
+    return np.stack([grey, grey, grey, a], axis=-1)
+
+
+def image_data(settings):
+    """{channel: ImageData} of the painting's images, read from Blender's pixels."""
+    return {c: image_data_from_blender(img) for c, img in channel_images(settings).items()}
+
+
+def _set_derived(settings, channel, image, key):
+    item = next((d for d in settings.derived if d.channel == channel), None)
+    if item is None:
+        item = settings.derived.add()
+        item.channel = channel
+    item.image, item.key = image, key
+
+
+def _derived(settings, channel):
+    return next((d.image for d in settings.derived if d.channel == channel), None)
+
+
+def update_derived_images(mat, data=None):
+    """Make the images numpy derives from the inputs (only those whose inputs changed)."""
+    s = mat.dynamic_painting
+    p = settings_to_params(s)
+    imgs = channel_images(s)
+    base = f"DP {mat.name}"
+
+    def need(channel, key, make):
+        item = next((d for d in s.derived if d.channel == channel), None)
+        if item is None or item.image is None or item.key != key:
+            nonlocal data
+            data = data or image_data(s)
+            _set_derived(s, channel, float_image(f"{base} {channel}", make(data)), key)
+
+    if p.shape.kind == "height" and "shape" in imgs:
+        sigma = p.shape.preblur
+        sigma = default_preblur_px(image_data_from_blender(imgs["shape"]).bits) if sigma == "auto" \
+            else sigma
+        need("height", f"{imgs['shape'].name}|{sigma}",
+             lambda d: _grey_rgba(preblurred_height(d["shape"].grey(), float(sigma))))
+    source = _silhouette_source(mat)
+    if source:
+        # A float copy of the alpha: EEVEE reads 8-bit alpha up to 1/255 off (254 → 255).
+        need("silhouette", f"{imgs[source].name}|{source}",
+             lambda d: _grey_rgba(np.clip(np.nan_to_num(d[source].alpha()), 0, 1)))
+    for channel, sec in (("environment", p.reflection), ("background", p.refraction)):
+        if channel in imgs:
+            need(channel, f"{imgs[channel].name}|{sec.blur}|{sec.extension}",
+                 lambda d, c=channel, sec=sec: lookup_copy(d[c], sec.blur, sec.extension))
+    if "background" in imgs:
+        if p.refraction.blur == 0:
+            _set_derived(s, "background_sharp", _derived(s, "background"), "same")
+        else:
+            need("background_sharp", f"{imgs['background'].name}|0",
+                 lambda d: lookup_copy(d["background"], 0.0, "extend"))
+    return data
+
+
+def _silhouette_source(mat):
+    """The channel whose alpha cuts the painting out (§11), as Features resolves it."""
+    s = mat.dynamic_painting
+    imgs = channel_images(s)
+    order = {"auto": ("shape", "dark"), "shape": ("shape",), "dark": ("dark",),
+             "none": ()}[s.silhouette.source]
+    return next((c for c in order if c in imgs and _has_alpha(imgs[c])), "")
+
+
+# -- lights -----------------------------------------------------------------------------------
+def linked_lights(mat, scene):
+    """The Sun and Point lights that shade this painting, in a stable order (by name)."""
+    coll = mat.dynamic_painting.light_collection
+    objects = coll.all_objects if coll is not None else scene.objects
+    return sorted((o for o in objects if o.type == "LIGHT" and o.data.type in ("SUN", "POINT")),
+                  key=lambda o: o.name)
+
+
+def painting_frame_light(obj, plane_matrix, depsgraph=None):
+    """A Blender light → core Light in the painting frame (the plane's object space, §0).
+
+    Uses the evaluated object when a depsgraph is given (animation renders, blender-notes.md).
+    """
+    ev = obj.evaluated_get(depsgraph) if depsgraph is not None else obj
+    inv = np.linalg.inv(np.array(plane_matrix, dtype=np.float64))
+    m = np.array(ev.matrix_world, dtype=np.float64)
+    colour = tuple(ev.data.color)
+    if ev.data.type == "SUN":
+        direction = inv[:3, :3] @ (m[:3, :3] @ np.array([0.0, 0.0, 1.0]))
+        return Light("sun", tuple(direction / np.linalg.norm(direction)), colour,
+                     ev.data.energy, obj.name)
+    pos = inv @ np.append(m[:3, 3], 1.0)
+    return Light("point", tuple(pos[:3]), colour, ev.data.energy / POINT_POWER_UNIT, obj.name)
+
+
+# -- the node tree ----------------------------------------------------------------------------
+def features_for(mat, scene):
+    s = mat.dynamic_painting
+    imgs = channel_images(s)
+    if "shape" not in imgs:
+        raise ValueError("the painting has no shape image (normal or height map)")
+    if "dark" not in imgs and "bright" not in imgs:
+        raise ValueError("the painting needs a dark or a bright image")
+    data_alpha = {c for c, img in imgs.items() if _has_alpha(img)}
+    lights = linked_lights(mat, scene)
+    f = Features.from_params(settings_to_params(s), imgs.keys(),
+                             [o.data.type.lower() for o in lights], imgs["shape"].size,
+                             data_alpha, {c: tuple(img.size) for c, img in imgs.items()})
+    return f, lights
+
+
+def _has_alpha(img):
+    if img.source == "FILE":
+        return FILE_CHANNELS.get((img.is_float, img.depth), img.channels) in (2, 4)
+    return img.channels == 4
+
+
+def rebuild_tree(mat, scene, force=False):
+    """Rebuild the node tree if its structure changed (or `force`). → True if rebuilt."""
+    s = mat.dynamic_painting
+    f, lights = features_for(mat, scene)
+    signature = repr((f, [o.name for o in lights]))
+    if not force and signature == s.signature and len(mat.node_tree.nodes):
+        return False
+    images = {c: img for c, img in channel_images(s).items()}
+    for item in s.derived:
+        images[item.channel] = item.image
+    _sync_light_items(s, lights)
+    for i, item in enumerate(s.lights):
+        if item.shadow is not None:
+            images[f"shadow_{i}"] = item.shadow
+    missing = f.image_channels() - images.keys()
+    if missing:
+        raise ValueError(f"images not ready: {', '.join(sorted(missing))}")
+    tree = mat.node_tree
+    tree.animation_data_clear()
+    tree.nodes.clear()
+    build_bpy.build(tree, describe(f), ShaderBackend(mat, images, lights))
+    may_be_transparent = f.has_lookups or bool(f.silhouette)
+    mat.surface_render_method = "BLENDED" if may_be_transparent else "DITHERED"
+    s.signature = signature
+    return True
+
+
+def _sync_light_items(s, lights):
+    """Keep s.lights in the order of `lights`, each with its shadow image."""
+    old = {item.object.name: item.shadow for item in s.lights if item.object is not None}
+    s.lights.clear()
+    for obj in lights:
+        item = s.lights.add()
+        item.object = obj
+        item.shadow = old.get(obj.name)
+
+
+# -- the cos-θ bake ---------------------------------------------------------------------------
+def bake_shadows(mat, scene, depsgraph=None, steps=None, data=None):
+    """Bake the cos-θ term (§6) of every linked light into its image. → milliseconds taken.
+
+    A failure leaves the previous images untouched (the new pixels are written only at the end).
+    """
+    import time
+    s = mat.dynamic_painting
+    p = settings_to_params(s)
+    plane = s.plane
+    if plane is None:
+        raise ValueError("the painting has no plane")
+    plane_m = (plane.evaluated_get(depsgraph) if depsgraph is not None else plane).matrix_world
+    data = data or image_data(s)
+    dtype = np.float32
+    shape = data["shape"]
+    n, z_px, slopes = shape_normals(shape, p, dtype)
+    lights = [item.object for item in s.lights if item.object is not None]
+    t_start = time.perf_counter()
+    results = []
+    for obj in lights:
+        light = painting_frame_light(obj, plane_m, depsgraph)
+        t = cos_theta_shadow(n, light, p.shadows.offset, p.shadows.steps if steps is None else steps,
+                             heights_px=z_px, slopes=slopes, occupancy=p.shadows.occupancy)
+        results.append(t)
+    ms = (time.perf_counter() - t_start) * 1000
+    for item, t in zip(s.lights, results):
+        item.shadow = float_image(f"DP {mat.name} shadow {item.object.name}", _grey_rgba(t))
+    s.shadows_stale = False
+    return ms
+
+
+# -- everything -------------------------------------------------------------------------------
+def refresh(mat, structure=True, derived=True, shadows=False, scene=None, depsgraph=None):
+    """Bring the painting up to date: derived images, shadow bake, then the tree."""
+    scene = scene or bpy.context.scene
+    s = mat.dynamic_painting
+    data = None
+    if derived:
+        data = update_derived_images(mat)
+    if structure:
+        _, lights = features_for(mat, scene)
+        _sync_light_items(s, lights)
+    if s.shadows.enabled and (shadows or any(i.shadow is None for i in s.lights)):
+        bake_shadows(mat, scene, depsgraph, data=data)
+    elif shadows:
+        s.shadows_stale = True
+    if structure or shadows:
+        rebuild_tree(mat, scene, force=False)
+

@@ -1,0 +1,167 @@
+"""The painting's settings as Blender properties, generated from params.py (one definition).
+
+`Material.dynamic_painting` holds one PropertyGroup per params.py section (shape, diffuse, …),
+the channel images, the linked lights and the bookkeeping of what was built. Each parameter
+is either *live* (a driver carries it into the node tree: changing or keyframing it rebuilds
+nothing) or *structural* (it decides which branches exist, §12: changing it rebuilds the tree
+only). Parameters the numpy side uses (pre-blur, blur radii, shadow settings) refresh the
+derived images instead.
+"""
+import bpy
+from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty,
+                       IntProperty, PointerProperty, StringProperty)
+
+from .. import params as P
+
+# Structural: decide the graph (pipeline_graph.Features).
+STRUCTURAL = {"shape.kind", "diffuse.curve", "shadows.enabled", "specular.enabled",
+              "specular.curve", "reflection.mode", "reflection.extension", "refraction.mode",
+              "refraction.extension", "fresnel.mode", "fresnel.domain", "silhouette.source",
+              "transparency.amount_auto"}
+# Used by numpy to make derived images (height copy, E/B copies) or the shadow bake.
+DERIVED = {"shape.preblur", "shape.preblur_auto", "reflection.blur", "reflection.extension",
+           "refraction.blur", "refraction.extension"}
+SHADOW_INPUTS = {"shape.kind", "shape.flip_green", "shape.z_min", "shape.height_scale",
+                 "shape.preblur", "shape.preblur_auto", "shadows.enabled", "shadows.offset",
+                 "shadows.steps", "shadows.occupancy"}
+
+LABELS = {"t0": "Start (t0)", "t1": "End (t1)", "s0": "Start (s0)", "s1": "End (s1)",
+          "z_min": "Minimum N.z", "ior": "IOR (η)", "mu": "Art IOR (μ)", "x1": "Refraction Until",
+          "x2": "Equal Mix At", "kappa": "Reflect ↔ Refract (κ)", "max_offset": "Max Offset",
+          "flip_green": "Flip Green (DirectX)", "steps": "Steps (K)", "offset": "Offset (d)",
+          "height_scale": "Height", "preblur": "Pre-blur", "amount": "Amount"}
+
+
+def _on_change(path):
+    def update(self, context):
+        from . import material           # late: material imports this module
+        material.on_setting_changed(self.id_data, path)
+    return update
+
+
+def _description(param):
+    unit = f" ({param.unit})" if param.unit else ""
+    spec = f". pipeline.md {param.spec}" if param.spec else ""
+    return f"{param.help}{unit}{spec}"
+
+
+def _property(param):
+    kw = {"name": LABELS.get(param.key, param.key.replace("_", " ").title()),
+          "description": _description(param), "update": _on_change(param.path)}
+    if param.kind is bool:
+        return {param.key: BoolProperty(default=param.default, **kw)}
+    if param.kind is int:
+        return {param.key: IntProperty(default=param.default, min=int(param.min),
+                                       soft_max=1024, max=int(param.max), **kw)}
+    if param.kind == "enum":
+        items = [(c, c.replace("_", " ").title(), "") for c in param.choices]
+        return {param.key: EnumProperty(items=items, default=param.default, **kw)}
+    limits = {"min": param.min, "max": param.max}
+    limits = {k: v for k, v in limits.items() if v is not None}
+    if param.kind == "auto_float":
+        auto = param.default == "auto"
+        fallback = {"shape.preblur": 1.5, "transparency.amount": 1.0}.get(param.path, 0.0)
+        auto_kw = {"name": "Auto", "update": _on_change(param.path + "_auto"),
+                   "description": "Use the automatic value: " + param.help.split("'auto'")[-1]
+                   .strip(" =;")}
+        return {param.key: FloatProperty(default=fallback if auto else param.default,
+                                         precision=3, **limits, **kw),
+                param.key + "_auto": BoolProperty(default=auto, **auto_kw)}
+    return {param.key: FloatProperty(default=param.default, precision=3, step=1, **limits, **kw)}
+
+
+def _section_class(section):
+    annotations = {}
+    for param in P.PARAMS:
+        if param.section == section:
+            annotations.update(_property(param))
+    return type(f"DYNPAINT_PG_{section}", (bpy.types.PropertyGroup,),
+                {"__annotations__": annotations, "__doc__": f"Dynamic Painting: {section}"})
+
+
+SECTION_CLASSES = [_section_class(s) for s in P.SECTIONS]
+
+
+def _image_pointer(channel):
+    what, kind = P.CHANNELS[channel]
+    return PointerProperty(type=bpy.types.Image, name=channel.replace("_", " ").title(),
+                           description=f"{what[0].upper()}{what[1:]} ({kind})",
+                           update=_on_change("images." + channel))
+
+
+class DYNPAINT_PG_light(bpy.types.PropertyGroup):
+    """A light the tree was built for (in order) and its baked cos-θ image (§6)."""
+    object: PointerProperty(type=bpy.types.Object, name="Light")
+    shadow: PointerProperty(type=bpy.types.Image, name="Shadow")
+
+
+class DYNPAINT_PG_derived(bpy.types.PropertyGroup):
+    """An image numpy made from the inputs (height copy, blurred E/B): channel → image."""
+    channel: StringProperty()
+    image: PointerProperty(type=bpy.types.Image)
+    key: StringProperty(description="The settings it was made with")
+
+
+SETTINGS_ANNOTATIONS = {
+    "is_painting": BoolProperty(default=False, options={"HIDDEN"}),
+    "plane": PointerProperty(type=bpy.types.Object, name="Plane",
+                             description="The plane that shows this painting"),
+    "light_collection": PointerProperty(
+        type=bpy.types.Collection, name="Lights",
+        description="Only the Sun and Point lights in this collection light the painting "
+                    "(empty: every light in the scene)",
+        update=_on_change("light_collection")),
+    "lights": CollectionProperty(type=DYNPAINT_PG_light),
+    "derived": CollectionProperty(type=DYNPAINT_PG_derived),
+    "signature": StringProperty(options={"HIDDEN"}),
+    "shadows_stale": BoolProperty(default=False, options={"HIDDEN"}),
+    **{f"image_{c}": _image_pointer(c) for c in P.CHANNELS},
+    **{s: PointerProperty(type=cls) for s, cls in zip(P.SECTIONS, SECTION_CLASSES)},
+}
+DYNPAINT_PG_settings = type("DYNPAINT_PG_settings", (bpy.types.PropertyGroup,),
+                            {"__annotations__": SETTINGS_ANNOTATIONS,
+                             "__doc__": "Dynamic Painting settings of a material"})
+
+CLASSES = (*SECTION_CLASSES, DYNPAINT_PG_light, DYNPAINT_PG_derived, DYNPAINT_PG_settings)
+
+
+def settings_to_params(settings):
+    """The settings as a params namespace (params.defaults() layout), for the core."""
+    p = P.defaults()
+    for param in P.PARAMS:
+        group = getattr(settings, param.section)
+        value = getattr(group, param.key)
+        if param.kind == "auto_float" and getattr(group, param.key + "_auto"):
+            value = "auto"
+        setattr(getattr(p, param.section), param.key, value)
+    return p
+
+
+def params_to_settings(p, settings):
+    """Write a params namespace into the settings (recipe import)."""
+    for param in P.PARAMS:
+        group = getattr(settings, param.section)
+        value = getattr(getattr(p, param.section), param.key)
+        if param.kind == "auto_float":
+            setattr(group, param.key + "_auto", value == "auto")
+            if value == "auto":
+                continue
+        setattr(group, param.key, value)
+
+
+def channel_images(settings):
+    """{channel: bpy Image} of the images assigned to the painting."""
+    return {c: getattr(settings, f"image_{c}") for c in P.CHANNELS
+            if getattr(settings, f"image_{c}") is not None}
+
+
+def register():
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+    bpy.types.Material.dynamic_painting = PointerProperty(type=DYNPAINT_PG_settings)
+
+
+def unregister():
+    del bpy.types.Material.dynamic_painting
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)

@@ -1,0 +1,218 @@
+"""Putting a painting into a scene: the plane, its material, lights, camera and render setup.
+
+The plane's mesh is measured in image widths (x ∈ [−½, ½], y ∈ [−½·H/W, ½·H/W]) so its
+object space *is* the painting frame of pipeline.md §0; the object's uniform scale sets its
+size in the scene. A Copy Rotation constraint keeps it facing the scene camera (the same
+choice as Blender's Image as Planes).
+"""
+import os
+
+import numpy as np
+
+import bpy
+from mathutils import Matrix, Vector
+
+from .. import params as P
+from ..nodegraph.shader_backend import POINT_POWER_UNIT
+from . import material as M
+from .properties import params_to_settings
+
+FACE_CAMERA = "Dynamic Painting: face camera"
+DEFAULT_SUN = (-0.45, 0.5, 0.74)    # toward the light, painting frame: upper left, in front
+
+
+def plane_mesh(name, width_px, height_px):
+    """A quad one image width wide with UVs spanning [0, 1]² (pixel centres line up)."""
+    ar = height_px / width_px
+    verts = [(-0.5, -0.5 * ar, 0), (0.5, -0.5 * ar, 0), (0.5, 0.5 * ar, 0), (-0.5, 0.5 * ar, 0)]
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(verts, [], [(0, 1, 2, 3)])
+    uv = mesh.uv_layers.new(name="UVMap")
+    for loop, (u, v) in zip(uv.data, ((0, 0), (1, 0), (1, 1), (0, 1))):
+        loop.uv = (u, v)
+    mesh.update()
+    return mesh
+
+
+def load_image(path, channel):
+    """Load (or reuse) an image file for a channel, colour-managed as §0 says."""
+    path = os.path.abspath(path)
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"{path}: file not found")
+    try:
+        img = bpy.data.images.load(path, check_existing=True)
+    except RuntimeError as exc:
+        raise ValueError(f"{path}: Blender cannot read it ({str(exc).strip()})") from None
+    if img.size[0] == 0 or img.size[1] == 0 or not img.has_data:
+        raise ValueError(f"{path}: not an image Blender can read (unknown or corrupt format)")
+    M.prepare_channel_image(img, channel)
+    return img
+
+
+def face_camera(obj, camera):
+    """Keep `obj` facing `camera` (Copy Rotation), replacing an earlier such constraint."""
+    con = obj.constraints.get(FACE_CAMERA) or obj.constraints.new("COPY_ROTATION")
+    con.name = FACE_CAMERA
+    con.target = camera
+
+
+def create_painting(context, images, p=None, lights=None, name="Dynamic Painting", size=1.0,
+                    location=(0.0, 0.0, 0.0), rotation=None, default_sun=True):
+    """Create the plane, its material and (optionally) lights → (plane, material, messages).
+
+    images: {channel: file path or bpy Image}; p: a params namespace (defaults if None);
+    lights: core Lights in the painting frame to create; with none given, a Sun is added if
+    the scene has no light (unless default_sun is False). size: the plane's width in scene
+    units.
+    The scene is left as it was if anything fails.
+    """
+    scene = context.scene
+    p = p or P.defaults()
+    messages = []
+    loaded = {}
+    for channel, src in images.items():
+        loaded[channel] = load_image(src, channel) if isinstance(src, (str, os.PathLike)) else src
+        if isinstance(src, bpy.types.Image):
+            M.prepare_channel_image(src, channel)
+    if "shape" not in loaded:
+        raise ValueError("a painting needs a shape image (normal or height map)")
+    if "dark" not in loaded and "bright" not in loaded:
+        raise ValueError("a painting needs a dark or a bright image (one may serve both)")
+    w, h = loaded["shape"].size
+    created = []
+    try:
+        mesh = plane_mesh(name, w, h)
+        created.append(mesh)
+        obj = bpy.data.objects.new(name, mesh)
+        created.append(obj)
+        context.collection.objects.link(obj)
+        obj.location = location
+        obj.scale = (size, size, size)
+        if rotation is not None:
+            obj.rotation_euler = rotation
+        mat = bpy.data.materials.new(name)
+        created.append(mat)
+        mesh.materials.append(mat)
+        s = mat.dynamic_painting
+        with M.batch():
+            params_to_settings(p, s)
+            for channel, img in loaded.items():
+                setattr(s, f"image_{channel}", img)
+            s.plane = obj
+            s.is_painting = True
+        if scene.camera is not None:
+            face_camera(obj, scene.camera)
+        else:
+            messages.append("no camera in the scene: the painting faces the view; add a camera "
+                            "and use 'Face Camera' to keep it facing it")
+        context.view_layer.update()
+        if lights:
+            for light in lights:
+                created.append(add_light(scene, light, obj.matrix_world, context.collection))
+        elif default_sun and not M.linked_lights(mat, scene):
+            created.append(add_light(scene, _default_sun(), obj.matrix_world, context.collection))
+            messages.append("the scene had no light: added a Sun")
+        context.view_layer.update()
+        M.refresh(mat, structure=True, derived=True, shadows=p.shadows.enabled, scene=scene)
+    except Exception:
+        _remove(created)
+        raise
+    return obj, mat, messages
+
+
+def _default_sun():
+    from ..core.lights import Light
+    return Light("sun", DEFAULT_SUN, (1.0, 1.0, 1.0), 1.0, "Sun")
+
+
+def _remove(blocks):
+    for block in reversed(blocks):
+        for coll in (bpy.data.objects, bpy.data.meshes, bpy.data.materials, bpy.data.lights):
+            if isinstance(block, bpy.types.ID) and block.name in coll and coll[block.name] == block:
+                coll.remove(block)
+                break
+
+
+def add_light(scene, light, plane_matrix, collection):
+    """Create a Blender light for a core Light given in the painting frame → the object."""
+    kind = "SUN" if light.kind == "sun" else "POINT"
+    data = bpy.data.lights.new(light.name or kind.title(), kind)
+    data.color = light.colour
+    data.energy = light.strength * (1.0 if kind == "SUN" else POINT_POWER_UNIT)
+    if kind == "SUN":
+        data.angle = 0.0
+    obj = bpy.data.objects.new(data.name, data)
+    collection.objects.link(obj)
+    m = Matrix(plane_matrix)
+    if kind == "SUN":
+        world_dir = (m.to_3x3() @ Vector(light.vector)).normalized()
+        obj.rotation_mode = "QUATERNION"
+        obj.rotation_quaternion = world_dir.to_track_quat("Z", "Y")
+        obj.location = m @ (Vector(light.vector).normalized() * 2.0)
+    else:
+        obj.location = m @ Vector(light.vector)
+    return obj
+
+
+# -- exact-pixel rendering (parity tests, the `render` command) -------------------------------
+def exact_camera(scene, plane):
+    """An orthographic camera looking down −Z that frames the plane pixel for pixel (the plane
+    faces it, so its pixels line up with the painting's)."""
+    mat = plane.active_material
+    w, h = mat.dynamic_painting.image_shape.size
+    cam_data = bpy.data.cameras.new("Dynamic Painting camera")
+    cam_data.type = "ORTHO"
+    cam = bpy.data.objects.new(cam_data.name, cam_data)
+    scene.collection.objects.link(cam)
+    size = plane.scale[0]
+    cam_data.ortho_scale = size * max(1.0, h / w)
+    cam_data.clip_end = 100.0 * size
+    cam.location = plane.matrix_world.translation + Vector((0.0, 0.0, 5.0 * size))
+    scene.camera = cam
+    scene.render.resolution_x, scene.render.resolution_y = w, h
+    scene.render.resolution_percentage = 100
+    face_camera(plane, cam)
+    return cam
+
+
+def exact_render_settings(scene, engine):
+    """1 sample, no denoising, box filter of ~0: pixels are the shader's values (notes)."""
+    r = scene.render
+    r.engine = {"cycles": "CYCLES", "eevee": "BLENDER_EEVEE"}[engine]
+    r.film_transparent = True
+    r.use_persistent_data = False   # it would keep showing an old shadow image
+    r.use_lock_interface = True
+    scene.cycles.samples = 1
+    scene.cycles.use_denoising = False
+    scene.cycles.filter_width = 0.01
+    scene.cycles.pixel_filter_type = "BOX"
+    scene.cycles.device = "CPU"
+    scene.eevee.taa_render_samples = 1
+    r.filter_size = 0.0          # EEVEE's film filter (1.5 px by default) spreads pixels
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+    scene.view_settings.exposure = 0.0
+    scene.view_settings.gamma = 1.0
+    r.dither_intensity = 0.0
+    # A user preference, but it decides EEVEE's texel values: under llvmpipe, anisotropic
+    # filtering (2× by default) blurs even 1:1 lookups (a checkerboard comes out 0.33/0.54).
+    # Only the command line and tests set it; the add-on never touches preferences.
+    if bpy.app.background:
+        bpy.context.preferences.system.anisotropic_filter = "FILTER_0"
+
+
+def output_settings(scene, path):
+    ext = os.path.splitext(path)[1].lower()
+    s = scene.render.image_settings
+    if ext == ".exr":
+        s.file_format, s.color_depth, s.exr_codec = "OPEN_EXR", "32", "ZIP"
+    elif ext == ".png":
+        s.file_format, s.color_depth = "PNG", "8"
+    else:
+        raise ValueError(f"{path}: unsupported output format '{ext}' (use .png or .exr)")
+    s.color_mode = "RGBA"
+    scene.render.filepath = os.path.abspath(path)
+
+
+def is_exact_size(plane):
+    return np.allclose(plane.scale, plane.scale[0])
