@@ -44,6 +44,8 @@ def write_images(folder):
     r = np.hypot((x - 0.5) / 0.42, (y - 0.5) / 0.4)
     alpha = np.clip((1 - r) * 8, 0, 1)
     save("normal_alpha.png", np.concatenate([(n + 1) / 2, alpha[..., None]], -1), 16)
+    save("normal_opaque_alpha.png", np.concatenate([(n + 1) / 2, np.ones_like(alpha)[..., None]],
+                                                   -1), 16)
     # height maps: a smooth dome plus a ridge, 16-bit and 8-bit
     hgt = 0.7 * np.exp(-((x - 0.4) ** 2 + (y - 0.55) ** 2) / 0.06) \
         + 0.3 * np.exp(-((x - 0.75) ** 2) / 0.01) 
@@ -149,8 +151,21 @@ RECIPES = {
 }
 
 
+# §12: a pruned tree against the full tree fed the documented neutral defaults (core/pipeline.py):
+# bright := dark, white specular colour and gloss, a transparency map of 1 under the slider,
+# an opaque silhouette, and the background standing in for the environment (C_M := C_T, exact
+# here because the warp distances are 0, so both lookups read the same texel).
+PRUNED = ({"shape": "normal", "dark": "dark", "background": "env"},
+          {"specular.enabled": True, "transparency.amount": 0.6, "refraction.distance": 0.0,
+           "reflection.distance": 0.0, "reflection.extension": "extend"}, [SUN])
+FULL_WITH_DEFAULTS = ({"shape": "normal_opaque_alpha", "dark": "dark", "bright": "dark",
+                       "specular_color": "white", "gloss": "white", "transparency": "white",
+                       "environment": "env", "background": "env"}, PRUNED[1], [SUN])
+
+
 def make_recipe(name, paths):
-    images, overrides, lights = RECIPES[name]
+    images, overrides, lights = {"pruned": PRUNED, "full_with_defaults": FULL_WITH_DEFAULTS}.get(
+        name) or RECIPES[name]
     p = P.defaults()
     for path, value in overrides.items():
         section, key = path.split(".")

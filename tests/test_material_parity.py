@@ -56,3 +56,32 @@ def test_material_matches_core(name, engine, paths, tmp_path):
         got[..., 3] = np.where(snapped, want[..., 3], got[..., 3])
     err = max_error(got, want)
     assert err <= TOLERANCE[engine], f"{name} {engine}: max |Δ| {err:.2e}"
+
+
+def test_pruned_tree_renders_like_full_tree_fed_defaults(paths, tmp_path):
+    """§12: same pixels (Cycles), far fewer nodes."""
+    counts, pixels = {}, {}
+    for name in ("pruned", "full_with_defaults"):
+        recipe = make_recipe(name, paths)
+        _, mat = headless.build_recipe_scene(recipe)
+        counts[name] = count_nodes(mat.node_tree)
+        got, want = render_both(recipe, "cycles", tmp_path / f"{name}.exr")
+        assert max_error(got, want) <= TOLERANCE["cycles"]
+        pixels[name] = got
+    assert np.abs(pixels["pruned"] - pixels["full_with_defaults"]).max() <= 1e-5
+    assert counts["pruned"] < 0.7 * counts["full_with_defaults"], counts
+
+
+def count_nodes(tree, seen=None):
+    """Nodes of a tree with the nodes of its groups (each group once), frames excluded."""
+    seen = set() if seen is None else seen
+    total = 0
+    for node in tree.nodes:
+        if node.bl_idname == "NodeFrame":
+            continue
+        total += 1
+        sub = getattr(node, "node_tree", None)
+        if sub is not None and sub.name not in seen:
+            seen.add(sub.name)
+            total += count_nodes(sub, seen)
+    return total

@@ -51,13 +51,17 @@ def test_core_never_imports_bpy():
             "import numpy as np\n"
             "from dynpaint_addon.core import pipeline, shadow, shape, warps, fresnel, shading\n"
             "from dynpaint_addon import params, recipe, cli\n"
+            "from dynpaint_addon.nodegraph import graph, pipeline_graph\n"
+            "pipeline_graph.describe(pipeline_graph.Features())\n"
             "from dynpaint_addon.testpainting import builtin_images, builtin_recipe\n"
             "r = builtin_recipe(); out = pipeline.render(builtin_images(16), r.lights, r.params)\n"
             "print(out.rgba.shape)")
     res = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True,
                          env={**os.environ, "PYTHONPATH": REPO})
     assert res.returncode == 0 and "(16, 16, 4)" in res.stdout, res.stderr
-    for path in glob.glob(os.path.join(REPO, "dynpaint_addon", "core", "*.py")):
+    described = [os.path.join(REPO, "dynpaint_addon", "nodegraph", f)
+                 for f in ("graph.py", "pipeline_graph.py")]
+    for path in glob.glob(os.path.join(REPO, "dynpaint_addon", "core", "*.py")) + described:
         assert not re.search(r"^\s*(import|from)\s+bpy", open(path).read(), re.M), path
 
 

@@ -3,15 +3,20 @@ besides the node-graph builders). `register()` is called by the extension's root
 _registered = [False]
 
 
+def _modules():
+    from . import handlers, properties
+    return (properties, handlers)
+
+
 def register():
-    from . import properties
-    properties.register()
+    for module in _modules():
+        module.register()
     _registered[0] = True
 
 
 def unregister():
-    from . import properties
-    properties.unregister()
+    for module in reversed(_modules()):
+        module.unregister()
     _registered[0] = False
 
 

@@ -117,8 +117,7 @@ def update_derived_images(mat, data=None):
 
     if p.shape.kind == "height" and "shape" in imgs:
         sigma = p.shape.preblur
-        sigma = default_preblur_px(image_data_from_blender(imgs["shape"]).bits) if sigma == "auto" \
-            else sigma
+        sigma = default_preblur_px(_bits(imgs["shape"])) if sigma == "auto" else sigma
         need("height", f"{imgs['shape'].name}|{sigma}",
              lambda d: _grey_rgba(preblurred_height(d["shape"].grey(), float(sigma))))
     source = _silhouette_source(mat)
@@ -190,6 +189,13 @@ def features_for(mat, scene):
     return f, lights
 
 
+def _bits(img):
+    """Bits per channel of a loaded image (8, 16 or 32), without reading its pixels."""
+    if not img.is_float:
+        return 8
+    return 16 if img.file_format in ("PNG", "TIFF") else 32
+
+
 def _has_alpha(img):
     if img.source == "FILE":
         return FILE_CHANNELS.get((img.is_float, img.depth), img.channels) in (2, 4)
@@ -230,6 +236,7 @@ def _sync_light_items(s, lights):
     for obj in lights:
         item = s.lights.add()
         item.object = obj
+        item.kind = obj.data.type
         item.shadow = old.get(obj.name)
 
 

@@ -92,6 +92,7 @@ def _image_pointer(channel):
 class DYNPAINT_PG_light(bpy.types.PropertyGroup):
     """A light the tree was built for (in order) and its baked cos-θ image (§6)."""
     object: PointerProperty(type=bpy.types.Object, name="Light")
+    kind: StringProperty(description="SUN or POINT, as the tree was built")
     shadow: PointerProperty(type=bpy.types.Image, name="Shadow")
 
 

@@ -99,7 +99,6 @@ def create_painting(context, images, p=None, lights=None, name="Dynamic Painting
             for channel, img in loaded.items():
                 setattr(s, f"image_{channel}", img)
             s.plane = obj
-            s.is_painting = True
         if scene.camera is not None:
             face_camera(obj, scene.camera)
         else:
@@ -114,6 +113,7 @@ def create_painting(context, images, p=None, lights=None, name="Dynamic Painting
             messages.append("the scene had no light: added a Sun")
         context.view_layer.update()
         M.refresh(mat, structure=True, derived=True, shadows=p.shadows.enabled, scene=scene)
+        s.is_painting = True       # from here on, handlers and setting changes keep it current
     except Exception:
         _remove(created)
         raise

@@ -1,0 +1,89 @@
+"""Application handlers: keep paintings current when lights change and bake per frame.
+
+- depsgraph_update_post: a light linked or unlinked (added, deleted, moved between
+  collections, Sun ↔ Point) rebuilds that painting's tree, so its drivers never point at a
+  deleted light.
+- frame_change_post: with cos-θ shadows on, each frame bakes for the lights where that frame
+  puts them (read from the evaluated depsgraph, blender-notes.md), in renders as in playback.
+
+A handler never raises into Blender: failures are printed and the painting keeps its last
+good images (material.bake_shadows writes only after a complete bake).
+"""
+import bpy
+from bpy.app.handlers import persistent
+
+from . import material as M
+
+LAST_ERRORS = []      # (material name, message), newest last: the panel shows them
+
+
+def paintings(scene):
+    """Materials of Dynamic Paintings shown in `scene`."""
+    seen = []
+    for obj in scene.objects:
+        for slot in getattr(obj, "material_slots", ()):
+            mat = slot.material
+            if mat is not None and mat.dynamic_painting.is_painting and mat not in seen:
+                seen.append(mat)
+    return seen
+
+
+def _report(mat, exc):
+    message = f"Dynamic Painting: {mat.name}: {exc}"
+    print(message)
+    LAST_ERRORS.append((mat.name, str(exc)))
+    del LAST_ERRORS[:-20]
+
+
+def _lights_changed(mat, scene):
+    built = [(i.object.name if i.object else None, i.kind) for i in mat.dynamic_painting.lights]
+    return built != [(o.name, o.data.type) for o in M.linked_lights(mat, scene)]
+
+
+WATCHED = (bpy.types.Object, bpy.types.Light, bpy.types.Collection, bpy.types.Scene)
+
+
+@persistent
+def on_depsgraph_update(scene, depsgraph):
+    if not any(isinstance(u.id, WATCHED) for u in depsgraph.updates):
+        return
+    for mat in paintings(scene):
+        try:
+            if _lights_changed(mat, scene):
+                M.refresh(mat, structure=True, derived=False, shadows=mat.dynamic_painting
+                          .shadows.enabled, scene=scene)
+        except Exception as exc:     # never into Blender's update loop
+            _report(mat, exc)
+
+
+@persistent
+def on_frame_change(scene, depsgraph):
+    for mat in paintings(scene):
+        if not mat.dynamic_painting.shadows.enabled:
+            continue
+        try:
+            M.bake_shadows(mat, scene, depsgraph)
+        except Exception as exc:     # never into the render loop; the last bake stays
+            _report(mat, exc)
+
+
+HANDLERS = ((bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),
+            (bpy.app.handlers.frame_change_post, on_frame_change))
+
+
+def _same(a, b):
+    """Same handler, even from a reloaded copy of this module (add-on disabled and enabled)."""
+    return getattr(a, "__name__", None) == b.__name__ and \
+        getattr(a, "__module__", None) == b.__module__
+
+
+def register():
+    unregister()
+    for handlers, fn in HANDLERS:
+        handlers.append(fn)
+
+
+def unregister():
+    for handlers, fn in HANDLERS:
+        for h in [h for h in handlers if _same(h, fn)]:
+            handlers.remove(h)

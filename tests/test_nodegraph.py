@@ -1,0 +1,89 @@
+"""The graph description (nodegraph/, no bpy): pruning (§12), wiring, parameters."""
+import dataclasses
+
+import pytest
+
+from dynpaint_addon import params as P
+from dynpaint_addon.nodegraph.graph import Ref
+from dynpaint_addon.nodegraph.pipeline_graph import Features, describe
+
+MINIMAL = Features(size=(40, 30))
+FULL = Features(size=(40, 30), channels=frozenset(P.CHANNELS), lights=("sun", "point"),
+                shadows=True, specular=True, transparency="map", silhouette="shape",
+                lookup_sizes=(("background", (48, 40)), ("environment", (32, 24))))
+
+
+def walk(graph):
+    yield graph
+    for n in graph.nodes:
+        if n.op == "dp.group":
+            yield from walk(n.props["graph"])
+
+
+def test_every_graph_is_topologically_ordered_and_wired():
+    for f in (MINIMAL, FULL, dataclasses.replace(FULL, shape_kind="height")):
+        for g in walk(describe(f)):
+            for n in g.nodes:
+                for ref in n.inputs.values():
+                    if isinstance(ref, Ref):
+                        assert ref.node < n.id, (g.name, n.op)
+
+
+def test_parameters_exist_in_params_table():
+    params = describe(FULL).params() | describe(dataclasses.replace(
+        FULL, refraction_mode="linear", fresnel_mode="art")).params()
+    assert params <= set(P.BY_PATH)
+    assert {"diffuse.t0", "diffuse.t1", "refraction.ior", "reflection.distance"} <= params
+
+
+def test_minimal_tree_has_only_what_the_scene_needs():
+    ops = describe(MINIMAL).ops()
+    names = " ".join(o for o in ops if o.startswith("group:"))
+    for absent in ("Reflection", "Refraction", "Fresnel", "Height", "shadowed", "specular"):
+        assert absent not in names
+    assert describe(MINIMAL).channels() == {"shape", "dark", "bright"}
+    assert MINIMAL.image_channels() == {"shape", "dark", "bright"}
+
+
+def test_each_feature_adds_its_branch():
+    base = describe(MINIMAL).count()
+    for change, marker in [({"specular": True}, "specular"),
+                           ({"shadows": True}, "shadowed"),
+                           ({"shape_kind": "height"}, "Height Gradient"),
+                           ({"lights": ("sun", "point")}, "Light point")]:
+        g = describe(dataclasses.replace(MINIMAL, **change))
+        assert g.count() > base, change
+        assert any(marker in o for o in g.ops()), change
+
+
+def test_channels_sampled_are_the_channels_required():
+    for f in (MINIMAL, FULL, dataclasses.replace(FULL, shape_kind="height", silhouette="dark")):
+        assert describe(f).channels() == f.image_channels()
+
+
+def test_one_light_group_per_light_and_shared_node_groups():
+    g = describe(dataclasses.replace(MINIMAL, lights=("sun", "sun", "point")))
+    light_nodes = [n for n in g.nodes if n.op == "dp.light"]
+    assert [n.props["kind"] for n in light_nodes] == ["sun", "sun", "point"]
+    groups = [n.props["graph"] for n in g.nodes if n.op == "dp.group"
+              and n.props["graph"].name.startswith("DP Light sun")]
+    assert len(groups) == 2 and groups[0] is groups[1]    # one node group, used twice
+
+
+@pytest.mark.parametrize("amount, has_map, expected", [
+    ("auto", False, "none"), ("auto", True, "map"), (0.0, False, "none"), (0.5, False, "param"),
+    (0.0, True, "param")])
+def test_transparency_branch_resolution(amount, has_map, expected):
+    p = P.defaults()
+    p.transparency.amount = amount
+    channels = {"shape", "dark"} | ({"transparency"} if has_map else set())
+    assert Features.from_params(p, channels, ["sun"], (4, 4)).transparency == expected
+
+
+def test_live_values_do_not_change_structure():
+    p = P.defaults()
+    a = Features.from_params(p, {"shape", "dark"}, ["sun"], (4, 4))
+    p.diffuse.t0, p.refraction.ior, p.shape.height_scale = 0.3, 1.9, 0.5
+    assert Features.from_params(p, {"shape", "dark"}, ["sun"], (4, 4)) == a
+    p.specular.enabled = True
+    assert Features.from_params(p, {"shape", "dark"}, ["sun"], (4, 4)) != a
