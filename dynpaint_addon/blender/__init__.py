@@ -4,8 +4,8 @@ _registered = [False]
 
 
 def _modules():
-    from . import handlers, properties
-    return (properties, handlers)
+    from . import handlers, operators, panels, properties
+    return (properties, operators, panels, handlers)
 
 
 def register():

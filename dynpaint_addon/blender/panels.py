@@ -1,0 +1,172 @@
+"""The Dynamic Painting panel, in Material Properties and in the 3D viewport's sidebar (N).
+
+Sub-panels follow how an artist thinks about a painting: Images, Shape, Light & Style,
+Shadows, Highlights, Reflection & Refraction, Fresnel, Transparency, Lights. The same draw
+functions serve both places; the classes are generated once per place.
+"""
+import bpy
+
+from .. import params as P
+from . import handlers
+from .operators import LOOKS, active_painting
+
+SECTION_PANELS = (
+    # (id, label, [(section, keys or None for all)], header toggle "section.key" or None)
+    ("shape", "Shape", [("shape", None)], None),
+    ("style", "Light & Style", [("diffuse", None)], None),
+    ("shadows", "Shadows", [("shadows", ("offset", "steps", "occupancy"))], "shadows.enabled"),
+    ("highlights", "Highlights", [("specular", ("s0", "s1", "curve", "amount"))], "specular.enabled"),
+    ("warps", "Reflection & Refraction", [("reflection", None), ("refraction", None)], None),
+    ("fresnel", "Fresnel", [("fresnel", None)], None),
+    ("transparency", "Transparency", [("transparency", None), ("silhouette", None)], None),
+)
+HEIGHT_ONLY = {"height_scale", "preblur"}
+NORMAL_ONLY = {"flip_green"}
+
+
+def _draw_param(layout, group, param):
+    if param.kind == "auto_float":
+        row = layout.row(align=True)
+        auto = getattr(group, param.key + "_auto")
+        sub = row.row(align=True)
+        sub.active = not auto
+        sub.prop(group, param.key)
+        row.prop(group, param.key + "_auto", text="", icon="AUTO", toggle=True)
+    else:
+        layout.prop(group, param.key)
+
+
+def _draw_section(layout, s, section, keys):
+    group = getattr(s, section)
+    col = layout.column()
+    col.use_property_split = True
+    col.use_property_decorate = True
+    kind = s.shape.kind
+    for param in P.PARAMS:
+        if param.section != section or (keys is not None and param.key not in keys):
+            continue
+        if section == "shape" and (param.key in HEIGHT_ONLY and kind != "height"
+                                   or param.key in NORMAL_ONLY and kind != "normal"):
+            continue
+        _draw_param(col, group, param)
+    if section == "diffuse":
+        row = layout.row(align=True)
+        for key in ("CLASSIC", "GOOCH", "CARTOON"):
+            row.operator("dynpaint.apply_look", text=LOOKS[key][0]).look = key
+    if section == "fresnel":
+        mode = s.fresnel.mode
+        col.enabled = bool(s.image_environment and s.image_background)
+        if not col.enabled:
+            layout.label(text="Needs an environment and a background image", icon="INFO")
+        elif mode == "physical":
+            layout.label(text="Uses the refraction IOR", icon="INFO")
+
+
+def _draw_images(layout, s):
+    col = layout.column(align=True)
+    for channel, (what, kind) in P.CHANNELS.items():
+        row = col.row(align=True)
+        row.label(text=channel.replace("_", " ").title())
+        img = getattr(s, f"image_{channel}")
+        row.label(text=img.name if img else "—", icon="IMAGE_DATA" if img else "BLANK1")
+        op = row.operator("dynpaint.image_open", text="", icon="FILEBROWSER")
+        op.channel = channel
+        if img is not None:
+            row.operator("dynpaint.image_remove", text="", icon="X").channel = channel
+
+
+def _draw_lights(layout, context, mat):
+    s = mat.dynamic_painting
+    layout.prop(s, "light_collection")
+    col = layout.column(align=True)
+    for item in s.lights:
+        if item.object is None:
+            continue
+        row = col.row(align=True)
+        row.label(text=item.object.name, icon="LIGHT_SUN" if item.kind == "SUN" else "LIGHT_POINT")
+        row.prop(item.object.data, "color", text="")
+        row.prop(item.object.data, "energy", text="")
+    if not s.lights:
+        col.label(text="No Sun or Point light: the painting shows its dark image", icon="INFO")
+
+
+class _Base:
+    bl_options = {"DEFAULT_CLOSED"}
+
+    @classmethod
+    def poll(cls, context):
+        return active_painting(context) is not None
+
+
+def _make_panels(space, region, context_name, category, prefix):
+    """The main panel and its sub-panels for one place in the UI."""
+    main_id = f"DYNPAINT_PT_{prefix}_main"
+    where = {"bl_space_type": space, "bl_region_type": region}
+    if context_name:
+        where["bl_context"] = context_name
+    if category:
+        where["bl_category"] = category
+
+    def draw_main(self, context):
+        mat = active_painting(context)
+        s = mat.dynamic_painting
+        layout = self.layout
+        row = layout.row(align=True)
+        row.operator_menu_enum("dynpaint.apply_look", "look", text="Look", icon="PRESET")
+        row.operator("dynpaint.bake_shadows", icon="LIGHT_SUN")
+        row = layout.row(align=True)
+        row.operator("dynpaint.face_camera", icon="CAMERA_DATA")
+        row.operator("dynpaint.rebuild", icon="FILE_REFRESH")
+        row.operator("dynpaint.export_recipe", text="", icon="EXPORT")
+        if s.shadows.enabled and s.shadows_stale:
+            layout.label(text="Shadows are out of date: Bake Shadows", icon="ERROR")
+        errors = [m for name, m in handlers.LAST_ERRORS if name == mat.name]
+        if errors:
+            layout.label(text=errors[-1], icon="ERROR")
+
+    main = type(main_id, (_Base, bpy.types.Panel), {
+        **where, "bl_label": "Dynamic Painting", "bl_options": set(), "draw": draw_main})
+    panels = [main]
+
+    def sub(idname, label, draw, header=None):
+        attrs = {**where, "bl_label": label, "bl_parent_id": main_id, "draw": draw}
+        if header:
+            section, key = header.split(".")
+
+            def draw_header(self, context):
+                s = active_painting(context).dynamic_painting
+                self.layout.prop(getattr(s, section), key, text="")
+            attrs["draw_header"] = draw_header
+        panels.append(type(f"DYNPAINT_PT_{prefix}_{idname}", (_Base, bpy.types.Panel), attrs))
+
+    sub("images", "Images", lambda self, context: _draw_images(
+        self.layout, active_painting(context).dynamic_painting))
+    sub("lights", "Lights", lambda self, context: _draw_lights(
+        self.layout, context, active_painting(context)))
+    for idname, label, sections, header in SECTION_PANELS:
+        sub(idname, label, _section_drawer(sections), header)
+    return panels
+
+
+def _section_drawer(sections):
+    def draw(self, context):
+        s = active_painting(context).dynamic_painting
+        for section, keys in sections:
+            if len(sections) > 1:
+                self.layout.label(text=section.title())
+            _draw_section(self.layout, s, section, keys)
+    return draw
+
+
+CLASSES = (_make_panels("PROPERTIES", "WINDOW", "material", None, "material")
+           + _make_panels("VIEW_3D", "UI", None, "Dynamic Painting", "view3d"))
+
+
+def register():
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+
+
+def unregister():
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)

@@ -1,0 +1,197 @@
+"""The add-on from an artist's side, headless: Add › Dynamic Painting, live and structural
+settings, lights coming and going, looks, bake, recipe export/import (issue 3)."""
+import os
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from dynpaint_addon import blender  # noqa: E402
+from dynpaint_addon.blender import handlers, material as M, scene as S  # noqa: E402
+from dynpaint_addon.blender.properties import settings_to_params  # noqa: E402
+from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
+from dynpaint_addon.imageio import read_image  # noqa: E402
+from dynpaint_addon.recipe import load_images, load_recipe  # noqa: E402
+
+from parity_recipes import write_images  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    folder = str(tmp_path_factory.mktemp("addon"))
+    write_images(folder)
+    return folder
+
+
+@pytest.fixture
+def empty_scene():
+    bpy.ops.wm.read_homefile(use_empty=True)
+    blender.register_once()
+    handlers.LAST_ERRORS.clear()
+    yield bpy.context.scene
+    assert handlers.LAST_ERRORS == []
+
+
+def add(folder, *names, **kw):
+    return bpy.ops.dynpaint.add(directory=folder, files=[{"name": n} for n in names], **kw)
+
+
+def render_cycles(scene, plane, path):
+    if scene.camera is None or scene.camera.data.type != "ORTHO":
+        S.exact_camera(scene, plane)
+    S.exact_render_settings(scene, "cycles")
+    S.output_settings(scene, path)
+    bpy.context.view_layer.update()
+    bpy.ops.render.render(write_still=True)
+    return read_image(path).pixels
+
+
+def core_of(mat, scene, folder):
+    """The numpy core's render of the painting as the scene has it now."""
+    s = mat.dynamic_painting
+    images = {c: read_image(bpy.path.abspath(getattr(s, f"image_{c}").filepath))
+              for c in ("shape", "dark", "bright") if getattr(s, f"image_{c}") is not None}
+    lights = [M.painting_frame_light(o, s.plane.matrix_world) for o in M.linked_lights(mat, scene)]
+    return core_render(images, lights, settings_to_params(s)).rgba
+
+
+def test_add_from_images_makes_a_lit_plane_with_the_image_aspect(empty_scene, folder):
+    assert add(folder, "normal.png", "dark.png", "bright.png", size=2.0) == {"FINISHED"}
+    plane = bpy.context.object
+    mat = plane.active_material
+    s = mat.dynamic_painting
+    assert s.is_painting and s.shape.kind == "normal"
+    xs = [v.co.x for v in plane.data.vertices]
+    ys = [v.co.y for v in plane.data.vertices]
+    assert (max(ys) - min(ys)) / (max(xs) - min(xs)) == pytest.approx(30 / 40)
+    assert tuple(plane.scale) == pytest.approx((2.0, 2.0, 2.0))
+    # no light in the scene: a Sun was added and shades the painting
+    assert [i.object.data.type for i in s.lights] == ["SUN"]
+    assert any(n.bl_idname == "ShaderNodeVectorTransform" for n in mat.node_tree.nodes)
+
+
+def test_height_map_detected_and_camera_faced(empty_scene, folder):
+    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
+    empty_scene.collection.objects.link(cam)
+    empty_scene.camera = cam
+    assert add(folder, "height16.png", "dark.png", "bright.png") == {"FINISHED"}
+    plane = bpy.context.object
+    assert plane.active_material.dynamic_painting.shape.kind == "height"
+    con = plane.constraints[S.FACE_CAMERA]
+    assert con.type == "COPY_ROTATION" and con.target == cam
+
+
+def test_bad_input_is_refused_and_the_scene_is_unchanged(empty_scene, folder):
+    with open(os.path.join(folder, "notes.txt"), "w") as fh:
+        fh.write("hello")
+    before = (len(bpy.data.objects), len(bpy.data.materials), len(bpy.data.meshes))
+    for files in (["notes.txt", "dark.png"], ["dark.png"], ["missing_normal.png", "dark.png"]):
+        with pytest.raises(RuntimeError) as err:
+            add(folder, *files)
+        assert "Error" in str(err.value)
+        assert (len(bpy.data.objects), len(bpy.data.materials), len(bpy.data.meshes)) == before
+
+
+def test_live_value_changes_rebuild_nothing_and_render_right(empty_scene, folder, tmp_path):
+    add(folder, "normal.png", "dark.png", "bright.png")
+    plane = bpy.context.object
+    mat = plane.active_material
+    s = mat.dynamic_painting
+    tree_nodes = [n.name for n in mat.node_tree.nodes]
+    s.diffuse.t0, s.diffuse.t1, s.diffuse.curve = 0.2, 0.7, "smoothstep"   # curve: structural
+    assert [n.name for n in mat.node_tree.nodes] == tree_nodes     # groups differ, not the tree
+    signature = s.signature
+    s.diffuse.t0 = 0.35
+    assert s.signature == signature
+    got = render_cycles(empty_scene, plane, str(tmp_path / "a.exr"))
+    want = core_of(mat, empty_scene, folder)
+    assert np.abs(got - want)[1:-1, 1:-1].max() <= 1e-3
+    s.specular.enabled = True
+    assert s.signature != signature and len(mat.node_tree.nodes) > len(tree_nodes)
+
+
+def test_keyframed_parameter_animates(empty_scene, folder, tmp_path):
+    add(folder, "normal.png", "dark.png", "bright.png")
+    plane = bpy.context.object
+    mat = plane.active_material
+    s = mat.dynamic_painting
+    for frame, t0 in ((1, -0.8), (11, 0.6)):
+        s.diffuse.t0 = t0
+        s.diffuse.keyframe_insert("t0", frame=frame)
+    empty_scene.frame_set(6)
+    assert s.diffuse.t0 == pytest.approx(-0.1, abs=0.05)
+    got = render_cycles(empty_scene, plane, str(tmp_path / "k.exr"))
+    want = core_of(mat, empty_scene, folder)
+    assert np.abs(got - want)[1:-1, 1:-1].max() <= 1e-3
+
+
+def test_lights_added_deleted_and_collections(empty_scene, folder):
+    add(folder, "normal.png", "dark.png", "bright.png")
+    mat = bpy.context.object.active_material
+    s = mat.dynamic_painting
+    lamp = bpy.data.objects.new("Lamp", bpy.data.lights.new("Lamp", "POINT"))
+    empty_scene.collection.objects.link(lamp)
+    bpy.context.view_layer.update()
+    assert [i.object.name for i in s.lights] == ["Lamp", "Sun"]
+    lamp.data.type = "SUN"          # a light changing kind rebuilds its branch
+    bpy.context.view_layer.update()
+    assert [i.kind for i in s.lights] == ["SUN", "SUN"]
+    bpy.data.objects.remove(lamp)
+    bpy.context.view_layer.update()
+    assert [i.object.name for i in s.lights] == ["Sun"]
+    # only the lights of a chosen collection
+    coll = bpy.data.collections.new("Key lights")
+    empty_scene.collection.children.link(coll)
+    s.light_collection = coll
+    assert list(s.lights) == []
+    drivers = mat.node_tree.animation_data.drivers if mat.node_tree.animation_data else []
+    assert all(d.driver.is_valid for d in drivers)
+
+
+def test_looks_and_bake(empty_scene, folder):
+    add(folder, "height16.png", "dark.png", "bright.png")
+    mat = bpy.context.object.active_material
+    s = mat.dynamic_painting
+    assert bpy.ops.dynpaint.apply_look(look="CARTOON") == {"FINISHED"}
+    assert s.diffuse.t0 == s.diffuse.t1 and s.specular.enabled
+    assert bpy.ops.dynpaint.bake_shadows() == {"CANCELLED"}     # shadows are off
+    s.shadows.enabled = True
+    shadow = s.lights[0].shadow
+    assert shadow is not None and tuple(shadow.size) == (40, 30)
+    assert bpy.ops.dynpaint.bake_shadows() == {"FINISHED"}
+
+
+def test_recipe_round_trip_through_the_addon(empty_scene, folder, tmp_path):
+    add(folder, "normal.png", "dark.png", "bright.png")
+    plane = bpy.context.object
+    mat = plane.active_material
+    s = mat.dynamic_painting
+    s.diffuse.t0, s.refraction.ior, s.specular.enabled = -0.25, 1.7, True
+    out = str(tmp_path / "exported" / "painting.toml")
+    assert bpy.ops.dynpaint.export_recipe(filepath=out) == {"FINISHED"}
+    recipe = load_recipe(out)
+    assert recipe.params.diffuse.t0 == -0.25 and recipe.params.refraction.ior == 1.7
+    assert recipe.params.specular.enabled is True
+    assert [lt.kind for lt in recipe.lights] == ["sun"]
+    # the exported recipe renders in numpy like the scene renders in Cycles
+    got = render_cycles(empty_scene, plane, str(tmp_path / "scene.exr"))
+    want = core_render(load_images(recipe), recipe.lights, recipe.params).rgba
+    assert np.abs(got - want)[1:-1, 1:-1].max() <= 1e-3
+    # and imports back as a new painting with the same settings
+    assert bpy.ops.dynpaint.import_recipe(filepath=out) == {"FINISHED"}
+    again = bpy.context.object.active_material.dynamic_painting
+    assert again.diffuse.t0 == pytest.approx(-0.25) and again.specular.enabled
+
+
+def test_register_unregister_leaves_nothing_behind():
+    blender.register_once()
+    for _ in range(3):
+        blender.unregister()
+        assert not hasattr(bpy.types.Material, "dynamic_painting")
+        names = [h.__name__ for h in bpy.app.handlers.depsgraph_update_post
+                 + bpy.app.handlers.frame_change_post]
+        assert "on_frame_change" not in names and "on_depsgraph_update" not in names
+        blender.register()
+    assert hasattr(bpy.types, "DYNPAINT_PT_view3d_main")
+    assert hasattr(bpy.types, "DYNPAINT_OT_add") or hasattr(bpy.ops.dynpaint, "add")
