@@ -195,3 +195,35 @@ def test_register_unregister_leaves_nothing_behind():
         blender.register()
     assert hasattr(bpy.types, "DYNPAINT_PT_view3d_main")
     assert hasattr(bpy.types, "DYNPAINT_OT_add") or hasattr(bpy.ops.dynpaint, "add")
+
+
+def test_every_driver_runs_without_python_auto_run(empty_scene, folder):
+    """Drivers are native (SUM/AVERAGE) or simple expressions: files opened without
+    auto-run still animate (blender-notes.md)."""
+    assert add(folder, "normal.png", "dark.png", "bright.png") == {"FINISHED"}
+    lamp = bpy.data.objects.new("Lamp", bpy.data.lights.new("Lamp", "POINT"))
+    empty_scene.collection.objects.link(lamp)
+    bpy.context.view_layer.update()
+    mat = bpy.context.object.active_material
+    drivers = list(mat.node_tree.animation_data.drivers)
+    assert len(drivers) > 10
+    for fc in drivers:
+        d = fc.driver
+        assert d.is_valid, fc.data_path
+        assert d.type != "SCRIPTED" or d.is_simple_expression, (fc.data_path, d.expression)
+
+
+def test_static_lights_bake_once_per_animation(empty_scene, folder):
+    add(folder, "height16.png", "dark.png", "bright.png")
+    s = bpy.context.object.active_material.dynamic_painting
+    s.shadows.enabled = True
+    before = s.lights[0].bake_key
+    assert before
+    empty_scene.frame_set(7)      # nothing moved: the frame handler skips the bake
+    assert s.lights[0].bake_key == before
+    sun = s.lights[0].object
+    sun.rotation_mode = "XYZ"
+    sun.rotation_euler = (0.3, 0.4, 0.5)
+    sun.keyframe_insert("rotation_euler", frame=8)
+    empty_scene.frame_set(8)
+    assert s.lights[0].bake_key != before

@@ -113,3 +113,17 @@ def test_demo_writes_an_image(tmp_path):
     assert res.returncode == 0, res.stderr
     img = read_image(str(tmp_path / "demo.png")).pixels
     assert img.shape == (32, 32, 4) and img[..., :3].std() > 0.02
+
+
+def test_render_with_cycles_matches_numpy(tmp_path):
+    """`render --engine cycles` builds the add-on's scene in background Blender."""
+    folder = tmp_path / "painting"
+    assert run_cli("make-test-painting", folder, "--size", 48).returncode == 0
+    recipe = folder / "painting.toml"
+    res = run_cli("render", recipe, "--engine", "cycles", "--frame", 1, "--out", tmp_path / "c.exr")
+    assert res.returncode == 0, res.stderr
+    assert "rendered with cycles" in res.stdout
+    assert run_cli("render", recipe, "--out", tmp_path / "n.exr").returncode == 0
+    got = read_image(str(tmp_path / "c.exr")).pixels
+    want = read_image(str(tmp_path / "n.exr")).pixels
+    assert np.abs(got - want)[1:-1, 1:-1].max() <= 1e-3

@@ -28,7 +28,8 @@ def paintings(scene):
     return seen
 
 
-def _report(mat, exc):
+def report(mat, exc):
+    """Print a painting's problem and keep it for the panel (the newest 20)."""
     message = f"Dynamic Painting: {mat.name}: {exc}"
     print(message)
     LAST_ERRORS.append((mat.name, str(exc)))
@@ -53,7 +54,7 @@ def on_depsgraph_update(scene, depsgraph):
                 M.refresh(mat, structure=True, derived=False, shadows=mat.dynamic_painting
                           .shadows.enabled, scene=scene)
         except Exception as exc:     # never into Blender's update loop
-            _report(mat, exc)
+            report(mat, exc)
 
 
 @persistent
@@ -62,9 +63,9 @@ def on_frame_change(scene, depsgraph):
         if not mat.dynamic_painting.shadows.enabled:
             continue
         try:
-            M.bake_shadows(mat, scene, depsgraph)
+            M.bake_shadows(mat, scene, depsgraph, force=False)
         except Exception as exc:     # never into the render loop; the last bake stays
-            _report(mat, exc)
+            report(mat, exc)
 
 
 HANDLERS = ((bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),

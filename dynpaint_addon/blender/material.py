@@ -43,13 +43,19 @@ def on_setting_changed(mat, path):
     """Property update callback (properties.py): do only the work this change needs."""
     if _suspended[0] or not mat.dynamic_painting.is_painting:
         return
+    if path.startswith("images."):      # a slot filled from the panel or by Python
+        channel = path.split(".", 1)[1]
+        img = getattr(mat.dynamic_painting, f"image_{channel}")
+        if img is not None:
+            prepare_channel_image(img, channel)
     try:
         refresh(mat, structure=path in STRUCTURAL or path.startswith("images.")
                 or path == "light_collection",
                 derived=path in DERIVED or path.startswith("images."),
                 shadows=path in SHADOW_INPUTS or path.startswith("images.shape"))
     except Exception as exc:     # never let a callback raise into Blender's UI
-        print(f"Dynamic Painting: {mat.name}: {exc}")
+        from .handlers import report   # late: handlers imports this module
+        report(mat, exc)
 
 
 # -- images ---------------------------------------------------------------------------------
@@ -231,20 +237,23 @@ def rebuild_tree(mat, scene, force=False):
 
 def _sync_light_items(s, lights):
     """Keep s.lights in the order of `lights`, each with its shadow image."""
-    old = {item.object.name: item.shadow for item in s.lights if item.object is not None}
+    old = {item.object.name: (item.shadow, item.bake_key) for item in s.lights
+           if item.object is not None}
     s.lights.clear()
     for obj in lights:
         item = s.lights.add()
         item.object = obj
         item.kind = obj.data.type
-        item.shadow = old.get(obj.name)
+        item.shadow, item.bake_key = old.get(obj.name, (None, ""))
 
 
 # -- the cos-θ bake ---------------------------------------------------------------------------
-def bake_shadows(mat, scene, depsgraph=None, steps=None, data=None):
-    """Bake the cos-θ term (§6) of every linked light into its image. → milliseconds taken.
+def bake_shadows(mat, scene, depsgraph=None, steps=None, data=None, force=True):
+    """Bake the cos-θ term (§6) of the linked lights into their images. → milliseconds taken.
 
-    A failure leaves the previous images untouched (the new pixels are written only at the end).
+    Without `force`, a light whose painting-frame position and shadow inputs are those of its
+    last bake is skipped (static lights in an animation bake once). A failure leaves the
+    previous images untouched: new pixels are written only after every light is baked.
     """
     import time
     s = mat.dynamic_painting
@@ -253,21 +262,28 @@ def bake_shadows(mat, scene, depsgraph=None, steps=None, data=None):
     if plane is None:
         raise ValueError("the painting has no plane")
     plane_m = (plane.evaluated_get(depsgraph) if depsgraph is not None else plane).matrix_world
+    k = p.shadows.steps if steps is None else steps
+    inputs = repr((vars(p.shape), p.shadows.offset, k, p.shadows.occupancy,
+                   s.image_shape.name if s.image_shape else None))
+    todo = []
+    for item in s.lights:
+        if item.object is None:
+            continue
+        light = painting_frame_light(item.object, plane_m, depsgraph)
+        key = repr((light.kind, np.round(light.vector, 9).tolist(), inputs))
+        if force or item.shadow is None or item.bake_key != key:
+            todo.append((item, light, key))
+    if not todo:
+        return 0.0
     data = data or image_data(s)
-    dtype = np.float32
-    shape = data["shape"]
-    n, z_px, slopes = shape_normals(shape, p, dtype)
-    lights = [item.object for item in s.lights if item.object is not None]
+    n, z_px, slopes = shape_normals(data["shape"], p, np.float32)
     t_start = time.perf_counter()
-    results = []
-    for obj in lights:
-        light = painting_frame_light(obj, plane_m, depsgraph)
-        t = cos_theta_shadow(n, light, p.shadows.offset, p.shadows.steps if steps is None else steps,
-                             heights_px=z_px, slopes=slopes, occupancy=p.shadows.occupancy)
-        results.append(t)
+    results = [cos_theta_shadow(n, light, p.shadows.offset, k, heights_px=z_px, slopes=slopes,
+                                occupancy=p.shadows.occupancy) for _, light, _ in todo]
     ms = (time.perf_counter() - t_start) * 1000
-    for item, t in zip(s.lights, results):
+    for (item, _, key), t in zip(todo, results):
         item.shadow = float_image(f"DP {mat.name} shadow {item.object.name}", _grey_rgba(t))
+        item.bake_key = key
     s.shadows_stale = False
     return ms
 
@@ -289,4 +305,6 @@ def refresh(mat, structure=True, derived=True, shadows=False, scene=None, depsgr
         s.shadows_stale = True
     if structure or shadows:
         rebuild_tree(mat, scene, force=False)
+    from .handlers import LAST_ERRORS   # up to date again: the panel stops showing old errors
+    LAST_ERRORS[:] = [e for e in LAST_ERRORS if e[0] != mat.name]
 

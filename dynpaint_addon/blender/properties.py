@@ -94,6 +94,7 @@ class DYNPAINT_PG_light(bpy.types.PropertyGroup):
     object: PointerProperty(type=bpy.types.Object, name="Light")
     kind: StringProperty(description="SUN or POINT, as the tree was built")
     shadow: PointerProperty(type=bpy.types.Image, name="Shadow")
+    bake_key: StringProperty(description="The light position and settings of the last bake")
 
 
 class DYNPAINT_PG_derived(bpy.types.PropertyGroup):
