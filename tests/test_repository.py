@@ -32,6 +32,36 @@ def test_built_zip_excludes_dev_files(tmp_path):
         assert not any(n.startswith(dev) or f"/{dev}" in n for n in names), dev
 
 
+INSTALL_AND_ADD = """
+import os, sys, glob, tempfile
+os.environ["BLENDER_USER_RESOURCES"] = tempfile.mkdtemp()
+import bpy
+bpy.ops.extensions.package_install_files(filepath=sys.argv[1], repo="user_default",
+                                         enable_on_install=True)
+bpy.ops.wm.read_homefile(use_empty=True)
+folder = sys.argv[2]
+bpy.ops.dynpaint.add(directory=folder, files=[{"name": n} for n in
+                     ("normal.png", "dark.png", "bright.png")])
+mat = bpy.context.object.active_material
+print("ADDED", bpy.context.object.name, mat.dynamic_painting.is_painting, len(mat.node_tree.nodes))
+print("MODULE", [m for m in sys.modules if m.endswith("dynamic_painting")])
+"""
+
+
+def test_built_zip_installs_headless_and_adds_a_painting(tmp_path):
+    """The extension as artists get it: install the zip, enable it, Add › Dynamic Painting."""
+    from parity_recipes import write_images
+    subprocess.run([sys.executable, BLENDER_EXT, "build", "--source-dir", REPO,
+                    "--output-dir", str(tmp_path)], check=True, capture_output=True)
+    write_images(str(tmp_path / "images"))
+    res = subprocess.run([sys.executable, "-c", INSTALL_AND_ADD,
+                          glob.glob(str(tmp_path / "*.zip"))[0], str(tmp_path / "images")],
+                         cwd=str(tmp_path), capture_output=True, text=True,
+                         env={k: v for k, v in os.environ.items() if k != "PYTHONPATH"})
+    assert "ADDED" in res.stdout and " True " in res.stdout, res.stdout + res.stderr
+    assert "bl_ext.user_default.dynamic_painting" in res.stdout
+
+
 def readme_commands():
     text = open(os.path.join(REPO, "README.md")).read()
     return re.findall(r"```sh\n(.*?)\n```", text, re.S)
