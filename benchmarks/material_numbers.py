@@ -30,6 +30,7 @@ from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.core.shape import normals_from_height_px  # noqa: E402
 from dynpaint_addon.imageio import read_image, write_png  # noqa: E402
+from dynpaint_addon.nodegraph.build_bpy import count_nodes  # noqa: E402
 from dynpaint_addon.recipe import Recipe, load_images  # noqa: E402
 from dynpaint_addon.testpainting import builtin_images  # noqa: E402
 
@@ -70,20 +71,6 @@ def write_paintings(folder, size):
         "environment": paths["env.png"], "background": paths["bg.png"],
         "transparency": paths["transparency.png"]}, "full")
     return minimal, full
-
-
-def count_nodes(tree, seen=None):
-    seen = set() if seen is None else seen
-    total = 0
-    for node in tree.nodes:
-        if node.bl_idname == "NodeFrame":
-            continue
-        total += 1
-        sub = getattr(node, "node_tree", None)
-        if sub is not None and sub.name not in seen:
-            seen.add(sub.name)
-            total += count_nodes(sub, seen)
-    return total
 
 
 def timed_render():

@@ -13,6 +13,7 @@ bpy = pytest.importorskip("bpy")
 from dynpaint_addon.blender import headless  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.imageio import read_image  # noqa: E402
+from dynpaint_addon.nodegraph.build_bpy import count_nodes  # noqa: E402
 from dynpaint_addon.recipe import load_images  # noqa: E402
 
 from parity_recipes import RECIPES, make_recipe, write_images  # noqa: E402
@@ -72,18 +73,3 @@ def test_pruned_tree_renders_like_full_tree_fed_defaults(paths, tmp_path):
         pixels[name] = got
     assert np.abs(pixels["pruned"] - pixels["full_with_defaults"]).max() <= 1e-5
     assert counts["pruned"] < 0.7 * counts["full_with_defaults"], counts
-
-
-def count_nodes(tree, seen=None):
-    """Nodes of a tree with the nodes of its groups (each group once), frames excluded."""
-    seen = set() if seen is None else seen
-    total = 0
-    for node in tree.nodes:
-        if node.bl_idname == "NodeFrame":
-            continue
-        total += 1
-        sub = getattr(node, "node_tree", None)
-        if sub is not None and sub.name not in seen:
-            seen.add(sub.name)
-            total += count_nodes(sub, seen)
-    return total

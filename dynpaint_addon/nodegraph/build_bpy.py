@@ -149,3 +149,19 @@ def layout(tree, graph, made):
             if n.section in frames:
                 node.parent = frames[n.section]
             node.location = (col * COLUMN_WIDTH - k * 170, -row * ROW_HEIGHT)
+
+
+def count_nodes(tree, seen=None):
+    """Nodes of a built tree plus those of its node groups (each group once), frames excluded:
+    the node count §12 compares."""
+    seen = set() if seen is None else seen
+    total = 0
+    for node in tree.nodes:
+        if node.bl_idname == "NodeFrame":
+            continue
+        total += 1
+        sub = getattr(node, "node_tree", None)
+        if sub is not None and sub.name not in seen:
+            seen.add(sub.name)
+            total += count_nodes(sub, seen)
+    return total
