@@ -1,6 +1,7 @@
 """The add-on from an artist's side, headless: Add › Dynamic Painting, live and structural
 settings, lights coming and going, looks, bake, recipe export/import (issue 3)."""
 import os
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -227,3 +228,51 @@ def test_static_lights_bake_once_per_animation(empty_scene, folder):
     sun.keyframe_insert("rotation_euler", frame=8)
     empty_scene.frame_set(8)
     assert s.lights[0].bake_key != before
+
+
+class RecordingLayout:
+    """Stands in for Blender's UI layout, which background mode does not have: records every
+    property and operator a panel draws and checks that each one exists."""
+
+    def __init__(self, log):
+        self.log = log
+        self.enabled = self.active = True
+        self.use_property_split = self.use_property_decorate = False
+
+    def _sub(self, *args, **kw):
+        return RecordingLayout(self.log)
+    row = column = box = split = _sub
+
+    def label(self, **kw):
+        self.log.append(("label", kw.get("text", "")))
+
+    def prop(self, data, name, **kw):
+        assert name in data.bl_rna.properties, f"{data} has no property {name}"
+        self.log.append(("prop", name))
+
+    def operator(self, idname, **kw):
+        module, op = idname.split(".")
+        assert hasattr(getattr(bpy.ops, module), op), idname
+        self.log.append(("operator", idname))
+        return type("OpProps", (), {})()
+
+    def operator_menu_enum(self, idname, prop, **kw):
+        self.operator(idname)
+
+
+def test_every_panel_draws_existing_properties_and_operators(empty_scene, folder):
+    add(folder, "height16.png", "dark.png", "bright.png")
+    panels = [c for c in blender.panels.CLASSES]
+    log = []
+    for cls in panels:
+        assert cls.poll(bpy.context)
+        panel = SimpleNamespace(layout=RecordingLayout(log))
+        for method in ("draw_header", "draw"):
+            if hasattr(cls, method):
+                getattr(cls, method)(panel, bpy.context)
+    drawn = {name for kind, name in log if kind == "prop"}
+    from dynpaint_addon import params as P
+    height_params = {p.key for p in P.PARAMS if p.key != "flip_green"}   # a height map
+    assert height_params <= drawn, height_params - drawn
+    assert {"dynpaint.bake_shadows", "dynpaint.image_open", "dynpaint.apply_look"} <= \
+        {name for kind, name in log if kind == "operator"}
