@@ -18,14 +18,13 @@ LAST_ERRORS = []      # (material name, message), newest last: the panel shows t
 
 
 def paintings(scene):
-    """Materials of Dynamic Paintings shown in `scene`."""
-    seen = []
-    for obj in scene.objects:
-        for slot in getattr(obj, "material_slots", ()):
-            mat = slot.material
-            if mat is not None and mat.dynamic_painting.is_painting and mat not in seen:
-                seen.append(mat)
-    return seen
+    """Materials of Dynamic Paintings whose plane is in `scene` (cheap when there are none:
+    handlers run on every update)."""
+    found = [m for m in bpy.data.materials if m.dynamic_painting.is_painting]
+    if not found:
+        return []
+    in_scene = set(scene.objects)
+    return [m for m in found if m.dynamic_painting.plane in in_scene]
 
 
 def report(mat, exc):
