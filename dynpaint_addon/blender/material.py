@@ -130,7 +130,7 @@ def update_derived_images(mat, data=None):
     if source:
         # A float copy of the alpha: EEVEE reads 8-bit alpha up to 1/255 off (254 → 255).
         need("silhouette", f"{imgs[source].name}|{source}",
-             lambda d: _grey_rgba(np.clip(np.nan_to_num(d[source].alpha()), 0, 1)))
+             lambda d: _grey_rgba(*[np.clip(np.nan_to_num(d[source].alpha()), 0, 1)] * 2))
     for channel, sec in (("environment", p.reflection), ("background", p.refraction)):
         if channel in imgs:
             need(channel, f"{imgs[channel].name}|{sec.blur}|{sec.extension}",
@@ -150,7 +150,7 @@ def _silhouette_source(mat):
     imgs = channel_images(s)
     order = {"auto": ("shape", "dark"), "shape": ("shape",), "dark": ("dark",),
              "none": ()}[s.silhouette.source]
-    return next((c for c in order if c in imgs and _has_alpha(imgs[c])), "")
+    return next((c for c in order if c in imgs and has_alpha(imgs[c])), "")
 
 
 # -- lights -----------------------------------------------------------------------------------
@@ -187,7 +187,7 @@ def features_for(mat, scene):
         raise ValueError("the painting has no shape image (normal or height map)")
     if "dark" not in imgs and "bright" not in imgs:
         raise ValueError("the painting needs a dark or a bright image")
-    data_alpha = {c for c, img in imgs.items() if _has_alpha(img)}
+    data_alpha = {c for c, img in imgs.items() if has_alpha(img)}
     lights = linked_lights(mat, scene)
     f = Features.from_params(settings_to_params(s), imgs.keys(),
                              [o.data.type.lower() for o in lights], imgs["shape"].size,
@@ -202,7 +202,7 @@ def _bits(img):
     return 16 if img.file_format in ("PNG", "TIFF") else 32
 
 
-def _has_alpha(img):
+def has_alpha(img):
     if img.source == "FILE":
         return FILE_CHANNELS.get((img.is_float, img.depth), img.channels) in (2, 4)
     return img.channels == 4

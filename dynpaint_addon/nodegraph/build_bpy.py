@@ -29,11 +29,22 @@ def find_socket(sockets, key):
 
 
 def set_constant(socket, value):
-    if isinstance(value, (tuple, list)):
+    """A constant into a socket: vectors and colours padded (alpha 1), a scalar spread over
+    a colour's RGB."""
+    if hasattr(socket.default_value, "__len__"):
         n = len(socket.default_value)
-        socket.default_value = (tuple(value) + (1.0,) * n)[:n]
+        vec = tuple(value) if isinstance(value, (tuple, list)) else (value,) * min(n, 3)
+        socket.default_value = (vec + (1.0,) * n)[:n]
     else:
         socket.default_value = value
+
+
+def link_or_set(tree, value, socket):
+    """Connect an output socket, or set a constant."""
+    if isinstance(value, bpy.types.NodeSocket):
+        tree.links.new(value, socket)
+    else:
+        set_constant(socket, value)
 
 
 def _signature(graph):
@@ -111,14 +122,14 @@ def build(tree, graph, backend):
             resolved = {k: (out_socket(v) if isinstance(v, Ref) else v) for k, v in n.inputs.items()}
             nodes, outs = handler(tree, n, resolved)
             outputs[n.id] = outs
-            node = nodes[-1]
+            node = nodes[-1] if nodes else None    # e.g. a socket of a shared input node
         else:
             node = tree.nodes.new(n.op)
             for key, value in n.props.items():
                 setattr(node, key, value)
             for key, value in n.inputs.items():
                 connect(node, key, value)
-        if n.label:
+        if n.label and node is not None:
             node.label = n.label
         made[n.id] = nodes if n.op.startswith("dp.") and n.op[3:] in BACKEND_OPS else [node]
     layout(tree, graph, made)
@@ -149,6 +160,10 @@ def layout(tree, graph, made):
             if n.section in frames:
                 node.parent = frames[n.section]
             node.location = (col * COLUMN_WIDTH - k * 170, -row * ROW_HEIGHT)
+    placed = {node.as_pointer() for nodes in made.values() for node in nodes}
+    for k, node in enumerate(n for n in tree.nodes if n.as_pointer() not in placed
+                             and n.bl_idname != "NodeFrame"):
+        node.location = (-2 * COLUMN_WIDTH, -k * ROW_HEIGHT)   # shared inputs, far left
 
 
 def count_nodes(tree, seen=None):

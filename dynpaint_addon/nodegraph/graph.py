@@ -166,8 +166,10 @@ class Graph:
         n = self.add("dp.light", label=f"Light {index + 1} ({kind})", index=index, kind=kind)
         return Ref(n.id, "vector"), Ref(n.id, "weight")
 
-    def output(self, rgb, alpha):
-        self.add("dp.output", {"rgb": rgb, "alpha": alpha}, "Painting")
+    def output(self, rgb, alpha, passes=None):
+        """The result: premultiplied rgb and alpha, and named passes a backend may expose."""
+        self.add("dp.output", {"rgb": rgb, "alpha": alpha, **{f"pass:{k}": v for k, v in
+                                                              (passes or {}).items()}}, "Painting")
 
     def group(self, sub, inputs, label=""):
         """Instantiate sub-graph `sub` (a Graph with declared inputs/outputs) → {output: Ref}."""

@@ -7,7 +7,9 @@ reference and the parity tests compare the two pixel by pixel.
 Channels the graph samples (the add-on supplies an image for each):
   shape            normal map, as painted (data)                         §2
   height           the height map pre-blurred by numpy (grey)
-  silhouette       the alpha of the shape or dark image as a float copy (grey)
+  silhouette       whose alpha is the silhouette: a float copy of the shape or dark image's
+                   alpha in the material (EEVEE reads 8-bit alpha 1/255 off), the image itself
+                   in the compositor
   dark, bright     colour images (sRGB decoded by Blender)                §5
   specular_color, gloss, transparency                                     §7, §11
   environment, background   linear premultiplied copies, blurred by numpy for glossy /
@@ -404,6 +406,7 @@ def describe(f):
             color = g.mix_vector(gs, color, c_spec, label="C_s")
     alpha = 1.0
 
+    fresnel_used = False
     if f.has_lookups:
         with g.section("Reflection & Refraction (§8–§10)"):
             c_m = c_t = None
@@ -438,6 +441,7 @@ def describe(f):
                                     "X2": g.param("fresnel.x2"),
                                     "Kappa": g.param("fresnel.kappa")})
                 fr = fres["Fresnel"]
+                fresnel_used = True
                 g_rgb = g.mix_vector(g.combine(fr, fr, fr), c_t, c_m, label="G = F·C_M + (1−F)·C_T")
                 g_a = g.mix_float(fr, a_t, a_m)
             elif c_m is not None or c_t is not None:
@@ -459,12 +463,12 @@ def describe(f):
 
     if f.silhouette:
         with g.section("Silhouette (§11)"):
-            a = g.separate(g.sample("silhouette", None, "EXTEND", label=f"{f.silhouette} alpha")[0])[0]
+            a = g.sample("silhouette", None, "EXTEND", label=f"{f.silhouette} alpha")[1]
             if "background" in f.channels:
                 b_rgb, b_a = g.sample("background_sharp", None, "EXTEND", label="behind")
             else:
                 b_rgb, b_a = (0.0, 0.0, 0.0), 0.0
             color = g.mix_vector(g.combine(a, a, a), b_rgb, color, label="B(1−α) + C·α")
             alpha = g.mix_float(a, b_a, alpha)
-    g.output(color, alpha)
+    g.output(color, alpha, {"W": w, "s": s_mix, "F": fres["Fresnel"] if fresnel_used else 0.0})
     return g

@@ -9,6 +9,8 @@ plane's object space, whose unit is one image width, §0).
 """
 import bpy
 
+from .build_bpy import link_or_set
+
 SETTINGS = "dynamic_painting"     # Material.dynamic_painting (blender/properties.py)
 
 # +Z axis of a rotation quaternion (w, x, y, z). A sun shines along its local −Z, so +Z is
@@ -142,7 +144,7 @@ class ShaderBackend:
                 tree.links.new(alpha, spread.inputs[i])
             straight = tree.nodes.new("ShaderNodeVectorMath")
             straight.operation = "DIVIDE"
-            _link_or_set(tree, rgb, straight.inputs[0])
+            link_or_set(tree, rgb, straight.inputs[0])
             tree.links.new(spread.outputs[0], straight.inputs[1])
             tree.links.new(straight.outputs[0], emission.inputs["Color"])
             clear = tree.nodes.new("ShaderNodeBsdfTransparent")
@@ -153,13 +155,7 @@ class ShaderBackend:
             tree.links.new(mix.outputs[0], out.inputs["Surface"])
             made = [spread, straight, emission, clear, mix]
         else:
-            _link_or_set(tree, rgb, emission.inputs["Color"])
+            link_or_set(tree, rgb, emission.inputs["Color"])
             tree.links.new(emission.outputs[0], out.inputs["Surface"])
         return made + [out], {}
 
-
-def _link_or_set(tree, value, socket):
-    if isinstance(value, bpy.types.NodeSocket):
-        tree.links.new(value, socket)
-    else:
-        socket.default_value = tuple(value) + (1.0,) * (len(socket.default_value) - len(value))

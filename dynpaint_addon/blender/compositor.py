@@ -1,0 +1,150 @@
+"""The Dynamic Painting compositor node group: build it, add it to a scene, composite a recipe.
+
+The group is generated from the same description as the material (pipeline_graph.describe)
+with the compositor backend; it relights images without any 3D scene.
+"""
+import os
+
+import numpy as np
+
+import bpy
+
+from ..core.pipeline import shape_normals
+from ..core.shadow import cos_theta_shadow
+from ..imageio import write_exr
+from ..nodegraph import build_bpy
+from ..nodegraph.compositor_backend import CompositorBackend, input_name
+from ..nodegraph.pipeline_graph import Features, describe
+from . import material as M
+
+GROUP_NAME = "Dynamic Painting"
+
+
+def build_group(features, name=GROUP_NAME):
+    """A compositor node group for `features` (a new one; an existing name gets a suffix)."""
+    group = bpy.data.node_groups.new(name, "CompositorNodeTree")
+    backend = CompositorBackend(features.silhouette, features.lights)
+    build_bpy.build(group, describe(features), backend)
+    group["dp_features"] = repr(features)
+    return group
+
+
+def recipe_features(recipe, images):
+    """Features of a recipe whose images are loaded ({channel: bpy Image})."""
+    alpha = {c for c, img in images.items() if M.has_alpha(img)}
+    return Features.from_params(recipe.params, images.keys(), [lt.kind for lt in recipe.lights],
+                                tuple(images["shape"].size), alpha,
+                                {c: tuple(img.size) for c, img in images.items()})
+
+
+def set_group_inputs(node, recipe, p=None):
+    """Feed a group node the recipe's parameter values and lights (painting frame)."""
+    p = p or recipe.params
+    for sock in node.inputs:
+        name = sock.name
+        if name.startswith("Light "):
+            i, what = name.split(" ", 2)[1:]
+            light = recipe.lights[int(i) - 1]
+            if what in ("Direction", "Position"):
+                sock.default_value = light.vector
+            elif what == "Color":
+                sock.default_value = (*light.colour, 1.0)
+            elif what == "Strength":
+                sock.default_value = light.strength
+            continue
+        for section in vars(p):
+            prefix = section.title() + " "
+            if name.startswith(prefix):
+                key = name[len(prefix):].replace(" ", "_")
+                value = getattr(getattr(p, section), key, None)
+                if value is not None:
+                    sock.default_value = 1.0 if value == "auto" else float(value)
+
+
+def _numpy_prepared(recipe, images, folder):
+    """What the material gets from numpy and the compositor group takes as inputs: the §2
+    pre-blurred height map and the §11 blurred environment/background, as float EXRs."""
+    from ..core.pipeline import lookup_copy
+    from ..core.shape import default_preblur_px, preblurred_height
+    from ..imageio import read_image
+    p = recipe.params
+    made = {}
+
+    def as_image(channel, rgba):
+        path = os.path.join(folder, f"prepared_{channel}.exr")
+        write_exr(path, rgba)
+        img = bpy.data.images.load(path, check_existing=False)
+        img.colorspace_settings.name = "Non-Color"
+        img.alpha_mode = "CHANNEL_PACKED"
+        made[channel] = img
+
+    if p.shape.kind == "height":
+        shape = read_image(recipe.images["shape"])
+        sigma = default_preblur_px(shape.bits) if p.shape.preblur == "auto" else p.shape.preblur
+        if sigma > 0:
+            h = preblurred_height(shape.grey(), float(sigma))
+            a = shape.alpha() if shape.alpha() is not None else np.ones_like(h)
+            as_image("shape", np.stack([h, h, h, a], axis=-1))
+    for channel, sec in (("environment", p.reflection), ("background", p.refraction)):
+        if channel in recipe.images and sec.blur > 0:
+            rgba = lookup_copy(read_image(recipe.images[channel]), sec.blur, sec.extension)
+            a = rgba[..., 3:4]    # straight again: the group premultiplies its E and B
+            as_image(channel, np.concatenate([np.where(a > 0, rgba[..., :3] / np.where(a > 0, a, 1), 0), a], -1))
+    return made
+
+
+def composite_recipe(recipe, out, shadow_folder=None):
+    """Relight a recipe's images in the compositor only → the written file (tests, benchmark).
+
+    Shadows, when on, are baked with the numpy core into EXR files the group reads.
+    """
+    bpy.ops.wm.read_homefile(use_empty=True)
+    scene = bpy.context.scene
+    folder = shadow_folder or os.path.dirname(os.path.abspath(out))
+    images = {}
+    for channel, path in recipe.images.items():
+        img = bpy.data.images.load(os.path.abspath(path), check_existing=True)
+        M.prepare_channel_image(img, channel)
+        images[channel] = img
+    images.update(_numpy_prepared(recipe, images, folder))
+    f = recipe_features(recipe, images)
+    group = build_group(f)
+    tree = bpy.data.node_groups.new("Composite", "CompositorNodeTree")
+    tree.interface.new_socket("Image", in_out="OUTPUT", socket_type="NodeSocketColor")
+    scene.compositing_node_group = tree
+    node = tree.nodes.new("CompositorNodeGroup")
+    node.node_tree = group
+    for channel, img in images.items():
+        src = tree.nodes.new("CompositorNodeImage")
+        src.image = img
+        if input_name(channel) in node.inputs:
+            tree.links.new(src.outputs["Image"], node.inputs[input_name(channel)])
+    if recipe.params.shadows.enabled:
+        from ..imageio import read_image
+        n, z, slopes = shape_normals(read_image(recipe.images["shape"]), recipe.params)
+        for i, light in enumerate(recipe.lights):
+            t = cos_theta_shadow(n, light, recipe.params.shadows.offset, recipe.params.shadows.steps,
+                                 heights_px=z, slopes=slopes, occupancy=recipe.params.shadows.occupancy)
+            path = os.path.join(folder, f"shadow_{i + 1}.exr")
+            write_exr(path, np.repeat(t[..., None], 3, axis=2))
+            img = bpy.data.images.load(path, check_existing=False)
+            img.colorspace_settings.name = "Non-Color"
+            src = tree.nodes.new("CompositorNodeImage")
+            src.image = img
+            tree.links.new(src.outputs["Image"], node.inputs[f"Light {i + 1} Shadow"])
+    set_group_inputs(node, recipe)
+    tree.links.new(node.outputs["Image"], tree.nodes.new("NodeGroupOutput").inputs["Image"])
+    cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    r = scene.render
+    r.engine = "BLENDER_WORKBENCH"
+    r.resolution_x, r.resolution_y = images["shape"].size
+    r.resolution_percentage = 100
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+    r.dither_intensity = 0.0
+    from .scene import output_settings
+    output_settings(scene, out)
+    bpy.ops.render.render(write_still=True)
+    return out

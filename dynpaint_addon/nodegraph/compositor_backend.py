@@ -1,0 +1,170 @@
+"""The compositor flavour of the graph's backend-specific nodes (graph.py).
+
+The same description (pipeline_graph.describe) becomes a compositor node group: the channel
+images, every live parameter and each light (vector, colour, strength, baked cos-θ image)
+are group inputs, so they can be keyframed, driven or fed by other nodes; the outputs are the
+painting (premultiplied RGBA) and its passes. Image lookups are Map UV nodes (UV z = 1, the
+node multiplies its result by it, blender-notes.md); the pixel's own UV is the shape image's
+normalized coordinates (pixel centres).
+
+Inputs differ from the material's in documented ways: images arrive colour-managed by their
+Image nodes (set shape, gloss, transparency and shadow images to Non-Color, and images with
+alpha to Channel Packed); the height map is used as given (an 8-bit one wants the §2 pre-blur
+first); environment and background are used unblurred (for glossy/translucent looks, feed
+blurred copies, e.g. made by the add-on).
+"""
+from .. import params as P
+from .build_bpy import link_or_set
+
+# channel of the description → group input it reads
+INPUT_OF = {"height": "shape", "background_sharp": "background"}
+EXTENSIONS = {"REPEAT": "Repeat", "EXTEND": "Extend", "MIRROR": "Extend"}
+INTERPOLATIONS = {"Linear": "Bilinear", "Closest": "Nearest"}
+
+
+def input_name(channel):
+    return channel.replace("_", " ").title()
+
+
+class CompositorBackend:
+    prefix = "Compositor "      # node groups are typed: keep them apart from the material's
+
+    def __init__(self, silhouette="", light_kinds=()):
+        self.silhouette = silhouette        # 'shape' or 'dark': whose alpha cuts out
+        self.light_kinds = light_kinds
+        self._inputs = None
+        self._uv = None
+
+    # -- interface ----------------------------------------------------------------------
+    def _socket(self, tree, name, kind, default=None, lo=None, hi=None, description=""):
+        """The group input `name` (created on first use) → its output socket on the input node."""
+        if name not in [s.name for s in tree.interface.items_tree if s.item_type == "SOCKET"
+                        and s.in_out == "INPUT"]:
+            sock = tree.interface.new_socket(name, in_out="INPUT", socket_type=kind,
+                                             description=description)
+            if default is not None:
+                sock.default_value = default
+            if lo is not None:
+                sock.min_value, sock.max_value = lo, hi
+        if self._inputs is None:
+            self._inputs = tree.nodes.new("NodeGroupInput")
+            self._inputs.label = "Images, parameters and lights"
+        return self._inputs.outputs[name]
+
+    def _image(self, tree, channel):
+        channel = self.silhouette if channel == "silhouette" else INPUT_OF.get(channel, channel)
+        if channel.startswith("shadow_"):
+            i = int(channel.split("_")[1])
+            return self._socket(tree, f"Light {i + 1} Shadow", "NodeSocketColor",
+                                description="Its baked cos-θ term (pipeline.md §6), Non-Color")
+        what, kind = P.CHANNELS[channel]
+        return self._socket(tree, input_name(channel), "NodeSocketColor",
+                            description=f"{what[0].upper()}{what[1:]} ({kind})")
+
+    # -- pseudo nodes -------------------------------------------------------------------
+    def uv(self, tree, node, inputs):
+        coords = tree.nodes.new("CompositorNodeImageCoordinates")
+        tree.links.new(self._image(tree, "shape"), coords.inputs["Image"])
+        self._uv = coords.outputs["Normalized"]
+        return [coords], {0: self._uv}
+
+    def sample(self, tree, node, inputs):
+        channel = node.props["channel"]
+        made = []
+        uv = inputs.get("uv", self._uv)
+        extension = node.props["extension"]
+        if extension == "MIRROR":        # Map UV has no mirror: fold the UV (ping-pong)
+            fold = []
+            sep = tree.nodes.new("ShaderNodeSeparateXYZ")
+            tree.links.new(uv, sep.inputs[0])
+            for axis in (0, 1):
+                m = tree.nodes.new("ShaderNodeMath")
+                m.operation = "PINGPONG"
+                tree.links.new(sep.outputs[axis], m.inputs[0])
+                m.inputs[1].default_value = 1.0
+                fold.append(m)
+            comb = tree.nodes.new("ShaderNodeCombineXYZ")
+            tree.links.new(fold[0].outputs[0], comb.inputs[0])
+            tree.links.new(fold[1].outputs[0], comb.inputs[1])
+            uv = comb.outputs[0]
+            made += [sep, *fold, comb]
+        lift = tree.nodes.new("ShaderNodeVectorMath")     # z = 1: Map UV scales by UV.z
+        lift.operation = "MULTIPLY_ADD"
+        tree.links.new(uv, lift.inputs[0])
+        lift.inputs[1].default_value = (1.0, 1.0, 0.0)
+        lift.inputs[2].default_value = (0.0, 0.0, 1.0)
+        lookup = tree.nodes.new("CompositorNodeMapUV")
+        tree.links.new(self._image(tree, channel), lookup.inputs["Image"])
+        tree.links.new(lift.outputs[0], lookup.inputs["UV"])
+        lookup.inputs["Interpolation"].default_value = INTERPOLATIONS[node.props["interpolation"]]
+        lookup.inputs["Extension X"].default_value = EXTENSIONS[extension]
+        lookup.inputs["Extension Y"].default_value = EXTENSIONS[extension]
+        split = tree.nodes.new("CompositorNodeSeparateColor")
+        tree.links.new(lookup.outputs[0], split.inputs[0])
+        color = lookup.outputs[0]
+        made += [lift, lookup, split]
+        if channel in ("environment", "background", "background_sharp"):
+            # the core looks these up premultiplied (core.pipeline.lookup_copy); the painted
+            # images are used straight. Inputs are Channel Packed (alpha kept apart).
+            spread = tree.nodes.new("ShaderNodeCombineXYZ")
+            for i in range(3):
+                tree.links.new(split.outputs["Alpha"], spread.inputs[i])
+            times = tree.nodes.new("ShaderNodeVectorMath")
+            times.operation = "MULTIPLY"
+            tree.links.new(color, times.inputs[0])
+            tree.links.new(spread.outputs[0], times.inputs[1])
+            color = times.outputs[0]
+            made += [spread, times]
+        return made, {"color": color, "alpha": split.outputs["Alpha"]}
+
+    def param(self, tree, node, inputs):
+        param = P.BY_PATH[node.props["path"]]
+        default = param.default
+        if param.kind is bool:
+            default = float(default)
+        elif param.kind == "auto_float" and default == "auto":
+            default = 1.0
+        label = f"{param.section.title()} {param.key.replace('_', ' ')}"
+        unit = f" ({param.unit})" if param.unit else ""
+        sock = self._socket(tree, label, "NodeSocketFloat", float(default),
+                            param.min if param.min is not None else -1e9,
+                            param.max if param.max is not None else 1e9,
+                            f"{param.help}{unit}. pipeline.md {param.spec}")
+        return [], {0: sock}
+
+    def light(self, tree, node, inputs):
+        i, kind = node.props["index"], node.props["kind"]
+        what = "direction toward the light" if kind == "sun" else "position (image widths)"
+        vec = self._socket(tree, f"Light {i + 1} {'Direction' if kind == 'sun' else 'Position'}",
+                           "NodeSocketVector", description=f"{kind.title()}: {what}, painting frame")
+        colour = self._socket(tree, f"Light {i + 1} Color", "NodeSocketColor", (1.0, 1.0, 1.0, 1.0),
+                              description="Linear RGB colour of the light")
+        strength = self._socket(tree, f"Light {i + 1} Strength", "NodeSocketFloat", 1.0, 0.0, 1e6,
+                                "k of pipeline.md §5")
+        weight = tree.nodes.new("ShaderNodeVectorMath")
+        weight.operation = "SCALE"
+        weight.label = f"Light {i + 1} k·c"
+        tree.links.new(colour, weight.inputs[0])
+        tree.links.new(strength, weight.inputs["Scale"])
+        return [weight], {"vector": vec, "weight": weight.outputs[0]}
+
+    def output(self, tree, node, inputs):
+        outputs = [("Image", "NodeSocketColor"), ("Weight W", "NodeSocketColor"),
+                   ("Specular s", "NodeSocketColor"), ("Fresnel F", "NodeSocketFloat")]
+        existing = [s.name for s in tree.interface.items_tree if s.item_type == "SOCKET"
+                    and s.in_out == "OUTPUT"]
+        for name, kind in outputs:
+            if name not in existing:
+                tree.interface.new_socket(name, in_out="OUTPUT", socket_type=kind)
+        out = tree.nodes.new("NodeGroupOutput")
+        rgba = tree.nodes.new("CompositorNodeCombineColor")
+        sep = tree.nodes.new("ShaderNodeSeparateXYZ")
+        link_or_set(tree, inputs["rgb"], sep.inputs[0])
+        for i in range(3):
+            tree.links.new(sep.outputs[i], rgba.inputs[i])
+        link_or_set(tree, inputs["alpha"], rgba.inputs["Alpha"])
+        tree.links.new(rgba.outputs[0], out.inputs["Image"])
+        for key, name in (("pass:W", "Weight W"), ("pass:s", "Specular s"), ("pass:F", "Fresnel F")):
+            link_or_set(tree, inputs.get(key, 0.0), out.inputs[name])
+        return [sep, rgba, out], {}
+
