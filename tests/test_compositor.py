@@ -48,3 +48,62 @@ def test_one_description_two_trees(paths, tmp_path):
     comp = bpy.data.node_groups[compositor.GROUP_NAME]
     comp_groups = {n.removeprefix("Compositor ") for n in group_names(comp)}
     assert shader_groups and shader_groups == comp_groups
+
+
+def test_operator_adds_a_wired_group_for_the_active_painting(tmp_path):
+    from dynpaint_addon import blender
+    paths = write_images(str(tmp_path))
+    bpy.ops.wm.read_homefile(use_empty=True)
+    blender.register_once()
+    folder = str(tmp_path)
+    assert bpy.ops.dynpaint.add(directory=folder, files=[{"name": n} for n in (
+        "normal.png", "dark.png", "bright.png")]) == {"FINISHED"}
+    scene = bpy.context.scene
+    assert bpy.ops.dynpaint.add_compositor_group() == {"FINISHED"}
+    tree = scene.compositing_node_group
+    node = next(n for n in tree.nodes if n.bl_idname == "CompositorNodeGroup")
+    assert node.inputs["Shape"].is_linked and node.inputs["Dark"].is_linked
+    assert node.outputs["Image"].is_linked
+    sun = node.inputs["Light 1 Direction"].default_value
+    assert abs(np.linalg.norm(sun) - 1) < 1e-5
+    # and it composites what the material renders
+    scene.render.engine = "BLENDER_WORKBENCH"
+    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    scene.render.resolution_x, scene.render.resolution_y = 40, 30
+    scene.view_settings.view_transform = "Standard"
+    from dynpaint_addon.blender import scene as S
+    S.output_settings(scene, str(tmp_path / "op.exr"))
+    bpy.ops.render.render(write_still=True)
+    got = read_image(str(tmp_path / "op.exr")).pixels
+    mat = bpy.context.object.active_material
+    from test_addon import core_of
+    want = core_of(mat, scene, folder)
+    assert np.abs(got - want)[1:-1, 1:-1].max() <= 1e-4
+    # without a painting: a group chosen by its options
+    assert bpy.ops.dynpaint.add_compositor_group(match_painting=False, suns=2, points=1,
+                                                 shadows=True, environment=True) == {"FINISHED"}
+    group = tree.nodes.active.node_tree
+    names = [s.name for s in group.interface.items_tree if s.in_out == "INPUT"]
+    assert {"Light 3 Position", "Light 1 Shadow", "Environment"} <= set(names)
+
+
+def test_shipped_node_groups_regenerate_and_append(tmp_path):
+    import subprocess
+    import sys
+    import os
+    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    out = str(tmp_path / "groups.blend")
+    res = subprocess.run([sys.executable, os.path.join(repo, "node_groups", "make_node_groups.py"),
+                          "--out", out], capture_output=True, text=True)
+    assert res.returncode == 0 and "wrote 5 groups" in res.stdout, res.stderr
+    bpy.ops.wm.read_homefile(use_empty=True)
+    for path in (out, os.path.join(repo, "node_groups", "dynamic_painting.blend")):
+        with bpy.data.libraries.load(path) as (src, dst):
+            dst.node_groups = [n for n in src.node_groups if n.endswith("Everything")]
+        group = dst.node_groups[0]
+        names = {s.name for s in group.interface.items_tree if s.in_out == "INPUT"}
+        assert {"Shape", "Environment", "Light 2 Position", "Light 1 Shadow",
+                "Diffuse t0"} <= names
+        assert group.asset_data is not None

@@ -148,3 +148,62 @@ def composite_recipe(recipe, out, shadow_folder=None):
     output_settings(scene, out)
     bpy.ops.render.render(write_still=True)
     return out
+
+
+def features_for_options(kind, suns, points, shadows, specular, channels, silhouette):
+    """Features of a group chosen by hand (the operator's options)."""
+    from .. import params as P
+    p = P.defaults()
+    p.shape.kind, p.shadows.enabled, p.specular.enabled = kind, shadows, specular
+    p.transparency.amount = "auto" if "transparency" in channels else (
+        1.0 if {"environment", "background"} & set(channels) else "auto")
+    lights = ["sun"] * suns + ["point"] * points
+    chans = {"shape", "dark", "bright", *channels}
+    return Features.from_params(p, chans, lights, (1024, 1024), {silhouette} if silhouette else (),
+                                {c: (1024, 1024) for c in chans})
+
+
+def add_group_node(scene, group):
+    """Put a group node into the scene's compositor (made if the scene has none) → the node."""
+    tree = scene.compositing_node_group
+    if tree is None:
+        tree = bpy.data.node_groups.new("Compositor", "CompositorNodeTree")
+        tree.interface.new_socket("Image", in_out="OUTPUT", socket_type="NodeSocketColor")
+        scene.compositing_node_group = tree
+        out = tree.nodes.new("NodeGroupOutput")
+        out.location = (600, 0)
+    node = tree.nodes.new("CompositorNodeGroup")
+    node.node_tree = group
+    node.width = 240
+    for n in tree.nodes:
+        n.select = False
+    node.select = True
+    tree.nodes.active = node
+    outs = [n for n in tree.nodes if n.bl_idname == "NodeGroupOutput"]
+    if outs and not outs[0].inputs[0].is_linked:
+        tree.links.new(node.outputs["Image"], outs[0].inputs[0])
+    return node
+
+
+def wire_painting(scene, node, mat):
+    """Feed a group node built for a painting its images, settings and current lights."""
+    from .properties import channel_images, settings_to_params
+    s = mat.dynamic_painting
+    tree = scene.compositing_node_group
+    images = channel_images(s)
+    for item in s.derived:        # numpy-prepared copies: height, blurred E/B
+        if item.channel in ("height", "environment", "background") and item.image:
+            images["shape" if item.channel == "height" else item.channel] = item.image
+    for i, item in enumerate(s.lights):
+        if item.shadow is not None:
+            images[f"Light {i + 1} Shadow"] = item.shadow
+    for k, (channel, img) in enumerate(images.items()):
+        name = channel if channel.startswith("Light ") else input_name(channel)
+        if name in node.inputs:
+            src = tree.nodes.new("CompositorNodeImage")
+            src.image = img
+            src.location = (node.location.x - 300, node.location.y - 120 * k)
+            tree.links.new(src.outputs["Image"], node.inputs[name])
+    from ..recipe import Recipe
+    lights = [M.painting_frame_light(o, s.plane.matrix_world) for o in M.linked_lights(mat, scene)]
+    set_group_inputs(node, Recipe(settings_to_params(s), lights))

@@ -354,7 +354,49 @@ def export_recipe(mat, scene, path, only_changed=True):
     return recipe_to_toml(recipe, folder, only_changed)
 
 
-CLASSES = (DYNPAINT_OT_add, DYNPAINT_OT_bake_shadows, DYNPAINT_OT_apply_look, DYNPAINT_OT_image_open,
+class DYNPAINT_OT_add_compositor_group(bpy.types.Operator):
+    """Add the Dynamic Painting node group to the scene's compositor: relight images (a render's
+    normal pass, painted maps, image sequences) without a 3D scene"""
+    bl_idname = "dynpaint.add_compositor_group"
+    bl_label = "Dynamic Painting Group"
+    bl_options = {"REGISTER", "UNDO"}
+
+    match_painting: BoolProperty(name="Match Active Painting", default=True,
+                                 description="Build the group for the active painting and wire "
+                                             "its images, settings and lights")
+    shape_kind: EnumProperty(name="Shape", items=(("normal", "Normal Map", ""),
+                                                  ("height", "Height Map", "")))
+    suns: bpy.props.IntProperty(name="Suns", default=1, min=0, max=8)
+    points: bpy.props.IntProperty(name="Point Lights", default=0, min=0, max=8)
+    shadows: BoolProperty(name="Shadows", description="cos-θ shadow image inputs, one per light")
+    specular: BoolProperty(name="Highlights")
+    environment: BoolProperty(name="Environment (reflection)")
+    background: BoolProperty(name="Background (refraction)")
+    transparency: BoolProperty(name="Transparency Map")
+
+    def execute(self, context):
+        from . import compositor as C
+        mat = active_painting(context) if self.match_painting else None
+        try:
+            if mat is not None:
+                features, _ = M.features_for(mat, context.scene)
+            else:
+                chans = [c for c in ("environment", "background", "transparency") if getattr(self, c)]
+                features = C.features_for_options(self.shape_kind, self.suns, self.points,
+                                                  self.shadows, self.specular, chans, "")
+            group = C.build_group(features)
+            node = C.add_group_node(context.scene, group)
+            if mat is not None:
+                C.wire_painting(context.scene, node, mat)
+        except (ValueError, KeyError) as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        self.report({"INFO"}, f"Added '{group.name}' to the compositor"
+                    + (f" for {mat.name}" if mat is not None else ""))
+        return {"FINISHED"}
+
+
+CLASSES = (DYNPAINT_OT_add, DYNPAINT_OT_add_compositor_group, DYNPAINT_OT_bake_shadows, DYNPAINT_OT_apply_look, DYNPAINT_OT_image_open,
            DYNPAINT_OT_image_remove, DYNPAINT_OT_face_camera, DYNPAINT_OT_rebuild,
            DYNPAINT_OT_import_recipe, DYNPAINT_OT_export_recipe)
 
@@ -371,7 +413,13 @@ def menu_export(self, context):
     self.layout.operator(DYNPAINT_OT_export_recipe.bl_idname, text="Dynamic Painting Recipe (.toml)")
 
 
-MENUS = (("VIEW3D_MT_add", menu_add), ("VIEW3D_MT_image_add", menu_add),
+def menu_compositor(self, context):
+    space = context.space_data
+    if getattr(space, "tree_type", "") == "CompositorNodeTree":
+        self.layout.operator(DYNPAINT_OT_add_compositor_group.bl_idname, icon="NODETREE")
+
+
+MENUS = (("VIEW3D_MT_add", menu_add), ("VIEW3D_MT_image_add", menu_add), ("NODE_MT_add", menu_compositor),
          ("TOPBAR_MT_file_import", menu_import), ("TOPBAR_MT_file_export", menu_export))
 
 

@@ -118,6 +118,8 @@ def _make_panels(space, region, context_name, category, prefix):
         row.operator("dynpaint.face_camera", icon="CAMERA_DATA")
         row.operator("dynpaint.rebuild", icon="FILE_REFRESH")
         row.operator("dynpaint.export_recipe", text="", icon="EXPORT")
+        layout.operator("dynpaint.add_compositor_group", text="Add Compositor Group",
+                        icon="NODETREE")
         if s.shadows.enabled and s.shadows_stale:
             layout.label(text="Shadows are out of date: Bake Shadows", icon="ERROR")
         errors = [m for name, m in handlers.LAST_ERRORS if name == mat.name]
