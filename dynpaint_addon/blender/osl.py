@@ -1,0 +1,145 @@
+"""The painting as one OSL Script node for Cycles, generated from the graph description.
+
+With the OSL shader the cos-θ term can be computed in the shader (no bake: exact per pixel,
+per frame, for any light). Its inputs are driven exactly like the node material's (shader
+backend): parameters from the material's settings, lights from their transforms. OSL reads
+images from files, so images that live only inside Blender (numpy-prepared copies) are
+written to a cache folder as EXR first.
+"""
+import os
+import sys
+
+import numpy as np
+
+import bpy
+
+from ..core.pipeline import shape_normals
+from ..core.shape import slopes_from_normals
+from ..imageio import write_exr
+from ..nodegraph import osl_codegen
+from ..nodegraph.pipeline_graph import describe
+from ..nodegraph.shader_backend import (SETTINGS, ShaderBackend, drive_location, drive_property,
+                                        drive_sun_direction, light_strength_expression)
+
+TEXT_PREFIX = "DP OSL "
+
+
+def _cycles_osl():
+    """Cycles' OSL helpers; their `oslquery` lives in Blender's bundled site-packages."""
+    bundled = os.path.join(bpy.utils.system_resource("PYTHON"), "lib",
+                           f"python{sys.version_info[0]}.{sys.version_info[1]}", "site-packages")
+    if os.path.isdir(bundled) and bundled not in sys.path:
+        sys.path.append(bundled)
+    from cycles import osl
+    return osl
+
+
+def cache_folder():
+    """Where image copies for OSL go: next to the saved .blend, else the temp folder."""
+    base = bpy.path.abspath("//dynpaint_cache") if bpy.data.filepath else \
+        os.path.join(bpy.app.tempdir or "/tmp", "dynpaint_cache")
+    os.makedirs(base, exist_ok=True)
+    return base
+
+
+def image_file(img, name):
+    """A file OSL can read holding `img`'s pixels → (path, srgb: decode sRGB in the shader)."""
+    from .material import has_alpha
+    # byte buffers hold the file's sRGB-encoded values, float buffers linear ones
+    srgb = int(img.colorspace_settings.name == "sRGB" and not img.is_float)
+    src = bpy.path.abspath(img.filepath) if img.filepath else ""
+    # OIIO premultiplies the colour of files with straight alpha (PNG) as it reads them; the
+    # painting uses colour and alpha apart (channel packed): such images go through an EXR.
+    if img.source == "FILE" and img.packed_file is None and os.path.isfile(src) \
+            and not has_alpha(img):
+        return src, srgb
+    w, h = img.size
+    px = np.empty(w * h * img.channels, np.float32)
+    img.pixels.foreach_get(px)
+    path = os.path.join(cache_folder(), f"{bpy.path.clean_name(name)}.exr")
+    write_exr(path, px.reshape(h, w, img.channels))
+    return path, srgb
+
+
+def build_osl_tree(mat, features, images, lights, march):
+    """Replace the material's tree by the OSL Script node (+ output), driven and compiled."""
+    src = osl_codegen.generate(describe(features), features, march=march)
+    text = bpy.data.texts.get(TEXT_PREFIX + mat.name) or bpy.data.texts.new(TEXT_PREFIX + mat.name)
+    text.from_string(src)
+    tree = mat.node_tree
+    script = tree.nodes.new("ShaderNodeScript")
+    script.mode = "INTERNAL"
+    script.script = text
+    script.label = "Dynamic Painting (OSL)"
+    messages = []
+    _cycles_osl().update_script_node(script, lambda kind, msg: messages.append(msg))
+    if "Color" not in script.outputs:
+        raise RuntimeError("the OSL shader did not compile: " + "; ".join(messages))
+    for sock in script.inputs:
+        name = sock.identifier
+        if name.startswith("p_"):
+            section, key = _param_path(name[2:])
+            drive_property(sock, "MATERIAL", mat, f"{SETTINGS}.{section}.{key}")
+        elif name.endswith("_file"):
+            channel = name[:-5]
+            path, srgb = image_file(images[channel], f"{mat.name} {channel}")
+            sock.default_value = path
+            script.inputs[channel + "_srgb"].default_value = srgb
+        elif name.startswith("light") and name.endswith("_world"):
+            i = int(name[5:-6]) - 1
+            obj = lights[i]
+            _drive_vector(script, sock, obj, features.lights[i])
+        elif name.startswith("light") and name.endswith("_color"):
+            obj = lights[int(name[5:-6]) - 1]
+            for c in range(3):
+                drive_property(sock, "LIGHT", obj.data, f"color[{c}]", index=c)
+        elif name.startswith("light") and name.endswith("_strength"):
+            i = int(name[5:-9]) - 1
+            drive_property(sock, "LIGHT", lights[i].data, "energy",
+                           expression=light_strength_expression(features.lights[i]))
+    coords = tree.nodes.new("ShaderNodeTexCoord")
+    tree.links.new(coords.outputs["UV"], script.inputs["painting_uv"])
+    coords.location = (-600, 200)
+    if march:
+        _set_relief_bounds(mat, script, features)
+    ShaderBackend(mat, images, lights).output(
+        tree, None, {"rgb": script.outputs["Color"], "alpha": script.outputs["Alpha"]})
+    script.location = (-300, 0)
+    return script
+
+
+def _param_path(name):
+    """'diffuse_t0' → ('diffuse', 't0'): the settings path of a generated parameter."""
+    from .. import params as P
+    for param in P.PARAMS:
+        if f"{param.section}_{param.key}" == name:
+            return param.section, param.key
+    raise KeyError(name)
+
+
+def _drive_vector(script, sock, obj, kind):
+    """A vector socket ← the light's world direction (sun) or position (point), via drivers on
+    a helper Combine XYZ (drivers on a Script node's vector sockets work the same way)."""
+    tree = script.id_data
+    comb = tree.nodes.new("ShaderNodeCombineXYZ")
+    comb.label = f"{obj.name} (world)"
+    (drive_sun_direction if kind == "sun" else drive_location)(comb, obj)
+    tree.links.new(comb.outputs[0], sock)
+    comb.location = (-600, -200 * len([n for n in tree.nodes if n.bl_idname == "ShaderNodeCombineXYZ"]))
+
+
+def _set_relief_bounds(mat, script, features):
+    """The march's global bounds: highest relief (height maps) or steepest slope (normal
+    maps), from the numpy copy the material also uses."""
+    from . import material as M
+    from .properties import settings_to_params
+    s = mat.dynamic_painting
+    data = M.image_data(s)
+    p = settings_to_params(s)
+    n, z_px, slopes = shape_normals(data["shape"], p)
+    if "relief_max" in script.inputs:
+        script.inputs["relief_max"].default_value = float(z_px.max()) / features.size[0] \
+            if z_px is not None else 0.0
+    if "slope_max" in script.inputs:
+        sl = slopes if slopes is not None else slopes_from_normals(n)
+        script.inputs["slope_max"].default_value = float(np.hypot(sl[..., 0], sl[..., 1]).max())
