@@ -60,6 +60,10 @@ PARAMS = (
       "larger = softer, more translucent look", unit="image widths", min=0.0, max=1.0, spec="§6"),
     P("shadows", "steps", int, 64, "K: march steps per pixel (more = more accurate, slower)",
       min=0, max=100000, spec="§6"),
+    P("shadows", "source", "enum", "baked", "Where the cos-θ term comes from: baked into images "
+      "by numpy (EEVEE and Cycles), or 'osl': marched per pixel and frame inside an OSL shader "
+      "that Cycles (CPU) renders the whole painting with; EEVEE keeps the baked material",
+      choices=("baked", "osl"), spec="§6, §13"),
     P("shadows", "occupancy", "enum", "linear", "How a march step counts as inside the relief: "
       "linear crossing (accurate) or the paper's midpoint test", choices=OCCUPANCIES, spec="§6"),
     # §7 specular

@@ -59,8 +59,10 @@ def on_depsgraph_update(scene, depsgraph):
 @persistent
 def on_frame_change(scene, depsgraph):
     for mat in paintings(scene):
-        if not mat.dynamic_painting.shadows.enabled:
-            continue
+        sh = mat.dynamic_painting.shadows
+        if not sh.enabled or (sh.source == "osl" and scene.render.engine == "CYCLES"
+                              and bpy.app.is_job_running("RENDER")):
+            continue         # Cycles marches in its OSL shader: nothing to bake per frame
         try:
             M.bake_shadows(mat, scene, depsgraph, force=False)
         except Exception as exc:     # never into the render loop; the last bake stays

@@ -229,6 +229,16 @@ def rebuild_tree(mat, scene, force=False):
     tree.animation_data_clear()
     tree.nodes.clear()
     build_bpy.build(tree, describe(f), ShaderBackend(mat, images, lights))
+    if f.shadow_source == "osl":
+        # Cycles renders the OSL shader (in-shader march); EEVEE keeps the node material.
+        from . import osl
+        eevee_out = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+        eevee_out.target = "EEVEE"
+        osl.build_osl_tree(mat, f, images, lights, march=f.shadows)
+        cycles_out = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"
+                          and n != eevee_out)
+        cycles_out.target = "CYCLES"
+        scene.cycles.shading_system = True
     may_be_transparent = f.has_lookups or bool(f.silhouette)
     mat.surface_render_method = "BLENDED" if may_be_transparent else "DITHERED"
     s.signature = signature

@@ -14,7 +14,7 @@ from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProp
 from .. import params as P
 
 # Structural: decide the graph (pipeline_graph.Features).
-STRUCTURAL = {"shape.kind", "diffuse.curve", "shadows.enabled", "specular.enabled",
+STRUCTURAL = {"shape.kind", "diffuse.curve", "shadows.enabled", "shadows.source", "specular.enabled",
               "specular.curve", "reflection.mode", "reflection.extension", "refraction.mode",
               "refraction.extension", "fresnel.mode", "fresnel.domain", "silhouette.source",
               "transparency.amount_auto"}
@@ -29,7 +29,8 @@ LABELS = {"t0": "Start (t0)", "t1": "End (t1)", "s0": "Start (s0)", "s1": "End (
           "z_min": "Minimum N.z", "ior": "IOR (η)", "mu": "Art IOR (μ)", "x1": "Refraction Until",
           "x2": "Equal Mix At", "kappa": "Reflect ↔ Refract (κ)", "max_offset": "Max Offset",
           "flip_green": "Flip Green (DirectX)", "steps": "Steps (K)", "offset": "Offset (d)",
-          "height_scale": "Height", "preblur": "Pre-blur", "amount": "Amount"}
+          "height_scale": "Height", "preblur": "Pre-blur", "amount": "Amount",
+          "source": "Source"}
 
 
 def _on_change(path):

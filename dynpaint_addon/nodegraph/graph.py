@@ -126,6 +126,15 @@ class Graph:
                      channel=channel, extension=extension, interpolation=interpolation)
         return Ref(n.id, "color"), Ref(n.id, "alpha")
 
+    def shadow_term(self, index, kind, normal, light):
+        """The raw cos-θ term of light `index` (§6) → float ref. Node trees read the image
+        numpy baked ('shadow_<index>'); the OSL backend marches in the shader from the normal
+        and the light vector given here."""
+        n = self.add("dp.sample", {"normal": normal, "light": light}, f"cos-θ shadow {index + 1}",
+                     channel=f"shadow_{index}", extension="EXTEND", interpolation="Linear",
+                     kind=kind)
+        return self.separate(Ref(n.id, "color"))[0]
+
     def sample_bilinear(self, channel, u, v, size, extension="EXTEND"):
         """Bilinear lookup built from four texel-exact (Closest) taps → (color, alpha).
 

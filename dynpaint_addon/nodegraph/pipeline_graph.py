@@ -47,6 +47,7 @@ class Features:
     transparency: str = "none"           # 'none' (k ≡ 0, pruned), 'param' (slider), 'map' (auto with a map)
     silhouette: str = ""                 # channel whose alpha cuts out: 'shape', 'dark' or ''
     lookup_sizes: tuple = ()             # ((channel, (W, H)), …) of environment and background
+    shadow_source: str = "baked"         # 'osl': Cycles renders an OSL shader that marches §6
 
     @classmethod
     def from_params(cls, p, channels, light_kinds, size, alpha_channels=(), sizes=None):
@@ -74,7 +75,7 @@ class Features:
                    refraction_mode=p.refraction.mode,
                    refraction_extension=p.refraction.extension, fresnel_mode=p.fresnel.mode,
                    fresnel_domain=p.fresnel.domain, transparency=transparency,
-                   silhouette=silhouette,
+                   silhouette=silhouette, shadow_source=p.shadows.source,
                    lookup_sizes=tuple(sorted((c, tuple(sizes[c])) for c in
                                              ("environment", "background") if c in channels)))
 
@@ -373,9 +374,7 @@ def describe(f):
         for i, kind in enumerate(f.lights):
             with g.section(f"Light {i + 1}"):
                 vec, weight = g.light(i, kind)
-                shadow = g.separate(g.sample(f"shadow_{i}", None, "EXTEND",
-                                             label=f"cos-θ shadow {i + 1}")[0])[0] \
-                    if f.shadows else 0.0
+                shadow = g.shadow_term(i, kind, normal, vec) if f.shadows else 0.0
                 terms = g.group(_light_group(kind, f.shadows, f.specular, f.diffuse_curve,
                                              f.specular_curve),
                                 {"Normal": normal, "Light": vec, "Surface": surface,

@@ -1,0 +1,126 @@
+// The cos-θ term (pipeline.md §6) marched in the shader, one shading point at a time: a port
+// of dynpaint_addon/core/shadow.py (the reference; read its comments for the why). Exact per
+// pixel and per frame, for any light, at render time: no bake.
+//
+// Units are pixels inside, like the core. The relief is the pre-blurred height image (height
+// maps, × h·W) or is rebuilt along the ray from the normal map's implied slope −N.xy/N.z
+// (normal maps, which may be non-conservative). DP_NORMAL_DECODE(color, flip, zmin, normal)
+// is defined by the generated shader (the §2 decode of its graph).
+
+float dp_relief_px(string file, float x, float y, float W, float H, float scale)
+{
+    float a;
+    vector c = dp_tex(file, 0, vector(x / W, y / H, 0.0), "clamp", "linear", a);
+    return c[0] * scale;
+}
+
+vector dp_slope(string file, int srgb, float x, float y, float W, float H, float flip, float zmin)
+{
+    float a;
+    vector c = dp_tex(file, srgb, vector(x / W, y / H, 0.0), "clamp", "linear", a);
+    vector n = vector(0.0, 0.0, 1.0);
+    DP_NORMAL_DECODE(c, flip, zmin, n);
+    return vector(-n[0] / n[2], -n[1] / n[2], 0.0);
+}
+
+int dp_inside_box(float x, float y, float W, float H)
+{
+    return x >= 0.5 && x <= W - 0.5 && y >= 0.5 && y <= H - 0.5;
+}
+
+// Distance along (lx, ly) until the ray leaves the box of pixel centres (0 outside it).
+float dp_exit_distance(float x0, float y0, float lx, float ly, float W, float H)
+{
+    if (!dp_inside_box(x0, y0, W, H)) return 0.0;
+    float big = 1e30;
+    float tx = lx > 0.0 ? (W - 0.5 - x0) / lx : (lx < 0.0 ? (0.5 - x0) / lx : big);
+    float ty = ly > 0.0 ? (H - 0.5 - y0) / ly : (ly < 0.0 ? (0.5 - y0) / ly : big);
+    return max(min(tx, ty), 0.0);
+}
+
+float dp_occupancy(float d0, float d1)
+{
+    float total = fabs(d0) + fabs(d1);
+    return total > 0.0 ? (max(d0, 0.0) + max(d1, 0.0)) / total : 0.0;
+}
+
+// t = d / max(r, d) for the surface point at UV (u, v) with unit normal N.
+// light: a sun's direction toward the light, or a point light's position (image widths from
+// the painting's centre), in the painting frame. relief_max: highest relief (image widths);
+// slope_max: steepest implied slope of a normal map.
+float dp_cos_theta(vector N, vector light, int is_point, float u, float v,
+                   string relief, int relief_srgb, int normal_map, float flip, float zmin,
+                   float W, float H, float height_scale, float offset, float steps,
+                   float relief_max, float slope_max)
+{
+    float scale = height_scale * W;                          // H (0..1) → pixels
+    float x = u * W, y = v * H;
+    float zs = normal_map ? 0.0 : dp_relief_px(relief, x, y, W, H, scale);
+    vector L;
+    vector pl = vector(light[0] * W + W / 2.0, light[1] * W + H / 2.0, light[2] * W);
+    if (is_point) {
+        vector to = pl - vector(x, y, zs);
+        float dist = length(to);
+        L = dist > 0.0 ? to / dist : vector(0.0, 0.0, 1.0);
+    } else {
+        if (light[2] <= 0.0) return 0.0;                     // below the horizon
+        L = normalize(light);
+    }
+    float ndl = dot(N, L);
+    float d = max(0.0, offset) * W;
+    float x0 = x - d * N[0], y0 = y - d * N[1], z0 = zs - d * N[2];
+    float delta, ell_top, h_rec = 0.0;
+    float inf = 1e30;
+    if (!normal_map) {
+        delta = dp_inside_box(x0, y0, W, H) ? dp_relief_px(relief, x0, y0, W, H, scale) - z0
+                                            : d / N[2];
+        ell_top = L[2] > 0.0 ? (relief_max * W - z0) / L[2] : inf;
+    } else {
+        h_rec = d * (N[0] * N[0] + N[1] * N[1]) / N[2];
+        delta = h_rec - z0;
+        float climb = L[2] - slope_max * hypot(L[0], L[1]);
+        ell_top = climb > 0.0 ? delta / climb : inf;
+    }
+    float ell = min(dp_exit_distance(x0, y0, L[0], L[1], W, H), ell_top);
+    float ell_light = inf;
+    int stopped = 0;
+    if (is_point) {
+        ell_light = max(dot(pl - vector(x0, y0, z0), L), 0.0);
+        stopped = ell_light <= ell;
+        ell = min(ell, ell_light);
+    }
+    if (!(ell < inf)) ell = 0.0;
+    int k_max = (int)max(steps, 0.0);
+    int k_eff = k_max > 0 ? min(k_max, max(1, (int)ceil(4.0 * ell))) : 0;
+    float inside = 0.0;
+    if (k_eff > 0 && ell > 0.0) {
+        float a = ell / k_eff;
+        float ax = a * L[0], ay = a * L[1], az = a * L[2];
+        for (int k = 1; k <= k_eff; k++) {
+            float px = x0 + k * ax, py = y0 + k * ay;
+            float here;
+            if (!normal_map) {
+                here = dp_relief_px(relief, px, py, W, H, scale);
+            } else {
+                vector g = dp_slope(relief, relief_srgb, px - 0.5 * ax, py - 0.5 * ay, W, H,
+                                    flip, zmin);
+                h_rec += g[0] * ax + g[1] * ay;
+                here = h_rec;
+            }
+            float nd = here - (z0 + k * az);
+            inside += dp_occupancy(delta, nd) * a;
+            delta = nd;
+        }
+    }
+    // tail along the tangent plane of P_S (never past a point light)
+    float rate = ndl / N[2];
+    float tail = rate > 0.0 ? delta / rate : inf;
+    if (is_point) tail = min(tail, ell_light - ell);
+    if (!(delta > 0.0) || stopped) tail = 0.0;
+    float r = inside + tail;
+    float t;
+    if (d > 0.0) t = d / max(r, d);
+    else t = r > 1e-3 ? 0.0 : max(ndl, 0.0);
+    if (!(t == t)) t = 0.0;                                  // NaN
+    return clamp(t, 0.0, 1.0);
+}
