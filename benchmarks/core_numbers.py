@@ -18,6 +18,7 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from dynpaint_addon.core.fresnel import fit_art_fresnel  # noqa: E402
+from report import publish  # noqa: E402
 from dynpaint_addon.testpainting import quantized_dome  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.shadow import cos_theta_shadow  # noqa: E402
@@ -101,11 +102,7 @@ def main():
         for domain in ("sin", "cos"):
             x1, x2, err = fit_art_fresnel(eta, domain, samples=1001)
             lines.append(f"| {eta} | {domain} | {x1:.3f} | {x2:.3f} | {err:.3f} |")
-    text = "\n".join(lines) + "\n"
-    print(text)
-    os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
-    with open(args.out, "w") as fh:
-        fh.write(text)
+    publish(lines, args.out)
 
 
 if __name__ == "__main__":

@@ -24,6 +24,8 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import bpy  # noqa: E402
 
+from report import publish  # noqa: E402
+
 from dynpaint_addon import params as P  # noqa: E402
 from dynpaint_addon.blender import headless, material as M, scene as S  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
@@ -177,11 +179,7 @@ def main(argv=None):
               "There the material's float32 UV (±1.5e-5 texel in Cycles) moves the gradient taps "
               "across the wall, and the highlight magnifies that: the few pixels over 1e-3 sit "
               "next to the walls. Smooth relief (the parity suite) stays within 5e-6."]
-    text = "\n".join(lines) + "\n"
-    print(text)
-    if args.out:
-        with open(args.out, "w", encoding="utf-8") as fh:
-            fh.write(text)
+    publish(lines, args.out)
 
 
 if __name__ == "__main__":

@@ -107,3 +107,25 @@ def test_shipped_node_groups_regenerate_and_append(tmp_path):
         assert {"Shape", "Environment", "Light 2 Position", "Light 1 Shadow",
                 "Diffuse t0"} <= names
         assert group.asset_data is not None
+
+
+def test_passes_per_light_match_core(paths, tmp_path):
+    """The group's 'Light i t' outputs are the §4 terms t_i = CS(N·L or cos-θ) of the core."""
+    recipe = make_recipe("two_lights_coloured", paths)
+    compositor.composite_recipe(recipe, str(tmp_path / "c.exr"))
+    scene = bpy.context.scene
+    tree = scene.compositing_node_group
+    node = next(n for n in tree.nodes if n.bl_idname == "CompositorNodeGroup")
+    out = next(n for n in tree.nodes if n.bl_idname == "NodeGroupOutput")
+    from dynpaint_addon.core.pipeline import light_terms, shape_normals
+    from dynpaint_addon.core.shading import clamp_step
+    imgs = load_images(recipe)
+    n, z, sl = shape_normals(imgs["shape"], recipe.params)
+    raw, _ = light_terms(n, z, sl, recipe.lights, recipe.params)
+    for i, t in enumerate(raw):
+        tree.links.new(node.outputs[f"Light {i + 1} t"], out.inputs[0])
+        bpy.ops.render.render(write_still=True)
+        got = read_image(str(tmp_path / "c.exr")).pixels[..., 0]
+        want = clamp_step(t, recipe.params.diffuse.t0, recipe.params.diffuse.t1,
+                          recipe.params.diffuse.curve)
+        assert np.abs(got - want)[1:-1, 1:-1].max() <= 1e-4

@@ -80,3 +80,30 @@ def test_generated_source_is_plain_text_and_complete():
     assert "shader dynamic_painting(" in src and "dp_cos_theta(" in src
     assert src.count("void DP_Light_") == 2 and "#define DP_NORMAL_DECODE" in src
     assert "light2_world" in src and "p_diffuse_t0" in src
+
+
+def test_shipped_shaders_are_current():
+    """The example .osl files are what the generator writes today."""
+    import importlib.util
+    import os
+    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    spec = importlib.util.spec_from_file_location("make_shaders", os.path.join(
+        repo, "shaders_osl", "make_shaders.py"))
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    for name, src in mod.sources().items():
+        with open(os.path.join(repo, "shaders_osl", name), encoding="utf-8") as fh:
+            assert fh.read() == src, f"{name} is stale: run shaders_osl/make_shaders.py"
+
+
+def test_shipped_shader_compiles_with_cycles(tmp_path):
+    import os
+    from dynpaint_addon.blender import osl
+    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    bpy.ops.wm.read_homefile(use_empty=True)
+    tree = bpy.data.materials.new("t").node_tree
+    node = tree.nodes.new("ShaderNodeScript")
+    node.mode = "EXTERNAL"
+    node.filepath = os.path.join(repo, "shaders_osl", "dynamic_painting_height_shadows.osl")
+    osl._cycles_osl().update_script_node(node, lambda kind, msg: None)
+    assert "Color" in node.outputs and "p_shadows_steps" in node.inputs

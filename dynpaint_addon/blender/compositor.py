@@ -25,7 +25,7 @@ def build_group(features, name=GROUP_NAME):
     group = bpy.data.node_groups.new(name, "CompositorNodeTree")
     backend = CompositorBackend(features.silhouette, features.lights)
     build_bpy.build(group, describe(features), backend)
-    group["dp_features"] = repr(features)
+    group["dp_features"] = features.key()
     return group
 
 

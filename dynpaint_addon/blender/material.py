@@ -212,7 +212,7 @@ def rebuild_tree(mat, scene, force=False):
     """Rebuild the node tree if its structure changed (or `force`). → True if rebuilt."""
     s = mat.dynamic_painting
     f, lights = features_for(mat, scene)
-    signature = repr((f, [o.name for o in lights]))
+    signature = repr((f.key(), [o.name for o in lights]))
     if not force and signature == s.signature and len(mat.node_tree.nodes):
         return False
     images = {c: img for c, img in channel_images(s).items()}

@@ -33,6 +33,11 @@ LABELS = {"t0": "Start (t0)", "t1": "End (t1)", "s0": "Start (s0)", "s1": "End (
           "source": "Source"}
 
 
+CHOICE_LABELS = {"baked": "Baked (numpy)", "osl": "In-shader (Cycles OSL)",
+                 "art": "Art-directed", "cos": "1 − cos θ", "sin": "sin θ",
+                 "smoothstep": "Smooth Step", "smootherstep": "Smoother Step"}
+
+
 def _on_change(path):
     def update(self, context):
         from . import material           # late: material imports this module
@@ -55,7 +60,8 @@ def _property(param):
         return {param.key: IntProperty(default=param.default, min=int(param.min),
                                        soft_max=1024, max=int(param.max), **kw)}
     if param.kind == "enum":
-        items = [(c, c.replace("_", " ").title(), "") for c in param.choices]
+        items = [(c, CHOICE_LABELS.get(c, c.replace("_", " ").title()), "")
+                 for c in param.choices]
         return {param.key: EnumProperty(items=items, default=param.default, **kw)}
     limits = {"min": param.min, "max": param.max}
     limits = {k: v for k, v in limits.items() if v is not None}

@@ -149,8 +149,10 @@ class CompositorBackend:
         return [weight], {"vector": vec, "weight": weight.outputs[0]}
 
     def output(self, tree, node, inputs):
+        per_light = sorted(k[5:] for k in inputs if k.startswith("pass:t"))
         outputs = [("Image", "NodeSocketColor"), ("Weight W", "NodeSocketColor"),
-                   ("Specular s", "NodeSocketColor"), ("Fresnel F", "NodeSocketFloat")]
+                   ("Specular s", "NodeSocketColor"), ("Fresnel F", "NodeSocketFloat")] + \
+            [(f"Light {k[1:]} t", "NodeSocketFloat") for k in per_light]
         existing = [s.name for s in tree.interface.items_tree if s.item_type == "SOCKET"
                     and s.in_out == "OUTPUT"]
         for name, kind in outputs:
@@ -164,7 +166,9 @@ class CompositorBackend:
             tree.links.new(sep.outputs[i], rgba.inputs[i])
         link_or_set(tree, inputs["alpha"], rgba.inputs["Alpha"])
         tree.links.new(rgba.outputs[0], out.inputs["Image"])
-        for key, name in (("pass:W", "Weight W"), ("pass:s", "Specular s"), ("pass:F", "Fresnel F")):
+        names = {"pass:W": "Weight W", "pass:s": "Specular s", "pass:F": "Fresnel F",
+                 **{f"pass:{k}": f"Light {k[1:]} t" for k in per_light}}
+        for key, name in names.items():
             link_or_set(tree, inputs.get(key, 0.0), out.inputs[name])
         return [sep, rgba, out], {}
 

@@ -79,6 +79,11 @@ class Features:
                    lookup_sizes=tuple(sorted((c, tuple(sizes[c])) for c in
                                              ("environment", "background") if c in channels)))
 
+    def key(self):
+        """A stable text form (repr of a frozenset changes order between processes)."""
+        fields = {k: (sorted(v) if isinstance(v, frozenset) else v) for k, v in vars(self).items()}
+        return repr(fields)
+
     @property
     def has_lookups(self):
         return self.transparency != "none"
@@ -366,6 +371,7 @@ def describe(f):
                             surface_z, label="P_S")
 
     acc_t = acc_s = (0.0, 0.0, 0.0)
+    light_terms = {}
     if f.lights:
         with g.section("Light & Style (§3–§7)"):
             t0, t1 = g.param("diffuse.t0"), g.param("diffuse.t1")
@@ -379,6 +385,7 @@ def describe(f):
                                              f.specular_curve),
                                 {"Normal": normal, "Light": vec, "Surface": surface,
                                  "Shadow": shadow, "T0": t0, "T1": t1, "S0": s0, "S1": s1})
+                light_terms[f"t{i + 1}"] = terms["Diffuse"]
                 acc_t = g.group(_accumulate(), {"Sum": acc_t, "Term": terms["Diffuse"],
                                                 "Weight": weight})["Sum"]
                 if f.specular:
@@ -469,5 +476,6 @@ def describe(f):
                 b_rgb, b_a = (0.0, 0.0, 0.0), 0.0
             color = g.mix_vector(g.combine(a, a, a), b_rgb, color, label="B(1−α) + C·α")
             alpha = g.mix_float(a, b_a, alpha)
-    g.output(color, alpha, {"W": w, "s": s_mix, "F": fres["Fresnel"] if fresnel_used else 0.0})
+    g.output(color, alpha, {"W": w, "s": s_mix, "F": fres["Fresnel"] if fresnel_used else 0.0,
+                            **light_terms})
     return g
