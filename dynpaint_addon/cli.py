@@ -15,7 +15,7 @@ from .core.colour import linear_to_srgb
 from .core.lights import Light
 from .core.pipeline import PER_PIXEL_CHANNELS, ImageData, render, shape_normals
 from .core.sampling import resample
-from .core.shadow import QUALITY, ShadowStats, cos_theta_shadow
+from .core.shadow import QUALITY, ShadowStats, bake, quality_settings
 from .imageio import ImageReadError, read_image, write_exr, write_png
 from .recipe import RecipeError, load_images, load_recipe
 
@@ -106,24 +106,31 @@ def cmd_bake_shadow(args):
         raise CommandError(f"--offset must be ≥ 0 image widths, got {args.offset}")
     if args.steps is not None and args.steps < 0:
         raise CommandError(f"--steps must be ≥ 0, got {args.steps}")
+    if args.scale is not None and not 0 < args.scale <= 1:
+        raise CommandError(f"--scale must be in (0, 1], got {args.scale}")
     if args.height_scale < 0:
         raise CommandError(f"--height-scale must be ≥ 0 image widths, got {args.height_scale}")
     try:
         light = Light("sun", args.light) if args.light else Light("point", args.point_light)
     except ValueError as exc:
         raise CommandError(str(exc)) from None
-    preset = QUALITY[args.quality]
-    steps = preset["steps"] if args.steps is None else args.steps
-    n, z, slopes, dtype = _shape_for_bake(args)
+    quality = "custom" if args.steps is not None or args.scale is not None else args.quality
+    steps, scale, dtype = quality_settings(quality, args.steps if args.steps is not None
+                                           else QUALITY[args.quality]["steps"],
+                                           args.scale if args.scale is not None
+                                           else QUALITY[args.quality]["scale"])
+    n, z, slopes, _ = _shape_for_bake(args)
     stats = ShadowStats()
     t0 = time.perf_counter()
-    t = cos_theta_shadow(n, light, args.offset, steps, heights_px=z, slopes=slopes, stats=stats)
+    t = bake(n, light, args.offset, quality, heights_px=z, slopes=slopes, steps=steps,
+             scale=scale, stats=stats)
     ms = (time.perf_counter() - t0) * 1000
     write_exr(args.out, t)
     if args.verbose:
         h, w = t.shape
         print(f"bake: {ms:.1f} ms for {w}×{h} ({args.kind} map, {light.kind} light)")
-        print(f"settings: quality={args.quality} steps={steps} (marched {stats.steps}) "
+        print(f"settings: quality={quality} steps={steps} (marched {stats.steps}) "
+              f"resolution={scale:g}× "
               f"dtype={np.dtype(dtype).name} offset={args.offset} image widths "
               f"longest march={stats.max_march_px:.1f} px")
     print(f"wrote {args.out}")
@@ -206,8 +213,11 @@ def build_parser():
     b.add_argument("--offset", type=float, default=0.01,
                    help="d: ray start depth below the surface, image widths (default 0.01)")
     b.add_argument("--steps", type=int, help="K: march steps (default: from --quality)")
+    b.add_argument("--scale", type=float, help="resolution the march runs at, 0–1 (default: from "
+                                               "--quality)")
     b.add_argument("--quality", choices=tuple(QUALITY), default="final",
-                   help="; ".join(f"{k}: K={v['steps']} {v['dtype']}" for k, v in QUALITY.items())
+                   help="; ".join(f"{k}: K={v['steps']} at {v['scale']:g}× {v['dtype']}"
+                                  for k, v in QUALITY.items())
                    + " (default final)")
     b.add_argument("--out", required=True, help="output .exr (one channel, Y)")
     b.add_argument("-v", "--verbose", action="store_true",

@@ -10,7 +10,7 @@ from types import SimpleNamespace
 from .core.fresnel import DOMAINS
 from .core.sampling import EXTENSIONS
 from .core.shading import CURVES
-from .core.shadow import OCCUPANCIES
+from .core.shadow import OCCUPANCIES, QUALITIES
 from .core.warps import REFLECTION_MODES, REFRACTION_MODES
 
 
@@ -58,8 +58,13 @@ PARAMS = (
       "look in one number (replaces N·L in the diffuse term)", spec="§6"),
     P("shadows", "offset", float, 0.01, "d: how deep below the surface each shadow ray starts; "
       "larger = softer, more translucent look", unit="image widths", min=0.0, max=1.0, spec="§6"),
-    P("shadows", "steps", int, 64, "K: march steps per pixel (more = more accurate, slower)",
-      min=0, max=100000, spec="§6"),
+    P("shadows", "quality", "enum", "final", "Speed against accuracy of the bake (§13): draft "
+      "and preview march at a reduced resolution, final at full, reference in float64 with "
+      "K = 1024; custom uses your K and resolution", choices=QUALITIES, spec="§13"),
+    P("shadows", "steps", int, 64, "K: march steps per pixel (more = more accurate, slower; "
+      "custom quality)", min=0, max=100000, spec="§6"),
+    P("shadows", "resolution", float, 1.0, "Resolution the bake marches at, then upsampled "
+      "(custom quality)", unit="× the shape image", min=0.05, max=1.0, spec="§13"),
     P("shadows", "source", "enum", "baked", "Where the cos-θ term comes from: baked into images "
       "by numpy (EEVEE and Cycles), or 'osl': marched per pixel and frame inside an OSL shader "
       "that Cycles (CPU) renders the whole painting with; EEVEE keeps the baked material",

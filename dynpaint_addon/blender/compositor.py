@@ -9,8 +9,7 @@ import numpy as np
 
 import bpy
 
-from ..core.pipeline import shape_normals
-from ..core.shadow import cos_theta_shadow
+from ..core.pipeline import shadow_term, shape_normals
 from ..imageio import write_exr
 from ..nodegraph import build_bpy
 from ..nodegraph.compositor_backend import CompositorBackend, input_name
@@ -123,8 +122,7 @@ def composite_recipe(recipe, out, shadow_folder=None):
         from ..imageio import read_image
         n, z, slopes = shape_normals(read_image(recipe.images["shape"]), recipe.params)
         for i, light in enumerate(recipe.lights):
-            t = cos_theta_shadow(n, light, recipe.params.shadows.offset, recipe.params.shadows.steps,
-                                 heights_px=z, slopes=slopes, occupancy=recipe.params.shadows.occupancy)
+            t = shadow_term(n, z, slopes, light, recipe.params)
             path = os.path.join(folder, f"shadow_{i + 1}.exr")
             write_exr(path, np.repeat(t[..., None], 3, axis=2))
             img = bpy.data.images.load(path, check_existing=False)

@@ -16,8 +16,7 @@ import bpy
 
 from .. import params as P
 from ..core.lights import Light
-from ..core.pipeline import lookup_copy, shape_normals
-from ..core.shadow import cos_theta_shadow
+from ..core.pipeline import lookup_copy, shadow_term, shape_normals
 from ..core.shape import default_preblur_px, preblurred_height
 from ..imageio import FILE_CHANNELS, image_data_from_blender
 from ..nodegraph import build_bpy
@@ -43,6 +42,8 @@ def on_setting_changed(mat, path):
     """Property update callback (properties.py): do only the work this change needs."""
     if _suspended[0] or not mat.dynamic_painting.is_painting:
         return
+    if path in ("shadows.quality", "shadows.steps", "shadows.resolution"):
+        _sync_quality(mat.dynamic_painting.shadows, path)
     if path.startswith("images."):      # a slot filled from the panel or by Python
         channel = path.split(".", 1)[1]
         img = getattr(mat.dynamic_painting, f"image_{channel}")
@@ -56,6 +57,20 @@ def on_setting_changed(mat, path):
     except Exception as exc:     # never let a callback raise into Blender's UI
         from .handlers import report   # late: handlers imports this module
         report(mat, exc)
+
+
+def _sync_quality(sh, path):
+    """A quality level writes its K and resolution into the settings (so the OSL shader's
+    drivers see them too); editing K or the resolution by hand makes the level 'custom'."""
+    from ..core.shadow import QUALITY
+    with batch():
+        if path == "shadows.quality" and sh.quality in QUALITY:
+            sh.steps = QUALITY[sh.quality]["steps"]
+            sh.resolution = QUALITY[sh.quality]["scale"]
+        elif path != "shadows.quality" and sh.quality in QUALITY:
+            q = QUALITY[sh.quality]
+            if (sh.steps, round(sh.resolution, 4)) != (q["steps"], q["scale"]):
+                sh.quality = "custom"
 
 
 # -- images ---------------------------------------------------------------------------------
@@ -272,9 +287,9 @@ def bake_shadows(mat, scene, depsgraph=None, steps=None, data=None, force=True):
     if plane is None:
         raise ValueError("the painting has no plane")
     plane_m = (plane.evaluated_get(depsgraph) if depsgraph is not None else plane).matrix_world
-    k = p.shadows.steps if steps is None else steps
-    inputs = repr((vars(p.shape), p.shadows.offset, k, p.shadows.occupancy,
-                   s.image_shape.name if s.image_shape else None))
+    if steps is not None:           # an explicit K (tests, the live preview) overrides
+        p.shadows.quality, p.shadows.steps = "custom", steps
+    inputs = repr((vars(p.shape), vars(p.shadows), s.image_shape.name if s.image_shape else None))
     todo = []
     for item in s.lights:
         if item.object is None:
@@ -288,8 +303,7 @@ def bake_shadows(mat, scene, depsgraph=None, steps=None, data=None, force=True):
     data = data or image_data(s)
     n, z_px, slopes = shape_normals(data["shape"], p, np.float32)
     t_start = time.perf_counter()
-    results = [cos_theta_shadow(n, light, p.shadows.offset, k, heights_px=z_px, slopes=slopes,
-                                occupancy=p.shadows.occupancy) for _, light, _ in todo]
+    results = [shadow_term(n, z_px, slopes, light, p) for _, light, _ in todo]
     ms = (time.perf_counter() - t_start) * 1000
     for (item, _, key), t in zip(todo, results):
         item.shadow = float_image(f"DP {mat.name} shadow {item.object.name}", _grey_rgba(t))

@@ -14,7 +14,8 @@ SECTION_PANELS = (
     # (id, label, [(section, keys or None for all)], header toggle "section.key" or None)
     ("shape", "Shape", [("shape", None)], None),
     ("style", "Light & Style", [("diffuse", None)], None),
-    ("shadows", "Shadows", [("shadows", ("source", "offset", "steps", "occupancy"))],
+    ("shadows", "Shadows", [("shadows", ("source", "quality", "offset", "steps", "resolution",
+                                         "occupancy"))],
      "shadows.enabled"),
     ("highlights", "Highlights", [("specular", ("s0", "s1", "curve", "amount"))], "specular.enabled"),
     ("warps", "Reflection & Refraction", [("reflection", None), ("refraction", None)], None),

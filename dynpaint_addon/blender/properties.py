@@ -23,7 +23,7 @@ DERIVED = {"shape.preblur", "shape.preblur_auto", "reflection.blur", "reflection
            "refraction.blur", "refraction.extension"}
 SHADOW_INPUTS = {"shape.kind", "shape.flip_green", "shape.z_min", "shape.height_scale",
                  "shape.preblur", "shape.preblur_auto", "shadows.enabled", "shadows.offset",
-                 "shadows.steps", "shadows.occupancy"}
+                 "shadows.steps", "shadows.occupancy", "shadows.quality", "shadows.resolution"}
 
 LABELS = {"t0": "Start (t0)", "t1": "End (t1)", "s0": "Start (s0)", "s1": "End (s1)",
           "z_min": "Minimum N.z", "ior": "IOR (η)", "mu": "Art IOR (μ)", "x1": "Refraction Until",

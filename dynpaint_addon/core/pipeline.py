@@ -24,7 +24,7 @@ from . import shading, warps
 from .colour import srgb_to_linear
 from .lights import light_vectors
 from .sampling import gaussian_blur, pixel_centres, resample, sample_bilinear
-from .shadow import cos_theta_shadow
+from .shadow import bake as shadow_bake
 from .shape import (decode_normal_map, default_preblur_px, height_field_px, normals_from_height_px,
                     slopes_from_normals)
 
@@ -108,6 +108,14 @@ def shape_normals(shape, p, dtype=np.float32):
     return n, None, slopes_from_normals(n)
 
 
+def shadow_term(n, z_px, slopes, light, p, cancel=None):
+    """The raw cos-θ term of one light (§6) at the parameters' quality level (§13)."""
+    t = shadow_bake(n, light, p.shadows.offset, p.shadows.quality, heights_px=z_px, slopes=slopes,
+                    steps=p.shadows.steps, scale=p.shadows.resolution,
+                    occupancy=p.shadows.occupancy, cancel=cancel)
+    return t.astype(n.dtype, copy=False)
+
+
 def light_terms(n, z_px, slopes, lights, p, dtype=np.float32):
     """Per light: the raw light term (cos-θ or N·L, §4/§6) and the specular term (§7)."""
     h, w = n.shape[:2]
@@ -117,8 +125,7 @@ def light_terms(n, z_px, slopes, lights, p, dtype=np.float32):
     for light in lights:
         lvec, _ = light_vectors(light, x, y, zs, dtype)
         if p.shadows.enabled:
-            t = cos_theta_shadow(n, light, p.shadows.offset, p.shadows.steps, heights_px=z_px,
-                                 slopes=slopes, occupancy=p.shadows.occupancy)
+            t = shadow_term(n, z_px, slopes, light, p)
         else:
             t = shading.n_dot_l(n, lvec)
         raw.append(t)
