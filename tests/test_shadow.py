@@ -162,3 +162,43 @@ def test_cast_shadow_falls_away_from_the_light():
     assert t[32, 45] == pytest.approx(cos_sun, abs=1e-3)   # lit ground on the light's side
     tn = cos_theta_shadow(n, Light("sun", (1, 0, 0.6)), 0.005, 128, slopes=slopes_from_normals(n))
     assert tn[32, 45] == pytest.approx(cos_sun, abs=1e-3)
+
+
+# -- quality levels (§13, issue 4) --------------------------------------------------------
+from dynpaint_addon.core.shadow import BakeCancelled, QUALITIES, bake  # noqa: E402
+
+
+@pytest.mark.parametrize("quality", QUALITIES)
+def test_plane_is_cos_theta_at_every_quality(quality):
+    n = flat_normals(48, 64)
+    light = Light("sun", unit((0.4, -0.3, 0.5)))
+    t = bake(n, light, 0.01, quality, heights_px=np.zeros((48, 64)), steps=8, scale=0.3)
+    assert t.shape == (48, 64)
+    assert np.abs(t - unit((0.4, -0.3, 0.5))[2]).max() < 1e-5
+
+
+def test_quality_levels_converge_to_the_reference():
+    from dynpaint_addon.testpainting import builtin_images
+    from dynpaint_addon.core.shape import height_field_px, normals_from_height_px
+    z = height_field_px(builtin_images(96)["shape"].grey(), 0.25)
+    n = normals_from_height_px(z)
+    light = Light("sun", (-0.6, 0.5, 0.45))
+    ref = bake(n.astype(np.float64), light, 0.01, "reference", heights_px=z.astype(np.float64))
+    errs = [np.abs(bake(n, light, 0.01, q, heights_px=z) - ref).mean()
+            for q in ("draft", "preview", "final")]
+    assert errs[0] > errs[1] > errs[2] and errs[2] < 5e-3, errs
+
+
+def test_a_bake_can_be_superseded():
+    n = flat_normals(16, 16)
+    calls = []
+
+    def cancel():
+        calls.append(1)
+        return len(calls) > 3
+    z = np.zeros((16, 16))
+    z[6:10, 6:10] = 8.0          # a tall block: the march takes all its steps
+    with pytest.raises(BakeCancelled):
+        bake(n, Light("sun", (0.3, 0.2, 0.5)), 0.01, "custom", heights_px=z, steps=32,
+             cancel=cancel)
+    assert len(calls) == 4

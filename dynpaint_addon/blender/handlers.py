@@ -43,15 +43,24 @@ def _lights_changed(mat, scene):
 WATCHED = (bpy.types.Object, bpy.types.Light, bpy.types.Collection, bpy.types.Scene)
 
 
+def rendering():
+    """Baking must be synchronous: a render is running, or Blender has no UI at all."""
+    return bpy.app.background or bpy.app.is_job_running("RENDER")
+
+
 @persistent
 def on_depsgraph_update(scene, depsgraph):
     if not any(isinstance(u.id, WATCHED) for u in depsgraph.updates):
         return
+    from .live_bake import LIVE, lights_moved
     for mat in paintings(scene):
         try:
             if _lights_changed(mat, scene):
                 M.refresh(mat, structure=True, derived=False, shadows=mat.dynamic_painting
                           .shadows.enabled, scene=scene)
+            elif (mat.dynamic_painting.shadows.enabled and not rendering()
+                  and lights_moved(mat, depsgraph)):
+                LIVE.request(mat, scene, depsgraph)        # preview now, final once still
         except Exception as exc:     # never into Blender's update loop
             report(mat, exc)
 
@@ -61,9 +70,14 @@ def on_frame_change(scene, depsgraph):
     for mat in paintings(scene):
         sh = mat.dynamic_painting.shadows
         if not sh.enabled or (sh.source == "osl" and scene.render.engine == "CYCLES"
-                              and bpy.app.is_job_running("RENDER")):
+                              and rendering()):
             continue         # Cycles marches in its OSL shader: nothing to bake per frame
         try:
+            if not rendering():      # timeline playback: the live bake keeps the UI free
+                from .live_bake import LIVE, lights_moved
+                if lights_moved(mat, depsgraph):
+                    LIVE.request(mat, scene, depsgraph)
+                continue
             M.bake_shadows(mat, scene, depsgraph, force=False)
         except Exception as exc:     # never into the render loop; the last bake stays
             report(mat, exc)

@@ -100,7 +100,7 @@ def float_image(name, rgba):
     return img
 
 
-def _grey_rgba(grey, alpha=None):
+def grey_rgba(grey, alpha=None):
     a = np.ones_like(grey) if alpha is None else alpha
     return np.stack([grey, grey, grey, a], axis=-1)
 
@@ -140,12 +140,12 @@ def update_derived_images(mat, data=None):
         sigma = p.shape.preblur
         sigma = default_preblur_px(_bits(imgs["shape"])) if sigma == "auto" else sigma
         need("height", f"{imgs['shape'].name}|{sigma}",
-             lambda d: _grey_rgba(preblurred_height(d["shape"].grey(), float(sigma))))
+             lambda d: grey_rgba(preblurred_height(d["shape"].grey(), float(sigma))))
     source = _silhouette_source(mat)
     if source:
         # A float copy of the alpha: EEVEE reads 8-bit alpha up to 1/255 off (254 → 255).
         need("silhouette", f"{imgs[source].name}|{source}",
-             lambda d: _grey_rgba(*[np.clip(np.nan_to_num(d[source].alpha()), 0, 1)] * 2))
+             lambda d: grey_rgba(*[np.clip(np.nan_to_num(d[source].alpha()), 0, 1)] * 2))
     for channel, sec in (("environment", p.reflection), ("background", p.refraction)):
         if channel in imgs:
             need(channel, f"{imgs[channel].name}|{sec.blur}|{sec.extension}",
@@ -273,6 +273,17 @@ def _sync_light_items(s, lights):
 
 
 # -- the cos-θ bake ---------------------------------------------------------------------------
+def light_key(light):
+    """Where a light is, as far as its bake is concerned."""
+    return repr((light.kind, np.round(light.vector, 9).tolist()))
+
+
+def bake_key(light, p, s):
+    """What a bake depends on: the light's place, the shape and shadow settings, the image."""
+    return light_key(light) + "|" + repr((vars(p.shape), vars(p.shadows),
+                                          s.image_shape.name if s.image_shape else None))
+
+
 def bake_shadows(mat, scene, depsgraph=None, steps=None, data=None, force=True):
     """Bake the cos-θ term (§6) of the linked lights into their images. → milliseconds taken.
 
@@ -287,15 +298,14 @@ def bake_shadows(mat, scene, depsgraph=None, steps=None, data=None, force=True):
     if plane is None:
         raise ValueError("the painting has no plane")
     plane_m = (plane.evaluated_get(depsgraph) if depsgraph is not None else plane).matrix_world
-    if steps is not None:           # an explicit K (tests, the live preview) overrides
+    if steps is not None:           # an explicit K (tests) overrides the quality level
         p.shadows.quality, p.shadows.steps = "custom", steps
-    inputs = repr((vars(p.shape), vars(p.shadows), s.image_shape.name if s.image_shape else None))
     todo = []
     for item in s.lights:
         if item.object is None:
             continue
         light = painting_frame_light(item.object, plane_m, depsgraph)
-        key = repr((light.kind, np.round(light.vector, 9).tolist(), inputs))
+        key = bake_key(light, p, s)
         if force or item.shadow is None or item.bake_key != key:
             todo.append((item, light, key))
     if not todo:
@@ -306,7 +316,7 @@ def bake_shadows(mat, scene, depsgraph=None, steps=None, data=None, force=True):
     results = [shadow_term(n, z_px, slopes, light, p) for _, light, _ in todo]
     ms = (time.perf_counter() - t_start) * 1000
     for (item, _, key), t in zip(todo, results):
-        item.shadow = float_image(f"DP {mat.name} shadow {item.object.name}", _grey_rgba(t))
+        item.shadow = float_image(f"DP {mat.name} shadow {item.object.name}", grey_rgba(t))
         item.bake_key = key
     s.shadows_stale = False
     return ms

@@ -1,0 +1,95 @@
+"""The live cos-θ bake (issue 4): preview while a light moves, final once it is still, a newer
+request supersedes a bake in flight, and images only ever show a finished bake."""
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from dynpaint_addon import blender  # noqa: E402
+from dynpaint_addon.blender import live_bake, material as M  # noqa: E402
+from dynpaint_addon.blender.properties import settings_to_params  # noqa: E402
+from dynpaint_addon.core.pipeline import shadow_term, shape_normals  # noqa: E402
+from dynpaint_addon.imageio import image_data_from_blender  # noqa: E402
+
+from parity_recipes import write_images  # noqa: E402
+
+
+@pytest.fixture
+def painting(tmp_path):
+    write_images(str(tmp_path))
+    bpy.ops.wm.read_homefile(use_empty=True)
+    blender.register_once()
+    bpy.ops.dynpaint.add(directory=str(tmp_path), files=[{"name": n} for n in (
+        "height16.png", "dark.png", "bright.png")])
+    mat = bpy.context.object.active_material
+    mat.dynamic_painting.shape.height_scale = 0.15
+    mat.dynamic_painting.shadows.enabled = True
+    return mat
+
+
+def shadow_pixels(item):
+    return image_data_from_blender(item.shadow).pixels[..., 0]
+
+
+def expected(mat, quality):
+    s = mat.dynamic_painting
+    p = settings_to_params(s)
+    if quality != "final":
+        p.shadows.quality = quality
+    shape = shape_normals(image_data_from_blender(s.image_shape), p)
+    light = M.painting_frame_light(s.lights[0].object, s.plane.matrix_world)
+    return shadow_term(*shape, light, p)
+
+
+def test_preview_then_final_once_still(painting):
+    live = live_bake.LiveBake()
+    sun = painting.dynamic_painting.lights[0].object
+    sun.rotation_mode = "XYZ"
+    sun.rotation_euler = (0.9, 0.3, 2.0)
+    bpy.context.view_layer.update()
+    assert live_bake.lights_moved(painting)
+    live.request(painting, bpy.context.scene)
+    assert live.wait() == 1
+    item = painting.dynamic_painting.lights[0]
+    assert np.abs(shadow_pixels(item) - expected(painting, "preview")).max() < 1e-6
+    assert not live_bake.lights_moved(painting)
+    # nothing happens before the light has been still for the debounce time …
+    live.tick(now=live.still_since[painting.name] + live_bake.DEBOUNCE_S / 2)
+    assert live.wait() == 0
+    # … then the painting's own quality replaces the preview
+    live.tick(now=live.still_since[painting.name] + live_bake.DEBOUNCE_S + 1e-3)
+    assert live.wait() == 1
+    assert np.abs(shadow_pixels(item) - expected(painting, "final")).max() < 1e-6
+    assert [q for q, _ in live.latencies] == ["preview", "final"]
+    assert all(ms > 0 for _, ms in live.latencies)
+
+
+def test_a_newer_request_supersedes_the_one_in_flight(painting):
+    live = live_bake.LiveBake()
+    sun = painting.dynamic_painting.lights[0].object
+    sun.rotation_mode = "XYZ"
+    for angle in (0.5, 1.0, 1.5, 2.0):           # a light dragged through four positions
+        sun.rotation_euler = (0.8, 0.2, angle)
+        bpy.context.view_layer.update()
+        live.request(painting, bpy.context.scene, quality="final")
+    live.wait()
+    # whatever finished early was superseded or dropped: the image is the last position's
+    item = painting.dynamic_painting.lights[0]
+    assert np.abs(shadow_pixels(item) - expected(painting, "final")).max() < 1e-6
+    assert live.latencies and len(live.latencies) == 1
+
+
+def test_a_failing_bake_keeps_the_last_good_image(painting):
+    live = live_bake.LiveBake()
+    item = painting.dynamic_painting.lights[0]
+    before = shadow_pixels(item).copy()
+    key = (painting.dynamic_painting.image_shape.name,
+           repr(vars(settings_to_params(painting.dynamic_painting).shape)))
+    live.shapes[painting.name] = (key, (np.full((2, 2, 3), np.nan), None, None))
+    from dynpaint_addon.blender.handlers import LAST_ERRORS
+    LAST_ERRORS.clear()
+    live.request(painting, bpy.context.scene)
+    assert live.wait() == 0
+    assert np.array_equal(shadow_pixels(item), before)
+    assert LAST_ERRORS and "last good shadows are kept" in LAST_ERRORS[-1][1]
+    LAST_ERRORS.clear()
