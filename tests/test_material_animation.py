@@ -63,3 +63,21 @@ def test_keyframed_lights_in_one_animation_render(name, paths, tmp_path):
     first = read_image(str(tmp_path / "f_0001.exr")).pixels
     last = read_image(str(tmp_path / "f_0020.exr")).pixels
     assert np.abs(first - last).max() > 0.05
+
+
+def test_per_frame_bake_depends_only_on_the_frame(paths, tmp_path):
+    """A farm renders frame chunks in fresh processes: the bake of frame k must not depend on
+    what was rendered before. Frame 17 after playing 1…16 equals frame 17 alone."""
+    from dynpaint_addon.imageio import image_data_from_blender
+
+    def scene_at(frames):
+        recipe = make_recipe("shadows_height", paths)
+        plane, mat = headless.build_recipe_scene(recipe)
+        keyframe_lights(M.linked_lights(mat, bpy.context.scene))
+        for f in frames:
+            bpy.context.scene.frame_set(f)
+        return image_data_from_blender(mat.dynamic_painting.lights[0].shadow).pixels.copy()
+    played = scene_at(range(1, 18))
+    alone = scene_at([17])
+    assert np.array_equal(played, alone)
+    assert not np.array_equal(played, scene_at([1]))
