@@ -49,13 +49,21 @@ def on_setting_changed(mat, path):
         img = getattr(mat.dynamic_painting, f"image_{channel}")
         if img is not None:
             prepare_channel_image(img, channel)
+    from .handlers import rendering, report   # late: handlers imports this module
+    s = mat.dynamic_painting
+    structure = path in STRUCTURAL or path.startswith("images.") or path == "light_collection"
+    # A shadow setting dragged in the UI re-bakes live (preview, then final; never freezing
+    # the UI) when the tree stays and every light has an image already.
+    live = (path in SHADOW_INPUTS and not structure and path not in DERIVED and s.shadows.enabled
+            and not rendering() and all(i.shadow is not None for i in s.lights))
     try:
-        refresh(mat, structure=path in STRUCTURAL or path.startswith("images.")
-                or path == "light_collection",
+        refresh(mat, structure=structure,
                 derived=path in DERIVED or path.startswith("images."),
-                shadows=path in SHADOW_INPUTS or path.startswith("images.shape"))
+                shadows=not live and (path in SHADOW_INPUTS or path.startswith("images.shape")))
+        if live:
+            from .live_bake import LIVE
+            LIVE.request(mat, bpy.context.scene)
     except Exception as exc:     # never let a callback raise into Blender's UI
-        from .handlers import report   # late: handlers imports this module
         report(mat, exc)
 
 

@@ -8,6 +8,7 @@ import bpy
 
 from .. import params as P
 from . import handlers
+from .live_bake import LIVE
 from .operators import LOOKS, active_painting
 
 SECTION_PANELS = (
@@ -124,6 +125,9 @@ def _make_panels(space, region, context_name, category, prefix):
                         icon="NODETREE")
         if s.shadows.enabled and s.shadows_stale:
             layout.label(text="Shadows are out of date: Bake Shadows", icon="ERROR")
+        if s.shadows.enabled and LIVE.latencies:
+            quality, ms = LIVE.latencies[-1]
+            layout.label(text=f"Last live bake: {quality}, {ms:.0f} ms", icon="TIME")
         errors = [m for name, m in handlers.LAST_ERRORS if name == mat.name]
         if errors:
             layout.label(text=errors[-1], icon="ERROR")
