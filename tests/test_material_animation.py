@@ -81,3 +81,46 @@ def test_per_frame_bake_depends_only_on_the_frame(paths, tmp_path):
     alone = scene_at([17])
     assert np.array_equal(played, alone)
     assert not np.array_equal(played, scene_at([1]))
+
+
+def test_animation_frame_equals_a_single_frame_render(paths, tmp_path):
+    """Frame 3 of an animation render is bit-identical to rendering frame 3 alone (Cycles),
+    shadows baked per frame in both."""
+    def build():
+        recipe = make_recipe("shadows_normal_point", paths)
+        plane, mat = headless.build_recipe_scene(recipe)
+        keyframe_lights(M.linked_lights(mat, bpy.context.scene))
+        scene = bpy.context.scene
+        S.exact_render_settings(scene, "cycles")
+        S.output_settings(scene, str(tmp_path / "x.exr"))
+        return scene
+    scene = build()
+    scene.render.filepath = str(tmp_path / "anim_####")
+    scene.frame_start, scene.frame_end = 1, 3
+    bpy.ops.render.render(animation=True)
+    scene = build()
+    scene.frame_set(3)
+    scene.render.filepath = str(tmp_path / "still.exr")
+    bpy.ops.render.render(write_still=True)
+    anim = read_image(str(tmp_path / "anim_0003.exr")).pixels
+    still = read_image(str(tmp_path / "still.exr")).pixels
+    assert np.array_equal(anim, still)
+
+
+def test_a_failing_frame_bake_keeps_the_image_and_never_raises(paths):
+    from dynpaint_addon.blender import handlers
+    from dynpaint_addon.imageio import image_data_from_blender
+    recipe = make_recipe("shadows_height", paths)
+    plane, mat = headless.build_recipe_scene(recipe)
+    lights = M.linked_lights(mat, bpy.context.scene)
+    keyframe_lights(lights)
+    before = image_data_from_blender(mat.dynamic_painting.lights[0].shadow).pixels.copy()
+    handlers.LAST_ERRORS.clear()
+    with M.batch():                              # no refresh: the next bake meets it
+        mat.dynamic_painting.image_shape = None   # the shape image is gone
+    bpy.context.scene.frame_set(10)               # must not raise
+    after = image_data_from_blender(mat.dynamic_painting.lights[0].shadow).pixels
+    assert np.array_equal(before, after)
+    assert [name for name, _ in handlers.LAST_ERRORS] == [mat.name]
+    assert "no shape image" in handlers.LAST_ERRORS[0][1]
+    handlers.LAST_ERRORS.clear()

@@ -305,6 +305,9 @@ def bake_shadows(mat, scene, depsgraph=None, steps=None, data=None, force=True):
     plane = s.plane
     if plane is None:
         raise ValueError("the painting has no plane")
+    if s.image_shape is None:
+        raise ValueError("no shape image to bake shadows from: assign one under Images "
+                         "(the last baked shadows are kept)")
     plane_m = (plane.evaluated_get(depsgraph) if depsgraph is not None else plane).matrix_world
     if steps is not None:           # an explicit K (tests) overrides the quality level
         p.shadows.quality, p.shadows.steps = "custom", steps
