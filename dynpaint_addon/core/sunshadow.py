@@ -35,21 +35,25 @@ def _tables(g, op):
     return levels
 
 
-def _descend(tables, flat_row, start, c, width, skip_if):
-    """First column j ≥ start (per ray) where the predicate fails to be skippable.
+def _descend(tables, base0, base1, wv, start, c, width, skip_if):
+    """First column j ≥ start where the blended profile (1 − wv)·row0 + wv·row1 does not
+    satisfy skip_if(·, c); `width` if none.
 
-    skip_if(window_value, c) says a whole window can be skipped (e.g. max ≤ c when looking
-    for G > c). Returns `width` where no such column exists.
+    A window is skipped when the same blend of the two rows' window extremes satisfies
+    skip_if: a bound of the blended profile's own extreme (blend of maxima ≥ maximum of the
+    blend), so a skip is always right; the last level (single columns) is exact. When a
+    bound was too loose to skip, the column found may still satisfy skip_if: the caller
+    checks it and descends again from the next column.
     """
     pos = start.copy()
     for k in range(len(tables) - 1, -1, -1):
         size = 1 << k
         cand = pos + size
         ok = cand <= width
-        idx = flat_row + np.minimum(pos, width - 1)
-        win = np.take(tables[k].reshape(-1), idx)
-        skip = ok & skip_if(win, c)
-        pos = np.where(skip, cand, pos)
+        at = np.minimum(pos, width - 1)
+        flat = tables[k].reshape(-1)
+        win = np.take(flat, base0 + at) * (1 - wv) + np.take(flat, base1 + at) * wv
+        pos = np.where(ok & skip_if(win, c), cand, pos)
     return pos
 
 
@@ -103,10 +107,7 @@ def sun_cos_theta(normals, heights_px, light, offset):
     from .shadow import _exit_distance, _inside_box
     inbox0 = _inside_box(x0, y0, h, w).ravel()
     u_end = fu + _exit_distance(x0, y0, np.full_like(x0, ex), np.full_like(x0, ey), h, w).ravel()
-    lengths = []
-    for row in (r0, r0 + 1):
-        lengths.append(_row_inside(g, gmax, gmin, row, fu, c, width, u_end, rate, lxy))
-    r_h = lengths[0] * (1 - wv) + lengths[1] * wv           # horizontal inside length (px)
+    r_h = _inside_length(g, gmax, gmin, r0, wv, fu, c, width, u_end, rate, lxy)
     # P0 outside the box: no march, the tail from the tangent plane of P_S (δ0 = d/N.z)
     with np.errstate(divide="ignore", invalid="ignore"):
         out_tail = np.where(rate > 0, (d / nz.ravel()) / rate * lxy, 0)
@@ -116,35 +117,49 @@ def sun_cos_theta(normals, heights_px, light, offset):
     return np.clip(np.where(np.isfinite(t), t, 0), 0, 1).astype(dtype, copy=False)
 
 
-def _row_inside(g, gmax, gmin, row, fu, c, width, u_end, rate, lxy):
-    """Length (px of u) of each ray inside the relief along one grid row until it leaves the
-    box of pixel centres at u_end, plus the reference's tangent-plane tail if still inside."""
+def _inside_length(g, gmax, gmin, r0, wv, fu, c, width, u_end, rate, lxy):
+    """Length (px of u) of each ray inside the relief, along the profile blended from the two
+    grid rows around it, until it leaves the box of pixel centres at u_end; plus the
+    reference's tangent-plane tail if it is still inside there."""
     gflat = g.reshape(-1)
-    flat_row = row * width
+    base0, base1 = r0 * width, (r0 + 1) * width
+
+    def g_col(k):
+        k = np.clip(k, 0, width - 1)
+        return np.take(gflat, base0 + k) * (1 - wv) + np.take(gflat, base1 + k) * wv
 
     def g_at(u):
         k = np.clip(np.floor(u).astype(np.int64), 0, width - 2)
-        a, b = np.take(gflat, flat_row + k), np.take(gflat, flat_row + k + 1)
+        a, b = g_col(k), g_col(k + 1)
         return a + (b - a) * np.clip(u - k, 0.0, 1.0)
-    i = np.clip(np.floor(fu).astype(np.int64), 0, width - 2)
+    exit_if = lambda v, cc: v > cc       # noqa: E731  (inside: skip while all of it is above c)
+    entry_if = lambda v, cc: v <= cc     # noqa: E731  (outside: skip while all of it is below)
     g_here = g_at(fu)                    # G where the ray is now
     inside = g_here > c
     pos = fu.copy()                      # where the ray is now (u, grid units)
-    col = i + 1                          # the end of the segment it is in
+    col = np.clip(np.floor(fu).astype(np.int64), 0, width - 2) + 1
     total = np.zeros_like(fu)
     active = u_end > pos
-    for _ in range(2 * MAX_CROSSINGS):
+    for _ in range(4 * MAX_CROSSINGS):
         if not active.any():
             break
-        # inside: the first column with G ≤ c (exit); outside: the first with G > c (entry)
-        j = np.where(inside,
-                     _descend(gmin, flat_row, col, c, width, lambda v, cc: v > cc),
-                     _descend(gmax, flat_row, col, c, width, lambda v, cc: v <= cc))
+        j = col.copy()
+        todo = active.copy()
+        for _ in range(8):               # descend again where a loose bound stopped early
+            jj = np.where(inside, _descend(gmin, base0, base1, wv, j, c, width, exit_if),
+                          _descend(gmax, base0, base1, wv, j, c, width, entry_if))
+            j = np.where(todo, jj, j)
+            gj = g_col(j)
+            wrong = todo & (j < width) & np.where(inside, gj > c, gj <= c)
+            if not wrong.any():
+                break
+            j = np.where(wrong, j + 1, j)
+            todo = wrong
         jc = np.minimum(j, width - 1)
-        g1 = np.take(gflat, flat_row + jc)
+        g1 = g_col(jc)
         first = jc == col                # the crossing is in the segment the ray is in
         x0 = np.where(first, pos, jc - 1.0)
-        g0 = np.where(first, g_here, np.take(gflat, flat_row + np.maximum(jc - 1, 0)))
+        g0 = np.where(first, g_here, g_col(jc - 1))
         denom = g0 - g1
         frac = np.where(denom != 0, (g0 - c) / np.where(denom != 0, denom, 1), 0)
         cross = np.where(j < width, np.clip(x0 + frac * (jc - x0), pos, jc), np.inf)
@@ -157,7 +172,6 @@ def _row_inside(g, gmax, gmin, row, fu, c, width, u_end, rate, lxy):
         g_here = np.where(active, c, g_here)
     # still inside where the box ends: the tail along the tangent plane of P_S (§6)
     delta = g_at(np.minimum(u_end, width - 1.0)) - c
-    still = inside & (delta > 0)
     with np.errstate(divide="ignore", invalid="ignore"):
-        tail = np.where(still & (rate > 0), delta / rate * lxy, 0)
+        tail = np.where(inside & (delta > 0) & (rate > 0), delta / rate * lxy, 0)
     return total + tail
