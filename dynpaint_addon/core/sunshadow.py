@@ -89,9 +89,10 @@ def sun_cos_theta(normals, heights_px, light, offset):
     gy = cy + gu[None, :] * ey + gv[:, None] * ex
     z = sample_bilinear(heights_px.astype(np.float32), gx.astype(np.float32),
                         gy.astype(np.float32), "extend").astype(np.float64)
-    g = z - m * gu[None, :]            # beyond the box the relief extends; rays stop there
+    g = (z - m * gu[None, :]).astype(np.float32)   # beyond the box the relief extends
     gmax = _tables(g, np.maximum)
     gmin = _tables(g, np.minimum)
+    suffix = np.maximum.accumulate(g[:, ::-1], axis=1)[:, ::-1]   # max of G from u onward
 
     # ray starts P0 = P_S − d·N, in grid coordinates
     x, y = pixel_centres(h, w, np.float64)
@@ -107,71 +108,93 @@ def sun_cos_theta(normals, heights_px, light, offset):
     from .shadow import _exit_distance, _inside_box
     inbox0 = _inside_box(x0, y0, h, w).ravel()
     u_end = fu + _exit_distance(x0, y0, np.full_like(x0, ex), np.full_like(x0, ey), h, w).ravel()
-    r_h = _inside_length(g, gmax, gmin, r0, wv, fu, c, width, u_end, rate, lxy)
+    # the reference's δ0: the exact bilinear relief above P0, where P0 is in the box
+    delta0 = (sample_bilinear(heights_px.astype(np.float64), x0, y0, "extend") - z0).ravel()
+    r_h = _inside_length(g, gmax, gmin, suffix, r0, wv, fu, c, c + delta0, width, u_end, rate,
+                         lxy)
     # P0 outside the box: no march, the tail from the tangent plane of P_S (δ0 = d/N.z)
     with np.errstate(divide="ignore", invalid="ignore"):
-        out_tail = np.where(rate > 0, (d / nz.ravel()) / rate * lxy, 0)
+        out_tail = np.where(rate > 0, (d / nz.ravel()) / rate * lxy, np.inf)
     r_h = np.where(inbox0, r_h, out_tail)
     r = (r_h / lxy).reshape(h, w)                           # along the 3D ray
     t = d / np.maximum(r, d)
     return np.clip(np.where(np.isfinite(t), t, 0), 0, 1).astype(dtype, copy=False)
 
 
-def _inside_length(g, gmax, gmin, r0, wv, fu, c, width, u_end, rate, lxy):
+def _inside_length(g, gmax, gmin, suffix, r0, wv, fu, c, g_start, width, u_end, rate, lxy):
     """Length (px of u) of each ray inside the relief, along the profile blended from the two
     grid rows around it, until it leaves the box of pixel centres at u_end; plus the
-    reference's tangent-plane tail if it is still inside there."""
+    reference's tangent-plane tail if it is still inside there. g_start: G at the ray's start
+    (from the exact δ0 of the reference, so the start is inside exactly when it is there).
+
+    Rays are compacted as they finish: each round works on the rays still marching.
+    """
     gflat = g.reshape(-1)
-    base0, base1 = r0 * width, (r0 + 1) * width
-
-    def g_col(k):
-        k = np.clip(k, 0, width - 1)
-        return np.take(gflat, base0 + k) * (1 - wv) + np.take(gflat, base1 + k) * wv
-
-    def g_at(u):
-        k = np.clip(np.floor(u).astype(np.int64), 0, width - 2)
-        a, b = g_col(k), g_col(k + 1)
-        return a + (b - a) * np.clip(u - k, 0.0, 1.0)
-    exit_if = lambda v, cc: v > cc       # noqa: E731  (inside: skip while all of it is above c)
-    entry_if = lambda v, cc: v <= cc     # noqa: E731  (outside: skip while all of it is below)
-    g_here = g_at(fu)                    # G where the ray is now
-    inside = g_here > c
-    pos = fu.copy()                      # where the ray is now (u, grid units)
-    col = np.clip(np.floor(fu).astype(np.int64), 0, width - 2) + 1
-    total = np.zeros_like(fu)
-    active = u_end > pos
-    for _ in range(4 * MAX_CROSSINGS):
-        if not active.any():
+    sflat = suffix.reshape(-1)
+    n = fu.size
+    total = np.zeros(n)
+    inside_end = g_start > c
+    idx = np.flatnonzero(u_end > fu)           # the rays still marching
+    pos = fu[idx]
+    col = np.clip(np.floor(pos).astype(np.int64), 0, width - 2) + 1
+    g_here = g_start[idx]
+    inside = g_here > c[idx]
+    exit_if = lambda v, cc: v > cc       # noqa: E731  (inside: skip while all is above c)
+    entry_if = lambda v, cc: v <= cc     # noqa: E731  (outside: skip while all is below c)
+    for _ in range(2 * MAX_CROSSINGS):
+        if idx.size == 0:
             break
+        b0, b1, w, cc, ue = r0[idx] * width, (r0[idx] + 1) * width, wv[idx], c[idx], u_end[idx]
+
+        def g_col(k, sub=slice(None)):
+            k = np.clip(k, 0, width - 1)
+            return (np.take(gflat, b0[sub] + k) * (1 - w[sub])
+                    + np.take(gflat, b1[sub] + k) * w[sub])
+        # outside rays with nothing higher ahead are done (a blended suffix maximum bounds it)
+        at = np.minimum(col, width - 1)
+        ahead = np.take(sflat, b0 + at) * (1 - w) + np.take(sflat, b1 + at) * w
+        done = ~inside & (ahead <= cc)
         j = col.copy()
-        todo = active.copy()
+        todo = ~done
         for _ in range(8):               # descend again where a loose bound stopped early
-            jj = np.where(inside, _descend(gmin, base0, base1, wv, j, c, width, exit_if),
-                          _descend(gmax, base0, base1, wv, j, c, width, entry_if))
-            j = np.where(todo, jj, j)
-            gj = g_col(j)
-            wrong = todo & (j < width) & np.where(inside, gj > c, gj <= c)
-            if not wrong.any():
+            sel = np.flatnonzero(todo)
+            if sel.size == 0:
                 break
-            j = np.where(wrong, j + 1, j)
-            todo = wrong
+            jj = np.empty(sel.size, np.int64)
+            ins = inside[sel]
+            for flag, table, test in ((True, gmin, exit_if), (False, gmax, entry_if)):
+                m = ins == flag
+                if m.any():
+                    s_ = sel[m]
+                    jj[m] = _descend(table, b0[s_], b1[s_], w[s_], j[s_], cc[s_], width, test)
+            j[sel] = jj
+            gj = g_col(j[sel], sel)
+            wrong = (j[sel] < width) & np.where(ins, gj > cc[sel], gj <= cc[sel])
+            todo = np.zeros_like(todo)
+            todo[sel[wrong]] = True
+            j[sel[wrong]] += 1
         jc = np.minimum(j, width - 1)
         g1 = g_col(jc)
-        first = jc == col                # the crossing is in the segment the ray is in
+        first = jc == col
         x0 = np.where(first, pos, jc - 1.0)
         g0 = np.where(first, g_here, g_col(jc - 1))
         denom = g0 - g1
-        frac = np.where(denom != 0, (g0 - c) / np.where(denom != 0, denom, 1), 0)
-        cross = np.where(j < width, np.clip(x0 + frac * (jc - x0), pos, jc), np.inf)
-        ends = active & (cross >= u_end)         # the box ends before the next crossing
-        total = np.where(active & inside, total + (np.minimum(cross, u_end) - pos), total)
-        active &= ~ends
-        pos = np.where(active, cross, pos)
-        col = np.where(active, jc, col)
-        inside = np.where(active, ~inside, inside)
-        g_here = np.where(active, c, g_here)
+        frac = np.where(denom != 0, (g0 - cc) / np.where(denom != 0, denom, 1), 0)
+        cross = np.where((j < width) & ~done, np.clip(x0 + frac * (jc - x0), pos, jc), np.inf)
+        ends = cross >= ue
+        total[idx] += np.where(inside, np.minimum(cross, ue) - pos, 0.0)
+        fin = ends | done
+        inside_end[idx[fin]] = inside[fin]
+        keep = ~fin
+        idx, pos, col, inside, g_here = (idx[keep], cross[keep], jc[keep], ~inside[keep],
+                                         cc[keep])
     # still inside where the box ends: the tail along the tangent plane of P_S (§6)
-    delta = g_at(np.minimum(u_end, width - 1.0)) - c
+    ue = np.minimum(u_end, width - 1.0)
+    k = np.clip(np.floor(ue).astype(np.int64), 0, width - 2)
+
+    def col_all(kk):
+        return np.take(gflat, r0 * width + kk) * (1 - wv) + np.take(gflat, (r0 + 1) * width + kk) * wv
+    delta = col_all(k) + (col_all(k + 1) - col_all(k)) * np.clip(ue - k, 0, 1) - c
     with np.errstate(divide="ignore", invalid="ignore"):
-        tail = np.where(inside & (delta > 0) & (rate > 0), delta / rate * lxy, 0)
-    return total + tail
+        tail = np.where(rate > 0, delta / rate * lxy, np.inf)   # δ never falls: all inside
+    return total + np.where(inside_end & (delta > 0), tail, 0)
