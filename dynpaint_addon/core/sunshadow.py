@@ -13,11 +13,15 @@ centres, the tail of shadow.py (tangent plane of P_S) finishes it, as in the ref
 
 Everything is in pixels; the result is t = d / max(r, d) like shadow.cos_theta_shadow.
 """
+import os
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 
 from .sampling import pixel_centres, sample_bilinear
 
 MAX_CROSSINGS = 8     # enter/exit pairs followed per ray (more are very rare)
+THREADS = max(1, min(4, os.cpu_count() or 1))
 
 
 def _tables(g, op):
@@ -110,8 +114,18 @@ def sun_cos_theta(normals, heights_px, light, offset):
     u_end = fu + _exit_distance(x0, y0, np.full_like(x0, ex), np.full_like(x0, ey), h, w).ravel()
     # the reference's δ0: the exact bilinear relief above P0, where P0 is in the box
     delta0 = (sample_bilinear(heights_px.astype(np.float64), x0, y0, "extend") - z0).ravel()
-    r_h = _inside_length(g, gmax, gmin, suffix, r0, wv, fu, c, c + delta0, width, u_end, rate,
-                         lxy)
+    g_start = c + delta0
+    # per-ray state in float32: positions (< 2·10³ px) and levels keep 1e-4 px here
+    fu, c, g_start, u_end, wv, rate = (a.astype(np.float32) for a in
+                                       (fu, c, g_start, u_end, wv, rate))
+    # numpy releases the GIL on large arrays: two halves of the rays run side by side
+    parts = np.array_split(np.arange(fu.size), THREADS)
+
+    def part(ix):
+        return _inside_length(g, gmax, gmin, suffix, r0[ix], wv[ix], fu[ix], c[ix], g_start[ix],
+                              width, u_end[ix], rate[ix], lxy)
+    with ThreadPoolExecutor(THREADS) as pool:
+        r_h = np.concatenate(list(pool.map(part, parts)))
     # P0 outside the box: no march, the tail from the tangent plane of P_S (δ0 = d/N.z)
     with np.errstate(divide="ignore", invalid="ignore"):
         out_tail = np.where(rate > 0, (d / nz.ravel()) / rate * lxy, np.inf)
@@ -132,7 +146,7 @@ def _inside_length(g, gmax, gmin, suffix, r0, wv, fu, c, g_start, width, u_end, 
     gflat = g.reshape(-1)
     sflat = suffix.reshape(-1)
     n = fu.size
-    total = np.zeros(n)
+    total = np.zeros(n, np.float32)
     inside_end = g_start > c
     idx = np.flatnonzero(u_end > fu)           # the rays still marching
     pos = fu[idx]
