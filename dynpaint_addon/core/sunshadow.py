@@ -61,10 +61,15 @@ def _descend(tables, base0, base1, wv, start, c, width, skip_if):
     return pos
 
 
-def sun_cos_theta(normals, heights_px, light, offset):
-    """t = d / max(r, d) (H, W) for a sun over a height map, r from exact crossings."""
+def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None):
+    """t = d / max(r, d) (H, W) for a sun, r from exact crossings.
+
+    heights_px: the relief in pixels (height maps); or slopes (H, W, 2), −N.xy/N.z (normal
+    maps): along a grid row the rebuilt height is then the running integral of the row's
+    slope, so the same crossing search applies (§6: height rebuilt along the ray only).
+    """
     dtype = normals.dtype
-    h, w = heights_px.shape
+    h, w = normals.shape[:2]
     lvec = np.asarray(light.vector, dtype=np.float64)
     lvec = lvec / np.linalg.norm(lvec)
     lx, ly, lz = lvec
@@ -76,7 +81,7 @@ def sun_cos_theta(normals, heights_px, light, offset):
     ndl = nx * lx + ny * ly + nz * lz
     if lxy < 1e-6 or d == 0:
         from .shadow import cos_theta_shadow            # straight up, or the d → 0 limit
-        return cos_theta_shadow(normals, light, offset, 64, heights_px=heights_px)
+        return cos_theta_shadow(normals, light, offset, 64, heights_px=heights_px, slopes=slopes)
     ex, ey = lx / lxy, ly / lxy                          # along the light, in xy
     m = lz / lxy                                         # rise per pixel of u
     cx, cy = w / 2.0, h / 2.0
@@ -91,8 +96,15 @@ def sun_cos_theta(normals, heights_px, light, offset):
     gv = vmin + np.arange(rows)
     gx = cx + gu[None, :] * ex - gv[:, None] * ey
     gy = cy + gu[None, :] * ey + gv[:, None] * ex
-    z = sample_bilinear(heights_px.astype(np.float32), gx.astype(np.float32),
-                        gy.astype(np.float32), "extend").astype(np.float64)
+    gx32, gy32 = gx.astype(np.float32), gy.astype(np.float32)
+    if heights_px is not None:
+        z = sample_bilinear(heights_px.astype(np.float32), gx32, gy32, "extend").astype(np.float64)
+    else:
+        # slope along u at each grid point; its running integral (trapezoids) is the height
+        sl = sample_bilinear(slopes.astype(np.float32), gx32, gy32, "extend").astype(np.float64)
+        su = sl[..., 0] * ex + sl[..., 1] * ey
+        z = np.concatenate([np.zeros((rows, 1)), np.cumsum((su[:, 1:] + su[:, :-1]) / 2, axis=1)],
+                           axis=1)
     g = (z - m * gu[None, :]).astype(np.float32)   # beyond the box the relief extends
     gmax = _tables(g, np.maximum)
     gmin = _tables(g, np.minimum)
@@ -100,20 +112,34 @@ def sun_cos_theta(normals, heights_px, light, offset):
 
     # ray starts P0 = P_S − d·N, in grid coordinates
     x, y = pixel_centres(h, w, np.float64)
-    zs = heights_px.astype(np.float64)
+    zs = heights_px.astype(np.float64) if heights_px is not None else np.zeros((h, w))
     x0, y0, z0 = x - d * nx, y - d * ny, zs - d * nz
     u0 = (x0 - cx) * ex + (y0 - cy) * ey
     v0 = -(x0 - cx) * ey + (y0 - cy) * ex
     fu, fv = (u0 - umin).ravel(), (v0 - vmin).ravel()
     c = (z0 - m * u0).ravel()
-    r0 = np.clip(np.floor(fv).astype(np.int64), 0, rows - 2)
-    wv = np.clip(fv - r0, 0.0, 1.0)
     rate = (ndl / nz).ravel()
     from .shadow import _exit_distance, _inside_box
     inbox0 = _inside_box(x0, y0, h, w).ravel()
     u_end = fu + _exit_distance(x0, y0, np.full_like(x0, ex), np.full_like(x0, ey), h, w).ravel()
-    # the reference's δ0: the exact bilinear relief above P0, where P0 is in the box
-    delta0 = (sample_bilinear(heights_px.astype(np.float64), x0, y0, "extend") - z0).ravel()
+    r0 = np.clip(np.floor(fv).astype(np.int64), 0, rows - 2)
+    wv = np.clip(fv - r0, 0.0, 1.0)
+    if heights_px is not None:
+        # the reference's δ0: the exact bilinear relief above P0, where P0 is in the box
+        delta0 = (sample_bilinear(heights_px.astype(np.float64), x0, y0, "extend") - z0).ravel()
+    else:
+        # normal maps start on the tangent plane of P_S: H(P0) = d|N.xy|²/N.z, δ0 = d/N.z;
+        # the row's running integral is shifted so that it reads H(P0) at the start
+        h0 = (d * (nx * nx + ny * ny) / nz).ravel()
+        delta0 = (d / nz).ravel()
+        k = np.clip(np.floor(fu).astype(np.int64), 0, width - 2)
+        zf = z.reshape(-1)
+
+        def at(row, kk):
+            return zf[row * width + kk]
+        s0 = at(r0, k) + (at(r0, k + 1) - at(r0, k)) * np.clip(fu - k, 0, 1)
+        s1 = at(r0 + 1, k) + (at(r0 + 1, k + 1) - at(r0 + 1, k)) * np.clip(fu - k, 0, 1)
+        c = c - h0 + s0 * (1 - wv) + s1 * wv
     g_start = c + delta0
     # per-ray state in float32: positions (< 2·10³ px) and levels keep 1e-4 px here
     fu, c, g_start, u_end, wv, rate = (a.astype(np.float32) for a in
