@@ -180,7 +180,7 @@ def test_plane_is_cos_theta_at_every_quality(quality):
 def test_quality_levels_converge_to_the_reference():
     from dynpaint_addon.testpainting import builtin_images
     from dynpaint_addon.core.shape import height_field_px, normals_from_height_px
-    z = height_field_px(builtin_images(96)["shape"].grey(), 0.25)
+    z = height_field_px(builtin_images(192)["shape"].grey(), 0.25)
     n = normals_from_height_px(z)
     light = Light("sun", (-0.6, 0.5, 0.45))
     ref = bake(n.astype(np.float64), light, 0.01, "reference", heights_px=z.astype(np.float64))
@@ -202,3 +202,49 @@ def test_a_bake_can_be_superseded():
         bake(n, Light("sun", (0.3, 0.2, 0.5)), 0.01, "custom", heights_px=z, steps=32,
              cancel=cancel)
     assert len(calls) == 4
+
+
+# -- the fast sun bake (sunshadow.py) ------------------------------------------------------
+from dynpaint_addon.core import sunshadow  # noqa: E402
+
+
+@pytest.mark.parametrize("kind", ["height", "normal"])
+def test_sun_crossings_match_the_reference(kind):
+    """Exact crossings against the K = 1024 float64 march, on tall relief."""
+    from dynpaint_addon.testpainting import builtin_images
+    from dynpaint_addon.core.shape import height_field_px, normals_from_height_px
+    z = height_field_px(builtin_images(192)["shape"].grey().astype(np.float64), 0.25)
+    n = normals_from_height_px(z)
+    kw = {"heights_px": z} if kind == "height" else {"slopes": slopes_from_normals(n)}
+    light = Light("sun", (-0.6, 0.5, 0.45))
+    ref = cos_theta_shadow(n, light, 0.01, 1024, **kw)
+    fast = sunshadow.sun_cos_theta(n.astype(np.float32), light, 0.01,
+                                   **{k: v.astype(np.float32) for k, v in kw.items()})
+    assert fast.shape == ref.shape and fast.dtype == np.float32
+    # resolution-dependent: the light-aligned grid smears one-pixel walls (1.4e-4 at 1024²)
+    assert np.abs(fast - ref).mean() < 3e-3
+    assert np.all((fast >= 0) & (fast <= 1))
+
+
+@pytest.mark.parametrize("light", [Light("sun", (0, 0, 1)), Light("sun", (0.3, 0.2, -0.1)),
+                                   Light("sun", (1, 0, 1e-9))])
+def test_sun_crossings_extremes(light):
+    """Straight up (no horizontal direction), below the horizon, grazing: finite, in [0, 1]."""
+    z = np.zeros((20, 30))
+    z[8:12, 10:20] = 6.0
+    from dynpaint_addon.core.shape import normals_from_height_px
+    n = normals_from_height_px(z)
+    t = sunshadow.sun_cos_theta(n, light, 0.01, heights_px=z)
+    assert np.all(np.isfinite(t)) and np.all((t >= 0) & (t <= 1))
+    if light.vector[2] <= 0:
+        assert np.all(t == 0)
+
+
+def test_large_images_fall_back_to_the_march(monkeypatch):
+    n = flat_normals(16, 16)
+    z = np.zeros((16, 16))
+    z[5:9, 5:9] = 4.0
+    light = Light("sun", (0.5, 0.2, 0.4))
+    monkeypatch.setattr(sunshadow, "MAX_TABLE_BYTES", 0)
+    marched = bake(n, light, 0.01, "final", heights_px=z)
+    assert np.array_equal(marched, cos_theta_shadow(n, light, 0.01, 64, heights_px=z))

@@ -178,6 +178,8 @@ def cos_theta_shadow(normals, light, offset, steps, *, heights_px=None, slopes=N
 
 # §13 quality levels of the bake: K, the resolution the march runs at (the result is upsampled
 # bilinearly) and the precision. 'custom' takes K and the resolution from the parameters.
+# Suns bake by exact crossings (sunshadow.py) at draft, preview and final: K does not apply
+# there; custom K and the reference always march.
 QUALITY = {
     "draft": {"steps": 16, "scale": 0.25, "dtype": "float32"},
     "preview": {"steps": 32, "scale": 0.5, "dtype": "float32"},
@@ -185,6 +187,7 @@ QUALITY = {
     "reference": {"steps": 1024, "scale": 1.0, "dtype": "float64"},
 }
 QUALITIES = (*QUALITY, "custom")
+FAST_FINAL_MIN_PX = 512
 
 
 def quality_settings(quality, steps=64, scale=1.0):
@@ -205,14 +208,26 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
     heights_px = None if heights_px is None else heights_px.astype(dtype, copy=False)
     slopes = None if slopes is None else slopes.astype(dtype, copy=False)
     hs, ws = max(1, round(h * scale)), max(1, round(w * scale))
+    march = cos_theta_shadow
+    # Exact crossings smear one-pixel walls a little (a resampled grid): below ~512 px the
+    # K = 64 march is more accurate and cheap anyway, so 'final' marches there.
+    fast_level = quality in ("draft", "preview") or (quality == "final"
+                                                      and min(hs, ws) >= FAST_FINAL_MIN_PX)
+    if light.kind == "sun" and fast_level and occupancy == "linear":
+        from . import sunshadow
+        if sunshadow.fits(hs, ws):
+            def march(n, lt, off, _k, heights_px=None, slopes=None, cancel=None, **_):
+                if cancel is not None and cancel():      # one pass: superseded before it starts
+                    raise BakeCancelled()
+                return sunshadow.sun_cos_theta(n, lt, off, heights_px=heights_px, slopes=slopes)
     if (hs, ws) == (h, w):
-        return cos_theta_shadow(normals, light, offset, k, heights_px=heights_px, slopes=slopes,
-                                occupancy=occupancy, stats=stats, cancel=cancel)
+        return march(normals, light, offset, k, heights_px=heights_px, slopes=slopes,
+                     occupancy=occupancy, stats=stats, cancel=cancel)
     from .sampling import resample
     from .shape import finalize_normals
     n_s = finalize_normals(resample(normals, hs, ws))
     z_s = None if heights_px is None else resample(heights_px, hs, ws) * dtype(ws / w)
     sl_s = None if slopes is None else resample(slopes, hs, ws)
-    t = cos_theta_shadow(n_s, light, offset, k, heights_px=z_s, slopes=sl_s,
-                         occupancy=occupancy, stats=stats, cancel=cancel)
+    t = march(n_s, light, offset, k, heights_px=z_s, slopes=sl_s, occupancy=occupancy,
+              stats=stats, cancel=cancel)
     return np.clip(resample(t, h, w), 0, 1).astype(dtype, copy=False)

@@ -1,4 +1,4 @@
-"""The cos-θ term of a sun over a height map by exact crossings in a light-aligned frame (§6).
+"""The cos-θ term of a sun by exact crossings in a light-aligned frame (§6): the fast bake.
 
 The march of shadow.py samples the relief K times along every ray. For a sun every ray has
 the same direction, so the relief is resampled once onto a grid whose rows run along the
@@ -7,10 +7,16 @@ m = L.z/|L.xy| per pixel of u, so with G(u) = H(u) − m·u the ray from (u0, z0
 relief exactly where G > c = z0 − m·u0. Per row, sparse tables of the maximum and minimum of
 G over power-of-two windows find the next up- or down-crossing of c by a binary descent; the
 inside length is the sum of the intervals between crossings, each placed by linear
-interpolation of G between columns. A ray between two rows takes the two rows' lengths,
-weighted by its distance to each. Where a ray is still inside when it leaves the box of pixel
-centres, the tail of shadow.py (tangent plane of P_S) finishes it, as in the reference.
+interpolation of G between columns. A ray between two rows follows the blend of the two rows'
+profiles (the tables' blended extremes bound the blend's, and single columns are exact).
+The start is the reference's: δ0 from the exact bilinear relief at P0 (height maps) or the
+tangent plane of P_S (normal maps, whose rebuilt height along a row is the running integral
+of the row's slope). Where a ray is still inside when it leaves the box of pixel centres, the
+tail of shadow.py (tangent plane of P_S) finishes it, as in the reference; a flat plane gives
+cos θ exactly, up to the border.
 
+Measured (benchmarks/shadow_quality.py, 1024², relief 0.5 image widths, d = 0.01): mean
+|Δt| 1.4e-4–3e-4 against the K = 1024 float64 reference (the K = 64 march: 1e-3–1.5e-3).
 Everything is in pixels; the result is t = d / max(r, d) like shadow.cos_theta_shadow.
 """
 import os
@@ -21,6 +27,7 @@ import numpy as np
 from .sampling import pixel_centres, sample_bilinear
 
 MAX_CROSSINGS = 8     # enter/exit pairs followed per ray (more are very rare)
+MAX_TABLE_BYTES = 1.5 * 2**30   # larger grids fall back to the march (row bands: to do)
 THREADS = max(1, min(4, os.cpu_count() or 1))
 
 
@@ -59,6 +66,13 @@ def _descend(tables, base0, base1, wv, start, c, width, skip_if):
         win = np.take(flat, base0 + at) * (1 - wv) + np.take(flat, base1 + at) * wv
         pos = np.where(ok & skip_if(win, c), cand, pos)
     return pos
+
+
+def fits(h, w):
+    """True if the sparse tables of an (h, w) image stay within MAX_TABLE_BYTES."""
+    side = np.hypot(h, w) + 4
+    levels = int(np.ceil(np.log2(side))) + 1
+    return 2 * levels * side * side * 4 <= MAX_TABLE_BYTES
 
 
 def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None):
