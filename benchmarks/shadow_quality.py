@@ -174,7 +174,10 @@ def main(argv=None):
         q = QUALITY.get(level, {"steps": 64, "scale": 1.0})
         lines.append(f"| {label} | {level} | K = {q['steps']} at {q['scale']:g}× | {sec:.3f} "
                      f"| {ratio:.2f} | {err:.1e} |")
-    lines += ["", "Targets (issue 4): final ≤ 0.1× baseline with mean ≤ 5e-4; preview ≤ 0.02× "
+    lines += ["", "For suns, draft, preview and final (from 512 px up) bake by exact crossings "
+              "in a light-aligned frame (core/sunshadow.py), at the level's resolution: K does "
+              "not apply there. Point lights still march.", "",
+              "Targets (issue 4): final ≤ 0.1× baseline with mean ≤ 5e-4; preview ≤ 0.02× "
               "with mean ≤ 0.01.", ""]
     if args.out:
         img = os.path.join(os.path.dirname(os.path.abspath(args.out)), "img", "shadow-quality.svg")
