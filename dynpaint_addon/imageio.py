@@ -101,7 +101,7 @@ def image_data_from_blender(img, path=None):
     else:
         bits = 32
     px = px.reshape(h, w, c)   # Blender buffers are bottom row first: already y-up
-    keep = FILE_CHANNELS.get((img.is_float, img.depth), c) if img.source == "FILE" else c
+    keep = file_channels(img)
     px = px[..., :1] if keep == 1 else px[..., :keep]
     return ImageData(np.ascontiguousarray(px), bits=bits, name=os.path.basename(where))
 
@@ -111,6 +111,14 @@ def image_data_from_blender(img, path=None):
 # RGB 96, RGBA 128. Grey+alpha comes back as RGBA with R = G = B, which reads the same.
 FILE_CHANNELS = {(False, 8): 1, (False, 24): 3, (False, 32): 4,
                   (True, 32): 1, (True, 96): 3, (True, 128): 4}
+
+
+def file_channels(img):
+    """How many channels a Blender image's file held (its buffer always has four): grey 1,
+    RGB 3, RGBA 4; generated and packed-from-memory images count their buffer."""
+    if img.source == "FILE":
+        return FILE_CHANNELS.get((img.is_float, img.depth), img.channels)
+    return img.channels
 
 
 def write_exr(path, pixels, channel_names=None):

@@ -79,13 +79,13 @@ def test_a_newer_request_supersedes_the_one_in_flight(painting):
     assert live.latencies and len(live.latencies) == 1
 
 
-def test_a_failing_bake_keeps_the_last_good_image(painting):
+def test_a_failing_bake_keeps_the_last_good_image(painting, monkeypatch):
     live = live_bake.LiveBake()
     item = painting.dynamic_painting.lights[0]
     before = shadow_pixels(item).copy()
     key = (painting.dynamic_painting.image_shape.name,
            repr(vars(settings_to_params(painting.dynamic_painting).shape)))
-    live.shapes[painting.name] = (key, (np.full((2, 2, 3), np.nan), None, None))
+    monkeypatch.setitem(M._SHAPES, painting.name, (key, (np.full((2, 2, 3), np.nan), None, None)))
     from dynpaint_addon.blender.handlers import LAST_ERRORS
     LAST_ERRORS.clear()
     live.request(painting, bpy.context.scene)

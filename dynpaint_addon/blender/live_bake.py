@@ -18,7 +18,7 @@ import numpy as np
 
 import bpy
 
-from ..core.pipeline import shadow_term, shape_normals
+from ..core.pipeline import shadow_term
 from ..core.shadow import BakeCancelled
 from . import material as M
 from .properties import settings_to_params
@@ -33,7 +33,6 @@ class LiveBake:
         self.still_since = {}       # material name → time of the newest preview request
         self.results = queue.Queue()
         self.threads = []
-        self.shapes = {}            # material name → (key, (normals, heights, slopes))
         self.latencies = []         # (quality, ms from request to updated image)
         self.superseded = 0
 
@@ -48,7 +47,7 @@ class LiveBake:
         plane_m = (plane.evaluated_get(depsgraph) if depsgraph else plane).matrix_world
         items = [i for i in s.lights if i.object is not None and i.shadow is not None]
         lights = [M.painting_frame_light(i.object, plane_m, depsgraph) for i in items]
-        shape = self._shape(mat, p)
+        shape = M.bake_shape(mat, p)
         name = mat.name
         gen = self.generation.get(name, 0) + 1
         self.generation[name] = gen
@@ -63,17 +62,6 @@ class LiveBake:
         if not bpy.app.background and not bpy.app.timers.is_registered(_tick):
             bpy.app.timers.register(_tick, first_interval=TIMER_S)
         return gen
-
-    def _shape(self, mat, p):
-        """The decoded shape (§2), cached until the shape image or its settings change."""
-        s = mat.dynamic_painting
-        key = (s.image_shape.name if s.image_shape else None, repr(vars(p.shape)))
-        hit = self.shapes.get(mat.name)
-        if hit is None or hit[0] != key:
-            data = M.image_data_from_blender(s.image_shape)
-            hit = (key, shape_normals(data, p))
-            self.shapes[mat.name] = hit
-        return hit[1]
 
     def apply(self):
         """Write finished bakes into their images (main thread) → number applied."""

@@ -16,9 +16,9 @@ import bpy
 
 from .. import params as P
 from ..core.lights import Light
-from ..core.pipeline import lookup_copy, shadow_term, shape_normals
+from ..core.pipeline import lookup_copy, shadow_term, shape_normals, silhouette_channel
 from ..core.shape import default_preblur_px, preblurred_height
-from ..imageio import FILE_CHANNELS, image_data_from_blender
+from ..imageio import file_channels, image_data_from_blender
 from ..nodegraph import build_bpy
 from ..nodegraph.pipeline_graph import Features, describe
 from ..nodegraph.shader_backend import POINT_POWER_UNIT, ShaderBackend
@@ -113,11 +113,6 @@ def grey_rgba(grey, alpha=None):
     return np.stack([grey, grey, grey, a], axis=-1)
 
 
-def image_data(settings):
-    """{channel: ImageData} of the painting's images, read from Blender's pixels."""
-    return {c: image_data_from_blender(img) for c, img in channel_images(settings).items()}
-
-
 def _set_derived(settings, channel, image, key):
     item = next((d for d in settings.derived if d.channel == channel), None)
     if item is None:
@@ -130,50 +125,49 @@ def _derived(settings, channel):
     return next((d.image for d in settings.derived if d.channel == channel), None)
 
 
-def update_derived_images(mat, data=None):
-    """Make the images numpy derives from the inputs (only those whose inputs changed)."""
+def update_derived_images(mat):
+    """Make the images numpy derives from the inputs (only those whose inputs changed),
+    reading only the images they come from."""
     s = mat.dynamic_painting
     p = settings_to_params(s)
     imgs = channel_images(s)
     base = f"DP {mat.name}"
+    read = {}
 
-    def need(channel, key, make):
+    def need(channel, key, source, make):
         item = next((d for d in s.derived if d.channel == channel), None)
         if item is None or item.image is None or item.key != key:
-            nonlocal data
-            data = data or image_data(s)
-            _set_derived(s, channel, float_image(f"{base} {channel}", make(data)), key)
+            if source not in read:
+                read[source] = image_data_from_blender(imgs[source])
+            _set_derived(s, channel, float_image(f"{base} {channel}", make(read[source])), key)
 
     if p.shape.kind == "height" and "shape" in imgs:
         sigma = p.shape.preblur
         sigma = default_preblur_px(_bits(imgs["shape"])) if sigma == "auto" else sigma
-        need("height", f"{imgs['shape'].name}|{sigma}",
-             lambda d: grey_rgba(preblurred_height(d["shape"].grey(), float(sigma))))
+        need("height", f"{imgs['shape'].name}|{sigma}", "shape",
+             lambda d: grey_rgba(preblurred_height(d.grey(), float(sigma))))
     source = _silhouette_source(mat)
     if source:
         # A float copy of the alpha: EEVEE reads 8-bit alpha up to 1/255 off (254 → 255).
-        need("silhouette", f"{imgs[source].name}|{source}",
-             lambda d: grey_rgba(*[np.clip(np.nan_to_num(d[source].alpha()), 0, 1)] * 2))
+        need("silhouette", f"{imgs[source].name}|{source}", source,
+             lambda d: grey_rgba(*[np.clip(np.nan_to_num(d.alpha()), 0, 1)] * 2))
     for channel, sec in (("environment", p.reflection), ("background", p.refraction)):
         if channel in imgs:
-            need(channel, f"{imgs[channel].name}|{sec.blur}|{sec.extension}",
-                 lambda d, c=channel, sec=sec: lookup_copy(d[c], sec.blur, sec.extension))
+            need(channel, f"{imgs[channel].name}|{sec.blur}|{sec.extension}", channel,
+                 lambda d, sec=sec: lookup_copy(d, sec.blur, sec.extension))
     if "background" in imgs:
         if p.refraction.blur == 0:
             _set_derived(s, "background_sharp", _derived(s, "background"), "same")
         else:
-            need("background_sharp", f"{imgs['background'].name}|0",
-                 lambda d: lookup_copy(d["background"], 0.0, "extend"))
-    return data
+            need("background_sharp", f"{imgs['background'].name}|0", "background",
+                 lambda d: lookup_copy(d, 0.0, "extend"))
 
 
 def _silhouette_source(mat):
     """The channel whose alpha cuts the painting out (§11), as Features resolves it."""
-    s = mat.dynamic_painting
-    imgs = channel_images(s)
-    order = {"auto": ("shape", "dark"), "shape": ("shape",), "dark": ("dark",),
-             "none": ()}[s.silhouette.source]
-    return next((c for c in order if c in imgs and has_alpha(imgs[c])), "")
+    imgs = channel_images(mat.dynamic_painting)
+    return silhouette_channel(mat.dynamic_painting.silhouette.source,
+                              lambda c: c in imgs and has_alpha(imgs[c]))
 
 
 # -- lights -----------------------------------------------------------------------------------
@@ -226,9 +220,7 @@ def _bits(img):
 
 
 def has_alpha(img):
-    if img.source == "FILE":
-        return FILE_CHANNELS.get((img.is_float, img.depth), img.channels) in (2, 4)
-    return img.channels == 4
+    return file_channels(img) in (2, 4)
 
 
 def rebuild_tree(mat, scene, force=False):
@@ -292,7 +284,23 @@ def bake_key(light, p, s):
                                           s.image_shape.name if s.image_shape else None))
 
 
-def bake_shadows(mat, scene, depsgraph=None, steps=None, data=None, force=True):
+_SHAPES = {}   # material name → (key, (normals, heights_px, slopes)): the bakes' decoded shape
+
+
+def bake_shape(mat, p, fresh=False):
+    """The shape decoded for the bake (§2), cached per painting until its shape image or the
+    shape settings change, so per-frame and live bakes do not read and decode it each time;
+    `fresh` decodes again (the image's pixels may have been edited)."""
+    s = mat.dynamic_painting
+    key = (s.image_shape.name, repr(vars(p.shape)))
+    hit = _SHAPES.get(mat.name)
+    if fresh or hit is None or hit[0] != key:
+        hit = (key, shape_normals(image_data_from_blender(s.image_shape), p, np.float32))
+        _SHAPES[mat.name] = hit
+    return hit[1]
+
+
+def bake_shadows(mat, scene, depsgraph=None, force=True):
     """Bake the cos-θ term (§6) of the linked lights into their images. → milliseconds taken.
 
     Without `force`, a light whose painting-frame position and shadow inputs are those of its
@@ -309,8 +317,6 @@ def bake_shadows(mat, scene, depsgraph=None, steps=None, data=None, force=True):
         raise ValueError("no shape image to bake shadows from: assign one under Images "
                          "(the last baked shadows are kept)")
     plane_m = (plane.evaluated_get(depsgraph) if depsgraph is not None else plane).matrix_world
-    if steps is not None:           # an explicit K (tests) overrides the quality level
-        p.shadows.quality, p.shadows.steps = "custom", steps
     todo = []
     for item in s.lights:
         if item.object is None:
@@ -321,8 +327,7 @@ def bake_shadows(mat, scene, depsgraph=None, steps=None, data=None, force=True):
             todo.append((item, light, key))
     if not todo:
         return 0.0
-    data = data or image_data(s)
-    n, z_px, slopes = shape_normals(data["shape"], p, np.float32)
+    n, z_px, slopes = bake_shape(mat, p, fresh=force)
     t_start = time.perf_counter()
     results = [shadow_term(n, z_px, slopes, light, p) for _, light, _ in todo]
     ms = (time.perf_counter() - t_start) * 1000
@@ -338,14 +343,13 @@ def refresh(mat, structure=True, derived=True, shadows=False, scene=None, depsgr
     """Bring the painting up to date: derived images, shadow bake, then the tree."""
     scene = scene or bpy.context.scene
     s = mat.dynamic_painting
-    data = None
     if derived:
-        data = update_derived_images(mat)
+        update_derived_images(mat)
     if structure:
         _, lights = features_for(mat, scene)
         _sync_light_items(s, lights)
     if s.shadows.enabled and (shadows or any(i.shadow is None for i in s.lights)):
-        bake_shadows(mat, scene, depsgraph, data=data)
+        bake_shadows(mat, scene, depsgraph)
     elif shadows:
         s.shadows_stale = True
     if structure or shadows:

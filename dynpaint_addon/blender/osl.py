@@ -13,7 +13,6 @@ import numpy as np
 
 import bpy
 
-from ..core.pipeline import shape_normals
 from ..core.shape import slopes_from_normals
 from ..imageio import write_exr
 from ..nodegraph import osl_codegen
@@ -133,10 +132,7 @@ def _set_relief_bounds(mat, script, features):
     maps), from the numpy copy the material also uses."""
     from . import material as M
     from .properties import settings_to_params
-    s = mat.dynamic_painting
-    data = M.image_data(s)
-    p = settings_to_params(s)
-    n, z_px, slopes = shape_normals(data["shape"], p)
+    n, z_px, slopes = M.bake_shape(mat, settings_to_params(mat.dynamic_painting))
     if "relief_max" in script.inputs:
         script.inputs["relief_max"].default_value = float(z_px.max()) / features.size[0] \
             if z_px is not None else 0.0

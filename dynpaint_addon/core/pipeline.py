@@ -275,10 +275,17 @@ def render(images, lights, p, dtype=np.float32, cache=None):
     return RenderResult(rgba.astype(dtype, copy=False), passes, warnings)
 
 
+# §1 silhouette.source → the channels whose alpha may cut the painting out, in order
+SILHOUETTE_ORDER = {"auto": ("shape", "dark"), "shape": ("shape",), "dark": ("dark",), "none": ()}
+
+
+def silhouette_channel(source, has_alpha):
+    """The channel whose alpha is the silhouette ('' for none); has_alpha(channel) says whether
+    that channel has an image with alpha. One rule for the core, the graphs and the add-on."""
+    return next((c for c in SILHOUETTE_ORDER[source] if has_alpha(c)), "")
+
+
 def _silhouette(imgs, source):
     """§1: alpha of the shape (or dark) image, by the recipe's silhouette.source."""
-    order = {"auto": ("shape", "dark"), "shape": ("shape",), "dark": ("dark",), "none": ()}[source]
-    for name in order:
-        if name in imgs and imgs[name].has_alpha:
-            return imgs[name].alpha()
-    return None
+    name = silhouette_channel(source, lambda c: c in imgs and imgs[c].has_alpha)
+    return imgs[name].alpha() if name else None

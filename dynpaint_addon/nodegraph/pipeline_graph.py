@@ -22,6 +22,7 @@ changing a value never rebuilds the tree, and toggling a feature rebuilds only t
 """
 from dataclasses import dataclass
 
+from ..core.pipeline import silhouette_channel
 from .graph import FLOAT, VECTOR, Graph
 
 UP = (0.0, 0.0, 1.0)
@@ -64,9 +65,8 @@ class Features:
         else:
             transparency = "param" if amount > 0 or "transparency" in channels else "none"
             # An explicit 0 with no map prunes the branch; any other value stays live.
-        order = {"auto": ("shape", "dark"), "shape": ("shape",), "dark": ("dark",),
-                 "none": ()}[p.silhouette.source]
-        silhouette = next((c for c in order if c in channels and c in alpha_channels), "")
+        silhouette = silhouette_channel(p.silhouette.source,
+                                        lambda c: c in channels and c in alpha_channels)
         return cls(size=tuple(size), shape_kind=p.shape.kind, channels=channels,
                    lights=tuple(light_kinds), shadows=p.shadows.enabled,
                    specular=p.specular.enabled, diffuse_curve=p.diffuse.curve,
