@@ -81,9 +81,6 @@ def _render_blender(args, recipe):
         raise CommandError("--width and --float64 apply to the numpy engine only")
     if os.path.splitext(args.out)[1].lower() not in (".png", ".exr"):
         raise CommandError(f"{args.out}: unsupported output format (use .png or .exr)")
-    for channel, path in recipe.images.items():
-        if not os.path.isfile(path):
-            raise CommandError(f"{recipe.path}: images.{channel}: {path}: file not found")
     from .blender.headless import render_recipe
     seconds = render_recipe(recipe, args.engine, args.out, args.frame)
     print(f"rendered with {args.engine} in {seconds * 1000:.0f} ms → {args.out}")
