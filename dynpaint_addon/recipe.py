@@ -1,6 +1,7 @@
 """The painting recipe: a small human-editable TOML file naming the images, parameters and lights.
 
     name = "Dome"
+    description = "One line for menus"   # optional
     [images]                  # paths relative to this file
     shape = "height.png"
     dark = "dark.png"
@@ -40,6 +41,7 @@ class Recipe:
     images: dict = field(default_factory=dict)   # channel → absolute path
     name: str = ""
     path: str = ""
+    description: str = ""   # one line for menus and tooltips
 
 
 def _suggest(key, options):
@@ -118,13 +120,13 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True):
     """Validate a recipe dict (as read from TOML) → Recipe. Image paths resolve from base_dir."""
     where = f"{source}: "
     params = P.defaults()
-    name = ""
+    text = {"name": "", "description": ""}
     images, lights = {}, []
     for key, value in data.items():
-        if key == "name":
+        if key in text:
             if not isinstance(value, str):
-                raise RecipeError(f"{where}name: expected a string, got {value!r}")
-            name = value
+                raise RecipeError(f"{where}{key}: expected a string, got {value!r}")
+            text[key] = value
         elif key == "images":
             if not isinstance(value, dict):
                 raise RecipeError(f"{where}images: expected a table [images]")
@@ -153,14 +155,14 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True):
                     raise RecipeError(f"{where}{key}.{k}: unknown key{_suggest(k, keys)}")
                 setattr(section, k, _check_value(param, v, f"{where}{key}.{k}"))
         else:
-            options = ("name", "images", "lights") + P.SECTIONS
+            options = ("name", "description", "images", "lights") + P.SECTIONS
             raise RecipeError(f"{where}{key}: unknown key{_suggest(key, options)}")
     for ch in P.REQUIRED_CHANNELS:
         if ch not in images:
             raise RecipeError(f"{where}images.{ch}: missing (a painting needs a shape image)")
     if "dark" not in images and "bright" not in images:
         raise RecipeError(f"{where}images.dark: missing (a painting needs a dark or a bright image)")
-    return Recipe(params, lights, images, name)
+    return Recipe(params, lights, images, text["name"], description=text["description"])
 
 
 def load_recipe(path):
@@ -199,6 +201,8 @@ def recipe_to_toml(recipe, base_dir, only_changed=True):
     lines = ["# Dynamic Painting recipe (see `python -m dynpaint_addon params`)"]
     if recipe.name:
         lines.append(f"name = {_toml_value(recipe.name)}")
+    if recipe.description:
+        lines.append(f"description = {_toml_value(recipe.description)}")
     lines += ["", "[images]"]
     for ch, full in recipe.images.items():
         rel = os.path.relpath(full, base_dir).replace(os.sep, "/")

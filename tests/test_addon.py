@@ -259,6 +259,9 @@ class RecordingLayout:
     def operator_menu_enum(self, idname, prop, **kw):
         self.operator(idname)
 
+    def separator(self, **kw):
+        pass
+
 
 def test_every_panel_draws_existing_properties_and_operators(empty_scene, folder):
     add(folder, "height16.png", "dark.png", "bright.png")
@@ -274,5 +277,6 @@ def test_every_panel_draws_existing_properties_and_operators(empty_scene, folder
     from dynpaint_addon import params as P
     height_params = {p.key for p in P.PARAMS if p.key != "flip_green"}   # a height map
     assert height_params <= drawn, height_params - drawn
-    assert {"dynpaint.bake_shadows", "dynpaint.image_open", "dynpaint.apply_look"} <= \
+    assert {"dynpaint.bake_shadows", "dynpaint.image_open", "dynpaint.apply_look",
+            "dynpaint.add_light_turntable", "dynpaint.add", "dynpaint.add_sample"} <= \
         {name for kind, name in log if kind == "operator"}

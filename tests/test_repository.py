@@ -27,6 +27,10 @@ def test_built_zip_excludes_dev_files(tmp_path):
     names = zipfile.ZipFile(glob.glob(str(tmp_path / "*.zip"))[0]).namelist()
     assert "blender_manifest.toml" in names and "__init__.py" in names
     assert "dynpaint_addon/core/shadow.py" in names
+    for sample in ("portrait", "glass", "impossible"):      # samples ship, their generator not
+        assert f"sample_scenes/{sample}/painting.toml" in names
+        assert f"sample_scenes/{sample}/thumbnail.png" in names
+    assert "sample_scenes/make_samples.py" not in names
     for dev in ("tests/", ".ci/", "scripts/", "benchmarks/", "docs/", ".venv/", "requirements-dev.txt",
                 "pytest.ini", "__pycache__"):
         assert not any(n.startswith(dev) or f"/{dev}" in n for n in names), dev
@@ -44,6 +48,10 @@ bpy.ops.dynpaint.add(directory=folder, files=[{"name": n} for n in
                      ("normal.png", "dark.png", "bright.png")])
 mat = bpy.context.object.active_material
 print("ADDED", bpy.context.object.name, mat.dynamic_painting.is_painting, len(mat.node_tree.nodes))
+assert bpy.ops.dynpaint.add_sample(sample="portrait") == {"FINISHED"}
+mat = bpy.context.object.active_material
+print("SAMPLE", mat.name, mat.dynamic_painting.is_painting, len(mat.dynamic_painting.lights),
+      mat.dynamic_painting.image_shape.filepath)
 print("MODULE", [m for m in sys.modules if m.endswith("dynamic_painting")])
 """
 
@@ -60,6 +68,10 @@ def test_built_zip_installs_headless_and_adds_a_painting(tmp_path):
                          env={k: v for k, v in os.environ.items() if k != "PYTHONPATH"})
     assert "ADDED" in res.stdout and " True " in res.stdout, res.stdout + res.stderr
     assert "bl_ext.user_default.dynamic_painting" in res.stdout
+    # the sample comes from the installed extension's own folder, not from this repository
+    assert "SAMPLE Portrait (Suzanne) True 3 " in res.stdout, res.stdout + res.stderr   # + the Sun
+    sample_line = next(ln for ln in res.stdout.splitlines() if ln.startswith("SAMPLE"))
+    assert REPO not in sample_line and "extensions" in sample_line
 
 
 def readme_commands():
@@ -73,7 +85,7 @@ def test_ci_runs_the_readme_test_command_exactly():
     assert len(tests_cmd) == 1
     ci = open(os.path.join(REPO, ".ci", "run")).read()
     assert tests_cmd[0].strip() in [ln.strip() for ln in ci.splitlines()]
-    assert any("dynpaint_addon demo" in c for c in commands)      # the main job
+    assert any("dynpaint_addon turntable" in c for c in commands)      # the main job
 
 
 def test_core_never_imports_bpy():

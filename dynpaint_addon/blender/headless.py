@@ -36,3 +36,95 @@ def render_recipe(recipe, engine, out, frame=None):
     t = time.perf_counter()
     bpy.ops.render.render(write_still=True)
     return time.perf_counter() - t
+
+
+def fit_camera(scene, plane, width, height):
+    """Render at width × height with the whole plane in view (letterboxed if the aspects
+    differ); the exact camera's pixel-for-pixel framing is kept when the size is the image's."""
+    w, h = plane.active_material.dynamic_painting.image_shape.size
+    cam = scene.camera.data
+    size = plane.scale[0]
+    pw, ph = size, size * h / w
+    if width >= height:     # ortho_scale spans the longer side of the render
+        cam.ortho_scale = max(pw, ph * width / height)
+    else:
+        cam.ortho_scale = max(ph, pw * height / width)
+    scene.render.resolution_x, scene.render.resolution_y = width, height
+
+
+def video_render_settings(scene, engine, samples=16):
+    """Antialiased, opaque frames for a video (the exact settings, with a normal pixel filter)."""
+    S.exact_render_settings(scene, engine)
+    scene.cycles.samples = samples
+    scene.cycles.filter_width = 1.5
+    scene.cycles.pixel_filter_type = "BLACKMAN_HARRIS"
+    scene.eevee.taa_render_samples = samples
+    scene.render.filter_size = 1.5
+    scene.render.film_transparent = False
+    if scene.camera is not None:
+        scene.camera.data.shift_x = scene.camera.data.shift_y = 0.0
+
+
+def turntable_light(recipe, mat, scene, name=None):
+    """The light a turntable orbits: the named one, else the recipe's first Sun, else its first
+    light → (object or None, elevation, azimuth, radius) from where the recipe puts it."""
+    import math
+    from . import material as M
+    lights = M.linked_lights(mat, scene)
+    by_name = {o.name: o for o in lights}
+    chosen = None
+    if name is not None:
+        if name not in by_name:
+            raise ValueError(f"--light {name}: no such light (the recipe's lights: "
+                             f"{', '.join(by_name) or 'none'})")
+        chosen = next(lt for lt in recipe.lights if (lt.name or "") == name) \
+            if any(lt.name == name for lt in recipe.lights) else None
+        obj = by_name[name]
+    else:
+        chosen = next((lt for lt in recipe.lights if lt.kind == "sun"), None) or \
+            (recipe.lights[0] if recipe.lights else None)
+        obj = by_name.get(chosen.name or ("Sun" if chosen.kind == "sun" else "Point")) \
+            if chosen is not None else None
+    if chosen is None:
+        return obj, math.radians(35), math.radians(135), 1.0
+    x, y, z = chosen.vector
+    r = math.sqrt(x * x + y * y + z * z)
+    return obj, math.asin(max(-1.0, min(1.0, z / r))), math.atan2(y, x), \
+        (r if chosen.kind == "point" else 1.0)
+
+
+def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevation=None,
+                     light_name=None, clockwise=False, samples=16, fps=24, progress=print):
+    """Render a light turntable of the recipe's painting to a video file → seconds.
+
+    The recipe's first Sun (or the named light) orbits the painting once over `frames` frames,
+    starting where the recipe puts it; every frame bakes its shadows at final quality.
+    """
+    import math
+    from . import turntable as T
+    plane, mat = build_recipe_scene(recipe)
+    scene = bpy.context.scene
+    w, h = size or tuple(mat.dynamic_painting.image_shape.size)
+    fit_camera(scene, plane, w, h)
+    video_render_settings(scene, engine, samples)
+    light, elev, azimuth, radius = turntable_light(recipe, mat, scene, light_name)
+    if elevation is not None:
+        elev = math.radians(elevation)
+    kind = "SUN" if light is None or light.data.type == "SUN" else "POINT"
+    T.add_light_turntable(bpy.context, mat, light, kind, 1, frames, elev, radius, azimuth,
+                          clockwise)
+    scene.render.fps = fps
+    T.video_output(scene, out)
+    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
+    start = time.perf_counter()
+
+    def report(scene, *_):
+        done = scene.frame_current - scene.frame_start + 1
+        progress(f"frame {done}/{frames}  {time.perf_counter() - start:6.1f} s")
+
+    bpy.app.handlers.render_post.append(report)
+    try:
+        bpy.ops.render.render(animation=True)
+    finally:
+        bpy.app.handlers.render_post.remove(report)
+    return time.perf_counter() - start

@@ -354,6 +354,105 @@ def export_recipe(mat, scene, path, only_changed=True):
     return recipe_to_toml(recipe, folder, only_changed)
 
 
+class DYNPAINT_OT_add_sample(bpy.types.Operator):
+    """Add one of the sample paintings that come with the extension"""
+    bl_idname = "dynpaint.add_sample"
+    bl_label = "Add Sample Painting"
+    bl_options = {"REGISTER", "UNDO"}
+
+    sample: StringProperty(name="Sample", description="Folder name of the sample in sample_scenes")
+
+    @classmethod
+    def description(cls, context, props):
+        found = _sample(props.sample) if props is not None else None
+        return found.description if found is not None and found.description else cls.__doc__
+
+    def execute(self, context):
+        found = _sample(self.sample)
+        if found is None:
+            self.report({"ERROR"}, f"No sample painting named '{self.sample}'")
+            return {"CANCELLED"}
+        folder, name = os.path.split(found.recipe)
+        return bpy.ops.dynpaint.add("EXEC_DEFAULT", filepath=found.recipe, directory=folder,
+                                    files=[{"name": name}])
+
+
+def _sample(sample_id):
+    from ..samples import list_samples
+    return next((s for s in list_samples() if s.id == sample_id), None)
+
+
+class DYNPAINT_OT_add_light_turntable(PaintingOperator, bpy.types.Operator):
+    """Make a light orbit the painting in a seamless loop over a frame range (keyframed, linear,
+    cyclic), and optionally set the render output to a video file"""
+    bl_idname = "dynpaint.add_light_turntable"
+    bl_label = "Add Light Turntable"
+    bl_options = {"REGISTER", "UNDO"}
+
+    def _light_items(self, context):
+        mat = active_painting(context)
+        items = [("NEW_SUN", "New Sun", "Add a Sun that orbits"),
+                 ("NEW_POINT", "New Point Light", "Add a Point light that orbits")]
+        if mat is not None:
+            items = [(o.name, o.name, f"Orbit the {o.data.type.title()} '{o.name}'")
+                     for o in M.linked_lights(mat, context.scene)] + items
+        _ITEMS_KEEPALIVE[:] = items      # Blender needs the strings kept alive
+        return items
+
+    light: EnumProperty(name="Light", items=_light_items,
+                        description="The light that orbits (its own location/rotation keys "
+                                    "are replaced)")
+    frame_start: bpy.props.IntProperty(name="Start Frame", default=1, min=0)
+    frame_end: bpy.props.IntProperty(name="End Frame", default=96, min=0,
+                                     description="Last frame of one orbit (the loop is seamless: "
+                                                 "the frame after it is the start frame again)")
+    elevation: FloatProperty(name="Elevation", subtype="ANGLE", default=0.61, min=-1.5708,
+                             max=1.5708, description="Height of the orbit above the painting "
+                                                     "(90° = straight in front of it)")
+    radius: FloatProperty(name="Radius", default=1.0, min=0.01, soft_max=10.0,
+                          description="Orbit radius in image widths (where a Point light "
+                                      "is; a Sun only uses the direction)")
+    start_angle: FloatProperty(name="Start Angle", subtype="ANGLE", default=2.356,
+                               description="Where the light starts, counter-clockwise from "
+                                           "the painting's right (135° = upper left)")
+    direction: EnumProperty(name="Direction", items=(
+        ("CCW", "Counter-clockwise", "As seen from the front"),
+        ("CW", "Clockwise", "As seen from the front")))
+    set_output: BoolProperty(name="Video Output", default=True,
+                             description="Set the render output to an H.264 MP4 video and "
+                                         "the scene's frame range to the orbit")
+    filepath: StringProperty(name="Video File", default="//turntable.mp4", subtype="FILE_PATH")
+
+    def invoke(self, context, event):
+        self.frame_start, self.frame_end = context.scene.frame_start, context.scene.frame_end
+        return context.window_manager.invoke_props_dialog(self)
+
+    def execute(self, context):
+        from . import turntable as T
+        mat = active_painting(context)
+        light = None if self.light.startswith("NEW_") else context.scene.objects.get(self.light)
+        kind = "POINT" if self.light == "NEW_POINT" else "SUN"
+        try:
+            _, light, messages = T.add_light_turntable(
+                context, mat, light, kind if light is None else light.data.type,
+                self.frame_start, self.frame_end, self.elevation, self.radius, self.start_angle,
+                self.direction == "CW")
+            if self.set_output:
+                T.video_output(context.scene, self.filepath)
+        except (ValueError, TypeError) as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        for m in messages:
+            self.report({"WARNING"} if "not" in m else {"INFO"}, m)
+        frames = self.frame_end - self.frame_start + 1
+        self.report({"INFO"}, f"'{light.name}' orbits the painting every {frames} frames"
+                    + (f"; output: {self.filepath}" if self.set_output else ""))
+        return {"FINISHED"}
+
+
+_ITEMS_KEEPALIVE = []
+
+
 class DYNPAINT_OT_add_compositor_group(bpy.types.Operator):
     """Add the Dynamic Painting node group to the scene's compositor: relight images (a render's
     normal pass, painted maps, image sequences) without a 3D scene"""
@@ -396,12 +495,55 @@ class DYNPAINT_OT_add_compositor_group(bpy.types.Operator):
         return {"FINISHED"}
 
 
-CLASSES = (DYNPAINT_OT_add, DYNPAINT_OT_add_compositor_group, DYNPAINT_OT_bake_shadows, DYNPAINT_OT_apply_look, DYNPAINT_OT_image_open,
+CLASSES = (DYNPAINT_OT_add, DYNPAINT_OT_add_sample, DYNPAINT_OT_add_light_turntable,
+           DYNPAINT_OT_add_compositor_group, DYNPAINT_OT_bake_shadows, DYNPAINT_OT_apply_look, DYNPAINT_OT_image_open,
            DYNPAINT_OT_image_remove, DYNPAINT_OT_face_camera, DYNPAINT_OT_rebuild,
            DYNPAINT_OT_import_recipe, DYNPAINT_OT_export_recipe)
 
 
+class VIEW3D_MT_dynpaint_add(bpy.types.Menu):
+    """Add › Dynamic Painting: from your images or recipe, or one of the samples"""
+    bl_idname = "VIEW3D_MT_dynpaint_add"
+    bl_label = "Dynamic Painting"
+
+    def draw(self, context):
+        draw_add_menu(self.layout)
+
+
+def draw_add_menu(layout):
+    from ..samples import list_samples
+    layout.operator(DYNPAINT_OT_add.bl_idname, text="From Images or Recipe…",
+                    icon="FILEBROWSER")
+    samples = list_samples()
+    if samples:
+        layout.separator()
+        layout.label(text="Samples")
+    for sample in samples:
+        layout.operator(DYNPAINT_OT_add_sample.bl_idname, text=sample.name,
+                        icon_value=sample_icon(sample)).sample = sample.id
+
+
+_PREVIEWS = {}
+
+
+def sample_icon(sample):
+    """The sample's thumbnail as a UI icon (0 = none, e.g. in background mode)."""
+    if not sample.thumbnail or bpy.app.background:
+        return 0
+    try:
+        from bpy.utils import previews
+        pcoll = _PREVIEWS.get("samples") or _PREVIEWS.setdefault("samples", previews.new())
+        item = pcoll.get(sample.id) or pcoll.load(sample.id, sample.thumbnail, "IMAGE")
+        return item.icon_id
+    except (RuntimeError, KeyError, OSError):
+        return 0
+
+
 def menu_add(self, context):
+    self.layout.menu(VIEW3D_MT_dynpaint_add.bl_idname, icon="IMAGE_RGB_ALPHA")
+
+
+def menu_add_image(self, context):
     self.layout.operator(DYNPAINT_OT_add.bl_idname, text="Dynamic Painting", icon="IMAGE_RGB_ALPHA")
 
 
@@ -419,12 +561,12 @@ def menu_compositor(self, context):
         self.layout.operator(DYNPAINT_OT_add_compositor_group.bl_idname, icon="NODETREE")
 
 
-MENUS = (("VIEW3D_MT_add", menu_add), ("VIEW3D_MT_image_add", menu_add), ("NODE_MT_add", menu_compositor),
+MENUS = (("VIEW3D_MT_add", menu_add), ("VIEW3D_MT_image_add", menu_add_image), ("NODE_MT_add", menu_compositor),
          ("TOPBAR_MT_file_import", menu_import), ("TOPBAR_MT_file_export", menu_export))
 
 
 def register():
-    for cls in CLASSES:
+    for cls in CLASSES + (VIEW3D_MT_dynpaint_add,):
         bpy.utils.register_class(cls)
     for menu, fn in MENUS:
         getattr(bpy.types, menu).append(fn)
@@ -433,6 +575,9 @@ def register():
 def unregister():
     for menu, fn in MENUS:
         getattr(bpy.types, menu).remove(fn)
-    for cls in reversed(CLASSES):
+    for cls in reversed(CLASSES + (VIEW3D_MT_dynpaint_add,)):
         bpy.utils.unregister_class(cls)
+    if "samples" in _PREVIEWS:
+        from bpy.utils import previews
+        previews.remove(_PREVIEWS.pop("samples"))
 

@@ -91,6 +91,7 @@ def _draw_lights(layout, context, mat):
         row.prop(item.object.data, "energy", text="")
     if not s.lights:
         col.label(text="No Sun or Point light: the painting shows its dark image", icon="INFO")
+    layout.operator("dynpaint.add_light_turntable", icon="ORIENTATION_GIMBAL")
 
 
 class _Base:
@@ -166,8 +167,24 @@ def _section_drawer(sections):
     return draw
 
 
+class DYNPAINT_PT_view3d_samples(bpy.types.Panel):
+    """Sidebar › Dynamic Painting › Add: the add operator and the samples, one click each."""
+    bl_space_type, bl_region_type, bl_category = "VIEW_3D", "UI", "Dynamic Painting"
+    bl_label = "Add Painting"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    @classmethod
+    def poll(cls, context):
+        return True          # with or without a painting selected
+
+    def draw(self, context):
+        from .operators import draw_add_menu
+        draw_add_menu(self.layout.column(align=True))
+
+
 CLASSES = (_make_panels("PROPERTIES", "WINDOW", "material", None, "material")
-           + _make_panels("VIEW_3D", "UI", None, "Dynamic Painting", "view3d"))
+           + _make_panels("VIEW_3D", "UI", None, "Dynamic Painting", "view3d")
+           + [DYNPAINT_PT_view3d_samples])
 
 
 def register():

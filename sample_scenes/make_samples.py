@@ -1,0 +1,341 @@
+"""Make the sample paintings (images, recipes, thumbnails) from scratch: every pixel is ours.
+
+    .venv/bin/python sample_scenes/make_samples.py [--only NAME] [--size N]
+
+- portrait:   Suzanne (Blender's own monkey head) rendered as a height map by Cycles, emerging
+              from a canvas; painterly dark and bright images made from its relief; a warm key
+              sun and a cool point fill. Cast shadows from the height map (§6).
+- glass:      a bottle whose normal map is exact (a surface of revolution, in closed form), an
+              environment and a background cut from Blender's bundled CC0 studio-light HDRIs;
+              refraction (§9), reflection (§8), the art-directed Fresnel (§10), highlights (§7).
+- impossible: Penrose stairs, a ring of steps that climbs forever: a normal map no height field
+              produces (its slopes circulate around the ring), with cos-θ shadows from the normal
+              map (§6 integrates the slopes along each light row).
+
+Deterministic (fixed seeds, fixed Cycles samples). The thumbnails are rendered by the numpy core.
+"""
+import argparse
+import os
+import shutil
+import sys
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(HERE))
+
+from dynpaint_addon import params as P                                   # noqa: E402
+from dynpaint_addon.core.colour import linear_to_srgb, srgb_to_linear    # noqa: E402
+from dynpaint_addon.core.lights import Light                             # noqa: E402
+from dynpaint_addon.core.sampling import gaussian_blur, resample        # noqa: E402
+from dynpaint_addon.imageio import read_image, write_exr, write_png     # noqa: E402
+from dynpaint_addon.recipe import Recipe, recipe_to_toml                # noqa: E402
+
+THUMB_PX = 192
+
+
+# -- painterly helpers -----------------------------------------------------------------------
+def strokes(h, w, seed, length=14.0, angle=0.6, scale=1.0):
+    """Brush-stroke texture in [-1, 1]: noise smeared along a direction (a cheap line-integral
+    convolution), so it reads as strokes rather than grain."""
+    rng = np.random.default_rng(seed)
+    lo = rng.standard_normal((max(2, h // 3), max(2, w // 3))).astype(np.float32)
+    n = resample(lo[..., None], h, w)[..., 0]
+    dx, dy = np.cos(angle), np.sin(angle)
+    acc = np.zeros_like(n)
+    taps = int(length)
+    for k in range(-taps, taps + 1):
+        acc += np.roll(n, (int(round(k * dy)), int(round(k * dx))), axis=(0, 1))
+    acc -= acc.mean()
+    return scale * acc / (np.abs(acc).max() + 1e-6)
+
+
+def srgb8(linear_rgb):
+    """Linear colour → 8-bit sRGB code values as floats in [0, 1] (what the PNG will hold)."""
+    return np.round(linear_to_srgb(np.clip(linear_rgb, 0, 1)) * 255) / 255
+
+
+def mix(a, b, t):
+    t = np.asarray(t)[..., None]
+    return np.asarray(a) * (1 - t) + np.asarray(b) * t
+
+
+def save(folder, name, pixels, bits):
+    path = os.path.join(folder, name)
+    (write_exr if name.endswith(".exr") else lambda p, x: write_png(p, x, bits=bits))(path, pixels)
+    return path
+
+
+# -- portrait: Suzanne as a height map --------------------------------------------------------
+def render_suzanne_height(size):
+    """Cycles renders Suzanne (subdivided, facing the viewer) over a canvas plane with an
+    emission = height material → (height in [0, 1] y-up, relief in image widths)."""
+    import bpy
+    bpy.ops.wm.read_homefile(use_empty=True)
+    scene = bpy.context.scene
+    bpy.ops.mesh.primitive_monkey_add(size=2.0, rotation=(-np.pi / 2, 0, 0))
+    head = bpy.context.object
+    mod = head.modifiers.new("smooth", "SUBSURF")
+    mod.levels = mod.render_levels = 3
+    bpy.ops.object.shade_smooth()
+    bpy.context.view_layer.update()
+    ev = head.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    zs = np.array([(ev.matrix_world @ v.co).z for v in ev.data.vertices])
+    z_top = float(zs.max())
+    z_canvas = float(zs.min() + 0.3 * (zs.max() - zs.min()))   # the head emerges from here
+    bpy.ops.mesh.primitive_plane_add(size=20.0, location=(0, 0, z_canvas))
+    canvas = bpy.context.object
+    mat = bpy.data.materials.new("height")
+    nt = mat.node_tree
+    nt.nodes.clear()
+    geo = nt.nodes.new("ShaderNodeNewGeometry")
+    xyz = nt.nodes.new("ShaderNodeSeparateXYZ")
+    rng = nt.nodes.new("ShaderNodeMapRange")
+    rng.inputs["From Min"].default_value = z_canvas
+    rng.inputs["From Max"].default_value = z_top
+    emit = nt.nodes.new("ShaderNodeEmission")
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    nt.links.new(geo.outputs["Position"], xyz.inputs[0])
+    nt.links.new(xyz.outputs["Z"], rng.inputs["Value"])
+    nt.links.new(rng.outputs["Result"], emit.inputs["Color"])
+    nt.links.new(emit.outputs[0], out.inputs["Surface"])
+    for obj in (head, canvas):
+        obj.data.materials.append(mat)
+    cam_data = bpy.data.cameras.new("cam")
+    cam_data.type = "ORTHO"
+    width = 3.4
+    cam_data.ortho_scale = width
+    cam = bpy.data.objects.new("cam", cam_data)
+    scene.collection.objects.link(cam)
+    cam.location = (0, -0.15, 10)
+    scene.camera = cam
+    r = scene.render
+    r.engine = "CYCLES"
+    scene.cycles.samples = 16
+    scene.cycles.use_denoising = False
+    scene.cycles.seed = 0
+    scene.cycles.device = "CPU"
+    r.resolution_x = r.resolution_y = size
+    r.resolution_percentage = 100
+    scene.view_settings.view_transform = "Standard"
+    r.image_settings.file_format = "OPEN_EXR"
+    r.image_settings.color_depth = "32"
+    tmp = os.path.join(bpy.app.tempdir or HERE, "_suzanne_height.exr")
+    r.filepath = tmp
+    bpy.ops.render.render(write_still=True)
+    height = read_image(tmp).pixels[..., 0]
+    os.remove(tmp)
+    return np.clip(height, 0, 1), (z_top - z_canvas) / width
+
+
+def make_portrait(folder, size):
+    height, relief = render_suzanne_height(size)
+    h, w = height.shape
+    head = np.clip(gaussian_blur((height > 1e-3).astype(np.float32)[..., None], 1.5)[..., 0], 0, 1)
+    cavity = np.clip((gaussian_blur(height[..., None], 6.0)[..., 0] - height) * 12, 0, 1)
+    y, x = np.mgrid[0:h, 0:w].astype(np.float32) / w
+    s1 = strokes(h, w, 11, angle=0.9)
+    s2 = strokes(h, w, 12, angle=-0.5)
+    s3 = strokes(h, w, 13, length=24, angle=0.15)
+    # Bright: warm ochre skin, redder in the cavities; a pale teal canvas with a sky gradient.
+    skin = mix([0.78, 0.46, 0.22], [0.62, 0.16, 0.10], cavity) * (1 + 0.10 * s1[..., None])
+    sky = mix([0.30, 0.52, 0.50], [0.62, 0.70, 0.58], y) * (1 + 0.12 * s3[..., None])
+    bright = mix(sky, skin, head)
+    # Dark: violet shadows in the skin, deep blue canvas (the shadow side is painted, not grey).
+    skin_d = mix([0.16, 0.06, 0.14], [0.08, 0.02, 0.06], cavity) * (1 + 0.15 * s2[..., None])
+    sky_d = mix([0.03, 0.05, 0.12], [0.06, 0.09, 0.16], y) * (1 + 0.15 * s3[..., None])
+    dark = mix(sky_d, skin_d, head)
+    save(folder, "height.png", np.round(height * 65535) / 65535, 16)
+    save(folder, "dark.png", srgb8(dark), 8)
+    save(folder, "bright.png", srgb8(bright), 8)
+    p = P.defaults()
+    p.shape.kind = "height"
+    p.shape.height_scale = round(float(relief), 4)
+    p.shadows.enabled = True
+    p.shadows.offset = 0.006
+    p.specular.enabled = True
+    p.specular.s0, p.specular.s1 = 0.93, 1.0
+    p.specular.amount = 0.35
+    lights = [Light("sun", (-0.55, 0.45, 0.70), (1.0, 0.9, 0.75), 1.0, "Key"),
+              Light("point", (0.6, -0.2, 0.4), (0.35, 0.45, 0.9), 0.25, "Fill")]
+    return Recipe(p, lights, {"shape": "height.png", "dark": "dark.png", "bright": "bright.png"},
+                  "Portrait (Suzanne)",
+                  description="A head lit by a moving light: height map rendered from Blender's "
+                              "Suzanne, painterly dark and bright images, cast shadows")
+
+
+# -- glass: a bottle as an exact normal map ---------------------------------------------------
+def bottle_radius(v):
+    """Radius (image widths) of the bottle at height v ∈ [0, 1] up the bottle, and dr/dv."""
+    body, neck = 0.30, 0.085
+    t = np.clip((v - 0.52) / 0.2, 0, 1)
+    shoulder = t * t * (3 - 2 * t)                     # smoothstep from body to neck
+    r = body + (neck - body) * shoulder
+    base = np.clip(v / 0.05, 0, 1)                      # rounded foot
+    r = r * np.sqrt(np.clip(1 - (1 - base) ** 2, 0, 1)) ** 0.3
+    lip = np.exp(-((v - 0.93) / 0.015) ** 2) * 0.018    # the lip ring
+    return np.where((v >= 0) & (v <= 0.97), r + lip, 0.0)
+
+
+def make_glass(folder, size):
+    w, h = size * 3 // 4, size
+    y, x = np.mgrid[0:h, 0:w].astype(np.float64)
+    x = (x + 0.5) / w - 0.5                            # image widths, centred
+    y = (y + 0.5) / w
+    bottom, tall = 0.08, 1.10
+    v = (y - bottom) / tall
+    r = bottle_radius(v)
+    dv = 1e-4
+    drdy = (bottle_radius(v + dv) - bottle_radius(v - dv)) / (2 * dv * tall)
+    inside = np.abs(x) < r
+    z = np.sqrt(np.clip(r * r - x * x, 1e-12, None))  # front surface of revolution
+    n = np.stack([x / z, -r * drdy / z, np.ones_like(z)], -1)   # (−∂z/∂x, −∂z/∂y, 1)
+    n /= np.linalg.norm(n, axis=-1, keepdims=True)
+    n = np.where(inside[..., None], n, [0.0, 0.0, 1.0])
+    alpha = np.clip(gaussian_blur(inside.astype(np.float32)[..., None], 0.7)[..., 0], 0, 1)
+    alpha = np.where(inside, np.maximum(alpha, 0.5), alpha * 0)   # hard outside, soft inside
+    rgba = np.concatenate([n * 0.5 + 0.5, alpha[..., None]], -1)
+    save(folder, "normal.png", np.round(rgba * 65535) / 65535, 16)
+    s = strokes(h, w, 21, angle=1.5)
+    dark = mix([0.01, 0.05, 0.04], [0.02, 0.09, 0.06], v.clip(0, 1)) * (1 + 0.2 * s[..., None])
+    bright = mix([0.18, 0.55, 0.40], [0.45, 0.80, 0.60], v.clip(0, 1)) * (1 + 0.1 * s[..., None])
+    save(folder, "dark.png", srgb8(dark), 8)
+    save(folder, "bright.png", srgb8(bright), 8)
+    studio = _studio_light("studio.exr", 256)
+    env = studio * (1.4 / max(1e-6, float(np.percentile(studio, 99))))
+    save(folder, "environment.exr", np.clip(env, 0, 4).astype(np.float32), 32)
+    bg = _studio_light("forest.exr", 512)
+    bh, bw = bg.shape[:2]
+    crop = bg[bh // 4: bh // 4 + bw * 2 // 5, bw * 3 // 10: bw * 3 // 10 + bw * 3 // 10]
+    crop = resample(crop, h // 2, w // 2)
+    crop = crop * (0.5 / max(1e-6, float(np.mean(crop))))
+    save(folder, "background.exr", np.clip(crop, 0, 4).astype(np.float32), 32)
+    p = P.defaults()
+    p.shape.kind = "normal"
+    p.refraction.mode, p.refraction.ior, p.refraction.distance = "physical", 1.5, 0.12
+    p.reflection.distance, p.reflection.extension = 0.3, "wrap"
+    p.fresnel.mode, p.fresnel.x1, p.fresnel.x2, p.fresnel.kappa = "art", 0.3, 0.85, 0.15
+    p.transparency.amount = 0.9
+    p.specular.enabled = True
+    p.specular.s0, p.specular.s1 = 0.96, 1.0
+    p.diffuse.t0, p.diffuse.t1 = -0.2, 1.0
+    lights = [Light("sun", (-0.5, 0.55, 0.67), (1.0, 0.97, 0.92), 1.0, "Key")]
+    return Recipe(p, lights, {"shape": "normal.png", "dark": "dark.png", "bright": "bright.png",
+                              "environment": "environment.exr", "background": "background.exr"},
+                  "Glass bottle",
+                  description="A green glass bottle: exact normal map, refraction of a forest, "
+                              "reflection of a studio, art-directed Fresnel")
+
+
+def _studio_light(name, width):
+    """One of Blender's bundled CC0 studio-light HDRIs (datafiles/studiolights/world), downsized."""
+    import bpy
+    path = os.path.join(bpy.utils.system_resource("DATAFILES"), "studiolights", "world", name)
+    img = read_image(path).pixels[..., :3]
+    h, w = img.shape[:2]
+    return resample(img, max(1, round(h * width / w)), width)
+
+
+# -- impossible: Penrose stairs as a non-conservative normal map ------------------------------
+def penrose_normals(size, steps=16, r_in=0.22, r_out=0.40, riser=0.28, tilt=1.15):
+    """A ring of `steps` stairs: each step a flat tread and a riser facing back down the stairs
+    (normal tilted `tilt` rad along −tangent). Walking around, every riser climbs: the slopes
+    circulate, so no height field has these normals. Inner and outer walls are bevelled."""
+    y, x = np.mgrid[0:size, 0:size].astype(np.float64)
+    x = (x + 0.5) / size - 0.5
+    y = (y + 0.5) / size - 0.5
+    r = np.hypot(x, y)
+    theta = np.arctan2(y, x)
+    a = np.mod(theta * steps / (2 * np.pi), 1.0)        # position within a step, 0…1
+    tangent = np.stack([-np.sin(theta), np.cos(theta)], -1)
+    radial = np.stack([np.cos(theta), np.sin(theta)], -1)
+    on_riser = a > 1 - riser
+    slope_t = np.where(on_riser, -np.tan(tilt) * 0.35, 0.0)       # ∂h/∂s along the tangent
+    bevel = 0.018
+    outer = np.clip((r - (r_out - bevel)) / bevel, 0, 1)
+    inner = np.clip(((r_in + bevel) - r) / bevel, 0, 1)
+    slope_r = -2.2 * outer + 2.2 * inner                           # walls slope down outward
+    ring = (r > r_in) & (r < r_out)
+    g = tangent * slope_t[..., None] + radial * slope_r[..., None]   # ∇h where it exists
+    g = np.where(ring[..., None], g, 0.0)
+    n = np.concatenate([-g, np.ones_like(r)[..., None]], -1)
+    n /= np.linalg.norm(n, axis=-1, keepdims=True)
+    return n, ring, a, r
+
+
+def slope_circulation(normals, radius):
+    """∮ ∇h · dl around a circle of `radius` (image widths) centred in the image: 0 for every
+    height field; the stairs climb by this much per turn."""
+    h, w = normals.shape[:2]
+    t = np.linspace(0, 2 * np.pi, 4096, endpoint=False)
+    px = np.clip(((0.5 + radius * np.cos(t)) * w).astype(int), 0, w - 1)
+    py = np.clip(((0.5 + radius * np.sin(t)) * h).astype(int), 0, h - 1)
+    n = normals[py, px]
+    gx, gy = -n[:, 0] / n[:, 2], -n[:, 1] / n[:, 2]
+    dl = 2 * np.pi * radius / t.size
+    return float(np.sum((gx * -np.sin(t) + gy * np.cos(t)) * dl))
+
+
+def make_impossible(folder, size):
+    n, ring, a, r = penrose_normals(size)
+    save(folder, "normal.png", np.round((n * 0.5 + 0.5) * 65535) / 65535, 16)
+    h, w = ring.shape
+    s1, s2 = strokes(h, w, 31, angle=0.3), strokes(h, w, 32, angle=2.0, length=20)
+    edge = np.exp(-((a - 0.02) / 0.03) ** 2)           # a painted nosing on each tread
+    stone = mix([0.80, 0.62, 0.38], [0.52, 0.30, 0.18], edge) * (1 + 0.12 * s1[..., None])
+    floor = mix([0.20, 0.30, 0.42], [0.42, 0.50, 0.55], np.clip(r * 1.6, 0, 1)) \
+        * (1 + 0.12 * s2[..., None])
+    bright = np.where(ring[..., None], stone, floor)
+    dark = np.where(ring[..., None], [0.12, 0.06, 0.12], [0.03, 0.04, 0.09]) \
+        * (1 + 0.2 * s2[..., None])
+    save(folder, "dark.png", srgb8(dark), 8)
+    save(folder, "bright.png", srgb8(bright), 8)
+    p = P.defaults()
+    p.shape.kind = "normal"
+    p.shadows.enabled = True
+    p.shadows.offset = 0.004
+    p.diffuse.t0, p.diffuse.t1 = 0.05, 0.9
+    lights = [Light("sun", (0.62, 0.35, 0.70), (1.0, 0.93, 0.82), 1.0, "Key")]
+    return Recipe(p, lights, {"shape": "normal.png", "dark": "dark.png", "bright": "bright.png"},
+                  "Penrose stairs",
+                  description="Stairs that climb forever: a normal map no height field can "
+                              "produce, with cos-θ shadows baked from the normal map")
+
+
+SAMPLES = {"portrait": (make_portrait, 512), "glass": (make_glass, 512),
+           "impossible": (make_impossible, 512)}
+
+
+def thumbnail(recipe_path, out, px=THUMB_PX):
+    """Render the sample with the numpy core at `px` wide → out (PNG)."""
+    from dynpaint_addon.cli import _resample_images, write_render
+    from dynpaint_addon.core.pipeline import render
+    from dynpaint_addon.recipe import load_images, load_recipe
+    recipe = load_recipe(recipe_path)
+    images = _resample_images(load_images(recipe), px)
+    write_render(out, render(images, recipe.lights, recipe.params).rgba)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--only", choices=sorted(SAMPLES))
+    ap.add_argument("--size", type=int, help="override each sample's size (pixels)")
+    ap.add_argument("--out", default=HERE, help="where the sample folders go (default: here)")
+    args = ap.parse_args(argv)
+    for name, (make, size) in SAMPLES.items():
+        if args.only and name != args.only:
+            continue
+        folder = os.path.join(args.out, name)
+        shutil.rmtree(folder, ignore_errors=True)
+        os.makedirs(folder)
+        recipe = make(folder, args.size or size)
+        recipe.images = {ch: os.path.join(folder, f) for ch, f in recipe.images.items()}
+        path = os.path.join(folder, "painting.toml")
+        with open(path, "w") as fh:
+            fh.write(recipe_to_toml(recipe, folder))
+        thumbnail(path, os.path.join(folder, "thumbnail.png"))
+        print(f"{name}: {path}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
