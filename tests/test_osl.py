@@ -104,6 +104,10 @@ def test_shipped_shader_compiles_with_cycles(tmp_path):
     tree = bpy.data.materials.new("t").node_tree
     node = tree.nodes.new("ShaderNodeScript")
     node.mode = "EXTERNAL"
-    node.filepath = os.path.join(repo, "shaders_osl", "dynamic_painting_height_shadows.osl")
+    import shutil     # compile a copy: Blender writes the .oso next to the source
+    for name in os.listdir(os.path.join(repo, "shaders_osl")):
+        if name.endswith((".osl", ".h")):
+            shutil.copy(os.path.join(repo, "shaders_osl", name), tmp_path / name)
+    node.filepath = str(tmp_path / "dynamic_painting_height_shadows.osl")
     osl._cycles_osl().update_script_node(node, lambda kind, msg: None)
     assert "Color" in node.outputs and "p_shadows_steps" in node.inputs
