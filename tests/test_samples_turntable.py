@@ -228,14 +228,15 @@ def test_turntable_frames_render_as_the_core_renders_their_lights(tmp_path):
 
 
 # -- the command ------------------------------------------------------------------------------
-def test_turntable_command_writes_a_video_with_progress(tmp_path):
+@pytest.mark.parametrize("engine", ["cycles", "eevee"])
+def test_turntable_command_writes_a_video_with_progress(engine, tmp_path):
     out = tmp_path / "glass.mp4"
     res = run_cli("turntable", "glass", "--frames", "3", "--size", "64", "48", "--samples", "1",
-                  "--out", out)
+                  "--engine", engine, "--out", out)
     assert res.returncode == 0, res.stderr[-2000:]
     progress = [ln for ln in res.stdout.splitlines() if ln.startswith("frame ")]
     assert [ln.split()[1] for ln in progress] == ["1/3", "2/3", "3/3"], res.stdout
-    assert "turntable: 3 frames with cycles" in res.stdout
+    assert f"turntable: 3 frames with {engine}" in res.stdout
     clip = bpy.data.movieclips.load(str(out))
     assert clip.frame_duration == 3 and tuple(clip.size) == (64, 48)
 

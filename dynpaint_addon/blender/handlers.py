@@ -5,6 +5,9 @@
   deleted light.
 - frame_change_post: with cos-θ shadows on, each frame bakes for the lights where that frame
   puts them (read from the evaluated depsgraph, blender-notes.md), in renders as in playback.
+- load_post: a saved .blend keeps the node tree, drivers and settings but not the pixels of the
+  images numpy made (derived copies, shadow bakes: generated images): they are remade when
+  the file opens, so a reopened file renders the same pixels as before it was saved.
 
 A handler never raises into Blender: failures are printed and the painting keeps its last
 good images (material.bake_shadows writes only after a complete bake).
@@ -83,8 +86,32 @@ def on_frame_change(scene, depsgraph):
             report(mat, exc)
 
 
+def scene_of(mat):
+    """The scene a painting is in: the window's scene if its plane is there, else the first."""
+    plane = mat.dynamic_painting.plane
+    context_scene = getattr(bpy.context, "scene", None)
+    if context_scene is not None and plane in set(context_scene.objects):
+        return context_scene
+    return next((sc for sc in bpy.data.scenes if plane in set(sc.objects)), None)
+
+
+@persistent
+def on_load(*_):
+    M.forget_cached_shapes()
+    for mat in [m for m in bpy.data.materials if m.dynamic_painting.is_painting]:
+        try:
+            scene = scene_of(mat)
+            if scene is None:
+                continue        # a painting whose plane is in no scene: nothing to show
+            M.invalidate_generated(mat)
+            M.refresh(mat, structure=False, derived=True, shadows=True, scene=scene)
+        except Exception as exc:     # a broken painting must not stop the file from opening
+            report(mat, exc)
+
+
 HANDLERS = ((bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),
-            (bpy.app.handlers.frame_change_post, on_frame_change))
+            (bpy.app.handlers.frame_change_post, on_frame_change),
+            (bpy.app.handlers.load_post, on_load))
 
 
 def _same(a, b):

@@ -300,6 +300,21 @@ def bake_shape(mat, p, fresh=False):
     return hit[1]
 
 
+def forget_cached_shapes():
+    """Another file is open: cached shapes may belong to same-named paintings of the last one."""
+    _SHAPES.clear()
+
+
+def invalidate_generated(mat):
+    """Mark every image numpy made for the painting as out of date (a reopened .blend keeps the
+    images but not their pixels), so the next refresh remakes them all."""
+    s = mat.dynamic_painting
+    for item in s.derived:
+        item.key = ""
+    for item in s.lights:
+        item.bake_key = ""
+
+
 def bake_shadows(mat, scene, depsgraph=None, force=True):
     """Bake the cos-θ term (§6) of the linked lights into their images. → milliseconds taken.
 
