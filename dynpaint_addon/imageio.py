@@ -5,8 +5,10 @@ returns y-up arrays and the writers take y-up arrays. EXR goes through the OpenE
 PNG, JPEG, TIFF and the rest through Blender's own image loader (bpy, imported on first use,
 so the core and EXR-only commands never need it). PNGs are written by a small exact encoder.
 """
+import contextlib
 import os
 import struct
+import sys
 import zlib
 
 import numpy as np
@@ -65,18 +67,38 @@ def _pick_exr_channels(channels):
     return sorted(channels)[:4]
 
 
+@contextlib.contextmanager
+def _quiet_native_stderr():
+    """Blender's image libraries print their own complaints (libpng, OpenImageIO) straight to
+    file descriptor 2; the command line says what went wrong in one line of its own."""
+    try:
+        sys.stderr.flush()
+        saved = os.dup(2)
+    except (OSError, ValueError):
+        yield
+        return
+    try:
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 2)
+            yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+
+
 def _read_with_blender(path):
     import bpy
-    try:
-        img = bpy.data.images.load(path, check_existing=False)
-    except RuntimeError as exc:
-        raise ImageReadError(f"{path}: Blender cannot read it ({str(exc).strip()})") from None
-    try:
-        # Data, never colour-managed here: the core decodes sRGB itself (§0).
-        img.colorspace_settings.name = "Non-Color"
-        return image_data_from_blender(img, path)
-    finally:
-        bpy.data.images.remove(img)
+    with _quiet_native_stderr():       # decoding happens lazily: keep the whole read quiet
+        try:
+            img = bpy.data.images.load(path, check_existing=False)
+        except RuntimeError as exc:
+            raise ImageReadError(f"{path}: Blender cannot read it ({str(exc).strip()})") from None
+        try:
+            # Data, never colour-managed here: the core decodes sRGB itself (§0).
+            img.colorspace_settings.name = "Non-Color"
+            return image_data_from_blender(img, path)
+        finally:
+            bpy.data.images.remove(img)
 
 
 def image_data_from_blender(img, path=None):

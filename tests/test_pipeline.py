@@ -149,7 +149,9 @@ def test_nan_shape_and_tiny_images():
         p.shape.kind = kind
         p.shadows.enabled = True
         for hw in ((1, 1), (2, 2), (1, 5)):
-            out = render({"shape": const(*hw, 0.7), "dark": const(*hw, 0.2)}, LIGHTS, p).rgba
+            shape = const(*hw, 0.7) if kind == "height" else \
+                ImageData(np.full(hw + (3,), (0.6, 0.5, 0.9), np.float32), 8)
+            out = render({"shape": shape, "dark": const(*hw, 0.2)}, LIGHTS, p).rgba
             assert out.shape == hw + (4,) and np.all(np.isfinite(out))
     shape = dome_painting()["shape"].pixels.copy()
     shape[3, 4] = np.nan

@@ -15,8 +15,9 @@ import numpy as np
 import bpy
 
 from .. import params as P
+from ..core.inputs import finite_pixels, non_finite_message
 from ..core.lights import Light
-from ..core.pipeline import lookup_copy, shadow_term, shape_normals, silhouette_channel
+from ..core.pipeline import PER_PIXEL_CHANNELS, lookup_copy, shadow_term, shape_normals, silhouette_channel
 from ..core.shape import default_preblur_px, preblurred_height
 from ..imageio import file_channels, image_data_from_blender
 from ..nodegraph import build_bpy
@@ -82,11 +83,17 @@ def _sync_quality(sh, path):
 
 
 # -- images ---------------------------------------------------------------------------------
+def is_float_file(img):
+    """Does the image come from a float file (EXR, HDR: linear values)? 16-bit PNG and TIFF
+    also get float buffers in Blender but hold sRGB-encoded codes like 8-bit files."""
+    return img.is_float and img.file_format not in ("PNG", "TIFF")
+
+
 def prepare_channel_image(img, channel):
     """Colour images are sRGB-decoded by Blender (8/16-bit) or linear (float); data images
     are never colour-managed (§0). Alpha is kept apart from colour (channel packed)."""
-    if channel in COLOUR_CHANNELS and not img.is_float:
-        img.colorspace_settings.name = "sRGB"
+    if channel in COLOUR_CHANNELS and not is_float_file(img):
+        img.colorspace_settings.name = "sRGB"     # 8- and 16-bit files hold sRGB codes (§0)
     else:
         img.colorspace_settings.name = "Non-Color"
     img.alpha_mode = "CHANNEL_PACKED"
@@ -125,21 +132,60 @@ def _derived(settings, channel):
     return next((d.image for d in settings.derived if d.channel == channel), None)
 
 
+def _remove_derived(settings, channel):
+    for i, d in enumerate(settings.derived):
+        if d.channel == channel:
+            settings.derived.remove(i)
+            return
+
+
 def update_derived_images(mat):
     """Make the images numpy derives from the inputs (only those whose inputs changed),
-    reading only the images they come from."""
+    reading only the images they come from. → warnings (non-finite pixels replaced)."""
     s = mat.dynamic_painting
     p = settings_to_params(s)
     imgs = channel_images(s)
     base = f"DP {mat.name}"
     read = {}
+    warnings = []
+
+    def source_data(source):
+        if source not in read:
+            data = image_data_from_blender(imgs[source])
+            role = "colour" if source != "shape" else p.shape.kind
+            clean, bad = finite_pixels(data.pixels, role)
+            if bad:
+                warnings.append(non_finite_message(imgs[source].name, bad))
+            read[source] = type(data)(clean, data.bits, data.name)
+        return read[source]
 
     def need(channel, key, source, make):
         item = next((d for d in s.derived if d.channel == channel), None)
         if item is None or item.image is None or item.key != key:
-            if source not in read:
-                read[source] = image_data_from_blender(imgs[source])
-            _set_derived(s, channel, float_image(f"{base} {channel}", make(read[source])), key)
+            _set_derived(s, channel, float_image(f"{base} {channel}", make(source_data(source))),
+                         key)
+
+    # Float files may hold NaN/Inf (core/inputs.py): the tree then samples a finite copy
+    # (a derived image under the channel's own name replaces it in the tree). Integer files
+    # cannot: they are sampled as they are.
+    for channel in ("shape", *PER_PIXEL_CHANNELS):
+        img = imgs.get(channel)
+        if img is None or not img.is_float or (channel == "shape" and p.shape.kind == "height"):
+            _remove_derived(s, channel)
+            continue
+        key = f"{img.name}|finite|{p.shape.kind if channel == 'shape' else ''}"
+        item = next((d for d in s.derived if d.channel == channel), None)
+        if item is not None and item.key == key and item.image is not None:
+            continue
+        data = image_data_from_blender(imgs[channel])
+        if np.all(np.isfinite(data.pixels)):
+            _set_derived(s, channel, img, key)          # checked: the image itself
+        else:
+            clean = source_data(channel).pixels
+            rgba = clean if clean.shape[2] == 4 else np.concatenate(
+                [np.repeat(clean[..., :1], 3, 2) if clean.shape[2] < 3 else clean[..., :3],
+                 np.ones(clean.shape[:2] + (1,), clean.dtype)], -1)
+            _set_derived(s, channel, float_image(f"{base} {channel} finite", rgba), key)
 
     if p.shape.kind == "height" and "shape" in imgs:
         sigma = p.shape.preblur
@@ -161,6 +207,7 @@ def update_derived_images(mat):
         else:
             need("background_sharp", f"{imgs['background'].name}|0", "background",
                  lambda d: lookup_copy(d, 0.0, "extend"))
+    return warnings
 
 
 def _silhouette_source(mat):
@@ -358,8 +405,9 @@ def refresh(mat, structure=True, derived=True, shadows=False, scene=None, depsgr
     """Bring the painting up to date: derived images, shadow bake, then the tree."""
     scene = scene or bpy.context.scene
     s = mat.dynamic_painting
+    warnings = []
     if derived:
-        update_derived_images(mat)
+        warnings += update_derived_images(mat)
     if structure:
         _, lights = features_for(mat, scene)
         _sync_light_items(s, lights)
@@ -371,4 +419,5 @@ def refresh(mat, structure=True, derived=True, shadows=False, scene=None, depsgr
         rebuild_tree(mat, scene, force=False)
     from .handlers import LAST_ERRORS   # up to date again: the panel stops showing old errors
     LAST_ERRORS[:] = [e for e in LAST_ERRORS if e[0] != mat.name]
+    return warnings
 

@@ -113,7 +113,8 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
             self.report({"ERROR"}, "Pick a painting.toml recipe or the painting's images")
             return {"CANCELLED"}
         try:
-            plane, messages = self._create(context, paths)
+            with S.unchanged_images_on_failure():
+                plane, messages = self._create(context, paths)
         except (RecipeError, ValueError, OSError) as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}

@@ -44,14 +44,15 @@ def cache_folder():
 def image_file(img, name):
     """A file OSL can read holding `img`'s pixels → (path, srgb: decode sRGB in the shader)."""
     from .material import has_alpha
-    # byte buffers hold the file's sRGB-encoded values, float buffers linear ones
-    srgb = int(img.colorspace_settings.name == "sRGB" and not img.is_float)
+    srgb_codes = img.colorspace_settings.name == "sRGB"     # the file holds sRGB codes
     src = bpy.path.abspath(img.filepath) if img.filepath else ""
     # OIIO premultiplies the colour of files with straight alpha (PNG) as it reads them; the
     # painting uses colour and alpha apart (channel packed): such images go through an EXR.
     if img.source == "FILE" and img.packed_file is None and os.path.isfile(src) \
             and not has_alpha(img):
-        return src, srgb
+        return src, int(srgb_codes)          # OIIO reads the file's codes (8- or 16-bit)
+    # byte buffers hold the file's sRGB codes, float buffers (16-bit files too) linear values
+    srgb = int(srgb_codes and not img.is_float)
     w, h = img.size
     px = np.empty(w * h * img.channels, np.float32)
     img.pixels.foreach_get(px)

@@ -6,6 +6,7 @@ size in the scene. A Copy Rotation constraint keeps it facing the scene camera (
 choice as Blender's Image as Planes).
 """
 import os
+from contextlib import contextmanager
 
 import numpy as np
 
@@ -39,14 +40,47 @@ def load_image(path, channel):
     path = os.path.abspath(path)
     if not os.path.isfile(path):
         raise FileNotFoundError(f"{path}: file not found")
+    known = set(bpy.data.images)
     try:
         img = bpy.data.images.load(path, check_existing=True)
     except RuntimeError as exc:
         raise ValueError(f"{path}: Blender cannot read it ({str(exc).strip()})") from None
     if img.size[0] == 0 or img.size[1] == 0 or not img.has_data:
+        if img not in known:
+            bpy.data.images.remove(img)      # leave no broken image behind
         raise ValueError(f"{path}: not an image Blender can read (unknown or corrupt format)")
     M.prepare_channel_image(img, channel)
     return img
+
+
+@contextmanager
+def unchanged_images_on_failure():
+    """Images loaded inside the block are removed again if it raises: a failed Add leaves the
+    file as it was."""
+    known = set(bpy.data.images)
+    try:
+        yield
+    except Exception:
+        for img in [i for i in bpy.data.images if i not in known]:
+            bpy.data.images.remove(img)
+        raise
+
+
+def check_images(loaded, kind):
+    """The rules of core/inputs.py on the painting's images → warnings; raises ValueError
+    (one line) for a shape image that cannot be what `kind` says."""
+    from ..core.inputs import normal_map_problem, size_message
+    from ..core.pipeline import PER_PIXEL_CHANNELS
+    from ..imageio import image_data_from_blender
+    shape = loaded["shape"]
+    if kind == "normal":
+        name = os.path.basename(bpy.path.abspath(shape.filepath)) or shape.name
+        problem = normal_map_problem(image_data_from_blender(shape).pixels, name)
+        if problem:
+            raise ValueError(problem)
+    return [size_message(ch, tuple(img.size), tuple(shape.size))
+            for ch, img in loaded.items()
+            if ch in PER_PIXEL_CHANNELS and tuple(img.size) != tuple(shape.size)]
 
 
 def face_camera(obj, camera):
@@ -66,6 +100,12 @@ def create_painting(context, images, p=None, lights=None, name="Dynamic Painting
     units.
     The scene is left as it was if anything fails.
     """
+    with unchanged_images_on_failure():
+        return _create_painting(context, images, p, lights, name, size, location, rotation,
+                                default_sun)
+
+
+def _create_painting(context, images, p, lights, name, size, location, rotation, default_sun):
     scene = context.scene
     p = p or P.defaults()
     messages = []
@@ -78,6 +118,7 @@ def create_painting(context, images, p=None, lights=None, name="Dynamic Painting
         raise ValueError("a painting needs a shape image (normal or height map)")
     if "dark" not in loaded and "bright" not in loaded:
         raise ValueError("a painting needs a dark or a bright image (one may serve both)")
+    messages += check_images(loaded, p.shape.kind)
     w, h = loaded["shape"].size
     created = []
     try:
@@ -112,7 +153,8 @@ def create_painting(context, images, p=None, lights=None, name="Dynamic Painting
             created.append(add_light(scene, _default_sun(), obj.matrix_world, context.collection))
             messages.append("the scene had no light: added a Sun")
         context.view_layer.update()
-        M.refresh(mat, structure=True, derived=True, shadows=p.shadows.enabled, scene=scene)
+        messages += M.refresh(mat, structure=True, derived=True, shadows=p.shadows.enabled,
+                              scene=scene)
         s.is_painting = True       # from here on, handlers and setting changes keep it current
     except Exception:
         _remove(created)

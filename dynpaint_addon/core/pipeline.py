@@ -22,6 +22,7 @@ import numpy as np
 from . import fresnel as fr
 from . import shading, warps
 from .colour import srgb_to_linear
+from .inputs import finite_pixels, non_finite_message, normal_map_problem, size_message
 from .lights import light_vectors
 from .sampling import gaussian_blur, pixel_centres, resample, sample_bilinear
 from .shadow import bake as shadow_bake
@@ -183,15 +184,20 @@ def render(images, lights, p, dtype=np.float32, cache=None):
     hs, ws = shape.pixels.shape[:2]
     if not np.any(np.isfinite(shape.pixels)):
         raise ValueError("the shape image has no finite pixel (all NaN or Inf)")
-    bad = int(np.size(shape.pixels) - np.count_nonzero(np.isfinite(shape.pixels)))
-    if bad:
-        warnings.append(f"shape image: {bad} NaN/Inf values treated as flat")
+    if p.shape.kind == "normal":
+        problem = normal_map_problem(shape.pixels, shape.name or "shape image")
+        if problem:
+            raise ValueError(problem)
 
     imgs = {}
-    for name, img in images.items():
+    for name, img in images.items():     # core/inputs.py: the rules for imperfect images
+        role = "colour" if name != "shape" else p.shape.kind
+        clean, bad = finite_pixels(img.pixels, role)
+        if bad:
+            warnings.append(non_finite_message(f"{name} image", bad))
+            img = ImageData(clean, img.bits, img.name)
         if name in PER_PIXEL_CHANNELS and img.pixels.shape[:2] != (hs, ws):
-            warnings.append(f"{name} image is {img.size[0]}×{img.size[1]}, resampled to the shape "
-                            f"image's {ws}×{hs}")
+            warnings.append(size_message(name, img.size, (ws, hs)))
             img = ImageData(resample(img.pixels.astype(dtype), hs, ws), img.bits, img.name)
         imgs[name] = img
 
