@@ -172,3 +172,47 @@ def make_recipe(name, paths):
         section, key = path.split(".")
         setattr(getattr(p, section), key, value)
     return Recipe(p, list(lights), {ch: paths[img] for ch, img in images.items()}, name)
+
+
+def random_params(rng, renderable=False):
+    """A random parameter set with its extremes drawn often (each number is its min, its max or
+    uniform between). renderable: keep to what a rendered sweep can afford (baked shadows, no
+    OSL compile per set; K ≤ 8 steps)."""
+    p = P.defaults()
+    for prm in P.PARAMS:
+        if prm.kind is bool:
+            value = bool(rng.integers(2))
+        elif prm.kind == "enum":
+            value = prm.choices[rng.integers(len(prm.choices))]
+        elif prm.kind is int:
+            value = int(rng.choice([0, 1, 2, 8]))
+        else:
+            lo, hi = prm.min, prm.max
+            value = float(rng.choice([lo, hi, rng.uniform(lo, hi)]))
+        setattr(getattr(p, prm.section), prm.key, value)
+    if renderable:
+        p.shadows.source = "baked"
+        if p.shadows.quality == "reference":
+            p.shadows.quality = "final"
+    return p
+
+
+def random_lights(rng):
+    """A sun anywhere (below the horizon too) and sometimes a point light, near or far."""
+    lights = [Light("sun", tuple(rng.normal(size=3) + [0, 0, 0.3]), tuple(rng.uniform(0, 2, 3)),
+                    float(rng.uniform(0, 3)), "Sun")]
+    if rng.integers(2):
+        lights.append(Light("point", tuple(rng.uniform(-1, 1, 3) * [1, 1, 0.5] + [0, 0, 0.02]),
+                            tuple(rng.uniform(0, 1, 3)), float(rng.uniform(0, 2)), "Point"))
+    return lights
+
+
+def random_recipe(rng, paths, name="random"):
+    """A random painting: every channel present, shape a normal or a height map."""
+    p = random_params(rng, renderable=True)
+    shape = {"normal": rng.choice(["normal", "normal_alpha"]),
+             "height": rng.choice(["height16", "height8", "height.exr"])}[p.shape.kind]
+    images = {"shape": shape, "dark": "dark", "bright": "bright", "specular_color": "spec",
+              "gloss": "gloss", "transparency": "transparency", "environment": "env",
+              "background": rng.choice(["bg", "bg.exr"])}
+    return Recipe(p, random_lights(rng), {ch: paths[img] for ch, img in images.items()}, name)

@@ -229,3 +229,108 @@ def test_accepted_inputs_render_in_cycles_as_in_the_core(case, files, tmp_path, 
     assert got.shape == want.shape
     inner = np.abs(got - want)[1:-1, 1:-1] if min(got.shape[:2]) > 2 else np.abs(got - want)
     assert float(inner.max()) <= 2e-3, f"{case}: max |Δ| {float(inner.max()):.2e}"
+
+
+def _add_and_render(files, tmp_path, images, kind="height"):
+    CASES["_scene"] = (images, kind, ("ok", None))
+    try:
+        recipe = write_recipe(files, "_scene", tmp_path)
+    finally:
+        del CASES["_scene"]
+    assert bpy.ops.dynpaint.add(filepath=str(recipe), directory=str(tmp_path),
+                                files=[{"name": "painting.toml"}]) == {"FINISHED"}
+    plane = bpy.context.object
+    scene = bpy.context.scene
+    S.exact_camera(scene, plane)
+    S.exact_render_settings(scene, "cycles")
+    return plane, plane.active_material
+
+
+def _render(scene, path):
+    S.output_settings(scene, str(path))
+    bpy.context.view_layer.update()
+    bpy.ops.render.render(write_still=True)
+    return read_image(str(path)).pixels
+
+
+def test_renamed_plane_images_and_light_render_the_same(files, tmp_path, empty_scene):
+    plane, mat = _add_and_render(files, tmp_path, {"shape": "height.png", "dark": "dark.png",
+                                                   "bright": "bright.png"})
+    scene = bpy.context.scene
+    before = _render(scene, tmp_path / "before.exr")
+    plane.name = "Renamed plane"
+    for img in list(bpy.data.images):
+        img.name = "renamed " + img.name
+    M.linked_lights(mat, scene)[0].name = "Renamed sun"
+    scene.frame_set(2)                           # handlers run: rebuild for the renamed light
+    after = _render(scene, tmp_path / "after.exr")
+    assert np.array_equal(before, after)
+    assert M.problems(mat) == [] and handlers.LAST_ERRORS == []
+
+
+def test_deleted_images_and_plane_are_mended_or_reported(files, tmp_path, empty_scene):
+    plane, mat = _add_and_render(files, tmp_path, {"shape": "height.png", "dark": "dark.png",
+                                                   "bright": "bright.png"})
+    scene = bpy.context.scene
+    s = mat.dynamic_painting
+    full = _render(scene, tmp_path / "full.exr")
+    # the bright image deleted: the painting renders with the dark image in its place (§1)
+    bpy.data.images.remove(s.image_bright)
+    assert M.tree_is_stale(mat)
+    got = _render(scene, tmp_path / "no_bright.exr")
+    assert not M.tree_is_stale(mat) and np.all(np.isfinite(got))
+    data = {"shape": read_image(str(files / "height.png")), "dark": read_image(str(files / "dark.png"))}
+    lights = [M.painting_frame_light(o, plane.matrix_world) for o in M.linked_lights(mat, scene)]
+    want = core_render(data, lights, settings_to_params(s)).rgba
+    assert float(np.abs(got - want)[1:-1, 1:-1].max()) <= 2e-3
+    assert np.abs(got - full).max() > 0.05
+    # the shape image deleted: reported in one line, the render does not fail
+    bpy.data.images.remove(s.image_shape)
+    _render(scene, tmp_path / "no_shape.exr")
+    assert any("no shape image" in m for _, m in handlers.LAST_ERRORS), handlers.LAST_ERRORS
+    assert M.problems(mat) == ["it has no shape image (deleted?): open one under Images"]
+    handlers.LAST_ERRORS.clear()
+    # the plane deleted: the painting is skipped, nothing raises
+    bpy.data.objects.remove(plane)
+    scene.frame_set(3)
+    _render(scene, tmp_path / "no_plane.exr")
+    assert M.problems(mat)[0].startswith("its plane was deleted")
+
+
+def test_image_file_gone_from_disk_is_reported(files, tmp_path, empty_scene):
+    folder = tmp_path / "imgs"
+    folder.mkdir()
+    for f in ("height.png", "dark.png"):
+        (folder / f).write_bytes((files / f).read_bytes())
+    assert bpy.ops.dynpaint.add(directory=str(folder), files=[{"name": "height.png"},
+                                {"name": "dark.png"}]) == {"FINISHED"}
+    mat = bpy.context.object.active_material
+    (folder / "dark.png").unlink()
+    assert M.problems(mat) == [f"the dark image's file is missing: {folder / 'dark.png'} "
+                               "(File › External Data › Find Missing Files, or open it again)"]
+
+
+@pytest.mark.parametrize("toml, message", [
+    ('[images]\nshape = "height.png"\ndark = "dark.png"\n[shape]\nknd = "height"\n',
+     "shape.knd: unknown key (did you mean 'kind'?)"),
+    ('[images]\nshape = "height.png"\ndark = "dark.png"\n[shadows]\noffset = "big"\n',
+     "shadows.offset: expected a number, got 'big'"),
+    ('[images]\nshape = "height.png"\ndark = "dark.png"\n[refraction]\nior = 7.0\n',
+     "refraction.ior: 7.0 is out of range [0.5, 2.0]"),
+    ('[images]\nshape = "height.png"\ndark = "gone.png"\n', "images.dark: file not found"),
+    ('[images\nshape = "height.png"\n', "not valid TOML"),
+])
+def test_bad_recipes_through_the_operator_and_the_command_line(toml, message, files, tmp_path,
+                                                              empty_scene):
+    for f in ("height.png", "dark.png"):
+        (tmp_path / f).write_bytes((files / f).read_bytes())
+    (tmp_path / "painting.toml").write_text(toml)
+    before = counts()
+    with pytest.raises(RuntimeError, match=message.replace("[", r"\[").replace("]", r"\]")
+                       .replace("(", r"\(").replace(")", r"\)").replace("?", r"\?")):
+        bpy.ops.dynpaint.add(filepath=str(tmp_path / "painting.toml"), directory=str(tmp_path),
+                             files=[{"name": "painting.toml"}])
+    assert counts() == before
+    res = run_cli("render", tmp_path / "painting.toml", "--out", tmp_path / "x.png")
+    assert res.returncode == 1 and message in res.stderr and res.stderr.count("\n") == 1, \
+        res.stderr

@@ -5,6 +5,8 @@
   deleted light.
 - frame_change_post: with cos-θ shadows on, each frame bakes for the lights where that frame
   puts them (read from the evaluated depsgraph, blender-notes.md), in renders as in playback.
+- render_pre: a painting that lost an optional image (deleted) is rebuilt without it; deleted
+  planes or images and missing files are reported (one line each), never raised.
 - load_post: a saved .blend keeps the node tree, drivers and settings but not the pixels of the
   images numpy made (derived copies, shadow bakes: generated images): they are remade when
   the file opens, so a reopened file renders the same pixels as before it was saved.
@@ -86,6 +88,22 @@ def on_frame_change(scene, depsgraph):
             report(mat, exc)
 
 
+@persistent
+def on_render_pre(scene, *_):
+    """Before a render: a painting whose optional image was deleted is rebuilt without it;
+    anything that cannot be mended is reported, once per render, and never raised."""
+    for mat in paintings(scene):
+        try:
+            if M.tree_is_stale(mat) and mat.dynamic_painting.image_shape is not None:
+                M.refresh(mat, structure=True, derived=True, shadows=False, scene=scene)
+                mat.dynamic_painting.signature = ""
+                M.rebuild_tree(mat, scene, force=True)
+            for problem in M.problems(mat):
+                report(mat, problem)
+        except Exception as exc:
+            report(mat, exc)
+
+
 def scene_of(mat):
     """The scene a painting is in: the window's scene if its plane is there, else the first."""
     plane = mat.dynamic_painting.plane
@@ -111,7 +129,8 @@ def on_load(*_):
 
 HANDLERS = ((bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),
             (bpy.app.handlers.frame_change_post, on_frame_change),
-            (bpy.app.handlers.load_post, on_load))
+            (bpy.app.handlers.load_post, on_load),
+            (bpy.app.handlers.render_pre, on_render_pre))
 
 
 def _same(a, b):

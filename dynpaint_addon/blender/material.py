@@ -400,6 +400,34 @@ def bake_shadows(mat, scene, depsgraph=None, force=True):
     return ms
 
 
+# -- health -----------------------------------------------------------------------------------
+def problems(mat):
+    """What keeps the painting from rendering as set up, one line each (the panel shows them,
+    renders report them): deleted plane or images, image files gone from disk."""
+    import os
+    s = mat.dynamic_painting
+    found = []
+    if s.plane is None:
+        found.append("its plane was deleted: add the painting again (Add › Dynamic Painting)")
+    if s.image_shape is None:
+        found.append("it has no shape image (deleted?): open one under Images")
+    if s.image_dark is None and s.image_bright is None:
+        found.append("it has no dark or bright image (deleted?): open one under Images")
+    for channel, img in channel_images(s).items():
+        if img.source == "FILE" and img.packed_file is None:
+            path = bpy.path.abspath(img.filepath, library=img.library)
+            if not os.path.isfile(path):
+                found.append(f"the {channel.replace('_', ' ')} image's file is missing: {path} "
+                             "(File › External Data › Find Missing Files, or open it again)")
+    return found
+
+
+def tree_is_stale(mat):
+    """An image the node tree samples was deleted (its node lost the image)."""
+    return any(n.bl_idname == "ShaderNodeTexImage" and n.image is None
+               for n in mat.node_tree.nodes)
+
+
 # -- everything -------------------------------------------------------------------------------
 def refresh(mat, structure=True, derived=True, shadows=False, scene=None, depsgraph=None):
     """Bring the painting up to date: derived images, shadow bake, then the tree."""

@@ -129,6 +129,9 @@ def _make_panels(space, region, context_name, category, prefix):
         if s.shadows.enabled and LIVE.latencies:
             quality, ms = LIVE.latencies[-1]
             layout.label(text=f"Last live bake: {quality}, {ms:.0f} ms", icon="TIME")
+        from .material import problems
+        for problem in problems(mat):
+            layout.label(text=problem, icon="ERROR")
         errors = [m for name, m in handlers.LAST_ERRORS if name == mat.name]
         if errors:
             layout.label(text=errors[-1], icon="ERROR")
