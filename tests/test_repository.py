@@ -74,6 +74,59 @@ def test_built_zip_installs_headless_and_adds_a_painting(tmp_path):
     assert REPO not in sample_line and "extensions" in sample_line
 
 
+TOGGLE = """
+import os, sys, tempfile
+os.environ["BLENDER_USER_RESOURCES"] = tempfile.mkdtemp()
+import bpy
+bpy.ops.extensions.package_install_files(filepath=sys.argv[1], repo="user_default",
+                                         enable_on_install=True)
+bpy.ops.wm.read_homefile(use_empty=True)
+MOD = "bl_ext.user_default.dynamic_painting"
+HANDLERS = ("depsgraph_update_post", "frame_change_post", "load_post", "render_pre",
+            "undo_post", "redo_post")
+
+def ours():
+    return {h: sum(getattr(f, "__module__", "").startswith(MOD)
+                   for f in getattr(bpy.app.handlers, h)) for h in HANDLERS}
+
+assert bpy.ops.dynpaint.add_sample(sample="impossible") == {"FINISHED"}
+mat = bpy.context.object.active_material
+drivers = len(mat.node_tree.animation_data.drivers)
+namespace = set(bpy.app.driver_namespace)
+print("ENABLED", ours())
+for i in range(3):
+    bpy.ops.preferences.addon_disable(module=MOD)
+    print("DISABLED", ours(), hasattr(bpy.types.Material, "dynamic_painting"),
+          hasattr(bpy.types, "DYNPAINT_OT_add"), hasattr(bpy.types, "VIEW3D_MT_dynpaint_add"))
+    bpy.ops.preferences.addon_enable(module=MOD)
+print("AFTER", ours(), len(mat.node_tree.animation_data.drivers) == drivers,
+      set(bpy.app.driver_namespace) == namespace, mat.dynamic_painting.is_painting,
+      all(d.is_valid for d in mat.node_tree.animation_data.drivers))
+bpy.context.scene.frame_set(5)
+print("ERRORS", [e for e in sys.modules[MOD + ".dynpaint_addon.blender.handlers"].LAST_ERRORS])
+"""
+
+
+def test_enabling_and_disabling_the_extension_leaves_nothing_behind(tmp_path):
+    """Disable/enable the installed extension three times: no handler left while disabled,
+    exactly one of each after, the painting's drivers neither lost nor duplicated."""
+    subprocess.run([sys.executable, BLENDER_EXT, "build", "--source-dir", REPO,
+                    "--output-dir", str(tmp_path)], check=True, capture_output=True)
+    res = subprocess.run([sys.executable, "-c", TOGGLE, glob.glob(str(tmp_path / "*.zip"))[0]],
+                         cwd=str(tmp_path), capture_output=True, text=True,
+                         env={k: v for k, v in os.environ.items() if k != "PYTHONPATH"})
+    one = ("{'depsgraph_update_post': 1, 'frame_change_post': 1, 'load_post': 1, "
+           "'render_pre': 1, 'undo_post': 1, 'redo_post': 1}")
+    none = one.replace("1", "0")
+    lines = res.stdout.splitlines()
+    assert f"ENABLED {one}" in lines, res.stdout + res.stderr
+    disabled = [ln for ln in lines if ln.startswith("DISABLED")]
+    assert len(disabled) == 3 and all(ln == f"DISABLED {none} False False False" for ln in disabled), \
+        res.stdout
+    assert f"AFTER {one} True True True True" in lines, res.stdout + res.stderr
+    assert "ERRORS []" in lines, res.stdout + res.stderr
+
+
 def readme_commands():
     text = open(os.path.join(REPO, "README.md")).read()
     return re.findall(r"```sh\n(.*?)\n```", text, re.S)

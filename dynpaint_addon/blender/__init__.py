@@ -15,6 +15,8 @@ def register():
 
 
 def unregister():
+    from . import live_bake
+    live_bake.shutdown()
     for module in reversed(_modules()):
         module.unregister()
     _registered[0] = False

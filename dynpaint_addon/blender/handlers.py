@@ -5,6 +5,8 @@
   deleted light.
 - frame_change_post: with cos-θ shadows on, each frame bakes for the lights where that frame
   puts them (read from the evaluated depsgraph, blender-notes.md), in renders as in playback.
+- undo_post, redo_post: the same remaking after undo and redo, so the images match the
+  settings and light positions undo brought back.
 - render_pre: a painting that lost an optional image (deleted) is rebuilt without it; deleted
   planes or images and missing files are reported (one line each), never raised.
 - load_post: a saved .blend keeps the node tree, drivers and settings but not the pixels of the
@@ -115,8 +117,22 @@ def scene_of(mat):
 
 @persistent
 def on_load(*_):
+    remake_generated_images()
+
+
+@persistent
+def on_undo_redo(*_):
+    """Undo restores settings, lights and bake keys but not necessarily the pixels numpy wrote
+    into generated images: remake them so the painting matches what undo brought back."""
+    remake_generated_images()
+
+
+def remake_generated_images():
     M.forget_cached_shapes()
-    for mat in [m for m in bpy.data.materials if m.dynamic_painting.is_painting]:
+    paintings_ = [m for m in bpy.data.materials if m.dynamic_painting.is_painting]
+    if paintings_ and getattr(bpy.context, "view_layer", None) is not None:
+        bpy.context.view_layer.update()     # after undo, world matrices are not evaluated yet
+    for mat in paintings_:
         try:
             scene = scene_of(mat)
             if scene is None:
@@ -130,7 +146,9 @@ def on_load(*_):
 HANDLERS = ((bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),
             (bpy.app.handlers.frame_change_post, on_frame_change),
             (bpy.app.handlers.load_post, on_load),
-            (bpy.app.handlers.render_pre, on_render_pre))
+            (bpy.app.handlers.render_pre, on_render_pre),
+            (bpy.app.handlers.undo_post, on_undo_redo),
+            (bpy.app.handlers.redo_post, on_undo_redo))
 
 
 def _same(a, b):

@@ -145,3 +145,12 @@ def lights_moved(mat, depsgraph=None):
         if M.light_key(light) not in item.bake_key:
             return True
     return False
+
+
+def shutdown():
+    """The add-on is being disabled: supersede bakes in flight, stop the timer."""
+    for name in list(LIVE.generation):
+        LIVE.generation[name] += 1
+    LIVE.still_since.clear()
+    if bpy.app.timers.is_registered(_tick):
+        bpy.app.timers.unregister(_tick)
