@@ -142,3 +142,39 @@ def test_without_the_load_handler_a_reopened_file_would_be_wrong(authored):
     line = next((ln for ln in res.stdout.splitlines() if ln.startswith("SHADOW")), None)
     assert line is not None, res.stdout[-3000:] + res.stderr[-3000:]
     assert float(line.split()[1]) == 0.0, line      # a blank generated image, not the bake
+
+
+OLD = PRELUDE + """
+import numpy as np
+from dynpaint_addon.blender.properties import settings_to_params
+from dynpaint_addon.core.pipeline import render as core_render
+from dynpaint_addon.imageio import image_data_from_blender, read_image
+bpy.ops.wm.open_mainfile(filepath=sys.argv[1])
+scene = bpy.context.scene
+mat = next(m for m in bpy.data.materials if m.dynamic_painting.is_painting)
+s = mat.dynamic_painting
+S.exact_render_settings(scene, "cycles")
+worst = 0.0
+for frame in (4, 7):
+    scene.frame_set(frame)
+    S.output_settings(scene, os.path.join(sys.argv[2], f"old_{frame}.exr"))
+    bpy.ops.render.render(write_still=True)
+    got = read_image(scene.render.filepath).pixels
+    images = {c: image_data_from_blender(getattr(s, "image_" + c)) for c in ("shape", "dark", "bright")}
+    lights = [M.painting_frame_light(o, s.plane.matrix_world) for o in M.linked_lights(mat, scene)]
+    want = core_render(images, lights, settings_to_params(s)).rgba
+    worst = max(worst, float(np.abs(got - want)[1:-1, 1:-1].max()))
+print("OLD", worst, handlers.LAST_ERRORS)
+"""
+
+
+@pytest.mark.parametrize("fixture", sorted(
+    f for f in os.listdir(os.path.join(REPO, "tests", "data")) if f.endswith(".blend")))
+def test_files_saved_by_earlier_versions_open_and_render(fixture, tmp_path):
+    """tests/data/painting_v*.blend were saved by earlier versions (make_old_version_fixture.py):
+    each opens in this version and renders what the core renders for its settings and lights."""
+    res = _run(OLD, os.path.join(REPO, "tests", "data", fixture), tmp_path, cwd=str(tmp_path))
+    line = next((ln for ln in res.stdout.splitlines() if ln.startswith("OLD")), None)
+    assert line is not None, res.stdout[-3000:] + res.stderr[-3000:]
+    worst = float(line.split()[1])
+    assert worst <= 1e-4 and line.endswith("[]"), line

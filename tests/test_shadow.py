@@ -248,3 +248,30 @@ def test_large_images_fall_back_to_the_march(monkeypatch):
     monkeypatch.setattr(sunshadow, "MAX_TABLE_BYTES", 0)
     marched = bake(n, light, 0.01, "final", heights_px=z)
     assert np.array_equal(marched, cos_theta_shadow(n, light, 0.01, 64, heights_px=z))
+
+
+def test_banded_march_equals_one_band_and_bounds_its_memory(monkeypatch):
+    """The march runs in bands of rows (shadow.BAND_PIXELS): bit-identical to one band, with a
+    peak of extra memory that follows the band, not the image."""
+    import tracemalloc
+    from dynpaint_addon.core import shadow as S
+    rng = np.random.default_rng(5)
+    h, w = 256, 384
+    y, x = np.mgrid[0:h, 0:w]
+    z = (60 * np.exp(-((x - 150) ** 2 + (y - 120) ** 2) / 3000) + rng.uniform(0, 2, (h, w)))
+    z = z.astype(np.float32)
+    n = normals_from_height_px(z)
+    out = {}
+    for light in (Light("sun", (0.6, 0.2, 0.4)), Light("point", (0.3, -0.2, 0.25))):
+        for band in (1 << 20, 3000):
+            monkeypatch.setattr(S, "BAND_PIXELS", band)
+            calls = []
+            tracemalloc.start()
+            t = S.cos_theta_shadow(n, light, 0.01, 32, heights_px=z, progress=calls.append)
+            peak = tracemalloc.get_traced_memory()[1]
+            tracemalloc.stop()
+            out[band] = (t, peak)
+            assert calls[-1] == 1.0 and len(calls) == -(-h // max(1, band // w))
+        assert np.array_equal(out[1 << 20][0], out[3000][0]), light
+        whole, banded = out[1 << 20][1], out[3000][1]
+        assert banded < whole / 4, (light.kind, whole, banded)

@@ -362,7 +362,7 @@ def invalidate_generated(mat):
         item.bake_key = ""
 
 
-def bake_shadows(mat, scene, depsgraph=None, force=True):
+def bake_shadows(mat, scene, depsgraph=None, force=True, progress=None):
     """Bake the cos-θ term (§6) of the linked lights into their images. → milliseconds taken.
 
     Without `force`, a light whose painting-frame position and shadow inputs are those of its
@@ -391,8 +391,16 @@ def bake_shadows(mat, scene, depsgraph=None, force=True):
         return 0.0
     n, z_px, slopes = bake_shape(mat, p, fresh=force)
     t_start = time.perf_counter()
-    results = [shadow_term(n, z_px, slopes, light, p) for _, light, _ in todo]
+    results = []
+    for i, (_, light, _) in enumerate(todo):
+        part = None if progress is None else \
+            (lambda f, i=i: progress((i + f) / len(todo)))     # noqa: E731
+        results.append(shadow_term(n, z_px, slopes, light, p, progress=part))
     ms = (time.perf_counter() - t_start) * 1000
+    if ms > 2000:      # long bakes (huge images, reference quality) say what they did
+        w, h = s.image_shape.size
+        print(f"Dynamic Painting: {mat.name}: baked {len(todo)} light(s) at {w}×{h} "
+              f"({p.shadows.quality}) in {ms / 1000:.1f} s")
     for (item, _, key), t in zip(todo, results):
         item.shadow = float_image(f"DP {mat.name} shadow {item.object.name}", grey_rgba(t))
         item.bake_key = key

@@ -186,9 +186,10 @@ class DYNPAINT_OT_bake_shadows(PaintingOperator, bpy.types.Operator):
             self.report({"WARNING"}, "Shadows are off: turn on Shadows first")
             return {"CANCELLED"}
         wm = context.window_manager
-        wm.progress_begin(0, 1)
+        wm.progress_begin(0, 1000)      # the cursor shows it; long bakes report per band
         try:
-            ms = M.bake_shadows(mat, context.scene, context.evaluated_depsgraph_get())
+            ms = M.bake_shadows(mat, context.scene, context.evaluated_depsgraph_get(),
+                                progress=lambda f: wm.progress_update(int(1000 * f)))
             M.rebuild_tree(mat, context.scene)
         except Exception as exc:
             self.report({"ERROR"}, f"Bake failed, the previous shadows are kept: {exc}")
@@ -196,7 +197,9 @@ class DYNPAINT_OT_bake_shadows(PaintingOperator, bpy.types.Operator):
         finally:
             wm.progress_end()
         n = len(mat.dynamic_painting.lights)
-        self.report({"INFO"}, f"Baked shadows of {n} light{'s' * (n != 1)} in {ms:.0f} ms")
+        w, h = mat.dynamic_painting.image_shape.size
+        self.report({"INFO"}, f"Baked shadows of {n} light{'s' * (n != 1)} at {w}×{h} "
+                    f"in {ms:.0f} ms")
         return {"FINISHED"}
 
 

@@ -38,18 +38,20 @@ class Light:
         return np.array([x * width + width / 2, y * width + height / 2, z * width])
 
 
-def light_vectors(light, x_px, y_px, z_px, dtype=np.float32):
+def light_vectors(light, x_px, y_px, z_px, dtype=np.float32, image_size=None):
     """Unit vectors toward the light for surface points P_S = (x, y, z) in pixels (§0).
 
     Returns (L, dist): L of shape (H, W, 3) and, for point lights, the distance to the light
     in pixels (None for suns). A point light exactly at a surface point gives L = (0, 0, 1).
+    image_size: (H, W) of the whole image when the points are only some of its rows (the
+    light's position is measured from the image's centre).
     """
     shape = np.broadcast(x_px, y_px, z_px).shape
     if light.kind == "sun":
         v = np.asarray(light.vector, dtype=np.float64)
         v = (v / np.linalg.norm(v)).astype(dtype)
         return np.broadcast_to(v, shape + (3,)), None
-    h, w = shape
+    h, w = image_size or shape
     p = light.position_px(h, w).astype(dtype)
     vec = np.stack(np.broadcast_arrays(p[0] - x_px, p[1] - y_px, p[2] - z_px), axis=-1).astype(dtype)
     dist = np.sqrt(np.sum(vec * vec, axis=-1))

@@ -63,8 +63,11 @@ class BakeCancelled(Exception):
     """A bake was superseded (its `cancel` callback said so) before it finished."""
 
 
+BAND_PIXELS = 1 << 20    # pixels marched at once: bounds the per-step state at any image size
+
+
 def cos_theta_shadow(normals, light, offset, steps, *, heights_px=None, slopes=None,
-                     occupancy="linear", stats=None, cancel=None):
+                     occupancy="linear", stats=None, cancel=None, progress=None):
     """The raw cos-θ term t = d / max(r, d) ∈ [0, 1] for one light (§6), shape (H, W).
 
     normals: unit normals (H, W, 3) (N.z ≥ z_min, §2), in the dtype to compute in.
@@ -79,61 +82,107 @@ def cos_theta_shadow(normals, light, offset, steps, *, heights_px=None, slopes=N
     and extrapolates along the tangent plane (t = N·L on any surface); K is capped at
     MAX_STEPS_PER_PIXEL steps per pixel of the longest march, so a huge K stays finite in time.
     cancel: optional callable, asked before every step; True aborts with BakeCancelled (a newer
-    bake supersedes this one).
+    bake supersedes this one). progress: optional callable(fraction done), once per band.
+
+    Rows are marched in bands of about BAND_PIXELS pixels (each pixel's ray is independent;
+    the relief is sampled whole), so memory beyond the inputs and the result stays bounded.
     """
     if (heights_px is None) == (slopes is None):
         raise ValueError("give exactly one of heights_px (height map) or slopes (normal map)")
-    dtype = normals.dtype
-    f = dtype.type
     h, w = normals.shape[:2]
-    x, y = pixel_centres(h, w, f)
-    zs = heights_px.astype(dtype, copy=False) if heights_px is not None else np.zeros((h, w), dtype)
-    lvec, light_dist = light_vectors(light, x, y, zs, dtype)
-    lx, ly, lz = lvec[..., 0], lvec[..., 1], lvec[..., 2]
-    nx, ny, nz = normals[..., 0], normals[..., 1], normals[..., 2]
-    ndl = nx * lx + ny * ly + nz * lz
+    rows = max(1, BAND_PIXELS // max(w, 1))
+    bands = [(r, min(h, r + rows)) for r in range(0, h, rows)] or [(0, 0)]
+    ctx = _MarchInputs(normals, light, offset, heights_px, slopes)
+    # K is the same for every band (it follows the longest march of the whole image), so a
+    # banded bake equals an unbanded one bit for bit.
+    max_ell = max(float(_ray_setup(ctx, r0, r1)["ell"].max(initial=0.0)) for r0, r1 in bands) \
+        if h and w else 0.0
     steps = max(0, int(steps))
-    d = f(max(0.0, float(offset)) * w)
+    k_eff = min(steps, max(1, int(np.ceil(MAX_STEPS_PER_PIXEL * max_ell)))) if steps else 0
+    if stats is not None:
+        stats.steps, stats.max_march_px = k_eff, max_ell
+    out = np.empty((h, w), normals.dtype)
+    for i, (r0, r1) in enumerate(bands):
+        out[r0:r1] = _march_band(ctx, _ray_setup(ctx, r0, r1), k_eff, occupancy, cancel)
+        if progress is not None:
+            progress((i + 1) / len(bands))
+    return out
 
+
+@dataclass
+class _MarchInputs:
+    """What every band of a march shares: the whole relief and the light."""
+    normals: np.ndarray
+    light: object
+    offset: float
+    heights_px: object
+    slopes: object
+
+    def __post_init__(self):
+        self.dtype = self.normals.dtype
+        self.f = self.dtype.type
+        self.h, self.w = self.normals.shape[:2]
+        self.zs = self.heights_px.astype(self.dtype, copy=False) if self.heights_px is not None \
+            else None
+        self.d = self.f(max(0.0, float(self.offset)) * self.w)
+        self.zmax = self.f(np.max(self.zs)) if self.zs is not None and self.zs.size else None
+        self.s_max = self.f(np.max(np.hypot(self.slopes[..., 0], self.slopes[..., 1]))) \
+            if self.slopes is not None and self.slopes.size else self.f(0)
+
+
+def _ray_setup(c, r0, r1):
+    """Per-pixel start, direction and march length of rows r0 … r1 − 1."""
+    f, d, h, w, light = c.f, c.d, c.h, c.w, c.light
+    x, y = pixel_centres(h, w, f)
+    x, y = x[r0:r1], y[r0:r1]
+    n = c.normals[r0:r1]
+    zs = c.zs[r0:r1] if c.zs is not None else np.zeros((r1 - r0, w), c.dtype)
+    lvec, light_dist = light_vectors(light, x, y, zs, c.dtype, image_size=(h, w))
+    lx, ly, lz = lvec[..., 0], lvec[..., 1], lvec[..., 2]
+    nx, ny, nz = n[..., 0], n[..., 1], n[..., 2]
+    ndl = nx * lx + ny * ly + nz * lz
     # P0 = P_S − d·N_S
     x0 = x - d * nx
     y0 = y - d * ny
     z0 = zs - d * nz
-    if heights_px is not None:
+    h_rec = None
+    if c.zs is not None:
         # δ0 from the relief where it is known; on the tangent plane of P_S (d/N.z) where P0
         # lies outside the box of pixel centres (border pixels whose normal points outward).
-        delta = np.where(_inside_box(x0, y0, h, w), sample_bilinear(zs, x0, y0, "extend") - z0, d / nz)
-        zmax = f(np.max(zs))
+        delta = np.where(_inside_box(x0, y0, h, w), sample_bilinear(c.zs, x0, y0, "extend") - z0,
+                         d / nz)
         with np.errstate(divide="ignore", invalid="ignore"):
-            ell_top = np.where(lz > 0, (zmax - z0) / lz, np.inf)
+            ell_top = np.where(lz > 0, (c.zmax - z0) / lz, np.inf)
     else:
         # Start on the tangent plane of P_S: H(P0.xy) = d|N.xy|²/N.z, δ0 = d/N.z.
         h_rec = d * (nx * nx + ny * ny) / nz
         delta = h_rec - z0
         # The reconstructed height climbs at most S·|L.xy| per unit s (S = steepest slope):
         # once the ray outclimbs that, it can never be inside again.
-        s_max = f(np.max(np.hypot(slopes[..., 0], slopes[..., 1])))
-        climb = lz - s_max * np.hypot(lx, ly)
+        climb = lz - c.s_max * np.hypot(lx, ly)
         with np.errstate(divide="ignore", invalid="ignore"):
             ell_top = np.where(climb > 0, delta / climb, np.inf)
     ell = np.minimum(_exit_distance(x0, y0, lx, ly, h, w), ell_top)
     if light_dist is not None:
         # The ray reaches the light's closest approach at s = (P_L − P0)·L.
-        p_l = light.position_px(h, w).astype(dtype)
+        p_l = light.position_px(h, w).astype(c.dtype)
         ell_light = np.maximum((p_l[0] - x0) * lx + (p_l[1] - y0) * ly + (p_l[2] - z0) * lz, 0)
         stopped_by_light = ell_light <= ell
         ell = np.minimum(ell, ell_light)
     else:
         ell_light = None
-        stopped_by_light = np.zeros((h, w), bool)
-    ell = np.where(np.isfinite(ell), ell, 0).astype(dtype, copy=False)
+        stopped_by_light = np.zeros(x.shape, bool)
+    ell = np.where(np.isfinite(ell), ell, 0).astype(c.dtype, copy=False)
+    return dict(lx=lx, ly=ly, lz=lz, nz=nz, ndl=ndl, x0=x0, y0=y0, z0=z0, delta=delta,
+                h_rec=h_rec, ell=ell, ell_light=ell_light, stopped_by_light=stopped_by_light)
 
-    max_ell = float(ell.max()) if ell.size else 0.0
-    k_eff = min(steps, max(1, int(np.ceil(MAX_STEPS_PER_PIXEL * max_ell)))) if steps else 0
-    if stats is not None:
-        stats.steps, stats.max_march_px = k_eff, max_ell
 
-    inside = np.zeros((h, w), dtype)
+def _march_band(c, r, k_eff, occupancy, cancel):
+    """March the rays of one band K steps and add the tangent-plane tail → t for the band."""
+    f, d = c.f, c.d
+    lx, ly, lz, ell = r["lx"], r["ly"], r["lz"], r["ell"]
+    x0, y0, z0, delta, h_rec = r["x0"], r["y0"], r["z0"], r["delta"], r["h_rec"]
+    inside = np.zeros(ell.shape, c.dtype)
     if k_eff:
         delta_start = delta
         a = ell / f(k_eff)
@@ -143,10 +192,10 @@ def cos_theta_shadow(normals, light, offset, steps, *, heights_px=None, slopes=N
                 raise BakeCancelled()
             px = x0 + f(k) * ax
             py = y0 + f(k) * ay
-            if heights_px is not None:
-                h_here = sample_bilinear(zs, px, py, "extend")
+            if c.zs is not None:
+                h_here = sample_bilinear(c.zs, px, py, "extend")
             else:
-                g = sample_bilinear(slopes, px - f(0.5) * ax, py - f(0.5) * ay, "extend")
+                g = sample_bilinear(c.slopes, px - f(0.5) * ax, py - f(0.5) * ay, "extend")
                 h_rec = h_rec + g[..., 0] * ax + g[..., 1] * ay
                 h_here = h_rec
             new_delta = h_here - (z0 + f(k) * az)
@@ -157,23 +206,24 @@ def cos_theta_shadow(normals, light, offset, steps, *, heights_px=None, slopes=N
 
     # Tail: the march ended inside (image border, or K = 0): extrapolate along the tangent
     # plane of P_S, where δ falls at (N·L)/N.z per unit s. Never past a point light.
-    rate = ndl / nz
+    ndl = r["ndl"]
+    rate = ndl / r["nz"]
     with np.errstate(divide="ignore", invalid="ignore"):
         tail = np.where(rate > 0, delta / rate, np.inf)
-    if ell_light is not None:
-        tail = np.minimum(tail, ell_light - ell)
-    tail = np.where((delta > 0) & ~stopped_by_light, tail, 0)
-    r = inside + tail
+    if r["ell_light"] is not None:
+        tail = np.minimum(tail, r["ell_light"] - ell)
+    tail = np.where((delta > 0) & ~r["stopped_by_light"], tail, 0)
+    dist = inside + tail
 
     if d > 0:
-        t = d / np.maximum(r, d)
+        t = d / np.maximum(dist, d)
     else:
         # d → 0: max(N·L, 0) × hard visibility (nothing of the ray inside the relief).
-        t = np.where(r > f(1e-3), 0, np.maximum(ndl, 0))
-    if light.kind == "sun" and light.vector[2] <= 0:
+        t = np.where(dist > f(1e-3), 0, np.maximum(ndl, 0))
+    if c.light.kind == "sun" and c.light.vector[2] <= 0:
         t = np.zeros_like(t)
     t = np.where(np.isfinite(t), t, 0)
-    return np.clip(t, 0, 1).astype(dtype, copy=False)
+    return np.clip(t, 0, 1).astype(c.dtype, copy=False)
 
 
 # §13 quality levels of the bake: K, the resolution the march runs at (the result is upsampled
@@ -199,9 +249,10 @@ def quality_settings(quality, steps=64, scale=1.0):
 
 
 def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=None, steps=64,
-         scale=1.0, occupancy="linear", stats=None, cancel=None):
+         scale=1.0, occupancy="linear", stats=None, cancel=None, progress=None):
     """The cos-θ term at a quality level (§13): march at a reduced resolution if the level
-    says so, then upsample to the shape's size. Heights are in pixels of the full image."""
+    says so, then upsample to the shape's size. Heights are in pixels of the full image.
+    progress: optional callable(fraction done) (the march reports once per band of rows)."""
     k, scale, dtype = quality_settings(quality, steps, scale)
     h, w = normals.shape[:2]
     normals = normals.astype(dtype, copy=False)
@@ -216,18 +267,22 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
     if light.kind == "sun" and fast_level and occupancy == "linear":
         from . import sunshadow
         if sunshadow.fits(hs, ws):
-            def march(n, lt, off, _k, heights_px=None, slopes=None, cancel=None, **_):
+            def march(n, lt, off, _k, heights_px=None, slopes=None, cancel=None, progress=None,
+                      **_):
                 if cancel is not None and cancel():      # one pass: superseded before it starts
                     raise BakeCancelled()
-                return sunshadow.sun_cos_theta(n, lt, off, heights_px=heights_px, slopes=slopes)
+                t = sunshadow.sun_cos_theta(n, lt, off, heights_px=heights_px, slopes=slopes)
+                if progress is not None:
+                    progress(1.0)
+                return t
     if (hs, ws) == (h, w):
         return march(normals, light, offset, k, heights_px=heights_px, slopes=slopes,
-                     occupancy=occupancy, stats=stats, cancel=cancel)
+                     occupancy=occupancy, stats=stats, cancel=cancel, progress=progress)
     from .sampling import resample
     from .shape import finalize_normals
     n_s = finalize_normals(resample(normals, hs, ws))
     z_s = None if heights_px is None else resample(heights_px, hs, ws) * dtype(ws / w)
     sl_s = None if slopes is None else resample(slopes, hs, ws)
     t = march(n_s, light, offset, k, heights_px=z_s, slopes=sl_s, occupancy=occupancy,
-              stats=stats, cancel=cancel)
+              stats=stats, cancel=cancel, progress=progress)
     return np.clip(resample(t, h, w), 0, 1).astype(dtype, copy=False)
