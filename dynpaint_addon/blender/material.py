@@ -437,7 +437,8 @@ def tree_is_stale(mat):
 
 
 # -- everything -------------------------------------------------------------------------------
-def refresh(mat, structure=True, derived=True, shadows=False, scene=None, depsgraph=None):
+def refresh(mat, structure=True, derived=True, shadows=False, scene=None, depsgraph=None,
+            progress=None):
     """Bring the painting up to date: derived images, shadow bake, then the tree."""
     scene = scene or bpy.context.scene
     s = mat.dynamic_painting
@@ -448,7 +449,7 @@ def refresh(mat, structure=True, derived=True, shadows=False, scene=None, depsgr
         _, lights = features_for(mat, scene)
         _sync_light_items(s, lights)
     if s.shadows.enabled and (shadows or any(i.shadow is None for i in s.lights)):
-        bake_shadows(mat, scene, depsgraph)
+        bake_shadows(mat, scene, depsgraph, progress=progress)
     elif shadows:
         s.shadows_stale = True
     if structure or shadows:

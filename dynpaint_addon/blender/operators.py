@@ -112,12 +112,18 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
         if not paths:
             self.report({"ERROR"}, "Pick a painting.toml recipe or the painting's images")
             return {"CANCELLED"}
+        wm = context.window_manager
+        wm.progress_begin(0, 1000)       # a large painting's first bake takes a while
         try:
             with S.unchanged_images_on_failure():
-                plane, messages = self._create(context, paths)
-        except (RecipeError, ValueError, OSError) as exc:
-            self.report({"ERROR"}, str(exc))
+                plane, messages = self._create(context, paths,
+                                               lambda f: wm.progress_update(int(1000 * f)))
+        except (RecipeError, ValueError, OSError, MemoryError) as exc:
+            self.report({"ERROR"}, str(exc) if not isinstance(exc, MemoryError) else
+                        "not enough memory for this painting: use smaller images")
             return {"CANCELLED"}
+        finally:
+            wm.progress_end()
         for obj in context.selected_objects:
             obj.select_set(False)
         plane.select_set(True)
@@ -127,7 +133,7 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
         self.report({"INFO"}, f"Added Dynamic Painting '{plane.name}'")
         return {"FINISHED"}
 
-    def _create(self, context, paths):
+    def _create(self, context, paths, progress=None):
         recipes = [p for p in paths if p.lower().endswith(".toml")]
         location = tuple(context.scene.cursor.location)
         rotation = self._view_rotation(context)
@@ -136,7 +142,7 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
             plane, _, messages = S.create_painting(
                 context, recipe.images, recipe.params,
                 recipe.lights if self.add_lights else None, name=recipe.name or "Dynamic Painting",
-                size=self.size, location=location, rotation=rotation)
+                size=self.size, location=location, rotation=rotation, progress=progress)
             return plane, messages
         bad = [p for p in paths if os.path.splitext(p)[1].lower() not in IMAGE_EXTENSIONS]
         if bad:
@@ -156,7 +162,7 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
         name = os.path.splitext(os.path.basename(channels.get("dark") or channels["bright"]))[0]
         plane, _, messages = S.create_painting(context, {**channels, "shape": shape}, p, None,
                                                name=name, size=self.size, location=location,
-                                               rotation=rotation)
+                                               rotation=rotation, progress=progress)
         if rest:
             messages.append(f"not used (name them after a channel): "
                             f"{', '.join(os.path.basename(r) for r in rest)}")

@@ -91,7 +91,7 @@ def face_camera(obj, camera):
 
 
 def create_painting(context, images, p=None, lights=None, name="Dynamic Painting", size=1.0,
-                    location=(0.0, 0.0, 0.0), rotation=None, default_sun=True):
+                    location=(0.0, 0.0, 0.0), rotation=None, default_sun=True, progress=None):
     """Create the plane, its material and (optionally) lights → (plane, material, messages).
 
     images: {channel: file path or bpy Image}; p: a params namespace (defaults if None);
@@ -102,10 +102,14 @@ def create_painting(context, images, p=None, lights=None, name="Dynamic Painting
     """
     with unchanged_images_on_failure():
         return _create_painting(context, images, p, lights, name, size, location, rotation,
-                                default_sun)
+                                default_sun, progress)
 
 
-def _create_painting(context, images, p, lights, name, size, location, rotation, default_sun):
+LARGE_PX = 4096 * 4096     # from here on, say what a painting costs
+
+
+def _create_painting(context, images, p, lights, name, size, location, rotation, default_sun,
+                     progress):
     scene = context.scene
     p = p or P.defaults()
     messages = []
@@ -120,6 +124,10 @@ def _create_painting(context, images, p, lights, name, size, location, rotation,
         raise ValueError("a painting needs a dark or a bright image (one may serve both)")
     messages += check_images(loaded, p.shape.kind)
     w, h = loaded["shape"].size
+    if w * h >= LARGE_PX:
+        messages.append(f"large painting: {w}×{h} ({w * h / 1e6:.0f} Mpx); its numpy images "
+                        f"take ≈{w * h * 16 / 2**30:.1f} GiB each, shadow bakes take a while "
+                        "(preview quality is 4× faster)")
     created = []
     try:
         mesh = plane_mesh(name, w, h)
@@ -154,7 +162,7 @@ def _create_painting(context, images, p, lights, name, size, location, rotation,
             messages.append("the scene had no light: added a Sun")
         context.view_layer.update()
         messages += M.refresh(mat, structure=True, derived=True, shadows=p.shadows.enabled,
-                              scene=scene)
+                              scene=scene, progress=progress)
         s.is_painting = True       # from here on, handlers and setting changes keep it current
     except Exception:
         _remove(created)

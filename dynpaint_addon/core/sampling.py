@@ -70,7 +70,19 @@ def resample(img, height, width, extension="extend"):
     if (h, w) == (height, width):
         return img
     x, y = pixel_centres(height, width, img.dtype.type)
-    return sample_bilinear(img, x * (w / width), y * (h / height), extension)
+    if height * width <= RESAMPLE_BAND_PIXELS:
+        return sample_bilinear(img, x * (w / width), y * (h / height), extension)
+    # Huge targets go in bands of rows: the gather's index and weight arrays (several times
+    # the output) then exist for one band only. Per pixel the arithmetic is the same.
+    out = np.empty((height, width) + img.shape[2:], img.dtype)
+    rows = max(1, RESAMPLE_BAND_PIXELS // width)
+    for r in range(0, height, rows):
+        b = slice(r, min(height, r + rows))
+        out[b] = sample_bilinear(img, x[b] * (w / width), y[b] * (h / height), extension)
+    return out
+
+
+RESAMPLE_BAND_PIXELS = 1 << 20
 
 
 def gaussian_blur(img, sigma_px, extension="extend"):

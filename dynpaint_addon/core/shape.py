@@ -20,13 +20,32 @@ def default_preblur_px(bits):
     return PREBLUR_PX_BY_BITS.get(int(bits), 0.0 if bits > 8 else 1.5)
 
 
+BAND_PIXELS = 1 << 20    # per-pixel work on huge images goes in bands of rows (bounded memory)
+
+
+def _bands(height, width):
+    rows = max(1, BAND_PIXELS // max(1, width))
+    return [slice(r, min(height, r + rows)) for r in range(0, height, rows)]
+
+
 def finalize_normals(n, z_min=Z_MIN_DEFAULT):
     """Make any (…, 3) vector field a finite unit normal field with N.z ≥ z_min (§2, §14).
 
     Degenerate vectors (|N| < 0.05, NaN, Inf, or pointing straight down) become (0, 0, 1).
     Vectors below z_min are pushed radially toward +z: the azimuth (direction of N.xy) is
-    kept and the elevation raised to exactly z_min.
+    kept and the elevation raised to exactly z_min. Large images go in bands of rows (the
+    temporaries of one band only); the result is the same.
     """
+    n = np.asarray(n)
+    if n.ndim == 3 and n.shape[0] * n.shape[1] > BAND_PIXELS:
+        out = np.empty(n.shape, n.dtype)
+        for band in _bands(*n.shape[:2]):
+            out[band] = _finalize(n[band], z_min)
+        return out
+    return _finalize(n, z_min)
+
+
+def _finalize(n, z_min):
     n = np.asarray(n)
     dtype = n.dtype
     z_min = dtype.type(np.clip(z_min, 1e-4, 1.0))
@@ -90,8 +109,11 @@ def normals_from_height_px(z_px, z_min=Z_MIN_DEFAULT):
     # np.gradient needs two samples along an axis; a 1-pixel-wide axis has no slope.
     gx = np.gradient(z_px, axis=1) if z_px.shape[1] >= 2 else np.zeros_like(z_px)
     gy = np.gradient(z_px, axis=0) if z_px.shape[0] >= 2 else np.zeros_like(z_px)
-    n = np.stack([-gx, -gy, np.ones_like(z_px)], axis=-1)
-    return finalize_normals(n, z_min)
+    out = np.empty(z_px.shape + (3,), z_px.dtype)
+    for band in _bands(*z_px.shape):        # bounded temporaries on huge images
+        n = np.stack([-gx[band], -gy[band], np.ones_like(gx[band])], axis=-1)
+        out[band] = _finalize(n, z_min)
+    return out
 
 
 def slopes_from_normals(n):
