@@ -65,6 +65,10 @@ def cmd_render(args):
     if args.width:
         images = _resample_images(images, args.width)
     dtype = np.float64 if args.float64 else np.float32
+    h, w = images["shape"].pixels.shape[:2]
+    if w * h >= 4096 * 4096:     # say what a long render is doing before it starts
+        print(f"rendering {w}×{h} ({w * h / 1e6:.0f} Mpx) with the numpy core: about "
+              f"{w * h * 190 / 2**30:.0f} GiB of memory and a minute or more", flush=True)
     t = time.perf_counter()
     result = render(images, recipe.lights, recipe.params, dtype)
     ms = (time.perf_counter() - t) * 1000

@@ -383,3 +383,13 @@ def test_a_very_large_painting_is_added_with_bounded_memory_and_says_so(tmp_path
     # shadow, numpy its decoded shape for the bake. Measured 6.3 GiB peak (9.5 before the
     # resample and normals went in bands); the bound keeps it under 8 such images.
     assert float(peak_gib) < 8.0, line
+
+
+def test_no_camera_faces_the_view_and_says_so(files, empty_scene):
+    assert empty_scene.camera is None
+    plane, mat, messages = S.create_painting(
+        bpy.context, {"shape": str(files / "height.png"), "dark": str(files / "dark.png")},
+        params_for("height"))
+    assert "no camera in the scene: the painting faces the view; add a camera and use " \
+           "'Face Camera' to keep it facing it" in messages
+    assert not plane.constraints and mat.dynamic_painting.is_painting
