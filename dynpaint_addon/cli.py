@@ -30,9 +30,15 @@ def write_render(path, rgba):
     if ext == ".exr":
         write_exr(path, rgba)
     elif ext == ".png":
-        a = rgba[..., 3:4]
-        straight = np.where(a > 0, rgba[..., :3] / np.where(a > 0, a, 1), 0)
-        write_png(path, np.concatenate([linear_to_srgb(straight), a], axis=-1), bits=8)
+        out = np.empty(rgba.shape[:2] + (4,), np.float32)
+        rows = max(1, (1 << 20) // max(1, rgba.shape[1]))     # bands: bounded temporaries
+        for r in range(0, rgba.shape[0], rows):
+            band = rgba[r:r + rows]
+            a = band[..., 3:4]
+            straight = np.where(a > 0, band[..., :3] / np.where(a > 0, a, 1), 0)
+            out[r:r + rows, :, :3] = linear_to_srgb(straight)
+            out[r:r + rows, :, 3:] = a
+        write_png(path, out, bits=8)
     else:
         raise CommandError(f"{path}: unsupported output format '{ext}' (use .png or .exr)")
 
@@ -68,9 +74,9 @@ def cmd_render(args):
     h, w = images["shape"].pixels.shape[:2]
     if w * h >= 4096 * 4096:     # say what a long render is doing before it starts
         print(f"rendering {w}×{h} ({w * h / 1e6:.0f} Mpx) with the numpy core: about "
-              f"{w * h * 190 / 2**30:.0f} GiB of memory and a minute or more", flush=True)
+              f"{w * h * 80 / 2**30:.0f} GiB of memory and a minute or more", flush=True)
     t = time.perf_counter()
-    result = render(images, recipe.lights, recipe.params, dtype)
+    result = render(images, recipe.lights, recipe.params, dtype, keep_passes=False)
     ms = (time.perf_counter() - t) * 1000
     for w in result.warnings:
         print(f"warning: {w}", file=sys.stderr)

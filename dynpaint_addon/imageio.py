@@ -163,21 +163,28 @@ def write_png(path, pixels, bits=8):
 
     (H, W) or (H, W, C) with C = 1 grey, 2 grey+alpha, 3 RGB, 4 RGBA.
     """
-    px = np.asarray(pixels, dtype=np.float64)
+    px = np.asarray(pixels)
     if px.ndim == 2:
         px = px[..., None]
     h, w, c = px.shape
     colour_type = {1: 0, 2: 4, 3: 2, 4: 6}[c]
     scale, dt = (255, ">u1") if bits == 8 else (65535, ">u2")
-    q = np.round(np.clip(np.nan_to_num(px[::-1]), 0, 1) * scale).astype(dt)
-    raw = b"".join(b"\x00" + row.tobytes() for row in q)
+    flipped = px[::-1]                       # files store the top row first
+    z = zlib.compressobj(6)
+    data = []
+    rows = max(1, (1 << 20) // max(1, w))    # quantize and compress in bands of rows
+    for r in range(0, h, rows):
+        band = np.asarray(flipped[r:r + rows], dtype=np.float64)
+        q = np.round(np.clip(np.nan_to_num(band), 0, 1) * scale).astype(dt)
+        data.append(z.compress(b"".join(b"\x00" + row.tobytes() for row in q)))
+    data.append(z.flush())
 
     def chunk(tag, data):
         return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data))
     ihdr = struct.pack(">IIBBBBB", w, h, bits, colour_type, 0, 0, 0)
     _ensure_parent(path)
     with open(path, "wb") as fh:
-        fh.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(raw, 6))
+        fh.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", b"".join(data))
                  + chunk(b"IEND", b""))
 
 

@@ -117,21 +117,28 @@ def shadow_term(n, z_px, slopes, light, p, cancel=None, progress=None):
     return t.astype(n.dtype, copy=False)
 
 
-def light_terms(n, z_px, slopes, lights, p, dtype=np.float32):
-    """Per light: the raw light term (cos-θ or N·L, §4/§6) and the specular term (§7)."""
+def light_terms(n, z_px, slopes, lights, p, dtype=np.float32, rows=None, shadows=None):
+    """Per light: the raw light term (cos-θ or N·L, §4/§6) and the specular term (§7).
+
+    rows: (r0, r1) to compute only those rows (n, z_px are then the full images); shadows:
+    the cos-θ terms already baked for the whole image, one per light.
+    """
     h, w = n.shape[:2]
+    r0, r1 = rows or (0, h)
     x, y = pixel_centres(h, w, dtype)
-    zs = z_px if z_px is not None else np.zeros((h, w), dtype)
+    x, y, nb = x[r0:r1], y[r0:r1], n[r0:r1]
+    zs = z_px[r0:r1] if z_px is not None else np.zeros((r1 - r0, w), dtype)
     raw, spec = [], []
-    for light in lights:
-        lvec, _ = light_vectors(light, x, y, zs, dtype)
+    for i, light in enumerate(lights):
+        lvec, _ = light_vectors(light, x, y, zs, dtype, image_size=(h, w))
         if p.shadows.enabled:
-            t = shadow_term(n, z_px, slopes, light, p)
+            t = shadows[i] if shadows is not None else shadow_term(n, z_px, slopes, light, p)
+            t = t[r0:r1]
         else:
-            t = shading.n_dot_l(n, lvec)
+            t = shading.n_dot_l(nb, lvec)
         raw.append(t)
         if p.specular.enabled:
-            spec.append(shading.specular_term(n, lvec, p.specular.s0, p.specular.s1,
+            spec.append(shading.specular_term(nb, lvec, p.specular.s0, p.specular.s1,
                                               p.specular.curve))
     return raw, spec
 
@@ -159,20 +166,25 @@ def lookup_copy(img, sigma_widths=0.0, extension="extend", dtype=np.float32):
     return gaussian_blur(rgba, sigma_widths * rgba.shape[1], extension)
 
 
-def _warped_lookup(img_rgba, offset, painting_shape, extension):
-    """Sample an image mapped onto the painting's UV square at each pixel + offset (§8, §9)."""
+def _warped_lookup(img_rgba, offset, painting_shape, extension, rows=None):
+    """Sample an image mapped onto the painting's UV square at each pixel + offset (§8, §9);
+    rows (r0, r1): only those rows of the painting (offset holds just them)."""
     h, w = painting_shape
     x, y = pixel_centres(h, w, img_rgba.dtype.type)
+    if rows is not None:
+        x, y = x[rows[0]:rows[1]], y[rows[0]:rows[1]]
     dx, dy = warps.offset_to_pixels(offset, img_rgba.shape, painting_shape)
     eh, ew = img_rgba.shape[:2]
     return sample_bilinear(img_rgba, x * (ew / w) + dx, y * (eh / h) + dy, extension)
 
 
-def render(images, lights, p, dtype=np.float32, cache=None):
+def render(images, lights, p, dtype=np.float32, cache=None, keep_passes=True):
     """Render a painting (pipeline.md §2–§11) → RenderResult.
 
     images: {channel: ImageData} (§1); lights: [core.lights.Light]; p: params namespace
     (params.defaults() and the recipe's values). dtype float32 by default, float64 for references.
+    keep_passes=False (the command line) drops the intermediate passes, which lets a large
+    image be shaded in bands of rows (bounded memory beyond the decoded shape and shadows).
     """
     cache = {} if cache is None else cache   # keep one across renders of the same images
     warnings = []
@@ -202,13 +214,59 @@ def render(images, lights, p, dtype=np.float32, cache=None):
         imgs[name] = img
 
     n, z_px, slopes = shape_normals(imgs["shape"], p, dtype)
-    c0 = _linear(imgs.get("dark", imgs.get("bright")), dtype)
-    c1 = _linear(imgs.get("bright", imgs.get("dark")), dtype)
+    shadows = [shadow_term(n, z_px, slopes, light, p) for light in lights] \
+        if p.shadows.enabled else None
+    ctx = _Shading(imgs, lights, p, dtype, cache, n, z_px, slopes, shadows, hs, ws)
+    if keep_passes or hs * ws <= RENDER_BAND_PIXELS:
+        rgba, passes = _shade(ctx, 0, hs)
+        return RenderResult(rgba, passes, warnings)
+    # Huge images without passes (the command line): shade in bands of rows, so the
+    # per-pixel temporaries exist for one band only. Per pixel the arithmetic is the same.
+    rgba = np.empty((hs, ws, 4), dtype)
+    rows = max(1, RENDER_BAND_PIXELS // ws)
+    for r0 in range(0, hs, rows):
+        r1 = min(hs, r0 + rows)
+        rgba[r0:r1] = _shade(ctx, r0, r1)[0]
+    return RenderResult(rgba, {}, warnings)
+
+
+RENDER_BAND_PIXELS = 1 << 20
+
+
+@dataclass
+class _Shading:
+    """What every band of a render shares: the inputs, the decoded shape, the shadow terms."""
+    imgs: dict
+    lights: list
+    p: object
+    dtype: object
+    cache: dict
+    n: np.ndarray
+    z_px: object
+    slopes: object
+    shadows: object
+    hs: int
+    ws: int
+
+
+def _rows(img, r0, r1):
+    """The rows r0 … r1 − 1 of a per-pixel input image (same size as the shape image)."""
+    return ImageData(img.pixels[r0:r1], img.bits, img.name)
+
+
+def _shade(ctx, r0, r1):
+    """§3–§11 for rows r0 … r1 − 1 of the painting → (premultiplied RGBA, passes)."""
+    imgs, lights, p, dtype, cache = ctx.imgs, ctx.lights, ctx.p, ctx.dtype, ctx.cache
+    hs, ws = r1 - r0, ctx.ws
+    rows = (r0, r1)
+    n = ctx.n[r0:r1]
+    c0 = _linear(_rows(imgs.get("dark", imgs.get("bright")), r0, r1), dtype)
+    c1 = _linear(_rows(imgs.get("bright", imgs.get("dark")), r0, r1), dtype)
     c0 = np.where(np.isfinite(c0), c0, 0)
     c1 = np.where(np.isfinite(c1), c1, 0)
 
     # §4–§5 diffuse, barycentric mix with coloured lights
-    raw, spec = light_terms(n, z_px, slopes, lights, p, dtype)
+    raw, spec = light_terms(ctx.n, ctx.z_px, ctx.slopes, lights, p, dtype, rows, ctx.shadows)
     terms = [shading.clamp_step(t, p.diffuse.t0, p.diffuse.t1, p.diffuse.curve) for t in raw]
     colours = [lt.colour for lt in lights]
     strengths = [lt.strength for lt in lights]
@@ -221,10 +279,12 @@ def render(images, lights, p, dtype=np.float32, cache=None):
 
     # §7 opaque highlight
     s_mix = np.zeros((hs, ws, 3), dtype)
-    c_spec = _linear(imgs["specular_color"], dtype) if "specular_color" in imgs else np.ones(3, dtype)
+    c_spec = _linear(_rows(imgs["specular_color"], r0, r1), dtype) if "specular_color" in imgs \
+        else np.ones(3, dtype)
     if p.specular.enabled and lights:
         s_mix = shading.light_weight(spec, colours, strengths)
-        gloss = imgs["gloss"].grey().astype(dtype) if "gloss" in imgs else np.ones((hs, ws), dtype)
+        gloss = _rows(imgs["gloss"], r0, r1).grey().astype(dtype) if "gloss" in imgs \
+            else np.ones((hs, ws), dtype)
         g = np.clip(gloss * dtype(p.specular.amount), 0, 1)
         c_s = shading.opaque_highlight(c_d, c_spec, g[..., None] * s_mix)
         passes["s"] = s_mix
@@ -236,7 +296,8 @@ def render(images, lights, p, dtype=np.float32, cache=None):
     amount = p.transparency.amount
     if amount == "auto":
         amount = 1.0 if "transparency" in imgs else 0.0
-    kmap = imgs["transparency"].grey().astype(dtype) if "transparency" in imgs else np.ones((hs, ws), dtype)
+    kmap = _rows(imgs["transparency"], r0, r1).grey().astype(dtype) if "transparency" in imgs \
+        else np.ones((hs, ws), dtype)
     k = np.clip(kmap * dtype(amount), 0, 1)
     if amount > 0 and np.any(k > 0):
         c_m = c_t = None
@@ -244,14 +305,14 @@ def render(images, lights, p, dtype=np.float32, cache=None):
             e = _lookup_source(imgs, "environment", p.reflection.blur, p.reflection.extension, dtype, cache)
             off = warps.reflection_offset(n, p.reflection.distance, p.reflection.mode,
                                           p.reflection.max_offset)
-            c_m = _warped_lookup(e, off, (hs, ws), p.reflection.extension)
+            c_m = _warped_lookup(e, off, (ctx.hs, ws), p.reflection.extension, rows)
         if "background" in imgs:
             b = _lookup_source(imgs, "background", p.refraction.blur, p.refraction.extension, dtype, cache)
             if p.refraction.mode == "physical":
                 off = warps.refraction_offset_physical(n, p.refraction.distance, p.refraction.ior)
             else:
                 off = warps.refraction_offset_linear(n, p.refraction.distance, p.refraction.mu)
-            c_t = _warped_lookup(b, off, (hs, ws), p.refraction.extension)
+            c_t = _warped_lookup(b, off, (ctx.hs, ws), p.refraction.extension, rows)
         if c_m is not None and c_t is not None:
             eta = p.refraction.ior if p.refraction.mode == "physical" else 2.0 ** p.refraction.mu
             if p.fresnel.mode == "physical":
@@ -272,13 +333,14 @@ def render(images, lights, p, dtype=np.float32, cache=None):
     # §11 silhouette: final = B·(1 − α) + C·α (B at the pixel itself, unwarped)
     alpha = _silhouette(imgs, p.silhouette.source)
     if alpha is not None:
+        alpha = alpha[r0:r1]
         alpha = np.clip(np.where(np.isfinite(alpha), alpha, 0), 0, 1).astype(dtype)[..., None]
         behind = _warped_lookup(_lookup_source(imgs, "background", 0.0, "extend", dtype, cache),
-                                np.zeros((hs, ws, 2), dtype), (hs, ws), "extend") \
+                                np.zeros((hs, ws, 2), dtype), (ctx.hs, ws), "extend", rows) \
             if "background" in imgs else np.zeros((hs, ws, 4), dtype)
         rgba = behind * (1 - alpha) + rgba * alpha
     rgba = np.where(np.isfinite(rgba), rgba, 0)
-    return RenderResult(rgba.astype(dtype, copy=False), passes, warnings)
+    return rgba.astype(dtype, copy=False), passes
 
 
 # §1 silhouette.source → the channels whose alpha may cut the painting out, in order
