@@ -136,10 +136,12 @@ def cmd_bake_shadow(args):
     if args.verbose:
         h, w = t.shape
         print(f"bake: {ms:.1f} ms for {w}×{h} ({args.kind} map, {light.kind} light)")
-        print(f"settings: quality={quality} steps={steps} (marched {stats.steps}) "
-              f"resolution={scale:g}× "
-              f"dtype={np.dtype(dtype).name} offset={args.offset} image widths "
-              f"longest march={stats.max_march_px:.1f} px")
+        how = f"steps={steps} (marched {stats.steps}) longest march=" \
+            f"{stats.max_march_px:.1f} px" if stats.method == "march" else \
+            "method=exact crossings (sun; K does not apply)"
+        bh, bw = stats.size
+        print(f"settings: quality={quality} {how} resolution={bw}×{bh} "
+              f"dtype={np.dtype(dtype).name} offset={args.offset} image widths")
     print(f"wrote {args.out}")
 
 

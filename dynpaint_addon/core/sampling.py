@@ -85,6 +85,29 @@ def resample(img, height, width, extension="extend"):
 RESAMPLE_BAND_PIXELS = 1 << 20
 
 
+def resample_separable(img, height, width):
+    """`resample` (bilinear at the new pixel centres, extended edges) of an (H, W) or
+    (H, W, C) image, done as two 1-D passes with precomputed indices and weights: the same
+    values up to rounding, ~5× faster (the bake resamples to and from its reduced resolution
+    with it, §13)."""
+    h, w = img.shape[:2]
+    if (h, w) == (height, width):
+        return img
+    dtype = img.dtype.type
+    extra = (None,) * (img.ndim - 2)
+
+    def taps(n_in, n_out):
+        c = np.clip((np.arange(n_out) + 0.5) * (n_in / n_out) - 0.5, 0, n_in - 1)
+        i0 = np.floor(c).astype(np.intp)
+        return i0, np.minimum(i0 + 1, n_in - 1), (c - i0).astype(dtype)
+    i0, i1, fy = taps(h, height)
+    fy = fy[(slice(None), None) + extra]
+    rows = img[i0] * (1 - fy) + img[i1] * fy
+    j0, j1, fx = taps(w, width)
+    fx = fx[(slice(None),) + extra]
+    return rows[:, j0] * (1 - fx) + rows[:, j1] * fx
+
+
 def gaussian_blur(img, sigma_px, extension="extend"):
     """Separable Gaussian blur of an (H, W[, C]) image, sigma in pixels, borders by extension.
 
