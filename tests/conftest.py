@@ -28,5 +28,19 @@ def run_cli(*args, cwd=None):
 
 
 @pytest.fixture
+def empty_scene():
+    """An empty Blender scene with the add-on registered; the test must end without errors
+    reported by the add-on's handlers."""
+    import bpy
+    from dynpaint_addon import blender
+    from dynpaint_addon.blender import handlers
+    bpy.ops.wm.read_homefile(use_empty=True)
+    blender.register_once()
+    handlers.LAST_ERRORS.clear()
+    yield bpy.context.scene
+    assert handlers.LAST_ERRORS == []
+
+
+@pytest.fixture
 def rng():
     return np.random.default_rng(1234)

@@ -9,7 +9,7 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from dynpaint_addon import blender  # noqa: E402
-from dynpaint_addon.blender import handlers, material as M, scene as S  # noqa: E402
+from dynpaint_addon.blender import material as M, scene as S  # noqa: E402
 from dynpaint_addon.blender.properties import settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.imageio import read_image  # noqa: E402
@@ -23,15 +23,6 @@ def folder(tmp_path_factory):
     folder = str(tmp_path_factory.mktemp("addon"))
     write_images(folder)
     return folder
-
-
-@pytest.fixture
-def empty_scene():
-    bpy.ops.wm.read_homefile(use_empty=True)
-    blender.register_once()
-    handlers.LAST_ERRORS.clear()
-    yield bpy.context.scene
-    assert handlers.LAST_ERRORS == []
 
 
 def add(folder, *names, **kw):
@@ -48,7 +39,7 @@ def render_cycles(scene, plane, path):
     return read_image(path).pixels
 
 
-def core_of(mat, scene, folder):
+def core_of(mat, scene):
     """The numpy core's render of the painting as the scene has it now."""
     s = mat.dynamic_painting
     images = {c: read_image(bpy.path.abspath(getattr(s, f"image_{c}").filepath))
@@ -106,7 +97,7 @@ def test_live_value_changes_rebuild_nothing_and_render_right(empty_scene, folder
     s.diffuse.t0 = 0.35
     assert s.signature == signature
     got = render_cycles(empty_scene, plane, str(tmp_path / "a.exr"))
-    want = core_of(mat, empty_scene, folder)
+    want = core_of(mat, empty_scene)
     assert np.abs(got - want)[1:-1, 1:-1].max() <= 1e-3
     s.specular.enabled = True
     assert s.signature != signature and len(mat.node_tree.nodes) > len(tree_nodes)
@@ -123,7 +114,7 @@ def test_keyframed_parameter_animates(empty_scene, folder, tmp_path):
     empty_scene.frame_set(6)
     assert s.diffuse.t0 == pytest.approx(-0.1, abs=0.05)
     got = render_cycles(empty_scene, plane, str(tmp_path / "k.exr"))
-    want = core_of(mat, empty_scene, folder)
+    want = core_of(mat, empty_scene)
     assert np.abs(got - want)[1:-1, 1:-1].max() <= 1e-3
 
 

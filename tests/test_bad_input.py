@@ -9,15 +9,15 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon import blender, params as P  # noqa: E402
+from dynpaint_addon import params as P  # noqa: E402
 from dynpaint_addon.blender import handlers, material as M, scene as S  # noqa: E402
-from dynpaint_addon.blender.properties import settings_to_params  # noqa: E402
-from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
+from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.imageio import read_image, write_exr, write_png  # noqa: E402
 from dynpaint_addon.recipe import Recipe, recipe_to_toml  # noqa: E402
 
 from conftest import run_cli  # noqa: E402
 from odd_images import write_cmyk_tiff, write_palette_png  # noqa: E402
+from test_addon import core_of, render_cycles  # noqa: E402
 
 H, W = 24, 32
 
@@ -102,8 +102,7 @@ CASES = {
 }
 RENDERED = ("1×1 images", "2×2 height map", "different sizes", "non-square",
             "8-bit, 16-bit and float", "EXR with NaN and Inf", "palette and CMYK images")
-LIGHTS_ = [__import__("dynpaint_addon.core.lights", fromlist=["Light"]).Light(
-    "sun", (-0.5, 0.45, 0.74), (1.0, 1.0, 1.0), 1.0, "Sun")]
+LIGHTS = [Light("sun", (-0.5, 0.45, 0.74), (1.0, 1.0, 1.0), 1.0, "Sun")]
 
 
 def params_for(kind):
@@ -116,21 +115,15 @@ def params_for(kind):
     return p
 
 
-def write_recipe(files, case, tmp_path):
-    images, kind, _ = CASES[case]
-    recipe = Recipe(params_for(kind), LIGHTS_, {c: str(files / f) for c, f in images.items()},
-                    case)
+def write_recipe(files, case, tmp_path, images=None, kind="height"):
+    """painting.toml for a case of CASES (or for `images` and `kind`) → its path."""
+    if case is not None:
+        images, kind, _ = CASES[case]
+    recipe = Recipe(params_for(kind), LIGHTS, {c: str(files / f) for c, f in images.items()},
+                    case or "painting")
     path = tmp_path / "painting.toml"
     path.write_text(recipe_to_toml(recipe, str(tmp_path)))
     return path
-
-
-@pytest.fixture
-def empty_scene():
-    bpy.ops.wm.read_homefile(use_empty=True)
-    blender.register_once()
-    handlers.LAST_ERRORS.clear()
-    yield bpy.context.scene
 
 
 def counts():
@@ -201,22 +194,9 @@ def test_add_operator(case, how, files, tmp_path, empty_scene):
 
 @pytest.mark.parametrize("case", RENDERED)
 def test_accepted_inputs_render_in_cycles_as_in_the_core(case, files, tmp_path, empty_scene):
-    images, kind, expect = CASES[case]
-    recipe = write_recipe(files, case, tmp_path)
-    assert bpy.ops.dynpaint.add(filepath=str(recipe), directory=str(tmp_path),
-                                files=[{"name": "painting.toml"}]) == {"FINISHED"}
-    plane = bpy.context.object
-    mat = plane.active_material
-    scene = bpy.context.scene
-    S.exact_camera(scene, plane)
-    S.exact_render_settings(scene, "cycles")
-    S.output_settings(scene, str(tmp_path / "cycles.exr"))
-    bpy.context.view_layer.update()
-    bpy.ops.render.render(write_still=True)
-    got = read_image(str(tmp_path / "cycles.exr")).pixels
-    data = {c: read_image(str(files / f)) for c, f in images.items()}
-    lights = [M.painting_frame_light(o, plane.matrix_world) for o in M.linked_lights(mat, scene)]
-    want = core_render(data, lights, settings_to_params(mat.dynamic_painting)).rgba
+    plane, mat = _add(write_recipe(files, case, tmp_path))
+    got = render_cycles(empty_scene, plane, tmp_path / "cycles.exr")
+    want = core_of(mat, empty_scene)
     assert np.all(np.isfinite(got)), f"{case}: non-finite pixels in Cycles"
     assert got.min() >= 0 and got[..., 3].max() <= 1
     if min(want.shape[:2]) < 4:
@@ -231,69 +211,53 @@ def test_accepted_inputs_render_in_cycles_as_in_the_core(case, files, tmp_path, 
     assert float(inner.max()) <= 2e-3, f"{case}: max |Δ| {float(inner.max()):.2e}"
 
 
-def _add_and_render(files, tmp_path, images, kind="height"):
-    CASES["_scene"] = (images, kind, ("ok", None))
-    try:
-        recipe = write_recipe(files, "_scene", tmp_path)
-    finally:
-        del CASES["_scene"]
-    assert bpy.ops.dynpaint.add(filepath=str(recipe), directory=str(tmp_path),
-                                files=[{"name": "painting.toml"}]) == {"FINISHED"}
-    plane = bpy.context.object
-    scene = bpy.context.scene
-    S.exact_camera(scene, plane)
-    S.exact_render_settings(scene, "cycles")
-    return plane, plane.active_material
+def _add(recipe):
+    """Add › Dynamic Painting with a recipe → (plane, material)."""
+    assert bpy.ops.dynpaint.add(filepath=str(recipe), directory=str(recipe.parent),
+                                files=[{"name": recipe.name}]) == {"FINISHED"}
+    return bpy.context.object, bpy.context.object.active_material
 
 
-def _render(scene, path):
-    S.output_settings(scene, str(path))
-    bpy.context.view_layer.update()
-    bpy.ops.render.render(write_still=True)
-    return read_image(str(path)).pixels
+THREE = {"shape": "height.png", "dark": "dark.png", "bright": "bright.png"}
 
 
 def test_renamed_plane_images_and_light_render_the_same(files, tmp_path, empty_scene):
-    plane, mat = _add_and_render(files, tmp_path, {"shape": "height.png", "dark": "dark.png",
-                                                   "bright": "bright.png"})
-    scene = bpy.context.scene
-    before = _render(scene, tmp_path / "before.exr")
+    plane, mat = _add(write_recipe(files, None, tmp_path, THREE))
+    scene = empty_scene
+    before = render_cycles(scene, plane, tmp_path / "before.exr")
     plane.name = "Renamed plane"
     for img in list(bpy.data.images):
         img.name = "renamed " + img.name
     M.linked_lights(mat, scene)[0].name = "Renamed sun"
     scene.frame_set(2)                           # handlers run: rebuild for the renamed light
-    after = _render(scene, tmp_path / "after.exr")
+    after = render_cycles(scene, plane, tmp_path / "after.exr")
     assert np.array_equal(before, after)
     assert M.problems(mat) == [] and handlers.LAST_ERRORS == []
 
 
 def test_deleted_images_and_plane_are_mended_or_reported(files, tmp_path, empty_scene):
-    plane, mat = _add_and_render(files, tmp_path, {"shape": "height.png", "dark": "dark.png",
-                                                   "bright": "bright.png"})
-    scene = bpy.context.scene
+    plane, mat = _add(write_recipe(files, None, tmp_path, THREE))
+    scene = empty_scene
     s = mat.dynamic_painting
-    full = _render(scene, tmp_path / "full.exr")
+    full = render_cycles(scene, plane, tmp_path / "full.exr")
     # the bright image deleted: the painting renders with the dark image in its place (§1)
     bpy.data.images.remove(s.image_bright)
     assert M.tree_is_stale(mat)
-    got = _render(scene, tmp_path / "no_bright.exr")
+    got = render_cycles(scene, plane, tmp_path / "no_bright.exr")
     assert not M.tree_is_stale(mat) and np.all(np.isfinite(got))
-    data = {"shape": read_image(str(files / "height.png")), "dark": read_image(str(files / "dark.png"))}
-    lights = [M.painting_frame_light(o, plane.matrix_world) for o in M.linked_lights(mat, scene)]
-    want = core_render(data, lights, settings_to_params(s)).rgba
+    want = core_of(mat, scene)          # shape and dark: the bright image is gone
     assert float(np.abs(got - want)[1:-1, 1:-1].max()) <= 2e-3
     assert np.abs(got - full).max() > 0.05
     # the shape image deleted: reported in one line, the render does not fail
     bpy.data.images.remove(s.image_shape)
-    _render(scene, tmp_path / "no_shape.exr")
+    render_cycles(scene, plane, tmp_path / "no_shape.exr")
     assert any("no shape image" in m for _, m in handlers.LAST_ERRORS), handlers.LAST_ERRORS
     assert M.problems(mat) == ["it has no shape image (deleted?): open one under Images"]
     handlers.LAST_ERRORS.clear()
     # the plane deleted: the painting is skipped, nothing raises
     bpy.data.objects.remove(plane)
     scene.frame_set(3)
-    _render(scene, tmp_path / "no_plane.exr")
+    render_cycles(scene, None, tmp_path / "no_plane.exr")
     assert M.problems(mat)[0].startswith("its plane was deleted")
 
 

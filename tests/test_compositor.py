@@ -79,7 +79,7 @@ def test_operator_adds_a_wired_group_for_the_active_painting(tmp_path):
     got = read_image(str(tmp_path / "op.exr")).pixels
     mat = bpy.context.object.active_material
     from test_addon import core_of
-    want = core_of(mat, scene, folder)
+    want = core_of(mat, scene)
     assert np.abs(got - want)[1:-1, 1:-1].max() <= 1e-4
     # without a painting: a group chosen by its options
     assert bpy.ops.dynpaint.add_compositor_group(match_painting=False, suns=2, points=1,

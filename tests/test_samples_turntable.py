@@ -10,8 +10,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon import blender  # noqa: E402
-from dynpaint_addon.blender import handlers, headless, material as M, scene as S  # noqa: E402
+from dynpaint_addon.blender import headless, material as M, scene as S  # noqa: E402
 from dynpaint_addon.blender import turntable as T  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
@@ -29,15 +28,6 @@ def make_samples_module():
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod
-
-
-@pytest.fixture
-def empty_scene():
-    bpy.ops.wm.read_homefile(use_empty=True)
-    blender.register_once()
-    handlers.LAST_ERRORS.clear()
-    yield bpy.context.scene
-    assert handlers.LAST_ERRORS == []
 
 
 # -- samples ----------------------------------------------------------------------------------

@@ -131,7 +131,7 @@ def test_without_the_load_handler_a_reopened_file_would_be_wrong(authored):
     code = PRELUDE + textwrap.dedent("""
         import numpy as np
         from dynpaint_addon.imageio import image_data_from_blender
-        bpy.app.handlers.load_post.remove(handlers.on_load)
+        bpy.app.handlers.load_post.remove(handlers.remake_generated_images)
         bpy.ops.wm.open_mainfile(filepath=sys.argv[1])
         mat = next(m for m in bpy.data.materials if m.dynamic_painting.is_painting)
         shadow = mat.dynamic_painting.lights[0].shadow

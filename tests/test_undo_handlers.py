@@ -12,11 +12,11 @@ bpy = pytest.importorskip("bpy")
 
 from dynpaint_addon.blender import handlers, headless, material as M, scene as S  # noqa: E402
 from dynpaint_addon.blender.properties import settings_to_params  # noqa: E402
-from dynpaint_addon.core.pipeline import render as core_render, shadow_term  # noqa: E402
-from dynpaint_addon.imageio import image_data_from_blender, read_image  # noqa: E402
-from dynpaint_addon.recipe import load_images  # noqa: E402
+from dynpaint_addon.core.pipeline import shadow_term  # noqa: E402
+from dynpaint_addon.imageio import image_data_from_blender  # noqa: E402
 
 from parity_recipes import make_recipe, write_images  # noqa: E402
+from test_addon import core_of, render_cycles  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -24,7 +24,7 @@ def paths(tmp_path_factory):
     return write_images(str(tmp_path_factory.mktemp("undo")))
 
 
-def consistent(mat, scene, recipe, tmp_path, tag):
+def consistent(mat, scene, tmp_path, tag):
     """The shadow images equal a fresh bake for the lights and settings as they are now, and
     Cycles renders what the core renders → (offset, sun direction) for the caller."""
     s = mat.dynamic_painting
@@ -36,11 +36,8 @@ def consistent(mat, scene, recipe, tmp_path, tag):
         fresh = shadow_term(n, z, slopes, light, p)
         got = image_data_from_blender(item.shadow).pixels[..., 0]
         assert np.array_equal(got, fresh), f"{tag}: {item.object.name}'s shadow image is stale"
-    S.output_settings(scene, str(tmp_path / f"{tag}.exr"))
-    bpy.ops.render.render(write_still=True)
-    got = read_image(str(tmp_path / f"{tag}.exr")).pixels
-    lights = [M.painting_frame_light(o, plane.matrix_world) for o in M.linked_lights(mat, scene)]
-    want = core_render(load_images(recipe), lights, p).rgba
+    got = render_cycles(scene, plane, tmp_path / f"{tag}.exr")
+    want = core_of(mat, scene)
     err = float(np.abs(got - want)[1:-1, 1:-1].max())
     assert err <= 1e-4, f"{tag}: Cycles is {err:.2e} from the core"
     return p.shadows.offset, M.painting_frame_light(s.lights[0].object, plane.matrix_world).vector
@@ -55,18 +52,18 @@ def test_undo_and_redo_of_a_light_move_and_a_parameter_change(paths, tmp_path):
     bpy.context.view_layer.objects.active = plane
     handlers.LAST_ERRORS.clear()
     bpy.ops.ed.undo_push(message="painting")
-    start = consistent(mat, scene, recipe, tmp_path, "start")
+    start = consistent(mat, scene, tmp_path, "start")
 
     sun.rotation_mode = "XYZ"
     sun.rotation_euler = (0.9, 0.3, 2.0)             # move the light …
     bpy.ops.dynpaint.bake_shadows()                   # … and bake it (as the UI's live bake)
     bpy.ops.ed.undo_push(message="move light")
-    moved = consistent(mat, scene, recipe, tmp_path, "moved")
+    moved = consistent(mat, scene, tmp_path, "moved")
     assert not np.allclose(moved[1], start[1])
 
     mat.dynamic_painting.shadows.offset = 0.05       # a shadow input: re-bakes
     bpy.ops.ed.undo_push(message="offset")
-    changed = consistent(mat, scene, recipe, tmp_path, "changed")
+    changed = consistent(mat, scene, tmp_path, "changed")
     assert changed[0] == pytest.approx(0.05)
 
     name = mat.name               # undo replaces the data: Python references go stale
@@ -74,12 +71,12 @@ def test_undo_and_redo_of_a_light_move_and_a_parameter_change(paths, tmp_path):
     def current():
         return bpy.data.materials[name], bpy.context.scene
     bpy.ops.ed.undo()                                 # offset back
-    assert consistent(*current(), recipe, tmp_path, "undo1")[0] == pytest.approx(moved[0])
+    assert consistent(*current(), tmp_path, "undo1")[0] == pytest.approx(moved[0])
     bpy.ops.ed.undo()                                 # light back
-    back = consistent(*current(), recipe, tmp_path, "undo2")
+    back = consistent(*current(), tmp_path, "undo2")
     assert np.allclose(back[1], start[1], atol=1e-6)
     bpy.ops.ed.redo()                                 # light moved again
-    again = consistent(*current(), recipe, tmp_path, "redo")
+    again = consistent(*current(), tmp_path, "redo")
     assert np.allclose(again[1], moved[1], atol=1e-6)
     assert handlers.LAST_ERRORS == []
 

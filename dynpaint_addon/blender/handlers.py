@@ -116,18 +116,10 @@ def scene_of(mat):
 
 
 @persistent
-def on_load(*_):
-    remake_generated_images()
-
-
-@persistent
-def on_undo_redo(*_):
-    """Undo restores settings, lights and bake keys but not necessarily the pixels numpy wrote
-    into generated images: remake them so the painting matches what undo brought back."""
-    remake_generated_images()
-
-
-def remake_generated_images():
+def remake_generated_images(*_):
+    """After a file opens, or undo/redo: a .blend keeps no pixels of the images numpy made, and
+    undo restores settings, lights and bake keys but not necessarily those pixels. Remake them
+    so the painting matches what is loaded."""
     M.forget_cached_shapes()
     paintings_ = [m for m in bpy.data.materials if m.dynamic_painting.is_painting]
     if paintings_ and getattr(bpy.context, "view_layer", None) is not None:
@@ -145,10 +137,10 @@ def remake_generated_images():
 
 HANDLERS = ((bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),
             (bpy.app.handlers.frame_change_post, on_frame_change),
-            (bpy.app.handlers.load_post, on_load),
+            (bpy.app.handlers.load_post, remake_generated_images),
             (bpy.app.handlers.render_pre, on_render_pre),
-            (bpy.app.handlers.undo_post, on_undo_redo),
-            (bpy.app.handlers.redo_post, on_undo_redo))
+            (bpy.app.handlers.undo_post, remake_generated_images),
+            (bpy.app.handlers.redo_post, remake_generated_images))
 
 
 def _same(a, b):

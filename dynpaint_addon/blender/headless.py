@@ -77,8 +77,7 @@ def turntable_light(recipe, mat, scene, name=None):
         if name not in by_name:
             raise ValueError(f"--light {name}: no such light (the recipe's lights: "
                              f"{', '.join(by_name) or 'none'})")
-        chosen = next(lt for lt in recipe.lights if (lt.name or "") == name) \
-            if any(lt.name == name for lt in recipe.lights) else None
+        chosen = next((lt for lt in recipe.lights if lt.name == name), None)
         obj = by_name[name]
     else:
         chosen = next((lt for lt in recipe.lights if lt.kind == "sun"), None) or \

@@ -86,7 +86,7 @@ def _sync_quality(sh, path):
 def is_float_file(img):
     """Does the image come from a float file (EXR, HDR: linear values)? 16-bit PNG and TIFF
     also get float buffers in Blender but hold sRGB-encoded codes like 8-bit files."""
-    return img.is_float and img.file_format not in ("PNG", "TIFF")
+    return _bits(img) == 32
 
 
 def prepare_channel_image(img, channel):
@@ -146,18 +146,21 @@ def update_derived_images(mat):
     p = settings_to_params(s)
     imgs = channel_images(s)
     base = f"DP {mat.name}"
-    read = {}
+    read = {}       # source channel → (its pixels made finite, how many were not)
     warnings = []
 
-    def source_data(source):
+    def source_read(source):
         if source not in read:
             data = image_data_from_blender(imgs[source])
             role = "colour" if source != "shape" else p.shape.kind
             clean, bad = finite_pixels(data.pixels, role)
             if bad:
                 warnings.append(non_finite_message(imgs[source].name, bad))
-            read[source] = type(data)(clean, data.bits, data.name)
+            read[source] = (type(data)(clean, data.bits, data.name), bad)
         return read[source]
+
+    def source_data(source):
+        return source_read(source)[0]
 
     def need(channel, key, source, make):
         item = next((d for d in s.derived if d.channel == channel), None)
@@ -177,11 +180,11 @@ def update_derived_images(mat):
         item = next((d for d in s.derived if d.channel == channel), None)
         if item is not None and item.key == key and item.image is not None:
             continue
-        data = image_data_from_blender(imgs[channel])
-        if np.all(np.isfinite(data.pixels)):
+        data, bad = source_read(channel)
+        if not bad:
             _set_derived(s, channel, img, key)          # checked: the image itself
         else:
-            clean = source_data(channel).pixels
+            clean = data.pixels
             rgba = clean if clean.shape[2] == 4 else np.concatenate(
                 [np.repeat(clean[..., :1], 3, 2) if clean.shape[2] < 3 else clean[..., :3],
                  np.ones(clean.shape[:2] + (1,), clean.dtype)], -1)

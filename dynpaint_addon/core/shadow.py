@@ -101,16 +101,20 @@ def cos_theta_shadow(normals, light, offset, steps, *, heights_px=None, slopes=N
     bands = [(r, min(h, r + rows)) for r in range(0, h, rows)] or [(0, 0)]
     ctx = _MarchInputs(normals, light, offset, heights_px, slopes)
     # K is the same for every band (it follows the longest march of the whole image), so a
-    # banded bake equals an unbanded one bit for bit.
-    max_ell = max(float(_ray_setup(ctx, r0, r1)["ell"].max(initial=0.0)) for r0, r1 in bands) \
-        if h and w else 0.0
+    # banded bake equals an unbanded one bit for bit. The first band's setup is kept: up to
+    # BAND_PIXELS pixels it is the only band.
+    first = _ray_setup(ctx, *bands[0])
+    max_ell = max([float(first["ell"].max(initial=0.0))]
+                  + [float(_ray_setup(ctx, r0, r1)["ell"].max(initial=0.0))
+                     for r0, r1 in bands[1:]])
     steps = max(0, int(steps))
     k_eff = min(steps, max(1, int(np.ceil(MAX_STEPS_PER_PIXEL * max_ell)))) if steps else 0
     if stats is not None:
         stats.steps, stats.max_march_px = k_eff, max_ell
     out = np.empty((h, w), normals.dtype)
     for i, (r0, r1) in enumerate(bands):
-        out[r0:r1] = _march_band(ctx, _ray_setup(ctx, r0, r1), k_eff, occupancy, cancel)
+        setup = first if i == 0 else _ray_setup(ctx, r0, r1)
+        out[r0:r1] = _march_band(ctx, setup, k_eff, occupancy, cancel)
         if progress is not None:
             progress((i + 1) / len(bands))
     return out
