@@ -53,6 +53,24 @@ def sample_bilinear(img, x, y, extension="extend"):
     return bottom * (1 - fy) + top * fy
 
 
+def sample_bilinear_extend(img, x, y):
+    """sample_bilinear(img, x, y, "extend") for a 2D image of at least 2×2 and finite x, y,
+    with flat gathers (≈ 2× faster; the fast shadow bake's lookups). Clamping the coordinate
+    to the box of pixel centres is what "extend" does to the indices."""
+    h, w = img.shape
+    f = img.dtype.type
+    px = np.clip(np.asarray(x, img.dtype) - f(0.5), 0, w - 1)
+    py = np.clip(np.asarray(y, img.dtype) - f(0.5), 0, h - 1)
+    j0 = np.minimum(px.astype(np.int32), w - 2)
+    i0 = np.minimum(py.astype(np.int32), h - 2)
+    fx, fy = px - j0, py - i0
+    flat = img.reshape(-1)
+    k = i0.astype(np.int64) * w + j0
+    bottom = np.take(flat, k) * (1 - fx) + np.take(flat, k + 1) * fx
+    top = np.take(flat, k + w) * (1 - fx) + np.take(flat, k + w + 1) * fx
+    return bottom * (1 - fy) + top * fy
+
+
 def pixel_centres(height, width, dtype=np.float32):
     """x, y pixel-centre coordinates (pixel units, origin at the bottom-left corner)."""
     x = (np.arange(width, dtype=dtype) + dtype(0.5))[None, :]

@@ -19,52 +19,80 @@ Measured (benchmarks/shadow_quality.py, 1024², relief 0.5 image widths, d = 0.0
 |Δt| 1.4e-4–3e-4 against the K = 1024 float64 reference (the K = 64 march: 1e-3–1.5e-3).
 Everything is in pixels; the result is t = d / max(r, d) like shadow.cos_theta_shadow.
 """
+import functools
 import os
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 
 import numpy as np
 
-from .sampling import pixel_centres, sample_bilinear
+from .sampling import pixel_centres, sample_bilinear, sample_bilinear_extend
 
 MAX_CROSSINGS = 8     # enter/exit pairs followed per ray (more are very rare)
 MAX_TABLE_BYTES = 1.5 * 2**30   # larger grids fall back to the march (row bands: to do)
 THREADS = max(1, min(4, os.cpu_count() or 1))
+RAY_BAND_PIXELS = 1 << 17
+NEVER = 1e30                      # table padding: beyond any G, finite so blends stay finite
+GUESS_STEPS, GUESS_LEAP = 3, 64   # exit guesses per ray (_exit_guess), longest secant step     # rays searched together (see sun_cos_theta)
 
 
-def _tables(g, op):
-    """levels[k][r, i] = op(g[r, i : i + 2**k]) (windows that fit; others hold g's own)."""
-    levels = [g]
-    width = g.shape[1]
-    k = 1
-    while (1 << (k - 1)) < width:
-        prev = levels[-1]
+def _tables(g, op, sentinel):
+    """t[k, r, i] = op(G[r, i : i + 2**k]) for windows inside the row, `sentinel` (never
+    skipped by a descent) for windows that cross its end: one (levels, rows, width + 1) array
+    (column `width` is padding), so descents need no bounds checks and a per-ray level k can
+    be gathered from its flat view (_range_min)."""
+    rows, width = g.shape
+    levels = max(1, int(np.ceil(np.log2(max(width, 1)))) + 1)
+    out = np.empty((levels, rows, width + 1), g.dtype)
+    out[0, :, :width] = g
+    out[0, :, width] = sentinel
+    wp = width + 1
+    for k in range(1, levels):
         half = 1 << (k - 1)
-        nxt = prev.copy()
-        op(prev[:, :width - half], prev[:, half:], out=nxt[:, :width - half])
-        levels.append(nxt)
-        k += 1
-    return levels
+        op(out[k - 1, :, :wp - half], out[k - 1, :, half:], out=out[k, :, :wp - half])
+        out[k, :, wp - half:] = sentinel
+    return out
 
 
-def _descend(tables, base0, base1, wv, start, c, width, skip_if):
-    """First column j ≥ start where the blended profile (1 − wv)·row0 + wv·row1 does not
+@functools.lru_cache(maxsize=8)
+def _floor_log2(width):
+    """floor(log2(n + 1)) for n = 0 … width − 1: the window level of a range of n + 1 columns."""
+    return np.floor(np.log2(np.arange(1, width + 1))).astype(np.int64)
+
+
+def _suffix_max(g):
+    """max of G from each column onward, per row (padded like the tables)."""
+    out = np.empty((g.shape[0], g.shape[1] + 1), g.dtype)
+    out[:, :-1] = np.maximum.accumulate(g[:, ::-1], axis=1)[:, ::-1]
+    out[:, -1] = -NEVER
+    return out
+
+
+def _range_min(tables, rows, lo, hi):
+    """A lower bound of min over columns lo … hi (hi ≥ lo) of each ray's blended profile,
+    from two overlapping windows of one level: O(1) per ray."""
+    _, nrows, stride = tables.shape
+    k = _floor_log2(stride)[hi - lo]
+    flat = tables.reshape(-1)
+    level = k * (nrows * stride)
+    return np.minimum(rows.at(flat, level + lo), rows.at(flat, level + hi + 1 - (1 << k)))
+
+
+def _descend(tables, rows, start, c, skip_if):
+    """First column j ≥ start where the blended profile (1 − w)·row0 + w·row1 does not
     satisfy skip_if(·, c); `width` if none.
 
     A window is skipped when the same blend of the two rows' window extremes satisfies
     skip_if: a bound of the blended profile's own extreme (blend of maxima ≥ maximum of the
     blend), so a skip is always right; the last level (single columns) is exact. When a
     bound was too loose to skip, the column found may still satisfy skip_if: the caller
-    checks it and descends again from the next column.
+    checks it and descends again from the next column. Windows past the row's end hold a
+    sentinel that is never skipped, so j ≤ width always.
     """
     pos = start.copy()
-    for k in range(len(tables) - 1, -1, -1):
-        size = 1 << k
-        cand = pos + size
-        ok = cand <= width
-        at = np.minimum(pos, width - 1)
-        flat = tables[k].reshape(-1)
-        win = np.take(flat, base0 + at) * (1 - wv) + np.take(flat, base1 + at) * wv
-        pos = np.where(ok & skip_if(win, c), cand, pos)
+    for k in range(tables.shape[0] - 1, -1, -1):
+        skip = skip_if(rows.at(tables[k].reshape(-1), pos), c)
+        np.add(pos, 1 << k, out=pos, where=skip)
     return pos
 
 
@@ -72,7 +100,7 @@ def fits(h, w):
     """True if the sparse tables of an (h, w) image stay within MAX_TABLE_BYTES."""
     side = np.hypot(h, w) + 4
     levels = int(np.ceil(np.log2(side))) + 1
-    return 2 * levels * side * side * 4 <= MAX_TABLE_BYTES
+    return 2 * levels * side * (side + 1) * 4 <= MAX_TABLE_BYTES
 
 
 def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None):
@@ -86,105 +114,240 @@ def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None):
     h, w = normals.shape[:2]
     lvec = np.asarray(light.vector, dtype=np.float64)
     lvec = lvec / np.linalg.norm(lvec)
-    lx, ly, lz = lvec
-    if lz <= 0:
+    if lvec[2] <= 0:
         return np.zeros((h, w), dtype)
-    lxy = float(np.hypot(lx, ly))
-    d = max(0.0, float(offset)) * w
-    nx, ny, nz = (normals[..., i].astype(np.float64) for i in range(3))
-    ndl = nx * lx + ny * ly + nz * lz
-    if lxy < 1e-6 or d == 0:
+    if np.hypot(lvec[0], lvec[1]) < 1e-6 or offset <= 0:
         from .shadow import cos_theta_shadow            # straight up, or the d → 0 limit
         return cos_theta_shadow(normals, light, offset, 64, heights_px=heights_px, slopes=slopes)
-    ex, ey = lx / lxy, ly / lxy                          # along the light, in xy
-    m = lz / lxy                                         # rise per pixel of u
-    cx, cy = w / 2.0, h / 2.0
-    # the light-aligned grid covering the box of pixel centres
-    bx = np.array([0.5, w - 0.5, 0.5, w - 0.5]) - cx
-    by = np.array([0.5, 0.5, h - 0.5, h - 0.5]) - cy
-    us, vs = bx * ex + by * ey, -bx * ey + by * ex
-    umin, vmin = np.floor(us.min()) - 1, np.floor(vs.min()) - 1
-    width = int(np.ceil(us.max() - umin)) + 2
-    rows = int(np.ceil(vs.max() - vmin)) + 2
-    gu = umin + np.arange(width)
-    gv = vmin + np.arange(rows)
-    gx = cx + gu[None, :] * ex - gv[:, None] * ey
-    gy = cy + gu[None, :] * ey + gv[:, None] * ex
-    gx32, gy32 = gx.astype(np.float32), gy.astype(np.float32)
-    if heights_px is not None:
-        z = sample_bilinear(heights_px.astype(np.float32), gx32, gy32, "extend").astype(np.float64)
-    else:
-        # slope along u at each grid point; its running integral (trapezoids) is the height
-        sl = sample_bilinear(slopes.astype(np.float32), gx32, gy32, "extend").astype(np.float64)
-        su = sl[..., 0] * ex + sl[..., 1] * ey
-        z = np.concatenate([np.zeros((rows, 1)), np.cumsum((su[:, 1:] + su[:, :-1]) / 2, axis=1)],
-                           axis=1)
-    g = (z - m * gu[None, :]).astype(np.float32)   # beyond the box the relief extends
-    gmax = _tables(g, np.maximum)
-    gmin = _tables(g, np.minimum)
-    suffix = np.maximum.accumulate(g[:, ::-1], axis=1)[:, ::-1]   # max of G from u onward
-
-    # ray starts P0 = P_S − d·N, in grid coordinates
-    x, y = pixel_centres(h, w, np.float64)
-    zs = heights_px.astype(np.float64) if heights_px is not None else np.zeros((h, w))
-    x0, y0, z0 = x - d * nx, y - d * ny, zs - d * nz
-    u0 = (x0 - cx) * ex + (y0 - cy) * ey
-    v0 = -(x0 - cx) * ey + (y0 - cy) * ex
-    fu, fv = (u0 - umin).ravel(), (v0 - vmin).ravel()
-    c = (z0 - m * u0).ravel()
-    rate = (ndl / nz).ravel()
-    from .shadow import _exit_distance, _inside_box
-    inbox0 = _inside_box(x0, y0, h, w).ravel()
-    u_end = fu + _exit_distance(x0, y0, np.full_like(x0, ex), np.full_like(x0, ey), h, w).ravel()
-    r0 = np.clip(np.floor(fv).astype(np.int64), 0, rows - 2)
-    wv = np.clip(fv - r0, 0.0, 1.0)
-    if heights_px is not None:
-        # the reference's δ0: the exact bilinear relief above P0, where P0 is in the box
-        delta0 = (sample_bilinear(heights_px.astype(np.float64), x0, y0, "extend") - z0).ravel()
-    else:
-        # normal maps start on the tangent plane of P_S: H(P0) = d|N.xy|²/N.z, δ0 = d/N.z;
-        # the row's running integral is shifted so that it reads H(P0) at the start
-        h0 = (d * (nx * nx + ny * ny) / nz).ravel()
-        delta0 = (d / nz).ravel()
-        k = np.clip(np.floor(fu).astype(np.int64), 0, width - 2)
-        zf = z.reshape(-1)
-
-        def at(row, kk):
-            return zf[row * width + kk]
-        s0 = at(r0, k) + (at(r0, k + 1) - at(r0, k)) * np.clip(fu - k, 0, 1)
-        s1 = at(r0 + 1, k) + (at(r0 + 1, k + 1) - at(r0 + 1, k)) * np.clip(fu - k, 0, 1)
-        c = c - h0 + s0 * (1 - wv) + s1 * wv
-    g_start = c + delta0
-    # per-ray state in float32: positions (< 2·10³ px) and levels keep 1e-4 px here
-    fu, c, g_start, u_end, wv, rate = (a.astype(np.float32) for a in
-                                       (fu, c, g_start, u_end, wv, rate))
-    # numpy releases the GIL on large arrays: two halves of the rays run side by side
-    parts = np.array_split(np.arange(fu.size), THREADS)
-
-    def part(ix):
-        return _inside_length(g, gmax, gmin, suffix, r0[ix], wv[ix], fu[ix], c[ix], g_start[ix],
-                              width, u_end[ix], rate[ix], lxy)
+    grid = _SunGrid(lvec, h, w)
+    out = np.empty((h, w), dtype)
+    # numpy releases the GIL on large arrays: the grid, the tables and the rays each run in
+    # THREADS parts side by side (rows of the grid, tables, bands of pixel rows)
     with ThreadPoolExecutor(THREADS) as pool:
-        r_h = np.concatenate(list(pool.map(part, parts)))
-    # P0 outside the box: no march, the tail from the tangent plane of P_S (δ0 = d/N.z)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        out_tail = np.where(rate > 0, (d / nz.ravel()) / rate * lxy, np.inf)
-    r_h = np.where(inbox0, r_h, out_tail)
-    r = (r_h / lxy).reshape(h, w)                           # along the 3D ray
-    t = d / np.maximum(r, d)
-    return np.clip(np.where(np.isfinite(t), t, 0), 0, 1).astype(dtype, copy=False)
+        search, z = grid.search(pool, heights_px, slopes)
+        # small bands of rows: the per-ray arrays stay in cache (much faster than whole-image
+        # temporaries, which also page-fault on every allocation)
+        rows = max(1, RAY_BAND_PIXELS // w)
+
+        def band(r0):
+            r1 = min(h, r0 + rows)
+            out[r0:r1] = grid.rays(search, z, normals, offset, heights_px, r0, r1)
+        list(pool.map(band, range(0, h, rows)))
+    return out
 
 
-def _inside_length(g, gmax, gmin, suffix, r0, wv, fu, c, g_start, width, u_end, rate, lxy):
+class _SunGrid:
+    """The light-aligned grid covering the box of pixel centres: column u runs toward the
+    light (horizontally), row v across; one grid step is one pixel."""
+
+    def __init__(self, lvec, h, w):
+        lx, ly, lz = lvec
+        self.h, self.w = h, w
+        self.lxy = float(np.hypot(lx, ly))
+        self.ex, self.ey = lx / self.lxy, ly / self.lxy
+        self.m = lz / self.lxy                          # rise per pixel of u
+        self.cx, self.cy = w / 2.0, h / 2.0
+        bx = np.array([0.5, w - 0.5, 0.5, w - 0.5]) - self.cx
+        by = np.array([0.5, 0.5, h - 0.5, h - 0.5]) - self.cy
+        us, vs = bx * self.ex + by * self.ey, -bx * self.ey + by * self.ex
+        self.umin, self.vmin = np.floor(us.min()) - 1, np.floor(vs.min()) - 1
+        self.width = int(np.ceil(us.max() - self.umin)) + 2
+        self.rows = int(np.ceil(vs.max() - self.vmin)) + 2
+        self.gu = self.umin + np.arange(self.width)
+
+    def profile(self, pool, heights_px, slopes):
+        """G = H − m·u on the grid (float32) and the rebuilt heights z (normal maps)."""
+        f32 = np.float32
+        gv = self.vmin + np.arange(self.rows)
+        parts = [p for p in np.array_split(np.arange(self.rows), THREADS) if p.size]
+        ux = (self.cx + self.gu * self.ex).astype(f32)[None, :]
+        uy = (self.cy + self.gu * self.ey).astype(f32)[None, :]
+
+        def sample(img, part):
+            return _lookup(img, ux - (gv[part] * self.ey).astype(f32)[:, None],
+                           uy + (gv[part] * self.ex).astype(f32)[:, None])
+        if heights_px is not None:
+            hz = heights_px.astype(np.float32, copy=False)
+            mu = (self.m * self.gu).astype(np.float32)
+            g = np.concatenate(list(pool.map(lambda p: sample(hz, p) - mu, parts)))
+            return g, None
+        else:
+            # slope along u at each grid point (lookups are linear: one image of it); its
+            # running integral (trapezoids) is the height
+            sz = (slopes[..., 0] * self.ex + slopes[..., 1] * self.ey).astype(np.float32)
+            su = np.concatenate(list(pool.map(lambda p: sample(sz, p), parts))).astype(np.float64)
+            z = np.zeros((self.rows, self.width))
+            np.cumsum((su[:, 1:] + su[:, :-1]) / 2, axis=1, out=z[:, 1:])
+        return (z - self.m * self.gu[None, :]).astype(np.float32), z   # beyond the box: extended
+
+    def search(self, pool, heights_px, slopes):
+        """The profile and its tables (_Search), and the rebuilt heights z (normal maps)."""
+        g, z = self.profile(pool, heights_px, slopes)
+        futures = [pool.submit(_tables, g, np.maximum, NEVER),
+                   pool.submit(_tables, g, np.minimum, -NEVER), pool.submit(_suffix_max, g)]
+        gmax, gmin, suffix = (f.result() for f in futures)
+        return _Search(gmin[0], gmax, gmin, suffix, g.shape[1]), z
+
+    def rays(self, search, z, normals, offset, heights_px, r0, r1):
+        """t for pixel rows r0 … r1 − 1: their rays' starts in grid coordinates, the search."""
+        from .shadow import _inside_box
+        h, w, ex, ey, m, lxy = self.h, self.w, self.ex, self.ey, self.m, self.lxy
+        d = float(offset) * w
+        # float32 (positions < 2·10³ px keep 1e-4 px); the level c of each ray in float64
+        f32 = np.float32
+        n = normals[r0:r1].astype(f32, copy=False)
+        nx, ny, nz = n[..., 0], n[..., 1], n[..., 2]
+        ndl = (nx * f32(ex) + ny * f32(ey)) * f32(lxy) + nz * f32(m * lxy)
+        x, y = pixel_centres(h, w, f32)
+        x, y = x[r0:r1], y[r0:r1]
+        zs = heights_px[r0:r1].astype(f32, copy=False) if heights_px is not None else f32(0)
+        # ray starts P0 = P_S − d·N, in grid coordinates
+        x0, y0, z0 = x - f32(d) * nx, y - f32(d) * ny, zs - f32(d) * nz
+        xc, yc = x0 - f32(self.cx), y0 - f32(self.cy)
+        u0 = xc * f32(ex) + yc * f32(ey)
+        fu = (u0 - f32(self.umin)).ravel()
+        fv = (yc * f32(ex) - xc * f32(ey) - f32(self.vmin)).ravel()
+        c = (z0.astype(np.float64) - m * u0.astype(np.float64)).ravel()
+        rate = (ndl / nz).ravel()
+        inbox0 = _inside_box(x0, y0, h, w)
+        # to the box's edge along (ex, ey) (shadow._exit_distance for one direction)
+        to_x = ((f32(w - 0.5) - x0) if ex > 0 else (f32(0.5) - x0)) / f32(ex) if ex else np.inf
+        to_y = ((f32(h - 0.5) - y0) if ey > 0 else (f32(0.5) - y0)) / f32(ey) if ey else np.inf
+        u_end = fu + np.where(inbox0, np.maximum(np.minimum(to_x, to_y), 0), 0).ravel()
+        inbox0 = inbox0.ravel()
+        row0 = np.clip(np.floor(fv).astype(np.int64), 0, self.rows - 2)
+        wv = np.clip(fv - row0, f32(0), f32(1))
+        if heights_px is not None:
+            # the reference's δ0: the exact bilinear relief above P0, where P0 is in the box
+            delta0 = (_lookup(heights_px.astype(np.float32, copy=False), x0, y0) - z0).ravel()
+        else:
+            # normal maps start on the tangent plane of P_S: H(P0) = d|N.xy|²/N.z, δ0 = d/N.z;
+            # the row's running integral is shifted so that it reads H(P0) at the start
+            h0 = (f32(d) * (nx * nx + ny * ny) / nz).ravel()
+            delta0 = (f32(d) / nz).ravel()
+            width = self.width
+            k = np.clip(np.floor(fu).astype(np.int64), 0, width - 2)
+            zf = z.reshape(-1)
+
+            def at(row, kk):
+                return zf[row * width + kk]
+            f = np.clip(fu - k, 0, 1)
+            s0 = at(row0, k) + (at(row0, k + 1) - at(row0, k)) * f
+            s1 = at(row0 + 1, k) + (at(row0 + 1, k + 1) - at(row0 + 1, k)) * f
+            c = c - h0 + s0 * (1 - wv) + s1 * wv
+        g_start = (c + delta0).astype(f32)
+        c = c.astype(f32)
+        r_h = _inside_length(search, row0, wv, fu, c, g_start, u_end, rate, lxy)
+        # P0 outside the box: no march, the tail from the tangent plane of P_S (δ0 = d/N.z)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out_tail = np.where(rate > 0, (f32(d) / nz.ravel()) / rate * f32(lxy), np.inf)
+        r_h = np.where(inbox0, r_h, out_tail)
+        r = (r_h / lxy).reshape(r1 - r0, w)                     # along the 3D ray
+        t = d / np.maximum(r, d)
+        return np.clip(np.where(np.isfinite(t), t, 0), 0, 1)
+
+
+def _lookup(img, x, y):
+    """Bilinear "extend" lookups (the flat-gather version where the image allows)."""
+    if min(img.shape[:2]) >= 2 and img.ndim == 2:
+        return sample_bilinear_extend(img, x, y)
+    return sample_bilinear(img, np.asarray(x, img.dtype), np.asarray(y, img.dtype), "extend")
+
+
+@dataclass
+class _Search:
+    """A grid's profile G and its tables, all (…, rows, width + 1) with a padding column:
+    what every ray's crossing search reads."""
+    g: np.ndarray
+    gmax: np.ndarray
+    gmin: np.ndarray
+    suffix: np.ndarray
+    width: int
+
+
+class _Rows:
+    """Gathers at column k from the blend (1 − w)·row0 + w·row1 of each ray's two grid rows
+    (in a (rows, width + 1) layout, or one level of the tables)."""
+
+    def __init__(self, row0, w, stride):
+        self.b0 = row0 * stride
+        self.w, self.stride = w, stride
+
+    def sub(self, sel):
+        out = _Rows.__new__(_Rows)
+        out.b0, out.w, out.stride = self.b0[sel], self.w[sel], self.stride
+        return out
+
+    def at(self, flat, k):
+        i = self.b0 + k
+        a = np.take(flat, i)
+        return a + (np.take(flat, i + self.stride) - a) * self.w
+
+
+def _crossing(rows, gflat, pos, col, j, g_here, g_j, cc):
+    """Where G crosses c between the ray's position (or column j − 1) and column j, by linear
+    interpolation of G (clipped to [pos, j])."""
+    first = j == col
+    x0 = np.where(first, pos, j - 1.0)
+    g0 = np.where(first, g_here, rows.at(gflat, np.maximum(j - 1, 0)))
+    denom = g0 - g_j
+    frac = np.where(denom != 0, (g0 - cc) / np.where(denom != 0, denom, 1), 0)
+    return np.clip(x0 + frac * (j - x0), pos, j)
+
+
+def _exit_guess(search, rows, pos, col, g_here, cc, fall):
+    """(ok, j, G(j)): where ok, j is the first column ≥ col with G ≤ c, found at the tangent
+    plane's exit (δ falls by `fall` per px of u), or a secant step or two past it where the
+    ray is still inside there, and proved: G(j) ≤ c, and a lower bound of G over
+    col … j − 1 above c (the descent's own answer, without the descent)."""
+    width = search.width
+    gflat = search.g.reshape(-1)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        est = pos + (g_here - cc) / fall
+    sel = (g_here > cc) & (fall > 0) & (est < width - 1)
+    jg = np.clip(np.ceil(np.where(sel, est, pos)).astype(np.int64), col, width - 1)
+    g_j = np.zeros(pos.size, gflat.dtype)
+    ok = np.zeros(pos.size, bool)
+    p = np.flatnonzero(sel)                   # rays whose candidate is still to check
+    for step in range(GUESS_STEPS):
+        gp = rows.sub(p).at(gflat, jg[p])
+        g_j[p] = gp
+        below = gp <= cc[p]
+        hit = p[below]
+        far = hit[jg[hit] > col[hit]]
+        ok[hit] = True
+        if far.size:
+            low = _range_min(search.gmin, rows.sub(far), col[far], jg[far] - 1)
+            ok[far[low <= cc[far]]] = False
+        # still inside at the candidate: a secant step along G to the next one
+        p = p[~below]
+        if p.size == 0 or step == GUESS_STEPS - 1:
+            break
+        g0 = rows.sub(p).at(gflat, jg[p] - 1)
+        drop = g0 - g_j[p]
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            ahead = np.where(drop > 0, (g_j[p] - cc[p]) / drop, 1)
+        nxt = jg[p] + np.clip(np.ceil(ahead), 1, GUESS_LEAP).astype(np.int64)
+        p = p[nxt < width]
+        jg[p] = nxt[nxt < width]
+    return ok, jg, g_j
+
+
+def _inside_length(search, r0, wv, fu, c, g_start, u_end, rate, lxy):
     """Length (px of u) of each ray inside the relief, along the profile blended from the two
     grid rows around it, until it leaves the box of pixel centres at u_end; plus the
     reference's tangent-plane tail if it is still inside there. g_start: G at the ray's start
     (from the exact δ0 of the reference, so the start is inside exactly when it is there).
 
-    Rays are compacted as they finish: each round works on the rays still marching.
+    Fast lane first: every ray starts inside (d/N.z under the surface) and most leave where
+    the tangent plane of P_S says (a guess proved exactly, _exit_guess); with nothing higher
+    ahead (the suffix maximum) they are lit and done in one pass. The others (rays in cast
+    shadow, ≈ 40 % on tall relief) go round by round, one crossing each, by binary descents;
+    rays are compacted as they finish.
     """
-    gflat = g.reshape(-1)
-    sflat = suffix.reshape(-1)
+    width, stride = search.width, search.g.shape[1]
+    gflat = search.g.reshape(-1)
+    sflat = search.suffix.reshape(-1)
     n = fu.size
     total = np.zeros(n, np.float32)
     inside_end = g_start > c
@@ -193,21 +356,30 @@ def _inside_length(g, gmax, gmin, suffix, r0, wv, fu, c, g_start, width, u_end, 
     col = np.clip(np.floor(pos).astype(np.int64), 0, width - 2) + 1
     g_here = g_start[idx]
     inside = g_here > c[idx]
+    # the fast lane
+    rows, cc, ue = _Rows(r0[idx], wv[idx], stride), c[idx], u_end[idx]
+    ok, jg, g_j = _exit_guess(search, rows, pos, col, g_here, cc, rate[idx] / lxy)
+    f = np.flatnonzero(ok)
+    rf = rows.sub(f)
+    cross = _crossing(rf, gflat, pos[f], col[f], jg[f], g_here[f], g_j[f], cc[f])
+    ends = cross >= ue[f]
+    total[idx[f]] = np.minimum(cross, ue[f]) - pos[f]
+    lit = ~ends & (rf.at(sflat, jg[f]) <= cc[f])
+    inside_end[idx[f[ends | lit]]] = True
+    inside_end[idx[f[lit]]] = False
+    pos[f], col[f], g_here[f], inside[f] = cross, jg[f], cc[f], False
+    keep = np.ones(idx.size, bool)
+    keep[f[ends | lit]] = False
+    idx, pos, col, inside, g_here = idx[keep], pos[keep], col[keep], inside[keep], g_here[keep]
+
     exit_if = lambda v, cc: v > cc       # noqa: E731  (inside: skip while all is above c)
     entry_if = lambda v, cc: v <= cc     # noqa: E731  (outside: skip while all is below c)
     for _ in range(2 * MAX_CROSSINGS):
         if idx.size == 0:
             break
-        b0, b1, w, cc, ue = r0[idx] * width, (r0[idx] + 1) * width, wv[idx], c[idx], u_end[idx]
-
-        def g_col(k, sub=slice(None)):
-            k = np.clip(k, 0, width - 1)
-            return (np.take(gflat, b0[sub] + k) * (1 - w[sub])
-                    + np.take(gflat, b1[sub] + k) * w[sub])
+        rows, cc, ue = _Rows(r0[idx], wv[idx], stride), c[idx], u_end[idx]
         # outside rays with nothing higher ahead are done (a blended suffix maximum bounds it)
-        at = np.minimum(col, width - 1)
-        ahead = np.take(sflat, b0 + at) * (1 - w) + np.take(sflat, b1 + at) * w
-        done = ~inside & (ahead <= cc)
+        done = ~inside & (rows.at(sflat, col) <= cc)
         j = col.copy()
         todo = ~done
         for _ in range(8):               # descend again where a loose bound stopped early
@@ -216,25 +388,21 @@ def _inside_length(g, gmax, gmin, suffix, r0, wv, fu, c, g_start, width, u_end, 
                 break
             jj = np.empty(sel.size, np.int64)
             ins = inside[sel]
-            for flag, table, test in ((True, gmin, exit_if), (False, gmax, entry_if)):
-                m = ins == flag
-                if m.any():
+            for flag, table, test in ((True, search.gmin, exit_if),
+                                      (False, search.gmax, entry_if)):
+                m = np.flatnonzero(ins == flag)
+                if m.size:
                     s_ = sel[m]
-                    jj[m] = _descend(table, b0[s_], b1[s_], w[s_], j[s_], cc[s_], width, test)
+                    jj[m] = _descend(table, rows.sub(s_), j[s_], cc[s_], test)
             j[sel] = jj
-            gj = g_col(j[sel], sel)
-            wrong = (j[sel] < width) & np.where(ins, gj > cc[sel], gj <= cc[sel])
+            gj = rows.sub(sel).at(gflat, np.minimum(jj, width - 1))
+            wrong = (jj < width) & np.where(ins, gj > cc[sel], gj <= cc[sel])
             todo = np.zeros_like(todo)
             todo[sel[wrong]] = True
             j[sel[wrong]] += 1
         jc = np.minimum(j, width - 1)
-        g1 = g_col(jc)
-        first = jc == col
-        x0 = np.where(first, pos, jc - 1.0)
-        g0 = np.where(first, g_here, g_col(jc - 1))
-        denom = g0 - g1
-        frac = np.where(denom != 0, (g0 - cc) / np.where(denom != 0, denom, 1), 0)
-        cross = np.where((j < width) & ~done, np.clip(x0 + frac * (jc - x0), pos, jc), np.inf)
+        cross = _crossing(rows, gflat, pos, col, jc, g_here, rows.at(gflat, jc), cc)
+        cross = np.where((j < width) & ~done, cross, np.inf)
         ends = cross >= ue
         total[idx] += np.where(inside, np.minimum(cross, ue) - pos, 0.0)
         fin = ends | done
@@ -245,10 +413,9 @@ def _inside_length(g, gmax, gmin, suffix, r0, wv, fu, c, g_start, width, u_end, 
     # still inside where the box ends: the tail along the tangent plane of P_S (§6)
     ue = np.minimum(u_end, width - 1.0)
     k = np.clip(np.floor(ue).astype(np.int64), 0, width - 2)
-
-    def col_all(kk):
-        return np.take(gflat, r0 * width + kk) * (1 - wv) + np.take(gflat, (r0 + 1) * width + kk) * wv
-    delta = col_all(k) + (col_all(k + 1) - col_all(k)) * np.clip(ue - k, 0, 1) - c
+    every = _Rows(r0, wv, stride)
+    g_k = every.at(gflat, k)
+    delta = g_k + (every.at(gflat, k + 1) - g_k) * np.clip(ue - k, 0, 1) - c
     with np.errstate(divide="ignore", invalid="ignore"):
         tail = np.where(rate > 0, delta / rate * lxy, np.inf)   # δ never falls: all inside
     return total + np.where(inside_end & (delta > 0), tail, 0)
