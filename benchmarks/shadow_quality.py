@@ -181,7 +181,7 @@ def main(argv=None):
     for label, level, sec, ratio, err, settings in rows:
         lines.append(f"| {label} | {level} | {settings} | {sec:.3f} | {ratio:.3f} | {err:.1e} |")
     lines += ["", "For suns, draft, preview and final (from 512 px up) bake by exact crossings "
-              "in a light-aligned frame (core/sunshadow.py), at the level's sun resolution "
+              "in a light-aligned frame (core/crossings.py), at the level's sun resolution "
               "(draft ⅛, preview ¼; ¼ and 0.4 for normal maps): K does not apply there. Point "
               "lights still march. Level times are the best of 3 runs (2 for final); the "
               "baseline is one run.", "",

@@ -138,7 +138,7 @@ def cmd_bake_shadow(args):
         print(f"bake: {ms:.1f} ms for {w}×{h} ({args.kind} map, {light.kind} light)")
         how = f"steps={steps} (marched {stats.steps}) longest march=" \
             f"{stats.max_march_px:.1f} px" if stats.method == "march" else \
-            "method=exact crossings (sun; K does not apply)"
+            f"method={stats.method} ({light.kind}; K does not apply)"
         bh, bw = stats.size
         print(f"settings: quality={quality} {how} resolution={bw}×{bh} "
               f"dtype={np.dtype(dtype).name} offset={args.offset} image widths")

@@ -58,11 +58,12 @@ def test_bake_shadow_height_map(tmp_path):
     ref = cos_theta_shadow(normals_from_height_px(z), Light("sun", (1, 0, 0.6)), 0.005, 96, heights_px=z)
     np.testing.assert_array_equal(t.pixels[..., 0], ref)
     assert t.pixels[20, 8, 0] < 0.05 and t.pixels[20, 32, 0] == pytest.approx(unit((1, 0, 0.6))[2], abs=1e-3)
-    # a quality level says what it ran: a sun at preview bakes by crossings at ¼ resolution
+    # a quality level says what it ran: a sun at preview bakes by crossings, at ¼ resolution
+    # but never below 192 px (a 40 px painting: all of it)
     res = run_cli("bake-shadow", tmp_path / "h.png", "--kind", "height", "--height-scale", 0.2,
                   "--light", 1, 0, 0.6, "--quality", "preview", "--out", out, "-v")
     assert "quality=preview method=exact crossings" in res.stdout, res.stdout
-    assert "resolution=10×10" in res.stdout, res.stdout
+    assert "resolution=40×40" in res.stdout, res.stdout
 
 
 def test_bake_shadow_normal_map_and_point_light(tmp_path):

@@ -23,12 +23,13 @@ class ShadowStats:
     """What a bake did, for `bake-shadow -v` and the benchmarks."""
     steps: int = 0
     max_march_px: float = 0.0
-    method: str = "march"       # or "crossings" (suns, core/sunshadow.py)
+    method: str = "march"       # or "exact crossings" (suns), "aimed crossings" (point
+    #                             lights; core/crossings.py)
     size: tuple = (0, 0)        # (H, W) the bake ran at before upsampling
 
     def settings(self):
         h, w = self.size
-        how = f"K = {self.steps} march" if self.method == "march" else "exact crossings"
+        how = f"K = {self.steps} march" if self.method == "march" else self.method
         return f"{how} at {w}×{h}"
 
 
@@ -239,17 +240,20 @@ def _march_band(c, r, k_eff, occupancy, cancel):
 
 # §13 quality levels of the bake: K, the resolution the march runs at (the result is upsampled
 # bilinearly) and the precision. 'custom' takes K and the resolution from the parameters.
-# Suns bake by exact crossings (sunshadow.py) at draft, preview and final: K does not apply
-# there; custom K and the reference always march.
-# Suns bake by exact crossings, which are more accurate per sample than a K-step march: at
-# draft and preview they run at a lower resolution of their own (sun_scale; normal maps, whose
-# rebuilt heights integrate slopes, need a little more). Measured at 1024², tall relief
-# (docs/shadow-quality.md): preview 0.02× the baseline march at 4e-3 mean error.
+# Crossings (crossings.py) are more accurate per sample than a K-step march, so where they
+# apply they run at a resolution of their own: suns at draft and preview (sun_scale; normal
+# maps, whose rebuilt heights integrate slopes, need a little more) and at final (full
+# resolution); point lights over height maps at draft and preview (point_scale). Never below
+# crossings_min_px on the short side: small paintings keep their detail (and are cheap).
+# K does not apply there; custom K and the reference always march. Measured at 1024², tall
+# relief: docs/shadow-quality.md.
 QUALITY = {
     "draft": {"steps": 16, "scale": 0.25, "dtype": "float32",
-              "sun_scale": 0.125, "sun_scale_normal": 0.25},
+              "sun_scale": 0.125, "sun_scale_normal": 0.25, "point_scale": 0.125,
+              "crossings_min_px": 96},
     "preview": {"steps": 32, "scale": 0.5, "dtype": "float32",
-                "sun_scale": 0.25, "sun_scale_normal": 0.4},
+                "sun_scale": 0.25, "sun_scale_normal": 0.4, "point_scale": 0.25,
+                "crossings_min_px": 192},
     "final": {"steps": 64, "scale": 1.0, "dtype": "float32"},
     "reference": {"steps": 1024, "scale": 1.0, "dtype": "float64"},
 }
@@ -263,6 +267,31 @@ def quality_settings(quality, steps=64, scale=1.0):
         return int(steps), float(min(max(scale, 0.01), 1.0)), np.float32
     q = QUALITY[quality]
     return q["steps"], q["scale"], np.dtype(q["dtype"]).type
+
+
+def _crossings_plan(light, quality, fast_level, h, w, size, normal_map, offset):
+    """((H, W) to bake at, function) where crossings (crossings.py) bake this light at this
+    level, else None: suns at draft, preview and final (at sun_scale where the level has
+    one), point lights over height maps at draft and preview (at point_scale), when their
+    tables fit in memory."""
+    from . import crossings
+    q = QUALITY.get(quality, {})
+
+    def scaled(key):
+        f = q.get(key)
+        if f is None:
+            return size
+        f = min(1.0, max(f, q.get("crossings_min_px", 0) / max(1, min(h, w))))
+        return max(1, round(h * f)), max(1, round(w * f))
+    if light.kind == "sun" and fast_level:
+        sh, sw = scaled("sun_scale_normal" if normal_map else "sun_scale")
+        return ((sh, sw), crossings.sun_cos_theta) if crossings.fits(sh, sw) else None
+    if light.kind == "point" and fast_level and not normal_map and "point_scale" in q:
+        sh, sw = scaled("point_scale")
+        if crossings.point_grid_bytes(light, sh, sw, offset) <= crossings.MAX_TABLE_BYTES:
+            return (sh, sw), lambda n, lt, off, heights_px, slopes: crossings.point_cos_theta(
+                n, lt, off, heights_px=heights_px)
+    return None
 
 
 def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=None, steps=64,
@@ -281,24 +310,20 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
     # K = 64 march is more accurate and cheap anyway, so 'final' marches there.
     fast_level = quality in ("draft", "preview") or (quality == "final"
                                                       and min(hs, ws) >= FAST_FINAL_MIN_PX)
-    if light.kind == "sun" and fast_level and occupancy == "linear":
-        from . import sunshadow
-        sun_scale = QUALITY[quality].get("sun_scale_normal" if slopes is not None
-                                         else "sun_scale")
-        sh, sw = (hs, ws) if sun_scale is None else \
-            (max(1, round(h * sun_scale)), max(1, round(w * sun_scale)))
-        if sunshadow.fits(sh, sw):
-            hs, ws = sh, sw
-            if stats is not None:
-                stats.method = "crossings"
-            def march(n, lt, off, _k, heights_px=None, slopes=None, cancel=None, progress=None,
-                      **_):
-                if cancel is not None and cancel():      # one pass: superseded before it starts
-                    raise BakeCancelled()
-                t = sunshadow.sun_cos_theta(n, lt, off, heights_px=heights_px, slopes=slopes)
-                if progress is not None:
-                    progress(1.0)
-                return t
+    plan = _crossings_plan(light, quality, fast_level and occupancy == "linear", h, w,
+                           (hs, ws), slopes is not None, offset)
+    if plan is not None:
+        (hs, ws), fast = plan
+        if stats is not None:
+            stats.method = "exact crossings" if light.kind == "sun" else "aimed crossings"
+
+        def march(n, lt, off, _k, heights_px=None, slopes=None, cancel=None, progress=None, **_):
+            if cancel is not None and cancel():      # one pass: superseded before it starts
+                raise BakeCancelled()
+            t = fast(n, lt, off, heights_px=heights_px, slopes=slopes)
+            if progress is not None:
+                progress(1.0)
+            return t
     if stats is not None:
         stats.size = (hs, ws)
     if (hs, ws) == (h, w):

@@ -1,22 +1,30 @@
-"""The cos-θ term of a sun by exact crossings in a light-aligned frame (§6): the fast bake.
+"""The cos-θ term by crossings (§6): the fast bake, for suns and for point lights.
 
-The march of shadow.py samples the relief K times along every ray. For a sun every ray has
-the same direction, so the relief is resampled once onto a grid whose rows run along the
-light's horizontal direction (u toward the light, v across). Along a row a ray rises by
-m = L.z/|L.xy| per pixel of u, so with G(u) = H(u) − m·u the ray from (u0, z0) is inside the
-relief exactly where G > c = z0 − m·u0. Per row, sparse tables of the maximum and minimum of
-G over power-of-two windows find the next up- or down-crossing of c by a binary descent; the
-inside length is the sum of the intervals between crossings, each placed by linear
-interpolation of G between columns. A ray between two rows follows the blend of the two rows'
-profiles (the tables' blended extremes bound the blend's, and single columns are exact).
-The start is the reference's: δ0 from the exact bilinear relief at P0 (height maps) or the
-tangent plane of P_S (normal maps, whose rebuilt height along a row is the running integral
-of the row's slope). Where a ray is still inside when it leaves the box of pixel centres, the
-tail of shadow.py (tangent plane of P_S) finishes it, as in the reference; a flat plane gives
+The march of shadow.py samples the relief K times along every ray. Here the relief is
+resampled once onto a grid whose rows are the rays' paths, and each ray's crossings in and
+out of the relief are searched along its row:
+
+- Suns (_SunGrid): every ray has the same direction; rows run along the light's horizontal
+  direction (u toward the light, v across). A ray rises by m = L.z/|L.xy| per pixel of u, so
+  with G(u) = H(u) − m·u it is inside the relief exactly where G > c = z0 − m·u0.
+- Point lights over height maps (_PointGrid): a polar grid around the light's foot; the ray
+  is aimed at the light, G = (H − z_L)/ρ, c = (z0 − z_L)/ρ0. Not the reference's ray exactly
+  (see the class): draft and preview only.
+
+Per row, sparse tables of the maximum and minimum of G over power-of-two windows find the
+next up- or down-crossing of c by a binary descent; the inside length is the sum of the
+intervals between crossings, each placed by linear interpolation of the ray's depth between
+columns. A ray between two rows follows the blend of the two rows' profiles (the tables'
+blended extremes bound the blend's, and single columns are exact). Most rays need no descent:
+their first exit is where the tangent plane puts it, proved in O(1) (_exit_guess). The start
+is the reference's: δ0 from the exact bilinear relief at P0 (height maps) or the tangent
+plane of P_S (normal maps, whose rebuilt height along a row is the running integral of the
+row's slope). Where a ray is still inside when it leaves the box of pixel centres, the tail
+of shadow.py (tangent plane of P_S) finishes it, as in the reference; a flat plane gives
 cos θ exactly, up to the border.
 
-Measured (benchmarks/shadow_quality.py, 1024², relief 0.5 image widths, d = 0.01): mean
-|Δt| 1.4e-4–3e-4 against the K = 1024 float64 reference (the K = 64 march: 1e-3–1.5e-3).
+Measured (benchmarks/shadow_quality.py, 1024², relief 0.5 image widths, d = 0.01): suns,
+mean |Δt| 1.4e-4–5e-4 against the K = 1024 float64 reference (the K = 64 march: 1e-3–2e-2).
 Everything is in pixels; the result is t = d / max(r, d) like shadow.cos_theta_shadow.
 """
 import functools
@@ -29,11 +37,14 @@ import numpy as np
 from .sampling import pixel_centres, sample_bilinear, sample_bilinear_extend
 
 MAX_CROSSINGS = 8     # enter/exit pairs followed per ray (more are very rare)
-MAX_TABLE_BYTES = 1.5 * 2**30   # larger grids fall back to the march (row bands: to do)
+MAX_TABLE_BYTES = 1.5 * 2**30   # larger grids fall back to the march
 THREADS = max(1, min(4, os.cpu_count() or 1))
-RAY_BAND_PIXELS = 1 << 17
+RAY_BAND_PIXELS = 1 << 17       # rays searched together (see _bake)
 NEVER = 1e30                      # table padding: beyond any G, finite so blends stay finite
-GUESS_STEPS, GUESS_LEAP = 3, 64   # exit guesses per ray (_exit_guess), longest secant step     # rays searched together (see sun_cos_theta)
+GUESS_STEPS, GUESS_LEAP = 3, 64
+POINT_RHO_MIN, POINT_RATIO = 0.5, 0.1
+POINT_APEX_NZ = 1.0
+POINT_ARC = 2.0   # row spacing (px) at ρ_max of full-circle grids (most rays are nearer F)
 
 
 def _tables(g, op, sentinel):
@@ -119,21 +130,34 @@ def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None):
     if np.hypot(lvec[0], lvec[1]) < 1e-6 or offset <= 0:
         from .shadow import cos_theta_shadow            # straight up, or the d → 0 limit
         return cos_theta_shadow(normals, light, offset, 64, heights_px=heights_px, slopes=slopes)
-    grid = _SunGrid(lvec, h, w)
-    out = np.empty((h, w), dtype)
-    # numpy releases the GIL on large arrays: the grid, the tables and the rays each run in
-    # THREADS parts side by side (rows of the grid, tables, bands of pixel rows)
+    return _bake(_SunGrid(lvec, h, w), normals, offset, heights_px, slopes)
+
+
+def _bake(grid, normals, offset, heights_px, slopes):
+    """t (H, W) by the grid's crossing search. numpy releases the GIL on large arrays: the
+    grid, the tables and the rays each run in THREADS parts side by side (rows of the grid,
+    tables, bands of pixel rows)."""
+    h, w = normals.shape[:2]
+    out = np.empty((h, w), normals.dtype)
     with ThreadPoolExecutor(THREADS) as pool:
         search, z = grid.search(pool, heights_px, slopes)
-        # small bands of rows: the per-ray arrays stay in cache (much faster than whole-image
-        # temporaries, which also page-fault on every allocation)
-        rows = max(1, RAY_BAND_PIXELS // w)
+        # bands of rows: the per-ray arrays stay small (whole-image temporaries are slower,
+        # and page-fault on every allocation)
+        rows = max(1, min(RAY_BAND_PIXELS // w, -(-h // THREADS)))
 
         def band(r0):
             r1 = min(h, r0 + rows)
             out[r0:r1] = grid.rays(search, z, normals, offset, heights_px, r0, r1)
         list(pool.map(band, range(0, h, rows)))
     return out
+
+
+def _search(pool, g, z, rho_max=None):
+    """The profile G's tables (_Search), computed side by side."""
+    futures = [pool.submit(_tables, g, np.maximum, NEVER),
+               pool.submit(_tables, g, np.minimum, -NEVER), pool.submit(_suffix_max, g)]
+    gmax, gmin, suffix = (f.result() for f in futures)
+    return _Search(gmin[0], gmax, gmin, suffix, g.shape[1], rho_max), z
 
 
 class _SunGrid:
@@ -182,11 +206,7 @@ class _SunGrid:
 
     def search(self, pool, heights_px, slopes):
         """The profile and its tables (_Search), and the rebuilt heights z (normal maps)."""
-        g, z = self.profile(pool, heights_px, slopes)
-        futures = [pool.submit(_tables, g, np.maximum, NEVER),
-                   pool.submit(_tables, g, np.minimum, -NEVER), pool.submit(_suffix_max, g)]
-        gmax, gmin, suffix = (f.result() for f in futures)
-        return _Search(gmin[0], gmax, gmin, suffix, g.shape[1]), z
+        return _search(pool, *self.profile(pool, heights_px, slopes))
 
     def rays(self, search, z, normals, offset, heights_px, r0, r1):
         """t for pixel rows r0 … r1 − 1: their rays' starts in grid coordinates, the search."""
@@ -237,14 +257,145 @@ class _SunGrid:
             c = c - h0 + s0 * (1 - wv) + s1 * wv
         g_start = (c + delta0).astype(f32)
         c = c.astype(f32)
-        r_h = _inside_length(search, row0, wv, fu, c, g_start, u_end, rate, lxy)
-        # P0 outside the box: no march, the tail from the tangent plane of P_S (δ0 = d/N.z)
+        fall = rate / f32(lxy)              # δ falls by this per px of u on the tangent plane
+        total, inside_end, gap, _ = _inside_length(search, row0, wv, fu, c, g_start, u_end,
+                                                   fall)
+        # still inside where the box ends: the tail along the tangent plane of P_S (§6); P0
+        # outside the box: no march, that tail from δ0 = d/N.z
         with np.errstate(divide="ignore", invalid="ignore"):
-            out_tail = np.where(rate > 0, (f32(d) / nz.ravel()) / rate * f32(lxy), np.inf)
-        r_h = np.where(inbox0, r_h, out_tail)
+            tail = np.where(fall > 0, gap / fall, np.inf)
+            out_tail = np.where(fall > 0, (f32(d) / nz.ravel()) / fall, np.inf)
+        r_h = np.where(inbox0, total + np.where(inside_end & (gap > 0), tail, 0), out_tail)
         r = (r_h / lxy).reshape(r1 - r0, w)                     # along the 3D ray
         t = d / np.maximum(r, d)
         return np.clip(np.where(np.isfinite(t), t, 0), 0, 1)
+
+
+def point_cos_theta(normals, light, offset, *, heights_px):
+    """t = d / max(r, d) (H, W) for a point light over a height map, by crossings along the
+    rows of a polar grid around the light's foot (_PointGrid): each ray is aimed from P0 at
+    the light, then corrected to the reference's direction (see _PointGrid)."""
+    return _bake(_PointGrid(light, normals.shape[0], normals.shape[1], offset), normals, offset,
+                 heights_px, None)
+
+
+def point_grid_bytes(light, h, w, offset):
+    """The memory the tables of point_cos_theta's polar grid take."""
+    grid = _PointGrid(light, h, w, offset)
+    levels = int(np.ceil(np.log2(grid.width))) + 1
+    return (2 * levels + 2) * grid.rows * (grid.width + 1) * 4
+
+
+class _PointGrid:
+    """A polar grid around the foot F of a point light: row v = angle φ about F, column u =
+    ρ_max − ρ (toward the light), one pixel apart at ρ_max in both directions.
+
+    A ray aimed from P0 at the light P_L runs along a row, and with G(ρ) = (H − z_L)/ρ it is
+    inside the relief exactly where G > c = (z0 − z_L)/ρ0 (the line from P0 to P_L has
+    height z_L + (z0 − z_L)·ρ/ρ0), so the search of the suns applies unchanged. The
+    reference's ray from P0 runs along L(P_S), parallel to P_S → P_L, which misses the
+    light by up to d·|N.xy|: not a row of any grid shared by all rays. The aimed ray differs
+    most in its first segment, by the ratio of the tangent plane's rates N·L: the length is
+    scaled by it (clamped to ±POINT_RATIO), which brings lit pixels to the reference's
+    cos θ (measured: 5e-3 → 3e-4 mean) and leaves cast shadows shifted by up to
+    d·|N.xy| — good for draft and preview; final marches.
+    """
+
+    def __init__(self, light, h, w, offset):
+        self.h, self.w = h, w
+        self.fx, self.fy, self.zl = (float(v) for v in light.position_px(h, w))
+        self.z_light = self.zl
+        self.zl -= float(offset) * w * POINT_APEX_NZ
+        margin = float(offset) * w + 2                 # ray starts lie within d of the box
+        xs, ys = (0.5 - margin, w - 0.5 + margin), (0.5 - margin, h - 0.5 + margin)
+        cx, cy = [(a + b) / 2 for a, b in (xs, ys)]
+        corners = np.array([(x - self.fx, y - self.fy) for x in xs for y in ys])
+        self.rho_max = float(np.hypot(corners[:, 0], corners[:, 1]).max()) + 2
+        if xs[0] < self.fx < xs[1] and ys[0] < self.fy < ys[1]:
+            self.rows = int(np.ceil(2 * np.pi * self.rho_max / POINT_ARC)) + 2
+            self.phi0 = -np.pi
+            self.dphi = 2 * np.pi / (self.rows - 2)    # one row past 2π: the seam blends
+        else:
+            base = np.arctan2(cy - self.fy, cx - self.fx)
+            rel = np.angle(np.exp(1j * (np.arctan2(corners[:, 1], corners[:, 0]) - base)))
+            self.dphi = 1 / self.rho_max
+            self.phi0 = base + rel.min() - 2 * self.dphi
+            self.rows = int(np.ceil((rel.max() - rel.min()) / self.dphi)) + 5
+        # rays end where they leave the box, so the grid stops at its nearest point to F
+        near = np.hypot(max(xs[0] - self.fx, 0, self.fx - xs[1]),
+                        max(ys[0] - self.fy, 0, self.fy - ys[1]))
+        self.width = int(np.ceil(self.rho_max - max(near - 2, 0))) + 2
+        self.rho = self.rho_max - np.arange(self.width)          # ρ of each column
+
+    def search(self, pool, heights_px, slopes):
+        f32 = np.float32
+        hz = heights_px.astype(f32, copy=False)
+        rho = np.maximum(self.rho, POINT_RHO_MIN)
+        inv = (1 / rho).astype(f32)[None, :]
+        parts = [p for p in np.array_split(np.arange(self.rows), THREADS) if p.size]
+
+        def sample(part):
+            phi = self.phi0 + part * self.dphi
+            gx = (self.fx + np.cos(phi)[:, None] * self.rho[None, :]).astype(f32)
+            gy = (self.fy + np.sin(phi)[:, None] * self.rho[None, :]).astype(f32)
+            return (_lookup(hz, gx, gy) - f32(self.zl)) * inv
+        return _search(pool, np.concatenate(list(pool.map(sample, parts))), None, self.rho_max)
+
+    def rays(self, search, z, normals, offset, heights_px, r0, r1):
+        """t for pixel rows r0 … r1 − 1 (see the class)."""
+        from .shadow import _exit_distance, _inside_box
+        h, w = self.h, self.w
+        d = float(offset) * w
+        f32 = np.float32
+        n = normals[r0:r1].astype(f32, copy=False)
+        nx, ny, nz = n[..., 0], n[..., 1], n[..., 2]
+        x, y = pixel_centres(h, w, f32)
+        x, y = x[r0:r1], y[r0:r1]
+        zs = heights_px[r0:r1].astype(f32, copy=False)
+        x0, y0, z0 = x - f32(d) * nx, y - f32(d) * ny, zs - f32(d) * nz
+        dx, dy, dz = f32(self.fx) - x0, f32(self.fy) - y0, f32(self.zl) - z0
+        rho0 = np.hypot(dx, dy)
+        dist = np.sqrt(rho0 * rho0 + dz * dz)                    # P0 → P_L
+        safe = np.maximum(rho0, f32(1e-6))
+        # the aimed ray's and the reference's N·L (L at P_S)
+        ndl_a = (nx * dx + ny * dy + nz * dz) / np.maximum(dist, f32(1e-6))
+        sx, sy, sz = f32(self.fx) - x, f32(self.fy) - y, f32(self.z_light) - zs
+        ndl_s = (nx * sx + ny * sy + nz * sz) / np.maximum(np.sqrt(sx * sx + sy * sy + sz * sz),
+                                                           f32(1e-6))
+        fall_d = (ndl_a / nz) * dist / safe      # δ's fall per px of u on the tangent plane
+        fu = (f32(self.rho_max) - rho0).ravel()
+        fv = ((np.arctan2(-dy, -dx) - f32(self.phi0)) / f32(self.dphi)).ravel()
+        fv = np.where(fv < 0, fv + f32(2 * np.pi / self.dphi), fv)
+        row0 = np.clip(np.floor(fv).astype(np.int64), 0, self.rows - 2)
+        wv = np.clip(fv - row0, f32(0), f32(1))
+        c = (-dz / safe).ravel()
+        delta0 = _lookup(heights_px.astype(f32, copy=False), x0, y0) - z0
+        g_start = c + (delta0 / safe).ravel()
+        box = _exit_distance(x0, y0, dx / safe, dy / safe, h, w)
+        to_light = box >= rho0                                    # no box exit before it
+        u_end = fu + np.minimum(box, rho0).ravel()
+        total, inside_end, gap, first = _inside_length(search, row0, wv, fu, c, g_start,
+                                                       u_end, (fall_d / safe).ravel())
+        rho_end = np.maximum(rho0.ravel() - (u_end - fu), 0)
+        fall_d, rho0, nz = fall_d.ravel(), rho0.ravel(), nz.ravel()
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            # still inside where it leaves the box: the tangent-plane tail, never past the
+            # light; P0 outside the box or under the light: that tail from δ0 = d/N.z
+            tail = np.where(fall_d > 0, gap / fall_d, np.inf)
+            tail = np.where(inside_end & (gap > 0) & ~to_light.ravel(),
+                            np.minimum(tail, rho_end), 0)
+            alone = np.where(fall_d > 0, (f32(d) / nz) / fall_d, np.inf)
+            alone = np.minimum(alone, rho0)
+        march = (_inside_box(x0, y0, h, w) & (rho0.reshape(x0.shape) >= 1)).ravel()
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.clip(np.where(ndl_s > 0, ndl_a / ndl_s, 1), 1 - POINT_RATIO,
+                            1 + POINT_RATIO).ravel()
+            # the first segment to the reference's direction (tangent-plane rates)
+            r_h = np.where(march, total - first + first * ratio + tail, alone * ratio)
+            r = r_h * (dist.ravel() / np.maximum(rho0, f32(1e-6)))
+            t = d / np.maximum(r, d)
+        t = np.where(np.isfinite(t), t, np.where(rho0 < 1e-6, np.maximum(ndl_s.ravel(), 0), 0))
+        return np.clip(t, 0, 1).reshape(r1 - r0, w)
 
 
 def _lookup(img, x, y):
@@ -263,6 +414,7 @@ class _Search:
     gmin: np.ndarray
     suffix: np.ndarray
     width: int
+    rho_max: float = None     # polar grids: G − c is δ/ρ, ρ = rho_max − u (see _crossing)
 
 
 class _Rows:
@@ -284,14 +436,18 @@ class _Rows:
         return a + (np.take(flat, i + self.stride) - a) * self.w
 
 
-def _crossing(rows, gflat, pos, col, j, g_here, g_j, cc):
+def _crossing(search, rows, pos, col, j, g_here, g_j, cc):
     """Where G crosses c between the ray's position (or column j − 1) and column j, by linear
-    interpolation of G (clipped to [pos, j])."""
+    interpolation of the ray's depth δ (clipped to [pos, j]): δ = G − c for suns, ρ·(G − c)
+    on a polar grid (G = (H − z)/ρ is curved in ρ; δ is linear wherever H is)."""
     first = j == col
     x0 = np.where(first, pos, j - 1.0)
-    g0 = np.where(first, g_here, rows.at(gflat, np.maximum(j - 1, 0)))
-    denom = g0 - g_j
-    frac = np.where(denom != 0, (g0 - cc) / np.where(denom != 0, denom, 1), 0)
+    d0 = np.where(first, g_here, rows.at(search.g.reshape(-1), np.maximum(j - 1, 0))) - cc
+    d1 = g_j - cc
+    if search.rho_max is not None:
+        d0, d1 = d0 * (search.rho_max - x0), d1 * (search.rho_max - j)
+    denom = d0 - d1
+    frac = np.where(denom != 0, d0 / np.where(denom != 0, denom, 1), 0)
     return np.clip(x0 + frac * (j - x0), pos, j)
 
 
@@ -333,11 +489,13 @@ def _exit_guess(search, rows, pos, col, g_here, cc, fall):
     return ok, jg, g_j
 
 
-def _inside_length(search, r0, wv, fu, c, g_start, u_end, rate, lxy):
-    """Length (px of u) of each ray inside the relief, along the profile blended from the two
-    grid rows around it, until it leaves the box of pixel centres at u_end; plus the
-    reference's tangent-plane tail if it is still inside there. g_start: G at the ray's start
-    (from the exact δ0 of the reference, so the start is inside exactly when it is there).
+def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall):
+    """(length, inside at the end, δ at the end, first segment): the length (px of u) of each
+    ray inside the relief, along the profile blended from the two grid rows around it, until
+    u_end (it leaves the box of pixel centres, or reaches a point light); whether it is still
+    inside there, and how deep (for the caller's tail); the length up to its first exit. g_start: G at the ray's start (from the
+    exact δ0 of the reference, so the start is inside exactly when it is there); fall: how
+    fast G − c falls per px of u on the tangent plane of P_S (the first exit's guess).
 
     Fast lane first: every ray starts inside (d/N.z under the surface) and most leave where
     the tangent plane of P_S says (a guess proved exactly, _exit_guess); with nothing higher
@@ -358,12 +516,14 @@ def _inside_length(search, r0, wv, fu, c, g_start, u_end, rate, lxy):
     inside = g_here > c[idx]
     # the fast lane
     rows, cc, ue = _Rows(r0[idx], wv[idx], stride), c[idx], u_end[idx]
-    ok, jg, g_j = _exit_guess(search, rows, pos, col, g_here, cc, rate[idx] / lxy)
+    ok, jg, g_j = _exit_guess(search, rows, pos, col, g_here, cc, fall[idx])
     f = np.flatnonzero(ok)
     rf = rows.sub(f)
-    cross = _crossing(rf, gflat, pos[f], col[f], jg[f], g_here[f], g_j[f], cc[f])
+    cross = _crossing(search, rf, pos[f], col[f], jg[f], g_here[f], g_j[f], cc[f])
     ends = cross >= ue[f]
     total[idx[f]] = np.minimum(cross, ue[f]) - pos[f]
+    first = total.copy()               # the first segment (from the start to the first exit)
+    first[idx[~ok]] = np.nan
     lit = ~ends & (rf.at(sflat, jg[f]) <= cc[f])
     inside_end[idx[f[ends | lit]]] = True
     inside_end[idx[f[lit]]] = False
@@ -401,21 +561,24 @@ def _inside_length(search, r0, wv, fu, c, g_start, u_end, rate, lxy):
             todo[sel[wrong]] = True
             j[sel[wrong]] += 1
         jc = np.minimum(j, width - 1)
-        cross = _crossing(rows, gflat, pos, col, jc, g_here, rows.at(gflat, jc), cc)
+        cross = _crossing(search, rows, pos, col, jc, g_here, rows.at(gflat, jc), cc)
         cross = np.where((j < width) & ~done, cross, np.inf)
         ends = cross >= ue
-        total[idx] += np.where(inside, np.minimum(cross, ue) - pos, 0.0)
+        seg = np.where(inside, np.minimum(cross, ue) - pos, 0.0)
+        total[idx] += seg
+        new = inside & np.isnan(first[idx])
+        first[idx[new]] = seg[new]
         fin = ends | done
         inside_end[idx[fin]] = inside[fin]
         keep = ~fin
         idx, pos, col, inside, g_here = (idx[keep], cross[keep], jc[keep], ~inside[keep],
                                          cc[keep])
-    # still inside where the box ends: the tail along the tangent plane of P_S (§6)
     ue = np.minimum(u_end, width - 1.0)
     k = np.clip(np.floor(ue).astype(np.int64), 0, width - 2)
     every = _Rows(r0, wv, stride)
     g_k = every.at(gflat, k)
-    delta = g_k + (every.at(gflat, k + 1) - g_k) * np.clip(ue - k, 0, 1) - c
-    with np.errstate(divide="ignore", invalid="ignore"):
-        tail = np.where(rate > 0, delta / rate * lxy, np.inf)   # δ never falls: all inside
-    return total + np.where(inside_end & (delta > 0), tail, 0)
+    d0, d1 = g_k - c, every.at(gflat, k + 1) - c
+    if search.rho_max is not None:                 # δ = ρ·(G − c) on a polar grid
+        d0, d1 = d0 * (search.rho_max - k), d1 * (search.rho_max - k - 1)
+    depth = d0 + (d1 - d0) * np.clip(ue - k, 0, 1)
+    return total, inside_end, depth, np.where(np.isnan(first), total, first)
