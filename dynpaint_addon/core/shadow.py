@@ -330,8 +330,10 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
         return march(normals, light, offset, k, heights_px=heights_px, slopes=slopes,
                      occupancy=occupancy, stats=stats, cancel=cancel, progress=progress)
     from .sampling import resample_separable as resample
-    from .shape import finalize_normals
-    n_s = finalize_normals(resample(normals, hs, ws))
+    # averages of unit normals with N.z ≥ z_min: renormalising keeps N.z ≥ z_min (|n| ≤ 1,
+    # and |n| ≥ N.z ≥ z_min > 0, so the division is safe)
+    n_s = resample(normals, hs, ws)
+    n_s /= np.sqrt(np.einsum("...i,...i->...", n_s, n_s))[..., None]
     z_s = None if heights_px is None else resample(heights_px, hs, ws) * dtype(ws / w)
     sl_s = None if slopes is None else resample(slopes, hs, ws)
     t = march(n_s, light, offset, k, heights_px=z_s, slopes=sl_s, occupancy=occupancy,
