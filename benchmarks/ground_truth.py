@@ -172,6 +172,36 @@ def cast_shadow(value, ndl):
     return (ndl > 0.05) & (value < 0.5 * ndl)
 
 
+QUALITY_LEVELS = ("draft", "preview", "final", "reference")
+
+
+def level_errors(size=256, offset=0.01, objects=OBJECTS):
+    """Each quality level of the bake (shadow.bake) against truth, averaged over SUNS:
+    [(level, shape, mean |t − truth|, cast-shadow IoU)] (for docs/shadow-quality.md)."""
+    from dynpaint_addon.core.shadow import bake
+    folder = tempfile.mkdtemp()
+    scene = build_scene(size, objects)
+    z, nworld, _ = render_maps(scene, folder)
+    n_height = normals_from_height_px((z * size).astype(np.float32))
+    n_map = decode_normal_map(ImageData((nworld + 1) / 2, 32).rgb()).astype(np.float32)
+    acc = {}
+    for elevation, azimuth in SUNS:
+        truth = render_truth(scene, folder, elevation, azimuth)
+        light = Light("sun", sun_direction(elevation, azimuth))
+        ndl_true = np.clip(nworld @ np.array(sun_direction(elevation, azimuth)), 0, 1)
+        for level in QUALITY_LEVELS:
+            for label, t in (
+                    ("height map", bake(n_height, light, offset, level,
+                                        heights_px=(z * size).astype(np.float32))),
+                    ("normal map", bake(n_map, light, offset, level,
+                                        slopes=-n_map[..., :2] / n_map[..., 2:3]))):
+                a, b = cast_shadow(truth, ndl_true), cast_shadow(t, ndl_true)
+                iou = (a & b).sum() / max((a | b).sum(), 1)
+                acc.setdefault((level, label), []).append((float(np.abs(t - truth).mean()), iou))
+    return [(level, label, float(np.mean([e for e, _ in v])), float(np.mean([i for _, i in v])))
+            for (level, label), v in acc.items()]
+
+
 def evaluate(objects, size, offset, steps, images=None):
     """Bake against truth for every sun → (overall rows, per-object rows)."""
     folder = tempfile.mkdtemp()
@@ -206,7 +236,7 @@ def evaluate(objects, size, offset, steps, images=None):
 
 
 def sun_table(overall):
-    lines = ["| sun elevation / azimuth | shape | mean |t − truth| | cast-shadow IoU |",
+    lines = ["| sun elevation / azimuth | shape | mean \\|t − truth\\| | cast-shadow IoU |",
              "|---|---|---|---|"]
     for e, a, label, err, iou in overall:
         lines.append(f"| {e}° / {a}° | {label} | {err:.4f} | {iou:.3f} |")
