@@ -40,6 +40,7 @@ MAX_CROSSINGS = 8     # enter/exit pairs followed per ray (more are very rare)
 MAX_TABLE_BYTES = 1.5 * 2**30   # larger grids fall back to the march
 THREADS = max(1, min(4, os.cpu_count() or 1))
 RAY_BAND_PIXELS = 1 << 17       # rays searched together (see _bake)
+SUN_BLOCKS = 8                  # _SunGrid's blocks of rows
 NEVER = 1e30                      # table padding: beyond any G, finite so blends stay finite
 GUESS_STEPS, GUESS_LEAP = 3, 64
 POINT_RHO_MIN, POINT_RATIO = 0.5, 0.1
@@ -135,34 +136,39 @@ def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None):
 
 def _bake(grid, normals, offset, heights_px, slopes):
     """t (H, W) by the grid's crossing search. numpy releases the GIL on large arrays: the
-    grid, the tables and the rays each run in THREADS parts side by side (rows of the grid,
-    tables, bands of pixel rows)."""
-    h, w = normals.shape[:2]
-    out = np.empty((h, w), normals.dtype)
+    grid, the tables and the rays each run in THREADS parts side by side."""
     with ThreadPoolExecutor(THREADS) as pool:
         search, z = grid.search(pool, heights_px, slopes)
-        # bands of rows: the per-ray arrays stay small (whole-image temporaries are slower,
-        # and page-fault on every allocation)
-        rows = max(1, min(RAY_BAND_PIXELS // w, -(-h // THREADS)))
-
-        def band(r0):
-            r1 = min(h, r0 + rows)
-            out[r0:r1] = grid.rays(search, z, normals, offset, heights_px, r0, r1)
-        list(pool.map(band, range(0, h, rows)))
-    return out
+        return grid.trace(pool, search, z, normals, offset, heights_px)
 
 
-def _search(pool, g, z, rho_max=None):
-    """The profile G's tables (_Search), computed side by side."""
+def _by_bands(pool, h, w, fn):
+    """[fn(r0, r1)] for bands of pixel rows, side by side: the per-ray arrays stay small
+    (whole-image temporaries are slower, and page-fault on every allocation)."""
+    rows = max(1, min(RAY_BAND_PIXELS // w, -(-h // THREADS)))
+    return list(pool.map(lambda r0: fn(r0, min(h, r0 + rows)), range(0, h, rows)))
+
+
+def _search(g, pool=None, rho_max=None):
+    """The profile G's tables (_Search); side by side if given a pool."""
+    if pool is None:
+        gmin = _tables(g, np.minimum, -NEVER)
+        return _Search(gmin[0], _tables(g, np.maximum, NEVER), gmin, _suffix_max(g),
+                       g.shape[1], rho_max)
     futures = [pool.submit(_tables, g, np.maximum, NEVER),
                pool.submit(_tables, g, np.minimum, -NEVER), pool.submit(_suffix_max, g)]
     gmax, gmin, suffix = (f.result() for f in futures)
-    return _Search(gmin[0], gmax, gmin, suffix, g.shape[1], rho_max), z
+    return _Search(gmin[0], gmax, gmin, suffix, g.shape[1], rho_max)
 
 
 class _SunGrid:
     """The light-aligned grid covering the box of pixel centres: column u runs toward the
-    light (horizontally), row v across; one grid step is one pixel."""
+    light (horizontally), row v across; one grid step is one pixel.
+
+    Stored in SUN_BLOCKS blocks of rows (one row shared between neighbours, so a ray's two
+    rows are in one block), each only as wide as the box's footprint on its rows (+ 3 px):
+    a rotated image's bounding grid is up to twice its area, the blocks ≈ 1.1×.
+    """
 
     def __init__(self, lvec, h, w):
         lx, ly, lz = lvec
@@ -177,39 +183,64 @@ class _SunGrid:
         self.umin, self.vmin = np.floor(us.min()) - 1, np.floor(vs.min()) - 1
         self.width = int(np.ceil(us.max() - self.umin)) + 2
         self.rows = int(np.ceil(vs.max() - self.vmin)) + 2
-        self.gu = self.umin + np.arange(self.width)
+        # blocks: rows a … a + n − 1, columns c0 … c1 − 1 (the footprint of their rows)
+        step = max(1, -(-(self.rows - 1) // SUN_BLOCKS))
+        lo, hi = self._footprint(np.arange(self.rows))
+        self.blocks = []
+        for a in range(0, self.rows - 1, step):
+            n = min(step + 1, self.rows - a)
+            c0 = int(np.clip(np.floor(lo[a:a + n].min()), 0, self.width - 2))
+            c1 = int(np.clip(np.ceil(hi[a:a + n].max()) + 1, c0 + 2, self.width))
+            self.blocks.append((a, n, c0, c1))
+        self.step = step
 
-    def profile(self, pool, heights_px, slopes):
-        """G = H − m·u on the grid (float32) and the rebuilt heights z (normal maps)."""
-        f32 = np.float32
-        gv = self.vmin + np.arange(self.rows)
-        parts = [p for p in np.array_split(np.arange(self.rows), THREADS) if p.size]
-        ux = (self.cx + self.gu * self.ex).astype(f32)[None, :]
-        uy = (self.cy + self.gu * self.ey).astype(f32)[None, :]
-
-        def sample(img, part):
-            return _lookup(img, ux - (gv[part] * self.ey).astype(f32)[:, None],
-                           uy + (gv[part] * self.ex).astype(f32)[:, None])
-        if heights_px is not None:
-            hz = heights_px.astype(np.float32, copy=False)
-            mu = (self.m * self.gu).astype(np.float32)
-            g = np.concatenate(list(pool.map(lambda p: sample(hz, p) - mu, parts)))
-            return g, None
-        else:
-            # slope along u at each grid point (lookups are linear: one image of it); its
-            # running integral (trapezoids) is the height
-            sz = (slopes[..., 0] * self.ex + slopes[..., 1] * self.ey).astype(np.float32)
-            su = np.concatenate(list(pool.map(lambda p: sample(sz, p), parts))).astype(np.float64)
-            z = np.zeros((self.rows, self.width))
-            np.cumsum((su[:, 1:] + su[:, :-1]) / 2, axis=1, out=z[:, 1:])
-        return (z - self.m * self.gu[None, :]).astype(np.float32), z   # beyond the box: extended
+    def _footprint(self, rows):
+        """Column range (lo, hi) of each grid row inside the box of pixel centres grown by
+        3 px (empty rows: lo > hi)."""
+        v = self.vmin + rows
+        lo = np.full(rows.shape, -np.inf)
+        hi = np.full(rows.shape, np.inf)
+        grow = 3.0
+        for e, across, centre, size in ((self.ex, -self.ey, self.cx, self.w),
+                                        (self.ey, self.ex, self.cy, self.h)):
+            # coordinate = centre + u·e + v·across must lie in [0.5 − grow, size − 0.5 + grow]
+            a, b = 0.5 - grow - centre - v * across, size - 0.5 + grow - centre - v * across
+            if abs(e) > 1e-12:
+                ua, ub = a / e, b / e
+                lo, hi = np.maximum(lo, np.minimum(ua, ub)), np.minimum(hi, np.maximum(ua, ub))
+            else:
+                out = (a > 0) | (b < 0)
+                lo, hi = np.where(out, np.inf, lo), np.where(out, -np.inf, hi)
+        lo = np.where(np.isfinite(lo), lo - self.umin, 0)
+        hi = np.where(np.isfinite(hi), hi - self.umin, self.width - 1)
+        return lo, hi
 
     def search(self, pool, heights_px, slopes):
-        """The profile and its tables (_Search), and the rebuilt heights z (normal maps)."""
-        return _search(pool, *self.profile(pool, heights_px, slopes))
+        """Per block: the profile G = H − m·u (float32), its tables (_Search) and the rebuilt
+        heights z (normal maps), built side by side."""
+        f32 = np.float32
+        hz = None if heights_px is None else heights_px.astype(f32, copy=False)
+        # slope along u at each grid point (lookups are linear: one image of it)
+        sz = None if slopes is None else \
+            (slopes[..., 0] * self.ex + slopes[..., 1] * self.ey).astype(f32)
 
-    def rays(self, search, z, normals, offset, heights_px, r0, r1):
-        """t for pixel rows r0 … r1 − 1: their rays' starts in grid coordinates, the search."""
+        def block(spec):
+            a, n, c0, c1 = spec
+            gu = self.umin + np.arange(c0, c1)
+            v = (self.vmin + np.arange(a, a + n))[:, None]
+            gx = (self.cx + gu * self.ex).astype(f32)[None, :] - (v * self.ey).astype(f32)
+            gy = (self.cy + gu * self.ey).astype(f32)[None, :] + (v * self.ex).astype(f32)
+            if hz is not None:
+                return _search(_lookup(hz, gx, gy) - (self.m * gu).astype(f32)), None
+            # the running integral (trapezoids) of the slope is the height along the row
+            su = _lookup(sz, gx, gy).astype(np.float64)
+            z = np.zeros(su.shape)
+            np.cumsum((su[:, 1:] + su[:, :-1]) / 2, axis=1, out=z[:, 1:])
+            return _search((z - self.m * gu[None, :]).astype(f32)), z
+        return list(pool.map(block, self.blocks)), None
+
+    def starts(self, normals, offset, heights_px, r0, r1):
+        """The rays of pixel rows r0 … r1 − 1 in grid coordinates (flat arrays)."""
         from .shadow import _inside_box
         h, w, ex, ey, m, lxy = self.h, self.w, self.ex, self.ey, self.m, self.lxy
         d = float(offset) * w
@@ -227,48 +258,78 @@ class _SunGrid:
         u0 = xc * f32(ex) + yc * f32(ey)
         fu = (u0 - f32(self.umin)).ravel()
         fv = (yc * f32(ex) - xc * f32(ey) - f32(self.vmin)).ravel()
-        c = (z0.astype(np.float64) - m * u0.astype(np.float64)).ravel()
-        rate = (ndl / nz).ravel()
         inbox0 = _inside_box(x0, y0, h, w)
         # to the box's edge along (ex, ey) (shadow._exit_distance for one direction)
         to_x = ((f32(w - 0.5) - x0) if ex > 0 else (f32(0.5) - x0)) / f32(ex) if ex else np.inf
         to_y = ((f32(h - 0.5) - y0) if ey > 0 else (f32(0.5) - y0)) / f32(ey) if ey else np.inf
-        u_end = fu + np.where(inbox0, np.maximum(np.minimum(to_x, to_y), 0), 0).ravel()
-        inbox0 = inbox0.ravel()
         row0 = np.clip(np.floor(fv).astype(np.int64), 0, self.rows - 2)
-        wv = np.clip(fv - row0, f32(0), f32(1))
         if heights_px is not None:
             # the reference's δ0: the exact bilinear relief above P0, where P0 is in the box
-            delta0 = (_lookup(heights_px.astype(np.float32, copy=False), x0, y0) - z0).ravel()
+            delta0 = _lookup(heights_px.astype(np.float32, copy=False), x0, y0) - z0
+            h0 = None
         else:
-            # normal maps start on the tangent plane of P_S: H(P0) = d|N.xy|²/N.z, δ0 = d/N.z;
-            # the row's running integral is shifted so that it reads H(P0) at the start
+            # normal maps start on the tangent plane of P_S: H(P0) = d|N.xy|²/N.z, δ0 = d/N.z
             h0 = (f32(d) * (nx * nx + ny * ny) / nz).ravel()
-            delta0 = (f32(d) / nz).ravel()
-            width = self.width
-            k = np.clip(np.floor(fu).astype(np.int64), 0, width - 2)
+            delta0 = f32(d) / nz
+        return dict(fu=fu, row0=row0, wv=np.clip(fv - row0, f32(0), f32(1)),
+                    c=(z0.astype(np.float64) - m * u0.astype(np.float64)).ravel(),
+                    u_end=fu + np.where(inbox0, np.maximum(np.minimum(to_x, to_y), 0),
+                                        0).ravel(),
+                    inbox0=inbox0.ravel(), delta0=delta0.ravel(), h0=h0, nz=nz.ravel(),
+                    fall=(ndl / nz).ravel() / f32(lxy))   # δ's fall per px of u (tangent plane)
+
+    def trace(self, pool, searches, _, normals, offset, heights_px):
+        """t: the rays' starts in bands of pixel rows, then the search in each block for the
+        rays whose rows are in it, side by side."""
+        h, w = normals.shape[:2]
+        f32 = np.float32
+        d = float(offset) * w
+        bands = _by_bands(pool, h, w, lambda r0, r1: self.starts(normals, offset, heights_px,
+                                                                 r0, r1))
+        ray = {k: None if bands[0][k] is None else np.concatenate([b[k] for b in bands])
+               for k in bands[0]}
+        fall, inbox0 = ray["fall"], ray["inbox0"]
+        # P0 outside the box: no march, the tail from the tangent plane of P_S (δ0 = d/N.z)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r_h = np.where(fall > 0, (f32(d) / ray["nz"]) / fall, np.inf).astype(f32)
+        block = np.minimum(ray["row0"] // self.step, len(self.blocks) - 1).astype(np.int16)
+        block[~inbox0] = -1
+
+        def search_block(b):
+            sel = np.flatnonzero(block == b)
+            if sel.size:
+                r_h[sel] = self._search_block(b, searches[b], ray, sel)
+        list(pool.map(search_block, range(len(self.blocks))))
+        r = (r_h / self.lxy).reshape(h, w)                     # along the 3D ray
+        t = d / np.maximum(r, d)
+        return np.clip(np.where(np.isfinite(t), t, 0), 0, 1).astype(normals.dtype, copy=False)
+
+    def _search_block(self, b, block_search, ray, sel):
+        """The inside length (px of u) of rays `sel`, all in block b, with the tail."""
+        f32 = np.float32
+        search, z = block_search
+        a, _, c0, _ = self.blocks[b]
+        rb, wv, fall = ray["row0"][sel] - a, ray["wv"][sel], ray["fall"][sel]
+        fub, cb = np.clip(ray["fu"][sel] - c0, 0, None), ray["c"][sel]
+        if z is not None:
+            # the row's running integral, shifted so that it reads H(P0) at the start
+            width = z.shape[1]
+            k = np.clip(np.floor(fub).astype(np.int64), 0, width - 2)
             zf = z.reshape(-1)
 
             def at(row, kk):
                 return zf[row * width + kk]
-            f = np.clip(fu - k, 0, 1)
-            s0 = at(row0, k) + (at(row0, k + 1) - at(row0, k)) * f
-            s1 = at(row0 + 1, k) + (at(row0 + 1, k + 1) - at(row0 + 1, k)) * f
-            c = c - h0 + s0 * (1 - wv) + s1 * wv
-        g_start = (c + delta0).astype(f32)
-        c = c.astype(f32)
-        fall = rate / f32(lxy)              # δ falls by this per px of u on the tangent plane
-        total, inside_end, gap, _ = _inside_length(search, row0, wv, fu, c, g_start, u_end,
-                                                   fall)
-        # still inside where the box ends: the tail along the tangent plane of P_S (§6); P0
-        # outside the box: no march, that tail from δ0 = d/N.z
+            f = np.clip(fub - k, 0, 1)
+            s0 = at(rb, k) + (at(rb, k + 1) - at(rb, k)) * f
+            s1 = at(rb + 1, k) + (at(rb + 1, k + 1) - at(rb + 1, k)) * f
+            cb = cb - ray["h0"][sel] + s0 * (1 - wv) + s1 * wv
+        total, inside_end, gap, _ = _inside_length(
+            search, rb, wv, fub.astype(f32), cb.astype(f32),
+            (cb + ray["delta0"][sel]).astype(f32), (ray["u_end"][sel] - c0).astype(f32), fall)
+        # still inside where the box ends: the tail along the tangent plane of P_S (§6)
         with np.errstate(divide="ignore", invalid="ignore"):
             tail = np.where(fall > 0, gap / fall, np.inf)
-            out_tail = np.where(fall > 0, (f32(d) / nz.ravel()) / fall, np.inf)
-        r_h = np.where(inbox0, total + np.where(inside_end & (gap > 0), tail, 0), out_tail)
-        r = (r_h / lxy).reshape(r1 - r0, w)                     # along the 3D ray
-        t = d / np.maximum(r, d)
-        return np.clip(np.where(np.isfinite(t), t, 0), 0, 1)
+        return total + np.where(inside_end & (gap > 0), tail, 0)
 
 
 def point_cos_theta(normals, light, offset, *, heights_px):
@@ -339,9 +400,14 @@ class _PointGrid:
             gx = (self.fx + np.cos(phi)[:, None] * self.rho[None, :]).astype(f32)
             gy = (self.fy + np.sin(phi)[:, None] * self.rho[None, :]).astype(f32)
             return (_lookup(hz, gx, gy) - f32(self.zl)) * inv
-        return _search(pool, np.concatenate(list(pool.map(sample, parts))), None, self.rho_max)
+        return _search(np.concatenate(list(pool.map(sample, parts))), pool, self.rho_max), None
 
-    def rays(self, search, z, normals, offset, heights_px, r0, r1):
+    def trace(self, pool, search, z, normals, offset, heights_px):
+        h, w = normals.shape[:2]
+        return np.concatenate(_by_bands(pool, h, w, lambda r0, r1: self.rays(
+            search, normals, offset, heights_px, r0, r1)))
+
+    def rays(self, search, normals, offset, heights_px, r0, r1):
         """t for pixel rows r0 … r1 − 1 (see the class)."""
         from .shadow import _exit_distance, _inside_box
         h, w = self.h, self.w
@@ -493,9 +559,10 @@ def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall):
     """(length, inside at the end, δ at the end, first segment): the length (px of u) of each
     ray inside the relief, along the profile blended from the two grid rows around it, until
     u_end (it leaves the box of pixel centres, or reaches a point light); whether it is still
-    inside there, and how deep (for the caller's tail); the length up to its first exit. g_start: G at the ray's start (from the
-    exact δ0 of the reference, so the start is inside exactly when it is there); fall: how
-    fast G − c falls per px of u on the tangent plane of P_S (the first exit's guess).
+    inside there, and how deep (for the caller's tail); on polar grids the length up to its
+    first exit (else None). g_start: G at the ray's start (from the exact δ0 of the
+    reference, so the start is inside exactly when it is there); fall: how fast G − c falls
+    per px of u on the tangent plane of P_S (the first exit's guess).
 
     Fast lane first: every ray starts inside (d/N.z under the surface) and most leave where
     the tangent plane of P_S says (a guess proved exactly, _exit_guess); with nothing higher
@@ -522,8 +589,10 @@ def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall):
     cross = _crossing(search, rf, pos[f], col[f], jg[f], g_here[f], g_j[f], cc[f])
     ends = cross >= ue[f]
     total[idx[f]] = np.minimum(cross, ue[f]) - pos[f]
-    first = total.copy()               # the first segment (from the start to the first exit)
-    first[idx[~ok]] = np.nan
+    first = None
+    if search.rho_max is not None:     # the first segment (from the start to the first exit)
+        first = total.copy()
+        first[idx[~ok]] = np.nan
     lit = ~ends & (rf.at(sflat, jg[f]) <= cc[f])
     inside_end[idx[f[ends | lit]]] = True
     inside_end[idx[f[lit]]] = False
@@ -566,8 +635,9 @@ def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall):
         ends = cross >= ue
         seg = np.where(inside, np.minimum(cross, ue) - pos, 0.0)
         total[idx] += seg
-        new = inside & np.isnan(first[idx])
-        first[idx[new]] = seg[new]
+        if first is not None:
+            new = inside & np.isnan(first[idx])
+            first[idx[new]] = seg[new]
         fin = ends | done
         inside_end[idx[fin]] = inside[fin]
         keep = ~fin
@@ -581,4 +651,6 @@ def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall):
     if search.rho_max is not None:                 # δ = ρ·(G − c) on a polar grid
         d0, d1 = d0 * (search.rho_max - k), d1 * (search.rho_max - k - 1)
     depth = d0 + (d1 - d0) * np.clip(ue - k, 0, 1)
-    return total, inside_end, depth, np.where(np.isnan(first), total, first)
+    if first is not None:
+        first = np.where(np.isnan(first), total, first)
+    return total, inside_end, depth, first
