@@ -40,7 +40,7 @@ MAX_CROSSINGS = 8     # enter/exit pairs followed per ray (more are very rare)
 MAX_TABLE_BYTES = 1.5 * 2**30   # larger grids fall back to the march
 THREADS = max(1, min(4, os.cpu_count() or 1))
 RAY_BAND_PIXELS = 1 << 17       # rays searched together (see _bake)
-SUN_BLOCKS = 8                  # _SunGrid's blocks of rows
+SUN_BLOCKS, SUN_BLOCK_ROWS = 8, 160   # _SunGrid's blocks of rows: at most 8, ≥ 160 rows
 NEVER = 1e30                      # table padding: beyond any G, finite so blends stay finite
 GUESS_STEPS, GUESS_LEAP = 3, 64
 POINT_RHO_MIN, POINT_RATIO = 0.5, 0.1
@@ -165,9 +165,9 @@ class _SunGrid:
     """The light-aligned grid covering the box of pixel centres: column u runs toward the
     light (horizontally), row v across; one grid step is one pixel.
 
-    Stored in SUN_BLOCKS blocks of rows (one row shared between neighbours, so a ray's two
-    rows are in one block), each only as wide as the box's footprint on its rows (+ 3 px):
-    a rotated image's bounding grid is up to twice its area, the blocks ≈ 1.1×.
+    Stored in blocks of rows (up to SUN_BLOCKS; one row shared between neighbours, so a
+    ray's two rows are in one block), each only as wide as the box's footprint on its rows
+    (+ 3 px): a rotated image's bounding grid is up to twice its area, 8 blocks ≈ 1.3×.
     """
 
     def __init__(self, lvec, h, w):
@@ -184,7 +184,8 @@ class _SunGrid:
         self.width = int(np.ceil(us.max() - self.umin)) + 2
         self.rows = int(np.ceil(vs.max() - self.vmin)) + 2
         # blocks: rows a … a + n − 1, columns c0 … c1 − 1 (the footprint of their rows)
-        step = max(1, -(-(self.rows - 1) // SUN_BLOCKS))
+        blocks = max(1, min(SUN_BLOCKS, self.rows // SUN_BLOCK_ROWS))   # small: fewer calls
+        step = max(1, -(-(self.rows - 1) // blocks))
         lo, hi = self._footprint(np.arange(self.rows))
         self.blocks = []
         for a in range(0, self.rows - 1, step):
