@@ -344,3 +344,21 @@ def test_point_crossings_fall_back_to_the_march_when_the_grid_is_too_big(monkeyp
     stats = ShadowStats()
     t = bake(n, light, 0.01, "preview", heights_px=z, stats=stats)
     assert stats.method == "march" and np.all(np.isfinite(t))
+
+
+@pytest.mark.parametrize("kind", ["height", "normal"])
+def test_sun_crossings_do_not_depend_on_blocks_chunks_or_threads(kind, monkeypatch):
+    """The grid's blocks, the chunks of rays and the threads only split the work: the same
+    result, up to float32 rounding of positions counted from each block's first column."""
+    from dynpaint_addon.testpainting import builtin_images
+    z = height_field_px(builtin_images(160)["shape"].grey().astype(np.float32), 0.3)
+    n = normals_from_height_px(z)
+    kw = {"heights_px": z} if kind == "height" else {"slopes": slopes_from_normals(n)}
+    light = Light("sun", (0.5, -0.7, 0.5))
+    one = crossings.sun_cos_theta(n, light, 0.01, **kw)
+    monkeypatch.setattr(crossings, "SUN_BLOCK_ROWS", 16)
+    monkeypatch.setattr(crossings, "TRACE_PIXELS", 3000)
+    monkeypatch.setattr(crossings, "RAY_BAND_PIXELS", 500)
+    monkeypatch.setattr(crossings, "THREADS", 3)
+    assert len(crossings._SunGrid(np.array(unit(light.vector)), 160, 160).blocks) == 8
+    np.testing.assert_allclose(crossings.sun_cos_theta(n, light, 0.01, **kw), one, atol=1e-5)

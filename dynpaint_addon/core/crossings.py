@@ -40,6 +40,7 @@ MAX_CROSSINGS = 8     # enter/exit pairs followed per ray (more are very rare)
 MAX_TABLE_BYTES = 1.5 * 2**30   # larger grids fall back to the march
 THREADS = max(1, min(4, os.cpu_count() or 1))
 RAY_BAND_PIXELS = 1 << 17       # rays searched together (see _bake)
+TRACE_PIXELS = 1 << 21          # rays whose starts are held at once (_SunGrid.trace)
 SUN_BLOCKS, SUN_BLOCK_ROWS = 8, 160   # _SunGrid's blocks of rows: at most 8, ≥ 160 rows
 NEVER = 1e30                      # table padding: beyond any G, finite so blends stay finite
 GUESS_STEPS, GUESS_LEAP = 3, 64
@@ -263,7 +264,7 @@ class _SunGrid:
         # to the box's edge along (ex, ey) (shadow._exit_distance for one direction)
         to_x = ((f32(w - 0.5) - x0) if ex > 0 else (f32(0.5) - x0)) / f32(ex) if ex else np.inf
         to_y = ((f32(h - 0.5) - y0) if ey > 0 else (f32(0.5) - y0)) / f32(ey) if ey else np.inf
-        row0 = np.clip(np.floor(fv).astype(np.int64), 0, self.rows - 2)
+        row0 = np.clip(np.floor(fv).astype(np.int32), 0, self.rows - 2)
         if heights_px is not None:
             # the reference's δ0: the exact bilinear relief above P0, where P0 is in the box
             delta0 = _lookup(heights_px.astype(np.float32, copy=False), x0, y0) - z0
@@ -280,13 +281,21 @@ class _SunGrid:
                     fall=(ndl / nz).ravel() / f32(lxy))   # δ's fall per px of u (tangent plane)
 
     def trace(self, pool, searches, _, normals, offset, heights_px):
-        """t: the rays' starts in bands of pixel rows, then the search in each block for the
-        rays whose rows are in it, side by side."""
+        """t, in chunks of up to TRACE_PIXELS rays (bounded memory on huge images): the rays'
+        starts in bands of pixel rows, then the search in each block for the rays whose rows
+        are in it, side by side."""
         h, w = normals.shape[:2]
+        rows = max(1, TRACE_PIXELS // w)
+        return np.concatenate([self._trace_rows(pool, searches, normals, offset, heights_px,
+                                                r0, min(h, r0 + rows))
+                               for r0 in range(0, h, rows)])
+
+    def _trace_rows(self, pool, searches, normals, offset, heights_px, r0, r1):
         f32 = np.float32
+        w = normals.shape[1]
         d = float(offset) * w
-        bands = _by_bands(pool, h, w, lambda r0, r1: self.starts(normals, offset, heights_px,
-                                                                 r0, r1))
+        bands = _by_bands(pool, r1 - r0, w, lambda a, b: self.starts(
+            normals, offset, heights_px, r0 + a, r0 + b))
         ray = {k: None if bands[0][k] is None else np.concatenate([b[k] for b in bands])
                for k in bands[0]}
         fall, inbox0 = ray["fall"], ray["inbox0"]
@@ -301,7 +310,7 @@ class _SunGrid:
             if sel.size:
                 r_h[sel] = self._search_block(b, searches[b], ray, sel)
         list(pool.map(search_block, range(len(self.blocks))))
-        r = (r_h / self.lxy).reshape(h, w)                     # along the 3D ray
+        r = (r_h / self.lxy).reshape(r1 - r0, w)               # along the 3D ray
         t = d / np.maximum(r, d)
         return np.clip(np.where(np.isfinite(t), t, 0), 0, 1).astype(normals.dtype, copy=False)
 
@@ -489,7 +498,7 @@ class _Rows:
     (in a (rows, width + 1) layout, or one level of the tables)."""
 
     def __init__(self, row0, w, stride):
-        self.b0 = row0 * stride
+        self.b0 = row0.astype(np.int64) * stride
         self.w, self.stride = w, stride
 
     def sub(self, sel):
