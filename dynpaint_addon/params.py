@@ -59,8 +59,10 @@ PARAMS = (
     P("shadows", "offset", float, 0.01, "d: how deep below the surface each shadow ray starts; "
       "larger = softer, more translucent look", unit="image widths", min=0.0, max=1.0, spec="§6"),
     P("shadows", "quality", "enum", "final", "Speed against accuracy of the bake (§13): draft "
-      "and preview bake at a reduced resolution (suns by exact crossings at ⅛ and ¼), final at "
-      "full, reference in float64 with K = 1024; custom uses your K and resolution", choices=QUALITIES, spec="§13"),
+      "and preview bake at a reduced resolution (suns and point lights by crossings at ⅛ and "
+      "¼), final at full (suns by exact crossings, point lights by a K = 64 march), reference "
+      "in float64 with K = 1024; custom uses your K and resolution", choices=QUALITIES,
+      spec="§13"),
     P("shadows", "steps", int, 64, "K: march steps per pixel (more = more accurate, slower; "
       "custom quality)", min=0, max=100000, spec="§6"),
     P("shadows", "resolution", float, 1.0, "Resolution the bake marches at, then upsampled "
