@@ -105,7 +105,8 @@ def _descend(tables, rows, start, c, skip_if):
     pos = start.copy()
     for k in range(tables.shape[0] - 1, -1, -1):
         skip = skip_if(rows.at(tables[k].reshape(-1), pos), c)
-        np.add(pos, 1 << k, out=pos, where=skip)
+        # (a shift, not `where=`: numpy's masked loops are slow on scattered masks)
+        pos += skip.view(np.uint8).astype(np.int64) << k
     return pos
 
 

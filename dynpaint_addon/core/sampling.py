@@ -120,10 +120,28 @@ def resample_separable(img, height, width):
         return i0, np.minimum(i0 + 1, n_in - 1), (c - i0).astype(dtype)
     i0, i1, fy = taps(h, height)
     fy = fy[(slice(None), None) + extra]
-    rows = img[i0] * (1 - fy) + img[i1] * fy
     j0, j1, fx = taps(w, width)
     fx = fx[(slice(None),) + extra]
-    return rows[:, j0] * (1 - fx) + rows[:, j1] * fx
+
+    def along_rows(a):          # whole rows copied: cheap even when they multiply
+        lo = a[i0]
+        out = a[i1]
+        out -= lo
+        out *= fy
+        out += lo
+        return out
+
+    def along_columns(a):
+        lo = a[:, j0]
+        out = a[:, j1]
+        out -= lo
+        out *= fx
+        out += lo
+        return out
+    # the column gathers are the slow pass: run them on the smaller image
+    if height > h:
+        return along_rows(along_columns(img))
+    return along_columns(along_rows(img))
 
 
 def gaussian_blur(img, sigma_px, extension="extend"):
