@@ -102,12 +102,22 @@ def _descend(tables, rows, start, c, skip_if):
     checks it and descends again from the next column. Windows past the row's end hold a
     sentinel that is never skipped, so j ≤ width always.
     """
-    pos = start.copy()
-    for k in range(tables.shape[0] - 1, -1, -1):
-        skip = skip_if(rows.at(tables[k].reshape(-1), pos), c)
+    _, nrows, stride = tables.shape
+    i = rows.b0 + start                      # flat index into one level
+    i1 = np.empty_like(i)
+    # windows of 2**k ≥ the row's width all cross its end (sentinels): never skipped
+    top = min(tables.shape[0] - 1, int(np.log2(max(stride - 1, 1))))
+    for k in range(top, -1, -1):
+        t = tables[k].reshape(-1)
+        v = t.take(i)
+        np.add(i, stride, out=i1)
+        v1 = t.take(i1)
+        v1 -= v
+        v1 *= rows.w
+        v1 += v
         # (a shift, not `where=`: numpy's masked loops are slow on scattered masks)
-        pos += skip.view(np.uint8).astype(np.int64) << k
-    return pos
+        i += skip_if(v1, c).view(np.uint8).astype(np.int64) << k
+    return i - rows.b0
 
 
 def fits(h, w):
@@ -510,7 +520,12 @@ class _Rows:
     def at(self, flat, k):
         i = self.b0 + k
         a = np.take(flat, i)
-        return a + (np.take(flat, i + self.stride) - a) * self.w
+        i += self.stride
+        b = np.take(flat, i)          # a + (b − a)·w, in place
+        b -= a
+        b *= self.w
+        b += a
+        return b
 
 
 def _crossing(search, rows, pos, col, j, g_here, g_j, cc):
@@ -567,8 +582,8 @@ def _exit_guess(search, rows, pos, col, g_here, cc, fall):
 
 
 def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall):
-    """(length, inside at the end, δ at the end, first segment): the length (px of u) of each
-    ray inside the relief, along the profile blended from the two grid rows around it, until
+    """(length, inside at the end, δ at the end (0 where not inside), first segment): the
+    length (px of u) of each ray inside the relief, along the profile blended from the two grid rows around it, until
     u_end (it leaves the box of pixel centres, or reaches a point light); whether it is still
     inside there, and how deep (for the caller's tail); on polar grids the length up to its
     first exit (else None). g_start: G at the ray's start (from the exact δ0 of the
@@ -654,14 +669,17 @@ def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall):
         keep = ~fin
         idx, pos, col, inside, g_here = (idx[keep], cross[keep], jc[keep], ~inside[keep],
                                          cc[keep])
-    ue = np.minimum(u_end, width - 1.0)
+    # δ where the rays still inside end (the others' depth is never read)
+    end = np.flatnonzero(inside_end)
+    ue = np.minimum(u_end[end], width - 1.0)
     k = np.clip(np.floor(ue).astype(np.int64), 0, width - 2)
-    every = _Rows(r0, wv, stride)
-    g_k = every.at(gflat, k)
-    d0, d1 = g_k - c, every.at(gflat, k + 1) - c
+    there = _Rows(r0[end], wv[end], stride)
+    ce = c[end]
+    d0, d1 = there.at(gflat, k) - ce, there.at(gflat, k + 1) - ce
     if search.rho_max is not None:                 # δ = ρ·(G − c) on a polar grid
         d0, d1 = d0 * (search.rho_max - k), d1 * (search.rho_max - k - 1)
-    depth = d0 + (d1 - d0) * np.clip(ue - k, 0, 1)
+    depth = np.zeros(n, d0.dtype)
+    depth[end] = d0 + (d1 - d0) * np.clip(ue - k, 0, 1)
     if first is not None:
         first = np.where(np.isnan(first), total, first)
     return total, inside_end, depth, first
