@@ -196,7 +196,7 @@ def main(argv=None):
               "bake by aimed crossings on a polar grid around the light's foot at draft (⅛) and "
               "preview (¼): each ray is aimed at the light (apex d below it) and its first "
               "segment corrected to the reference's N·L, not the reference's ray exactly, so "
-              "final marches (K = 64). Normal maps under point lights march at every level. "
+              "final marches (K = 64; why: limits.md, benchmarks/point_light_study.py). Normal maps under point lights march at every level. "
               f"Every time (baseline and levels) is the best of {RUNS} runs: timings on this "
               "shared 2-core machine vary by ±10–25 % between runs.", "",
               "Targets (issue 4): final ≤ 0.1× baseline with mean ≤ 5e-4; preview ≤ 0.02× "

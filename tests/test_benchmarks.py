@@ -1,0 +1,35 @@
+"""The shadow benchmarks run and report what they claim (tiny sizes: numbers, not speed)."""
+import os
+import sys
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(__file__)), "benchmarks"))
+
+import point_light_study  # noqa: E402
+import shadow_quality  # noqa: E402
+
+
+@pytest.fixture
+def one_run(monkeypatch):
+    monkeypatch.setattr(shadow_quality, "RUNS", 1)
+    monkeypatch.setattr(shadow_quality, "RELIEF", shadow_quality.RELIEF)
+
+
+def test_shadow_quality_rows(one_run):
+    rows = shadow_quality.measure(64)
+    assert len(rows) == 4 * len(shadow_quality.CASES)
+    for label, level, sec, ratio, err, settings in rows:
+        assert sec > 0 and np.isfinite(ratio) and 0 <= err < 0.05, (label, level, err)
+        if level == "baseline":
+            assert ratio == 1.0 and settings == "K = 64 march at 64×64"
+    # final stays close to the reference even at 64² (where it marches, K = 64, below 512 px)
+    finals = [r for r in rows if r[1] == "final"]
+    assert all(r[4] < 3e-3 for r in finals)
+
+
+def test_point_light_study_prints(one_run, capsys):
+    point_light_study.study(64, 0.5)
+    out = capsys.readouterr().out
+    assert "K = 64 march" in out and "aimed crossings" in out and "flat pixels" in out
