@@ -26,10 +26,9 @@ LIGHT = sq.CASES[3][2]      # the benchmark's point light
 
 
 def study(size, relief):
-    sq.RELIEF = relief
-    n64, z64, _ = sq.shape(size, "height", np.float64)
+    n64, z64, _ = sq.shape(size, "height", np.float64, relief)
     ref = cos_theta_shadow(n64, LIGHT, sq.OFFSET, 1024, heights_px=z64)
-    n, z, _ = sq.shape(size, "height", np.float32)
+    n, z, _ = sq.shape(size, "height", np.float32, relief)
     march = [sq.timed(lambda: cos_theta_shadow(n, LIGHT, sq.OFFSET, 64, heights_px=z))
              for _ in range(sq.RUNS)]
     aimed = [sq.timed(lambda: crossings.point_cos_theta(n, LIGHT, sq.OFFSET, heights_px=z))
@@ -38,7 +37,8 @@ def study(size, relief):
     err = np.abs(aimed[0][0] - ref)
     flat = np.hypot(n[..., 0], n[..., 1]) < 0.01
     print(f"relief {relief} image widths, {size}²:")
-    print(f"  K = 64 march      {base_s:.3f} s  1.000×  mean {np.abs(march[0][0] - ref).mean():.1e}")
+    print(f"  K = 64 march      {base_s:.3f} s  1.000×  "
+          f"mean {np.abs(march[0][0] - ref).mean():.1e}")
     aimed_s = min(s for _, s in aimed)
     print(f"  aimed crossings   {aimed_s:.3f} s  {aimed_s / base_s:.3f}×  mean {err.mean():.1e}"
           f"  (flat pixels, {flat.mean():.0%}: {err[flat].mean():.1e}; slopes: "

@@ -47,8 +47,8 @@ CASES = [("height map, sun 15°", "height", sun(15, 30)),
          ("normal map, sun 35°", "normal", sun(35, 150))]
 
 
-def shape(size, kind, dtype):
-    z = height_field_px(builtin_images(size)["shape"].grey().astype(dtype), RELIEF)
+def shape(size, kind, dtype, relief=RELIEF):
+    z = height_field_px(builtin_images(size)["shape"].grey().astype(dtype), relief)
     n = normals_from_height_px(z)
     return (n, z, None) if kind == "height" else (n, None, slopes_from_normals(n))
 
@@ -196,7 +196,8 @@ def main(argv=None):
               "bake by aimed crossings on a polar grid around the light's foot at draft (⅛) and "
               "preview (¼): each ray is aimed at the light (apex d below it) and its first "
               "segment corrected to the reference's N·L, not the reference's ray exactly, so "
-              "final marches (K = 64; why: limits.md, benchmarks/point_light_study.py). Normal maps under point lights march at every level. "
+              "final marches (K = 64; why: limits.md, benchmarks/point_light_study.py). "
+              "Normal maps under point lights march at every level. "
               f"Every time (baseline and levels) is the best of {RUNS} runs: timings on this "
               "shared 2-core machine vary by ±10–25 % between runs.", "",
               "Targets (issue 4): final ≤ 0.1× baseline with mean ≤ 5e-4; preview ≤ 0.02× "

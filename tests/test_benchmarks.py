@@ -14,7 +14,6 @@ import shadow_quality  # noqa: E402
 @pytest.fixture
 def one_run(monkeypatch):
     monkeypatch.setattr(shadow_quality, "RUNS", 1)
-    monkeypatch.setattr(shadow_quality, "RELIEF", shadow_quality.RELIEF)
 
 
 def test_shadow_quality_rows(one_run):

@@ -49,13 +49,19 @@ POINT_APEX_NZ = 1.0
 POINT_ARC = 2.0   # row spacing (px) at ρ_max of full-circle grids (most rays are nearer F)
 
 
+def _levels(width):
+    """Table levels of a row `width` columns long: windows of 2**k ≤ width (a wider window
+    would cross the row's end from every column: all sentinels, never read)."""
+    return max(1, int(width).bit_length())
+
+
 def _tables(g, op, sentinel):
     """t[k, r, i] = op(G[r, i : i + 2**k]) for windows inside the row, `sentinel` (never
     skipped by a descent) for windows that cross its end: one (levels, rows, width + 1) array
     (column `width` is padding), so descents need no bounds checks and a per-ray level k can
     be gathered from its flat view (_range_min)."""
     rows, width = g.shape
-    levels = max(1, int(np.ceil(np.log2(max(width, 1)))) + 1)
+    levels = _levels(width)
     out = np.empty((levels, rows, width + 1), g.dtype)
     out[0, :, :width] = g
     out[0, :, width] = sentinel
@@ -102,28 +108,18 @@ def _descend(tables, rows, start, c, skip_if):
     checks it and descends again from the next column. Windows past the row's end hold a
     sentinel that is never skipped, so j ≤ width always.
     """
-    _, nrows, stride = tables.shape
-    i = rows.b0 + start                      # flat index into one level
-    i1 = np.empty_like(i)
-    # windows of 2**k ≥ the row's width all cross its end (sentinels): never skipped
-    top = min(tables.shape[0] - 1, int(np.log2(max(stride - 1, 1))))
-    for k in range(top, -1, -1):
-        t = tables[k].reshape(-1)
-        v = t.take(i)
-        np.add(i, stride, out=i1)
-        v1 = t.take(i1)
-        v1 -= v
-        v1 *= rows.w
-        v1 += v
+    pos = start.copy()
+    for k in range(tables.shape[0] - 1, -1, -1):
+        skip = skip_if(rows.at(tables[k].reshape(-1), pos), c)
         # (a shift, not `where=`: numpy's masked loops are slow on scattered masks)
-        i += skip_if(v1, c).view(np.uint8).astype(np.int64) << k
-    return i - rows.b0
+        pos += skip.view(np.uint8).astype(np.int64) << k
+    return pos
 
 
 def fits(h, w):
     """True if the sparse tables of an (h, w) image stay within MAX_TABLE_BYTES."""
     side = np.hypot(h, w) + 4
-    levels = int(np.ceil(np.log2(side))) + 1
+    levels = _levels(side)
     return 2 * levels * side * (side + 1) * 4 <= MAX_TABLE_BYTES
 
 
@@ -364,7 +360,7 @@ def point_cos_theta(normals, light, offset, *, heights_px):
 def point_grid_bytes(light, h, w, offset):
     """The memory the tables of point_cos_theta's polar grid take."""
     grid = _PointGrid(light, h, w, offset)
-    levels = int(np.ceil(np.log2(grid.width))) + 1
+    levels = _levels(grid.width)
     return (2 * levels + 2) * grid.rows * (grid.width + 1) * 4
 
 
@@ -583,12 +579,12 @@ def _exit_guess(search, rows, pos, col, g_here, cc, fall):
 
 def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall):
     """(length, inside at the end, δ at the end (0 where not inside), first segment): the
-    length (px of u) of each ray inside the relief, along the profile blended from the two grid rows around it, until
-    u_end (it leaves the box of pixel centres, or reaches a point light); whether it is still
-    inside there, and how deep (for the caller's tail); on polar grids the length up to its
-    first exit (else None). g_start: G at the ray's start (from the exact δ0 of the
-    reference, so the start is inside exactly when it is there); fall: how fast G − c falls
-    per px of u on the tangent plane of P_S (the first exit's guess).
+    length (px of u) of each ray inside the relief, along the profile blended from the two
+    grid rows around it, until u_end (it leaves the box of pixel centres, or reaches a point
+    light); whether it is still inside there, and how deep (for the caller's tail); on polar
+    grids the length up to its first exit (else None). g_start: G at the ray's start (from
+    the exact δ0 of the reference, so the start is inside exactly when it is there); fall:
+    how fast G − c falls per px of u on the tangent plane of P_S (the first exit's guess).
 
     Fast lane first: every ray starts inside (d/N.z under the surface) and most leave where
     the tangent plane of P_S says (a guess proved exactly, _exit_guess); with nothing higher

@@ -123,21 +123,18 @@ def resample_separable(img, height, width):
     j0, j1, fx = taps(w, width)
     fx = fx[(slice(None),) + extra]
 
+
+    def lerp(lo, hi, f):        # lo + (hi − lo)·f, in hi (a fresh gather)
+        hi -= lo
+        hi *= f
+        hi += lo
+        return hi
+
     def along_rows(a):          # whole rows copied: cheap even when they multiply
-        lo = a[i0]
-        out = a[i1]
-        out -= lo
-        out *= fy
-        out += lo
-        return out
+        return lerp(a[i0], a[i1], fy)
 
     def along_columns(a):
-        lo = a[:, j0]
-        out = a[:, j1]
-        out -= lo
-        out *= fx
-        out += lo
-        return out
+        return lerp(a[:, j0], a[:, j1], fx)
     # the column gathers are the slow pass: run them on the smaller image
     if height > h:
         return along_rows(along_columns(img))
