@@ -176,9 +176,9 @@ QUALITY_LEVELS = ("draft", "preview", "final", "reference")
 
 
 def level_errors(size=256, offset=0.01, objects=OBJECTS):
-    """Each quality level of the bake (shadow.bake) against truth, averaged over SUNS:
+    """Each quality level of the bake (bake.bake) against truth, averaged over SUNS:
     [(level, shape, mean |t − truth|, cast-shadow IoU)] (for docs/shadow-quality.md)."""
-    from dynpaint_addon.core.shadow import bake
+    from dynpaint_addon.core.bake import bake
     folder = tempfile.mkdtemp()
     scene = build_scene(size, objects)
     z, nworld, _ = render_maps(scene, folder)

@@ -24,7 +24,8 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 from report import publish  # noqa: E402
 
 from dynpaint_addon.core.lights import Light  # noqa: E402
-from dynpaint_addon.core.shadow import ShadowStats, bake, cos_theta_shadow  # noqa: E402
+from dynpaint_addon.core.bake import bake  # noqa: E402
+from dynpaint_addon.core.shadow import ShadowStats, cos_theta_shadow  # noqa: E402
 from dynpaint_addon.core.shape import (height_field_px, normals_from_height_px,  # noqa: E402
                                        slopes_from_normals)
 from dynpaint_addon.testpainting import builtin_images  # noqa: E402

@@ -15,7 +15,8 @@ from .core.colour import linear_to_srgb
 from .core.lights import Light
 from .core.pipeline import PER_PIXEL_CHANNELS, ImageData, render, shape_normals
 from .core.sampling import resample
-from .core.shadow import QUALITY, ShadowStats, bake, quality_settings
+from .core.bake import QUALITY, bake, quality_settings
+from .core.shadow import ShadowStats
 from .imageio import ImageReadError, read_image, write_exr, write_png
 from .recipe import RecipeError, load_images, load_recipe
 

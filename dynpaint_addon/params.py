@@ -10,7 +10,8 @@ from types import SimpleNamespace
 from .core.fresnel import DOMAINS
 from .core.sampling import EXTENSIONS
 from .core.shading import CURVES
-from .core.shadow import OCCUPANCIES, QUALITIES
+from .core.bake import QUALITIES
+from .core.shadow import OCCUPANCIES
 from .core.warps import REFLECTION_MODES, REFRACTION_MODES
 
 

@@ -4,7 +4,8 @@ import pytest
 
 from conftest import flat_normals, unit
 from dynpaint_addon.core.lights import Light
-from dynpaint_addon.core.shadow import QUALITY, ShadowStats, cos_theta_shadow
+from dynpaint_addon.core.bake import QUALITY
+from dynpaint_addon.core.shadow import ShadowStats, cos_theta_shadow
 from dynpaint_addon.core.shape import decode_normal_map, height_field_px, normals_from_height_px, \
     slopes_from_normals
 
@@ -165,7 +166,8 @@ def test_cast_shadow_falls_away_from_the_light():
 
 
 # -- quality levels (§13, issue 4) --------------------------------------------------------
-from dynpaint_addon.core.shadow import BakeCancelled, QUALITIES, bake  # noqa: E402
+from dynpaint_addon.core.bake import QUALITIES, bake  # noqa: E402
+from dynpaint_addon.core.shadow import BakeCancelled  # noqa: E402
 
 
 @pytest.mark.parametrize("quality", QUALITIES)

@@ -71,7 +71,7 @@ def on_setting_changed(mat, path):
 def _sync_quality(sh, path):
     """A quality level writes its K and resolution into the settings (so the OSL shader's
     drivers see them too); editing K or the resolution by hand makes the level 'custom'."""
-    from ..core.shadow import QUALITY
+    from ..core.bake import QUALITY
     with batch():
         if path == "shadows.quality" and sh.quality in QUALITY:
             sh.steps = QUALITY[sh.quality]["steps"]

@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .sampling import pixel_centres, sample_bilinear, sample_bilinear_extend
+from .shadow import cos_theta_shadow, exit_distance, inside_box
 
 MAX_CROSSINGS = 8     # enter/exit pairs followed per ray (more are very rare)
 MAX_TABLE_BYTES = 1.5 * 2**30   # larger grids fall back to the march
@@ -137,7 +138,7 @@ def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None):
     if lvec[2] <= 0:
         return np.zeros((h, w), dtype)
     if np.hypot(lvec[0], lvec[1]) < 1e-6 or offset <= 0:
-        from .shadow import cos_theta_shadow            # straight up, or the d → 0 limit
+        # straight up (no horizontal direction to lay rows along), or the d → 0 limit
         return cos_theta_shadow(normals, light, offset, 64, heights_px=heights_px, slopes=slopes)
     return _bake(_SunGrid(lvec, h, w), normals, offset, heights_px, slopes)
 
@@ -250,7 +251,6 @@ class _SunGrid:
 
     def starts(self, normals, offset, heights_px, r0, r1):
         """The rays of pixel rows r0 … r1 − 1 in grid coordinates (flat arrays)."""
-        from .shadow import _inside_box
         h, w, ex, ey, m, lxy = self.h, self.w, self.ex, self.ey, self.m, self.lxy
         d = float(offset) * w
         # float32 (positions < 2·10³ px keep 1e-4 px); the level c of each ray in float64
@@ -267,8 +267,8 @@ class _SunGrid:
         u0 = xc * f32(ex) + yc * f32(ey)
         fu = (u0 - f32(self.umin)).ravel()
         fv = (yc * f32(ex) - xc * f32(ey) - f32(self.vmin)).ravel()
-        inbox0 = _inside_box(x0, y0, h, w)
-        # to the box's edge along (ex, ey) (shadow._exit_distance for one direction)
+        inbox0 = inside_box(x0, y0, h, w)
+        # to the box's edge along (ex, ey) (shadow.exit_distance for one direction)
         to_x = ((f32(w - 0.5) - x0) if ex > 0 else (f32(0.5) - x0)) / f32(ex) if ex else np.inf
         to_y = ((f32(h - 0.5) - y0) if ey > 0 else (f32(0.5) - y0)) / f32(ey) if ey else np.inf
         row0 = np.clip(np.floor(fv).astype(np.int32), 0, self.rows - 2)
@@ -426,7 +426,6 @@ class _PointGrid:
 
     def rays(self, search, normals, offset, heights_px, r0, r1):
         """t for pixel rows r0 … r1 − 1 (see the class)."""
-        from .shadow import _exit_distance, _inside_box
         h, w = self.h, self.w
         d = float(offset) * w
         f32 = np.float32
@@ -454,7 +453,7 @@ class _PointGrid:
         c = (-dz / safe).ravel()
         delta0 = _lookup(heights_px.astype(f32, copy=False), x0, y0) - z0
         g_start = c + (delta0 / safe).ravel()
-        box = _exit_distance(x0, y0, dx / safe, dy / safe, h, w)
+        box = exit_distance(x0, y0, dx / safe, dy / safe, h, w)
         to_light = box >= rho0                                    # no box exit before it
         u_end = fu + np.minimum(box, rho0).ravel()
         total, inside_end, gap, first = _inside_length(search, row0, wv, fu, c, g_start,
@@ -469,7 +468,7 @@ class _PointGrid:
                             np.minimum(tail, rho_end), 0)
             alone = np.where(fall_d > 0, (f32(d) / nz) / fall_d, np.inf)
             alone = np.minimum(alone, rho0)
-        march = (_inside_box(x0, y0, h, w) & (rho0.reshape(x0.shape) >= 1)).ravel()
+        march = (inside_box(x0, y0, h, w) & (rho0.reshape(x0.shape) >= 1)).ravel()
         with np.errstate(divide="ignore", invalid="ignore"):
             ratio = np.clip(np.where(ndl_s > 0, ndl_a / ndl_s, 1), 1 - POINT_RATIO,
                             1 + POINT_RATIO).ravel()

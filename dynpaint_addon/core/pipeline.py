@@ -25,7 +25,7 @@ from .colour import srgb_to_linear
 from .inputs import finite_pixels, non_finite_message, normal_map_problem, size_message
 from .lights import light_vectors
 from .sampling import gaussian_blur, pixel_centres, resample, sample_bilinear
-from .shadow import bake as shadow_bake
+from .bake import bake as shadow_bake
 from .shape import (decode_normal_map, default_preblur_px, height_field_px, normals_from_height_px,
                     slopes_from_normals)
 

@@ -4,8 +4,9 @@ For a surface point P_S with normal N_S, start at P0 = P_S − d·N_S, march P(s
 measure r, the length of the ray inside the relief. t = d / max(r, d). On a plane r = d/cos θ,
 so t = cos θ exactly, for any d.
 
-This is the straightforward, correct march (one bilinear gather per pixel per step); it is the
-reference every faster bake is measured against. Everything inside works in pixels.
+This is the straightforward, correct march (one bilinear gather per pixel per step): the
+reference every faster method (crossings.py) is measured against, and nothing else; which
+method bakes at which quality level is bake.py's choice. Everything inside works in pixels.
 """
 from dataclasses import dataclass
 
@@ -49,7 +50,7 @@ def occupancy_fraction(delta0, delta1, occupancy="linear"):
     raise ValueError(f"unknown occupancy {occupancy!r} (expected one of {', '.join(OCCUPANCIES)})")
 
 
-def _exit_distance(x0, y0, lx, ly, height, width):
+def exit_distance(x0, y0, lx, ly, height, width):
     """Distance along (lx, ly) from (x0, y0) until the ray leaves the box of pixel centres
     [½, W − ½] × [½, H − ½] (0 if already outside). Bilinear lookups are exact inside that box
     only (beyond it "extend" flattens the relief), so the march stops there and the tail
@@ -60,10 +61,10 @@ def _exit_distance(x0, y0, lx, ly, height, width):
     with np.errstate(divide="ignore", invalid="ignore"):
         tx = np.where(lx > 0, (width - lo - x0) / lx, np.where(lx < 0, (lo - x0) / lx, big))
         ty = np.where(ly > 0, (height - lo - y0) / ly, np.where(ly < 0, (lo - y0) / ly, big))
-    return np.where(_inside_box(x0, y0, height, width), np.maximum(np.minimum(tx, ty), 0), 0)
+    return np.where(inside_box(x0, y0, height, width), np.maximum(np.minimum(tx, ty), 0), 0)
 
 
-def _inside_box(x0, y0, height, width):
+def inside_box(x0, y0, height, width):
     return (x0 >= 0.5) & (x0 <= width - 0.5) & (y0 >= 0.5) & (y0 <= height - 0.5)
 
 
@@ -161,7 +162,7 @@ def _ray_setup(c, r0, r1):
     if c.zs is not None:
         # δ0 from the relief where it is known; on the tangent plane of P_S (d/N.z) where P0
         # lies outside the box of pixel centres (border pixels whose normal points outward).
-        delta = np.where(_inside_box(x0, y0, h, w), sample_bilinear(c.zs, x0, y0, "extend") - z0,
+        delta = np.where(inside_box(x0, y0, h, w), sample_bilinear(c.zs, x0, y0, "extend") - z0,
                          d / nz)
         with np.errstate(divide="ignore", invalid="ignore"):
             ell_top = np.where(lz > 0, (c.zmax - z0) / lz, np.inf)
@@ -174,7 +175,7 @@ def _ray_setup(c, r0, r1):
         climb = lz - c.s_max * np.hypot(lx, ly)
         with np.errstate(divide="ignore", invalid="ignore"):
             ell_top = np.where(climb > 0, delta / climb, np.inf)
-    ell = np.minimum(_exit_distance(x0, y0, lx, ly, h, w), ell_top)
+    ell = np.minimum(exit_distance(x0, y0, lx, ly, h, w), ell_top)
     if light_dist is not None:
         # The ray reaches the light's closest approach at s = (P_L − P0)·L.
         p_l = light.position_px(h, w).astype(c.dtype)
@@ -236,106 +237,3 @@ def _march_band(c, r, k_eff, occupancy, cancel):
         t = np.zeros_like(t)
     t = np.where(np.isfinite(t), t, 0)
     return np.clip(t, 0, 1).astype(c.dtype, copy=False)
-
-
-# §13 quality levels of the bake: K, the resolution the march runs at (the result is upsampled
-# bilinearly) and the precision. 'custom' takes K and the resolution from the parameters.
-# Crossings (crossings.py) are more accurate per sample than a K-step march, so where they
-# apply they run at a resolution of their own: suns at draft and preview (sun_scale; normal
-# maps, whose rebuilt heights integrate slopes, need a little more) and at final (full
-# resolution); point lights over height maps at draft and preview (point_scale). Never below
-# crossings_min_px on the short side: small paintings keep their detail (and are cheap).
-# K does not apply there; custom K and the reference always march. Measured at 1024², tall
-# relief: docs/shadow-quality.md.
-QUALITY = {
-    "draft": {"steps": 16, "scale": 0.25, "dtype": "float32",
-              "sun_scale": 0.125, "sun_scale_normal": 0.25, "point_scale": 0.125,
-              "crossings_min_px": 96},
-    "preview": {"steps": 32, "scale": 0.5, "dtype": "float32",
-                "sun_scale": 0.25, "sun_scale_normal": 0.4, "point_scale": 0.25,
-                "crossings_min_px": 192},
-    "final": {"steps": 64, "scale": 1.0, "dtype": "float32"},
-    "reference": {"steps": 1024, "scale": 1.0, "dtype": "float64"},
-}
-QUALITIES = (*QUALITY, "custom")
-FAST_FINAL_MIN_PX = 512
-
-
-def quality_settings(quality, steps=64, scale=1.0):
-    """(K, resolution scale, dtype) of a quality level; 'custom' uses steps and scale."""
-    if quality == "custom":
-        return int(steps), float(min(max(scale, 0.01), 1.0)), np.float32
-    q = QUALITY[quality]
-    return q["steps"], q["scale"], np.dtype(q["dtype"]).type
-
-
-def _crossings_plan(light, quality, fast_level, h, w, size, normal_map, offset):
-    """((H, W) to bake at, function) where crossings (crossings.py) bake this light at this
-    level, else None: suns at draft, preview and final (at sun_scale where the level has
-    one), point lights over height maps at draft and preview (at point_scale), when their
-    tables fit in memory."""
-    from . import crossings
-    q = QUALITY.get(quality, {})
-
-    def scaled(key):
-        f = q.get(key)
-        if f is None:
-            return size
-        f = min(1.0, max(f, q.get("crossings_min_px", 0) / max(1, min(h, w))))
-        return max(1, round(h * f)), max(1, round(w * f))
-    if light.kind == "sun" and fast_level:
-        sh, sw = scaled("sun_scale_normal" if normal_map else "sun_scale")
-        return ((sh, sw), crossings.sun_cos_theta) if crossings.fits(sh, sw) else None
-    if light.kind == "point" and fast_level and not normal_map and "point_scale" in q:
-        sh, sw = scaled("point_scale")
-        if crossings.point_grid_bytes(light, sh, sw, offset) <= crossings.MAX_TABLE_BYTES:
-            return (sh, sw), lambda n, lt, off, heights_px, slopes: crossings.point_cos_theta(
-                n, lt, off, heights_px=heights_px)
-    return None
-
-
-def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=None, steps=64,
-         scale=1.0, occupancy="linear", stats=None, cancel=None, progress=None):
-    """The cos-θ term at a quality level (§13): march at a reduced resolution if the level
-    says so, then upsample to the shape's size. Heights are in pixels of the full image.
-    progress: optional callable(fraction done) (the march reports once per band of rows)."""
-    k, scale, dtype = quality_settings(quality, steps, scale)
-    h, w = normals.shape[:2]
-    normals = normals.astype(dtype, copy=False)
-    heights_px = None if heights_px is None else heights_px.astype(dtype, copy=False)
-    slopes = None if slopes is None else slopes.astype(dtype, copy=False)
-    hs, ws = max(1, round(h * scale)), max(1, round(w * scale))
-    march = cos_theta_shadow
-    # Exact crossings smear one-pixel walls a little (a resampled grid): below ~512 px the
-    # K = 64 march is more accurate and cheap anyway, so 'final' marches there.
-    fast_level = quality in ("draft", "preview") or (quality == "final"
-                                                      and min(hs, ws) >= FAST_FINAL_MIN_PX)
-    plan = _crossings_plan(light, quality, fast_level and occupancy == "linear", h, w,
-                           (hs, ws), slopes is not None, offset)
-    if plan is not None:
-        (hs, ws), fast = plan
-        if stats is not None:
-            stats.method = "exact crossings" if light.kind == "sun" else "aimed crossings"
-
-        def march(n, lt, off, _k, heights_px=None, slopes=None, cancel=None, progress=None, **_):
-            if cancel is not None and cancel():      # one pass: superseded before it starts
-                raise BakeCancelled()
-            t = fast(n, lt, off, heights_px=heights_px, slopes=slopes)
-            if progress is not None:
-                progress(1.0)
-            return t
-    if stats is not None:
-        stats.size = (hs, ws)
-    if (hs, ws) == (h, w):
-        return march(normals, light, offset, k, heights_px=heights_px, slopes=slopes,
-                     occupancy=occupancy, stats=stats, cancel=cancel, progress=progress)
-    from .sampling import resample_separable as resample
-    # averages of unit normals with N.z ≥ z_min: renormalising keeps N.z ≥ z_min (|n| ≤ 1,
-    # and |n| ≥ N.z ≥ z_min > 0, so the division is safe)
-    n_s = resample(normals, hs, ws)
-    n_s /= np.sqrt(np.einsum("...i,...i->...", n_s, n_s))[..., None]
-    z_s = None if heights_px is None else resample(heights_px, hs, ws) * dtype(ws / w)
-    sl_s = None if slopes is None else resample(slopes, hs, ws)
-    t = march(n_s, light, offset, k, heights_px=z_s, slopes=sl_s, occupancy=occupancy,
-              stats=stats, cancel=cancel, progress=progress)
-    return np.clip(resample(t, h, w), 0, 1).astype(dtype, copy=False)
