@@ -97,41 +97,86 @@ def _render_blender(args, recipe):
     print(f"rendered with {args.engine} in {seconds * 1000:.0f} ms → {args.out}")
 
 
-def _shape_for_bake(args):
-    """The shape image decoded exactly as a render decodes it (pipeline.shape_normals, §2)."""
+# bake-shadow's options that are recipe parameters: flag → params.py path (default, unit,
+# range and help come from the table)
+BAKE_OPTIONS = {"--height-scale": "shape.height_scale", "--preblur": "shape.preblur",
+                "--flip-green": "shape.flip_green", "--z-min": "shape.z_min",
+                "--offset": "shadows.offset", "--steps": "shadows.steps",
+                "--scale": "shadows.resolution", "--quality": "shadows.quality",
+                "--occupancy": "shadows.occupancy"}
+
+
+def _dest(flag):
+    return flag.lstrip("-").replace("-", "_")
+
+
+def add_param_option(parser, flag, path):
+    """An option for the parameter at `path`, with the table's default, unit and help.
+    Options whose default depends on others (K and the resolution follow --quality, the
+    pre-blur the image's bit depth) default to None: 'from …'."""
+    prm = P.BY_PATH[path]
+    unit = f" {prm.unit}" if prm.unit else ""
+    follows = path in ("shadows.steps", "shadows.resolution") or prm.kind == "auto_float"
+    default = None if follows else prm.default
+    if path in ("shadows.steps", "shadows.resolution"):
+        shown = "from --quality"
+    else:
+        shown = str(prm.default)
+    text = f"{prm.help}{unit and f' (in{unit})'}; default: {shown}"
+    if prm.kind is bool:
+        parser.add_argument(flag, action="store_true", help=text)
+    elif prm.kind == "enum":
+        parser.add_argument(flag, choices=prm.choices, default=default, help=text)
+    else:
+        parser.add_argument(flag, type=int if prm.kind is int else float, default=default,
+                            help=text)
+
+
+def _check_ranges(args, options):
+    """Every parameter option within its params.py range, or one clear line."""
+    for flag, path in options.items():
+        prm, value = P.BY_PATH[path], getattr(args, _dest(flag))
+        if not isinstance(value, (int, float)) or isinstance(value, bool):
+            continue
+        unit = f" {prm.unit}" if prm.unit else ""
+        if prm.min is not None and value < prm.min:
+            raise CommandError(f"{flag} must be ≥ {prm.min:g}{unit}, got {value}")
+        if prm.max is not None and value > prm.max:
+            raise CommandError(f"{flag} must be ≤ {prm.max:g}{unit}, got {value}")
+
+
+def _bake_params(args):
+    """The recipe parameters bake-shadow's options set (the rest at their defaults)."""
     p = P.defaults()
-    p.shape.kind, p.shape.height_scale = args.kind, args.height_scale
-    p.shape.flip_green, p.shape.z_min = args.flip_green, args.z_min
-    p.shape.preblur = "auto" if args.preblur is None else args.preblur
-    dtype = np.dtype(QUALITY[args.quality]["dtype"]).type
-    return (*shape_normals(read_image(args.shape), p, dtype), dtype)
+    for flag, path in BAKE_OPTIONS.items():
+        value = getattr(args, _dest(flag))
+        if value is not None:
+            section, key = path.split(".")
+            setattr(getattr(p, section), key, value)
+    p.shape.kind = args.kind
+    return p
 
 
 def cmd_bake_shadow(args):
     if not os.path.splitext(args.out)[1].lower() == ".exr":
         raise CommandError(f"--out {args.out}: the shadow term is written as a float EXR (.exr)")
-    if args.offset < 0:
-        raise CommandError(f"--offset must be ≥ 0 image widths, got {args.offset}")
-    if args.steps is not None and args.steps < 0:
-        raise CommandError(f"--steps must be ≥ 0, got {args.steps}")
-    if args.scale is not None and not 0 < args.scale <= 1:
-        raise CommandError(f"--scale must be in (0, 1], got {args.scale}")
-    if args.height_scale < 0:
-        raise CommandError(f"--height-scale must be ≥ 0 image widths, got {args.height_scale}")
+    _check_ranges(args, BAKE_OPTIONS)
     try:
         light = Light("sun", args.light) if args.light else Light("point", args.point_light)
     except ValueError as exc:
         raise CommandError(str(exc)) from None
+    p = _bake_params(args)
     quality = "custom" if args.steps is not None or args.scale is not None else args.quality
-    steps, scale, dtype = quality_settings(quality, args.steps if args.steps is not None
-                                           else QUALITY[args.quality]["steps"],
-                                           args.scale if args.scale is not None
-                                           else QUALITY[args.quality]["scale"])
-    n, z, slopes, _ = _shape_for_bake(args)
+    level = QUALITY.get(args.quality, {"steps": P.BY_PATH["shadows.steps"].default,
+                                       "scale": P.BY_PATH["shadows.resolution"].default})
+    steps, scale, dtype = quality_settings(
+        quality, level["steps"] if args.steps is None else args.steps,
+        level["scale"] if args.scale is None else args.scale)
+    n, z, slopes = shape_normals(read_image(args.shape), p, dtype)
     stats = ShadowStats()
     t0 = time.perf_counter()
-    t = bake(n, light, args.offset, quality, heights_px=z, slopes=slopes, steps=steps,
-             scale=scale, stats=stats)
+    t = bake(n, light, p.shadows.offset, quality, heights_px=z, slopes=slopes, steps=steps,
+             scale=scale, occupancy=p.shadows.occupancy, stats=stats)
     ms = (time.perf_counter() - t0) * 1000
     write_exr(args.out, t)
     if args.verbose:
@@ -142,7 +187,7 @@ def cmd_bake_shadow(args):
             f"method={stats.method} ({light.kind}; K does not apply)"
         bh, bw = stats.size
         print(f"settings: quality={quality} {how} resolution={bw}×{bh} "
-              f"dtype={np.dtype(dtype).name} offset={args.offset} image widths")
+              f"dtype={np.dtype(dtype).name} offset={p.shadows.offset} image widths")
     print(f"wrote {args.out}")
 
 
@@ -234,26 +279,13 @@ def build_parser():
                                    "one-channel float EXR of the shape image's size.")
     b.add_argument("shape", metavar="SHAPE", help="normal map or height map image")
     b.add_argument("--kind", required=True, choices=("height", "normal"), help="what SHAPE holds")
-    b.add_argument("--height-scale", type=float, default=0.05,
-                   help="relief of a white height pixel, in image widths (default 0.05)")
-    b.add_argument("--preblur", type=float, help="height pre-blur σ in pixels (default: 1.5 for "
-                                                 "8-bit images, 0 for 16-bit and float)")
-    b.add_argument("--flip-green", action="store_true", help="normal map with DirectX-style green")
-    b.add_argument("--z-min", type=float, default=0.05, help="smallest normal z (default 0.05)")
     lg = b.add_mutually_exclusive_group(required=True)
     lg.add_argument("--light", nargs=3, type=float, metavar=("X", "Y", "Z"),
                     help="sun: direction toward the light in the painting frame (any length)")
     lg.add_argument("--point-light", nargs=3, type=float, metavar=("X", "Y", "Z"),
                     help="point light position, image widths from the painting's centre")
-    b.add_argument("--offset", type=float, default=0.01,
-                   help="d: ray start depth below the surface, image widths (default 0.01)")
-    b.add_argument("--steps", type=int, help="K: march steps (default: from --quality)")
-    b.add_argument("--scale", type=float, help="resolution the march runs at, 0–1 (default: from "
-                                               "--quality)")
-    b.add_argument("--quality", choices=tuple(QUALITY), default="final",
-                   help="; ".join(f"{k}: K={v['steps']} at {v['scale']:g}× {v['dtype']}"
-                                  for k, v in QUALITY.items())
-                   + " (default final)")
+    for flag, path in BAKE_OPTIONS.items():
+        add_param_option(b, flag, path)
     b.add_argument("--out", required=True, help="output .exr (one channel, Y)")
     b.add_argument("-v", "--verbose", action="store_true",
                    help="print the bake's own time (ms, no process start or file I/O) and settings")

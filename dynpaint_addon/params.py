@@ -17,6 +17,9 @@ from .core.warps import REFLECTION_MODES, REFRACTION_MODES
 
 @dataclass(frozen=True)
 class Param:
+    """One parameter and its role. Every other list of parameters (Blender properties and
+    panels, the graph's structure, the keys of derived images and bakes, command-line options,
+    the docs) is generated from these fields."""
     section: str
     key: str
     kind: type | str     # bool, int, float, 'enum', 'auto_float' (a number or "auto")
@@ -27,108 +30,163 @@ class Param:
     max: float | None = None
     choices: tuple = ()
     spec: str = ""       # pipeline.md section
+    label: str = ""      # short UI label (default: the key in title case)
+    auto_value: float = 0.0   # auto_float: what the slider shows when 'auto' is switched off
+    # Roles. structural: it decides which branches the graph has (a field of
+    # nodegraph.features.Features, named `feature` or after the path); a parameter that is not
+    # structural is live in the built graph (a driver or a group input carries it). derives:
+    # the images numpy derives from the inputs with it (core/derived.py). bake: the cos-θ
+    # bake reads it.
+    structural: bool = False
+    feature: str = ""
+    derives: tuple = ()
+    bake: bool = False
+    # Panels: `header` puts a toggle in its panel's header; `shown_if` (path, value) shows it
+    # only while that parameter has that value.
+    header: bool = False
+    shown_if: tuple = ()
 
     @property
     def path(self):
         return f"{self.section}.{self.key}"
+
+    @property
+    def feature_name(self):
+        """The Features field of a structural parameter: 'shape.kind' → 'shape_kind',
+        'specular.enabled' → 'specular'."""
+        if self.feature:
+            return self.feature
+        return self.section if self.key == "enabled" else f"{self.section}_{self.key}"
+
+    @property
+    def panel(self):
+        return next(panel for panel, (_, sections) in PANELS.items() if self.section in sections)
+
+    @property
+    def ui_label(self):
+        return self.label or self.key.replace("_", " ").title()
 
 
 P = Param
 PARAMS = (
     # §2 shape
     P("shape", "kind", "enum", "normal", "What the shape image holds: a normal map (RGB) or a "
-      "height map (grey, lighter = nearer the viewer)", choices=("normal", "height"), spec="§2"),
+      "height map (grey, lighter = nearer the viewer)", choices=("normal", "height"), spec="§2",
+      structural=True, derives=("shape", "height"), bake=True),
     P("shape", "flip_green", bool, False, "Normal maps whose green channel means 'lit from below' "
-      "(DirectX style)", spec="§2"),
+      "(DirectX style)", spec="§2", label="Flip Green (DirectX)", bake=True,
+      shown_if=("shape.kind", "normal")),
     P("shape", "z_min", float, 0.05, "Smallest allowed N.z: steeper normals are tilted back up so "
-      "slopes stay finite", min=0.001, max=1.0, spec="§2"),
+      "slopes stay finite", min=0.001, max=1.0, spec="§2", label="Minimum N.z", bake=True),
     P("shape", "height_scale", float, 0.05, "Relief height of a white height-map pixel",
-      unit="image widths", min=0.0, max=10.0, spec="§2"),
+      unit="image widths", min=0.0, max=10.0, spec="§2", label="Height", bake=True,
+      shown_if=("shape.kind", "height")),
     P("shape", "preblur", "auto_float", "auto", "Gaussian blur of the height map before slopes "
       "are taken, against 8-bit terracing; 'auto' = 1.5 px for 8-bit images, 0 for 16-bit and float",
-      unit="pixels", min=0.0, max=64.0, spec="§2"),
+      unit="pixels", min=0.0, max=64.0, spec="§2", label="Pre-blur", auto_value=1.5,
+      derives=("height",), bake=True, shown_if=("shape.kind", "height")),
     # §3–§5 diffuse style
     P("diffuse", "t0", float, 0.0, "Clamp&Step start: light terms below this give the dark image",
-      min=-1.0, max=1.0, spec="§3"),
+      min=-1.0, max=1.0, spec="§3", label="Start (t0)"),
     P("diffuse", "t1", float, 1.0, "Clamp&Step end: light terms above this give the bright image "
-      "(t0 = t1 is a cartoon step; t0 > t1 inverts)", min=-1.0, max=1.0, spec="§3"),
+      "(t0 = t1 is a cartoon step; t0 > t1 inverts)", min=-1.0, max=1.0, spec="§3",
+      label="End (t1)"),
     P("diffuse", "curve", "enum", "linear", "Shape of the ramp between t0 and t1", choices=CURVES,
-      spec="§3"),
+      spec="§3", structural=True),
     # §6 shadows
     P("shadows", "enabled", bool, False, "cos-θ shadows: cast shadows, shading and a subsurface "
-      "look in one number (replaces N·L in the diffuse term)", spec="§6"),
-    P("shadows", "offset", float, 0.01, "d: how deep below the surface each shadow ray starts; "
-      "larger = softer, more translucent look", unit="image widths", min=0.0, max=1.0, spec="§6"),
+      "look in one number (replaces N·L in the diffuse term)", spec="§6", structural=True,
+      header=True),
+    P("shadows", "source", "enum", "baked", "Where the cos-θ term comes from: baked into images "
+      "by numpy (EEVEE and Cycles), or 'osl': marched per pixel and frame inside an OSL shader "
+      "that Cycles (CPU) renders the whole painting with; EEVEE keeps the baked material",
+      choices=("baked", "osl"), spec="§6, §13", structural=True, feature="shadow_source"),
     P("shadows", "quality", "enum", "final", "Speed against accuracy of the bake (§13): draft "
       "and preview bake at a reduced resolution (suns and point lights by crossings at ⅛ and "
       "¼), final at full (suns by exact crossings, point lights by a K = 64 march), reference "
       "in float64 with K = 1024; custom uses your K and resolution", choices=QUALITIES,
-      spec="§13"),
+      spec="§13", bake=True),
+    P("shadows", "offset", float, 0.01, "d: how deep below the surface each shadow ray starts; "
+      "larger = softer, more translucent look", unit="image widths", min=0.0, max=1.0, spec="§6",
+      label="Offset (d)", bake=True),
     P("shadows", "steps", int, 64, "K: march steps per pixel (more = more accurate, slower; "
-      "custom quality)", min=0, max=100000, spec="§6"),
+      "custom quality)", min=0, max=100000, spec="§6", label="Steps (K)", bake=True),
     P("shadows", "resolution", float, 1.0, "Resolution the bake marches at, then upsampled "
-      "(custom quality)", unit="× the shape image", min=0.05, max=1.0, spec="§13"),
-    P("shadows", "source", "enum", "baked", "Where the cos-θ term comes from: baked into images "
-      "by numpy (EEVEE and Cycles), or 'osl': marched per pixel and frame inside an OSL shader "
-      "that Cycles (CPU) renders the whole painting with; EEVEE keeps the baked material",
-      choices=("baked", "osl"), spec="§6, §13"),
+      "(custom quality)", unit="× the shape image", min=0.05, max=1.0, spec="§13", bake=True),
     P("shadows", "occupancy", "enum", "linear", "How a march step counts as inside the relief: "
-      "linear crossing (accurate) or the paper's midpoint test", choices=OCCUPANCIES, spec="§6"),
+      "linear crossing (accurate) or the paper's midpoint test", choices=OCCUPANCIES, spec="§6",
+      bake=True),
     # §7 specular
-    P("specular", "enabled", bool, False, "Opaque highlights of the specular colour", spec="§7"),
+    P("specular", "enabled", bool, False, "Opaque highlights of the specular colour", spec="§7",
+      structural=True, header=True),
     P("specular", "s0", float, 0.9, "Highlight Clamp&Step start (on R_L·I)", min=-1.0, max=1.0,
-      spec="§7"),
-    P("specular", "s1", float, 1.0, "Highlight Clamp&Step end", min=-1.0, max=1.0, spec="§7"),
+      spec="§7", label="Start (s0)"),
+    P("specular", "s1", float, 1.0, "Highlight Clamp&Step end", min=-1.0, max=1.0, spec="§7",
+      label="End (s1)"),
     P("specular", "curve", "enum", "smoothstep", "Shape of the highlight ramp", choices=CURVES,
-      spec="§7"),
+      spec="§7", structural=True),
     P("specular", "amount", float, 1.0, "g: gloss strength (multiplies the gloss map)",
       min=0.0, max=1.0, spec="§7"),
     # §8 reflection
     P("reflection", "distance", float, 0.05, "d_E: how far the environment appears behind the "
       "surface (reflection offset scale)", unit="image widths", min=0.0, max=10.0, spec="§8"),
     P("reflection", "mode", "enum", "stereographic", "Bounded offset: stereographic 2·d_E·N.xy/N.z,"
-      " or the paper's R.xy/R.z clamped at the maximum offset", choices=REFLECTION_MODES, spec="§8"),
+      " or the paper's R.xy/R.z clamped at the maximum offset", choices=REFLECTION_MODES, spec="§8",
+      structural=True),
     P("reflection", "max_offset", float, 0.5, "Largest reflection offset", unit="image widths",
-      min=0.0, max=10.0, spec="§8"),
+      min=0.0, max=10.0, spec="§8", label="Max Offset"),
     P("reflection", "extension", "enum", "wrap", "Environment lookups beyond its edges",
-      choices=EXTENSIONS, spec="§8"),
+      choices=EXTENSIONS, spec="§8", structural=True, derives=("environment",)),
     P("reflection", "blur", float, 0.0, "Glossy reflection: Gaussian blur σ of the environment",
-      unit="image widths", min=0.0, max=1.0, spec="§11"),
+      unit="image widths", min=0.0, max=1.0, spec="§11", derives=("environment",)),
     # §9 refraction
     P("refraction", "distance", float, 0.05, "d_B: how far the background lies behind the surface",
       unit="image widths", min=0.0, max=10.0, spec="§9"),
     P("refraction", "mode", "enum", "physical", "physical (index of refraction η) or art-directed "
-      "(linear in μ)", choices=REFRACTION_MODES, spec="§9"),
+      "(linear in μ)", choices=REFRACTION_MODES, spec="§9", structural=True),
     P("refraction", "ior", float, 1.5, "η = η₂/η₁, the relative index of refraction (also drives "
-      "the physical Fresnel)", min=0.5, max=2.0, spec="§9"),
+      "the physical Fresnel)", min=0.5, max=2.0, spec="§9", label="IOR (η)"),
     P("refraction", "mu", float, 0.585, "μ = log₂ η for art-directed refraction: 0 = none, "
-      "+1 magnifies most, −1 shrinks most", min=-1.0, max=1.0, spec="§9"),
+      "+1 magnifies most, −1 shrinks most", min=-1.0, max=1.0, spec="§9", label="Art IOR (μ)"),
     P("refraction", "extension", "enum", "extend", "Background lookups beyond its edges",
-      choices=EXTENSIONS, spec="§9"),
+      choices=EXTENSIONS, spec="§9", structural=True, derives=("background",)),
     P("refraction", "blur", float, 0.0, "Translucent refraction: Gaussian blur σ of the background",
-      unit="image widths", min=0.0, max=1.0, spec="§11"),
+      unit="image widths", min=0.0, max=1.0, spec="§11", derives=("background",)),
     # §10 Fresnel
     P("fresnel", "mode", "enum", "physical", "Reflection/refraction ratio: physical Fresnel of η, "
-      "or the art-directed piecewise-linear curve", choices=("physical", "art"), spec="§10"),
+      "or the art-directed piecewise-linear curve", choices=("physical", "art"), spec="§10",
+      structural=True),
     P("fresnel", "domain", "enum", "cos", "Art-directed curve placed along 1 − cos θ (fits the "
-      "physical curve better) or sin θ", choices=DOMAINS, spec="§10"),
+      "physical curve better) or sin θ", choices=DOMAINS, spec="§10", structural=True),
     P("fresnel", "x1", float, 0.45, "Art-directed 'total refraction' point: F = 0 up to here",
-      min=0.0, max=1.0, spec="§10"),
+      min=0.0, max=1.0, spec="§10", label="Refraction Until"),
     P("fresnel", "x2", float, 0.9, "Art-directed 'equal mix' point: F = ½ here", min=0.0, max=1.0,
-      spec="§10"),
+      spec="§10", label="Equal Mix At"),
     P("fresnel", "kappa", float, 0.0, "κ: −1 total refraction … 0 as the curve says … +1 total "
-      "reflection", min=-1.0, max=1.0, spec="§10"),
+      "reflection", min=-1.0, max=1.0, spec="§10", label="Reflect ↔ Refract (κ)"),
     # §11 composite
     P("transparency", "amount", "auto_float", "auto", "k: where the surface shows the reflection/"
       "refraction mix (multiplies the transparency map); 'auto' = 1 with a map, 0 without",
-      min=0.0, max=1.0, spec="§11"),
+      min=0.0, max=1.0, spec="§11", auto_value=1.0, structural=True, feature="transparency"),
     P("silhouette", "source", "enum", "auto", "Whose alpha cuts the painting out over the "
       "background: auto (shape, else dark), shape, dark, none",
-      choices=("auto", "shape", "dark", "none"), spec="§11"),
+      choices=("auto", "shape", "dark", "none"), spec="§11", structural=True,
+      feature="silhouette", derives=("silhouette",)),
 )
 
 SECTIONS = tuple(dict.fromkeys(p.section for p in PARAMS))
 BY_PATH = {p.path: p for p in PARAMS}
+
+# The sub-panels of the Dynamic Painting panel, in order: id → (label, sections shown).
+PANELS = {
+    "shape": ("Shape", ("shape",)),
+    "style": ("Light & Style", ("diffuse",)),
+    "shadows": ("Shadows", ("shadows",)),
+    "highlights": ("Highlights", ("specular",)),
+    "warps": ("Reflection & Refraction", ("reflection", "refraction")),
+    "fresnel": ("Fresnel", ("fresnel",)),
+    "transparency": ("Transparency", ("transparency", "silhouette")),
+}
 
 # §1 channels: recipe key → (what it is, colour or data)
 CHANNELS = {

@@ -33,12 +33,12 @@ def empty_scene():
     reported by the add-on's handlers."""
     import bpy
     from dynpaint_addon import blender
-    from dynpaint_addon.blender import handlers
+    from dynpaint_addon.blender import status
     bpy.ops.wm.read_homefile(use_empty=True)
     blender.register_once()
-    handlers.LAST_ERRORS.clear()
+    status.LAST_ERRORS.clear()
     yield bpy.context.scene
-    assert handlers.LAST_ERRORS == []
+    assert status.LAST_ERRORS == []
 
 
 @pytest.fixture

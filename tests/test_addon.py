@@ -9,8 +9,9 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from dynpaint_addon import blender  # noqa: E402
-from dynpaint_addon.blender import material as M, scene as S  # noqa: E402
-from dynpaint_addon.blender.properties import settings_to_params  # noqa: E402
+from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
+from dynpaint_addon.blender.scene import FACE_CAMERA, exact_camera, exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.blender.settings import settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.imageio import read_image  # noqa: E402
 from dynpaint_addon.recipe import load_images, load_recipe  # noqa: E402
@@ -31,9 +32,9 @@ def add(folder, *names, **kw):
 
 def render_cycles(scene, plane, path):
     if scene.camera is None or scene.camera.data.type != "ORTHO":
-        S.exact_camera(scene, plane)
-    S.exact_render_settings(scene, "cycles")
-    S.output_settings(scene, path)
+        exact_camera(scene, plane)
+    exact_render_settings(scene, "cycles")
+    output_settings(scene, path)
     bpy.context.view_layer.update()
     bpy.ops.render.render(write_still=True)
     return read_image(path).pixels
@@ -44,7 +45,7 @@ def core_of(mat, scene):
     s = mat.dynamic_painting
     images = {c: read_image(bpy.path.abspath(getattr(s, f"image_{c}").filepath))
               for c in ("shape", "dark", "bright") if getattr(s, f"image_{c}") is not None}
-    lights = [M.painting_frame_light(o, s.plane.matrix_world) for o in M.linked_lights(mat, scene)]
+    lights = [painting_frame_light(o, s.plane.matrix_world) for o in linked_lights(mat, scene)]
     return core_render(images, lights, settings_to_params(s)).rgba
 
 
@@ -70,7 +71,7 @@ def test_height_map_detected_and_camera_faced(empty_scene, folder):
     assert add(folder, "height16.png", "dark.png", "bright.png") == {"FINISHED"}
     plane = bpy.context.object
     assert plane.active_material.dynamic_painting.shape.kind == "height"
-    con = plane.constraints[S.FACE_CAMERA]
+    con = plane.constraints[FACE_CAMERA]
     assert con.type == "COPY_ROTATION" and con.target == cam
 
 

@@ -10,7 +10,11 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from dynpaint_addon import params as P  # noqa: E402
-from dynpaint_addon.blender import handlers, material as M, scene as S  # noqa: E402
+from dynpaint_addon.blender import status  # noqa: E402
+from dynpaint_addon.blender.lights import linked_lights  # noqa: E402
+from dynpaint_addon.blender.scene import create_painting  # noqa: E402
+from dynpaint_addon.blender.status import problems  # noqa: E402
+from dynpaint_addon.blender.tree import tree_is_stale  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.imageio import read_image, write_exr, write_png  # noqa: E402
 from dynpaint_addon.recipe import Recipe, recipe_to_toml  # noqa: E402
@@ -189,7 +193,7 @@ def test_add_operator(case, how, files, tmp_path, empty_scene):
     else:
         assert bpy.ops.dynpaint.add(**kw) == {"FINISHED"}, (case, how)
         assert bpy.context.object.active_material.dynamic_painting.is_painting
-        assert handlers.LAST_ERRORS == []
+        assert status.LAST_ERRORS == []
 
 
 @pytest.mark.parametrize("case", RENDERED)
@@ -228,11 +232,11 @@ def test_renamed_plane_images_and_light_render_the_same(files, tmp_path, empty_s
     plane.name = "Renamed plane"
     for img in list(bpy.data.images):
         img.name = "renamed " + img.name
-    M.linked_lights(mat, scene)[0].name = "Renamed sun"
+    linked_lights(mat, scene)[0].name = "Renamed sun"
     scene.frame_set(2)                           # handlers run: rebuild for the renamed light
     after = render_cycles(scene, plane, tmp_path / "after.exr")
     assert np.array_equal(before, after)
-    assert M.problems(mat) == [] and handlers.LAST_ERRORS == []
+    assert problems(mat) == [] and status.LAST_ERRORS == []
 
 
 def test_deleted_images_and_plane_are_mended_or_reported(files, tmp_path, empty_scene):
@@ -242,23 +246,23 @@ def test_deleted_images_and_plane_are_mended_or_reported(files, tmp_path, empty_
     full = render_cycles(scene, plane, tmp_path / "full.exr")
     # the bright image deleted: the painting renders with the dark image in its place (§1)
     bpy.data.images.remove(s.image_bright)
-    assert M.tree_is_stale(mat)
+    assert tree_is_stale(mat)
     got = render_cycles(scene, plane, tmp_path / "no_bright.exr")
-    assert not M.tree_is_stale(mat) and np.all(np.isfinite(got))
+    assert not tree_is_stale(mat) and np.all(np.isfinite(got))
     want = core_of(mat, scene)          # shape and dark: the bright image is gone
     assert float(np.abs(got - want)[1:-1, 1:-1].max()) <= 2e-3
     assert np.abs(got - full).max() > 0.05
     # the shape image deleted: reported in one line, the render does not fail
     bpy.data.images.remove(s.image_shape)
     render_cycles(scene, plane, tmp_path / "no_shape.exr")
-    assert any("no shape image" in m for _, m in handlers.LAST_ERRORS), handlers.LAST_ERRORS
-    assert M.problems(mat) == ["it has no shape image (deleted?): open one under Images"]
-    handlers.LAST_ERRORS.clear()
+    assert any("no shape image" in m for _, m in status.LAST_ERRORS), status.LAST_ERRORS
+    assert problems(mat) == ["it has no shape image (deleted?): open one under Images"]
+    status.LAST_ERRORS.clear()
     # the plane deleted: the painting is skipped, nothing raises
     bpy.data.objects.remove(plane)
     scene.frame_set(3)
     render_cycles(scene, None, tmp_path / "no_plane.exr")
-    assert M.problems(mat)[0].startswith("its plane was deleted")
+    assert problems(mat)[0].startswith("its plane was deleted")
 
 
 def test_image_file_gone_from_disk_is_reported(files, tmp_path, empty_scene):
@@ -270,7 +274,7 @@ def test_image_file_gone_from_disk_is_reported(files, tmp_path, empty_scene):
                                 {"name": "dark.png"}]) == {"FINISHED"}
     mat = bpy.context.object.active_material
     (folder / "dark.png").unlink()
-    assert M.problems(mat) == [f"the dark image's file is missing: {folder / 'dark.png'} "
+    assert problems(mat) == [f"the dark image's file is missing: {folder / 'dark.png'} "
                                "(File › External Data › Find Missing Files, or open it again)"]
 
 
@@ -351,7 +355,7 @@ def test_a_very_large_painting_is_added_with_bounded_memory_and_says_so(tmp_path
 
 def test_no_camera_faces_the_view_and_says_so(files, empty_scene):
     assert empty_scene.camera is None
-    plane, mat, messages = S.create_painting(
+    plane, mat, messages = create_painting(
         bpy.context, {"shape": str(files / "height.png"), "dark": str(files / "dark.png")},
         params_for("height"))
     assert "no camera in the scene: the painting faces the view; add a camera and use " \

@@ -6,6 +6,7 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from dynpaint_addon.blender import compositor, headless  # noqa: E402
+from dynpaint_addon.blender.scene import output_settings  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.imageio import read_image  # noqa: E402
 from dynpaint_addon.recipe import load_images  # noqa: E402
@@ -74,7 +75,7 @@ def test_operator_adds_a_wired_group_for_the_active_painting(tmp_path):
     scene.render.resolution_x, scene.render.resolution_y = 40, 30
     scene.view_settings.view_transform = "Standard"
     from dynpaint_addon.blender import scene as S
-    S.output_settings(scene, str(tmp_path / "op.exr"))
+    output_settings(scene, str(tmp_path / "op.exr"))
     bpy.ops.render.render(write_still=True)
     got = read_image(str(tmp_path / "op.exr")).pixels
     mat = bpy.context.object.active_material

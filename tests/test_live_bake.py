@@ -6,8 +6,10 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from dynpaint_addon import blender  # noqa: E402
-from dynpaint_addon.blender import live_bake, material as M  # noqa: E402
-from dynpaint_addon.blender.properties import settings_to_params  # noqa: E402
+from dynpaint_addon.blender import live_bake, shadow_images  # noqa: E402
+from dynpaint_addon.blender.shadow_images import light_bakes, light_key, stale_lights  # noqa: E402
+from dynpaint_addon.blender.lights import painting_frame_light  # noqa: E402
+from dynpaint_addon.blender.settings import settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import shadow_term, shape_normals  # noqa: E402
 from dynpaint_addon.imageio import image_data_from_blender  # noqa: E402
 
@@ -37,7 +39,7 @@ def expected(mat, quality):
     if quality != "final":
         p.shadows.quality = quality
     shape = shape_normals(image_data_from_blender(s.image_shape), p)
-    light = M.painting_frame_light(s.lights[0].object, s.plane.matrix_world)
+    light = painting_frame_light(s.lights[0].object, s.plane.matrix_world)
     return shadow_term(*shape, light, p)
 
 
@@ -47,12 +49,13 @@ def test_preview_then_final_once_still(painting):
     sun.rotation_mode = "XYZ"
     sun.rotation_euler = (0.9, 0.3, 2.0)
     bpy.context.view_layer.update()
-    assert live_bake.lights_moved(painting)
+    assert stale_lights(painting)
     live.request(painting, bpy.context.scene)
     assert live.wait() == 1
     item = painting.dynamic_painting.lights[0]
     assert np.abs(shadow_pixels(item) - expected(painting, "preview")).max() < 1e-6
-    assert not live_bake.lights_moved(painting)
+    # the preview is of the light's new place (its final bake is still due)
+    assert all(light_key(light) in item.bake_key for item, light, _ in light_bakes(painting))
     # nothing happens before the light has been still for the debounce time …
     live.tick(now=live.still_since[painting.name] + live_bake.DEBOUNCE_S / 2)
     assert live.wait() == 0
@@ -85,8 +88,8 @@ def test_a_failing_bake_keeps_the_last_good_image(painting, monkeypatch):
     before = shadow_pixels(item).copy()
     key = (painting.dynamic_painting.image_shape.name,
            repr(vars(settings_to_params(painting.dynamic_painting).shape)))
-    monkeypatch.setitem(M._SHAPES, painting.name, (key, (np.full((2, 2, 3), np.nan), None, None)))
-    from dynpaint_addon.blender.handlers import LAST_ERRORS
+    monkeypatch.setitem(shadow_images._SHAPES, painting.name, (key, (np.full((2, 2, 3), np.nan), None, None)))
+    from dynpaint_addon.blender.status import LAST_ERRORS
     LAST_ERRORS.clear()
     live.request(painting, bpy.context.scene)
     assert live.wait() == 0

@@ -7,7 +7,10 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon.blender import headless, material as M, scene as S  # noqa: E402
+from dynpaint_addon.blender import headless, status  # noqa: E402
+from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
+from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.blender.sync import batch  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.imageio import read_image  # noqa: E402
 from dynpaint_addon.recipe import load_images  # noqa: E402
@@ -43,10 +46,10 @@ def test_keyframed_lights_in_one_animation_render(name, paths, tmp_path):
     recipe = make_recipe(name, paths)
     plane, mat = headless.build_recipe_scene(recipe)
     scene = bpy.context.scene
-    lights = M.linked_lights(mat, scene)
+    lights = linked_lights(mat, scene)
     keyframe_lights(lights)
-    S.exact_render_settings(scene, "cycles")
-    S.output_settings(scene, str(tmp_path / "f.exr"))
+    exact_render_settings(scene, "cycles")
+    output_settings(scene, str(tmp_path / "f.exr"))
     scene.render.filepath = str(tmp_path / "f_####")
     scene.frame_start, scene.frame_end = 1, 20
     scene.frame_set(5)          # the render must not depend on where the timeline was
@@ -54,7 +57,7 @@ def test_keyframed_lights_in_one_animation_render(name, paths, tmp_path):
     images = load_images(recipe)
     for frame in FRAMES:
         scene.frame_set(frame)
-        core_lights = [M.painting_frame_light(o, plane.matrix_world) for o in lights]
+        core_lights = [painting_frame_light(o, plane.matrix_world) for o in lights]
         want = core_render(images, core_lights, recipe.params).rgba
         got = read_image(str(tmp_path / f"f_{frame:04d}.exr")).pixels
         err = float(np.abs(got - want)[1:-1, 1:-1].max())
@@ -73,7 +76,7 @@ def test_per_frame_bake_depends_only_on_the_frame(paths, tmp_path):
     def scene_at(frames):
         recipe = make_recipe("shadows_height", paths)
         plane, mat = headless.build_recipe_scene(recipe)
-        keyframe_lights(M.linked_lights(mat, bpy.context.scene))
+        keyframe_lights(linked_lights(mat, bpy.context.scene))
         for f in frames:
             bpy.context.scene.frame_set(f)
         return image_data_from_blender(mat.dynamic_painting.lights[0].shadow).pixels.copy()
@@ -89,10 +92,10 @@ def test_animation_frame_equals_a_single_frame_render(paths, tmp_path):
     def build():
         recipe = make_recipe("shadows_normal_point", paths)
         plane, mat = headless.build_recipe_scene(recipe)
-        keyframe_lights(M.linked_lights(mat, bpy.context.scene))
+        keyframe_lights(linked_lights(mat, bpy.context.scene))
         scene = bpy.context.scene
-        S.exact_render_settings(scene, "cycles")
-        S.output_settings(scene, str(tmp_path / "x.exr"))
+        exact_render_settings(scene, "cycles")
+        output_settings(scene, str(tmp_path / "x.exr"))
         return scene
     scene = build()
     scene.render.filepath = str(tmp_path / "anim_####")
@@ -112,15 +115,15 @@ def test_a_failing_frame_bake_keeps_the_image_and_never_raises(paths):
     from dynpaint_addon.imageio import image_data_from_blender
     recipe = make_recipe("shadows_height", paths)
     plane, mat = headless.build_recipe_scene(recipe)
-    lights = M.linked_lights(mat, bpy.context.scene)
+    lights = linked_lights(mat, bpy.context.scene)
     keyframe_lights(lights)
     before = image_data_from_blender(mat.dynamic_painting.lights[0].shadow).pixels.copy()
-    handlers.LAST_ERRORS.clear()
-    with M.batch():                              # no refresh: the next bake meets it
+    status.LAST_ERRORS.clear()
+    with batch():                              # no refresh: the next bake meets it
         mat.dynamic_painting.image_shape = None   # the shape image is gone
     bpy.context.scene.frame_set(10)               # must not raise
     after = image_data_from_blender(mat.dynamic_painting.lights[0].shadow).pixels
     assert np.array_equal(before, after)
-    assert [name for name, _ in handlers.LAST_ERRORS] == [mat.name]
-    assert "no shape image" in handlers.LAST_ERRORS[0][1]
-    handlers.LAST_ERRORS.clear()
+    assert [name for name, _ in status.LAST_ERRORS] == [mat.name]
+    assert "no shape image" in status.LAST_ERRORS[0][1]
+    status.LAST_ERRORS.clear()

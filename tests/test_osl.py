@@ -5,7 +5,8 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon.blender import headless, scene as S  # noqa: E402
+from dynpaint_addon.blender import headless  # noqa: E402
+from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render, shape_normals  # noqa: E402
 from dynpaint_addon.core.shadow import cos_theta_shadow  # noqa: E402
@@ -28,8 +29,8 @@ def render_osl(recipe, out):
     recipe.params.shadows.source = "osl"
     plane, mat = headless.build_recipe_scene(recipe)
     scene = bpy.context.scene
-    S.exact_render_settings(scene, "cycles")
-    S.output_settings(scene, str(out))
+    exact_render_settings(scene, "cycles")
+    output_settings(scene, str(out))
     bpy.ops.render.render(write_still=True)
     return mat, read_image(str(out)).pixels
 
@@ -63,8 +64,8 @@ def test_in_shader_march_matches_reference_bake(shape, light, paths, tmp_path):
     to_colour = script.outputs["Color"].links[0].to_socket     # (via the straight-alpha divide)
     tree.links.new(script.outputs["Pass_W"], to_colour)             # W = t with this recipe
     scene = bpy.context.scene
-    S.exact_render_settings(scene, "cycles")
-    S.output_settings(scene, str(tmp_path / "t.exr"))
+    exact_render_settings(scene, "cycles")
+    output_settings(scene, str(tmp_path / "t.exr"))
     bpy.ops.render.render(write_still=True)
     got = read_image(str(tmp_path / "t.exr")).pixels[..., 0]
     n, z, slopes = shape_normals(load_images(recipe)["shape"], recipe.params, np.float64)

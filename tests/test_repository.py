@@ -103,7 +103,7 @@ print("AFTER", ours(), len(mat.node_tree.animation_data.drivers) == drivers,
       set(bpy.app.driver_namespace) == namespace, mat.dynamic_painting.is_painting,
       all(d.is_valid for d in mat.node_tree.animation_data.drivers))
 bpy.context.scene.frame_set(5)
-print("ERRORS", [e for e in sys.modules[MOD + ".dynpaint_addon.blender.handlers"].LAST_ERRORS])
+print("ERRORS", [e for e in sys.modules[MOD + ".dynpaint_addon.blender.status"].LAST_ERRORS])
 """
 
 

@@ -10,7 +10,10 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon.blender import headless, material as M, scene as S  # noqa: E402
+from dynpaint_addon.blender import headless  # noqa: E402
+from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
+from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.blender.turntable import add_light_turntable, light_at  # noqa: E402
 from dynpaint_addon.blender import turntable as T  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
@@ -119,7 +122,7 @@ class MenuLayout:
 
 
 def test_add_menu_lists_the_samples_and_one_click_adds_each(empty_scene):
-    from dynpaint_addon.blender.operators import draw_add_menu
+    from dynpaint_addon.blender.operators.add import draw_add_menu
     layout = MenuLayout()
     draw_add_menu(layout)
     assert layout.ops[0][0] == "dynpaint.add"
@@ -142,7 +145,7 @@ def test_add_menu_lists_the_samples_and_one_click_adds_each(empty_scene):
 # -- turntables -------------------------------------------------------------------------------
 def _painting_light(mat, name):
     obj = bpy.data.objects[name]
-    return M.painting_frame_light(obj, mat.dynamic_painting.plane.matrix_world)
+    return painting_frame_light(obj, mat.dynamic_painting.plane.matrix_world)
 
 
 def test_turntable_orbits_in_the_painting_frame_and_loops_seamlessly(empty_scene, tmp_path):
@@ -162,7 +165,7 @@ def test_turntable_orbits_in_the_painting_frame_and_loops_seamlessly(empty_scene
     for frame in (5, 8, 16, 17, 0, 40):                # 17 = 5 again; beyond the range: cyclic
         scene.frame_set(frame)
         got = np.array(_painting_light(mat, "Key").vector)
-        want = np.array(T.light_at(frame, 5, 16, elev, start, clockwise=True))
+        want = np.array(light_at(frame, 5, 16, elev, start, clockwise=True))
         assert np.abs(got - want).max() < 1e-5, (frame, got, want)
     scene.frame_set(5)
     a = np.array(_painting_light(mat, "Key").vector)
@@ -177,7 +180,7 @@ def test_turntable_orbits_in_the_painting_frame_and_loops_seamlessly(empty_scene
     scene.frame_set(7)
     point = next(n for n in names if n.startswith("Turntable Point"))
     got = np.array(_painting_light(mat, point).vector)
-    assert np.abs(got - T.light_at(7, 1, 24, 0.5, 0.0, radius=0.8)).max() < 1e-5
+    assert np.abs(got - light_at(7, 1, 24, 0.5, 0.0, radius=0.8)).max() < 1e-5
 
 
 def test_turntable_rejects_bad_ranges(empty_scene):
@@ -194,19 +197,19 @@ def test_turntable_frames_render_as_the_core_renders_their_lights(tmp_path):
     recipe = make_recipe("shadows_height", paths)
     plane, mat = headless.build_recipe_scene(recipe)
     scene = bpy.context.scene
-    key = M.linked_lights(mat, scene)[0]
+    key = linked_lights(mat, scene)[0]
     elev, start = math.radians(40), math.radians(200)
-    T.add_light_turntable(bpy.context, mat, key, "SUN", 1, 6, elev, 1.0, start)
-    S.exact_render_settings(scene, "cycles")
-    S.output_settings(scene, str(tmp_path / "f.exr"))
+    add_light_turntable(bpy.context, mat, key, "SUN", 1, 6, elev, 1.0, start)
+    exact_render_settings(scene, "cycles")
+    output_settings(scene, str(tmp_path / "f.exr"))
     scene.render.filepath = str(tmp_path / "f_####")
     bpy.ops.render.render(animation=True)
     images = load_images(recipe)
-    others = [M.painting_frame_light(o, plane.matrix_world)
-              for o in M.linked_lights(mat, scene) if o != key]
+    others = [painting_frame_light(o, plane.matrix_world)
+              for o in linked_lights(mat, scene) if o != key]
     frames = []
     for frame in (1, 3, 6):
-        sun = Light("sun", T.light_at(frame, 1, 6, elev, start), tuple(key.data.color),
+        sun = Light("sun", light_at(frame, 1, 6, elev, start), tuple(key.data.color),
                     key.data.energy, key.name)
         lights = sorted([sun] + others, key=lambda lt: lt.name)
         want = core_render(images, lights, recipe.params).rgba

@@ -22,7 +22,10 @@ import os, sys
 sys.path.insert(0, {REPO!r})
 import bpy
 from dynpaint_addon import blender
-from dynpaint_addon.blender import handlers, headless, material as M, scene as S, turntable as T
+from dynpaint_addon.blender import handlers, headless, status
+from dynpaint_addon.blender.lights import linked_lights, painting_frame_light
+from dynpaint_addon.blender.scene import exact_render_settings, output_settings
+from dynpaint_addon.blender.turntable import add_light_turntable
 blender.register_once()
 """
 
@@ -37,13 +40,13 @@ recipe.lights.append(Light("point", (-0.3, -0.2, 0.3), (0.6, 0.7, 1.0), 0.5, "Fi
 plane, mat = headless.build_recipe_scene(recipe)
 scene = bpy.context.scene
 sun = bpy.data.objects["Sun"]
-T.add_light_turntable(bpy.context, mat, sun, "SUN", 1, 6, 0.6, 1.0, 2.0)
+add_light_turntable(bpy.context, mat, sun, "SUN", 1, 6, 0.6, 1.0, 2.0)
 fill = bpy.data.objects["Fill"]
 for frame, x in ((1, -0.3), (6, 0.35)):              # a keyframed point light too
     fill.location.x = x
     fill.keyframe_insert("location", index=0, frame=frame)
-S.exact_render_settings(scene, "cycles")
-S.output_settings(scene, os.path.join(out, "x.exr"))
+exact_render_settings(scene, "cycles")
+output_settings(scene, os.path.join(out, "x.exr"))
 scene.render.filepath = os.path.join(out, "seq_####")
 bpy.ops.render.render(animation=True)               # the sequential render, frames 1..6
 scene.frame_set(3)
@@ -64,13 +67,13 @@ mat = next(m for m in bpy.data.materials if m.dynamic_painting.is_painting)
 drivers = mat.node_tree.animation_data.drivers
 assert all(d.is_valid and d.driver.is_valid for d in drivers), "a driver broke"
 assert scene.frame_current == 3
-S.exact_render_settings(scene, "cycles")       # preferences are not in the file
+exact_render_settings(scene, "cycles")       # preferences are not in the file
 scene.render.filepath = os.path.join(out, tag + "_still.exr")
 bpy.ops.render.render(write_still=True)
 scene.frame_start, scene.frame_end = 4, 6       # a farm's chunk, nothing rendered before it
 scene.render.filepath = os.path.join(out, tag + "_####")
 bpy.ops.render.render(animation=True)
-print("REOPENED", len(drivers), bpy.app.autoexec_fail, handlers.LAST_ERRORS)
+print("REOPENED", len(drivers), bpy.app.autoexec_fail, status.LAST_ERRORS)
 """
 
 
@@ -146,25 +149,25 @@ def test_without_the_load_handler_a_reopened_file_would_be_wrong(authored):
 
 OLD = PRELUDE + """
 import numpy as np
-from dynpaint_addon.blender.properties import settings_to_params
+from dynpaint_addon.blender.settings import settings_to_params
 from dynpaint_addon.core.pipeline import render as core_render
 from dynpaint_addon.imageio import image_data_from_blender, read_image
 bpy.ops.wm.open_mainfile(filepath=sys.argv[1])
 scene = bpy.context.scene
 mat = next(m for m in bpy.data.materials if m.dynamic_painting.is_painting)
 s = mat.dynamic_painting
-S.exact_render_settings(scene, "cycles")
+exact_render_settings(scene, "cycles")
 worst = 0.0
 for frame in (4, 7):
     scene.frame_set(frame)
-    S.output_settings(scene, os.path.join(sys.argv[2], f"old_{frame}.exr"))
+    output_settings(scene, os.path.join(sys.argv[2], f"old_{frame}.exr"))
     bpy.ops.render.render(write_still=True)
     got = read_image(scene.render.filepath).pixels
     images = {c: image_data_from_blender(getattr(s, "image_" + c)) for c in ("shape", "dark", "bright")}
-    lights = [M.painting_frame_light(o, s.plane.matrix_world) for o in M.linked_lights(mat, scene)]
+    lights = [painting_frame_light(o, s.plane.matrix_world) for o in linked_lights(mat, scene)]
     want = core_render(images, lights, settings_to_params(s)).rgba
     worst = max(worst, float(np.abs(got - want)[1:-1, 1:-1].max()))
-print("OLD", worst, handlers.LAST_ERRORS)
+print("OLD", worst, status.LAST_ERRORS)
 """
 
 

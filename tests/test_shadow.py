@@ -256,7 +256,7 @@ def test_banded_march_equals_one_band_and_bounds_its_memory(monkeypatch):
     """The march runs in bands of rows (shadow.BAND_PIXELS): bit-identical to one band, with a
     peak of extra memory that follows the band, not the image."""
     import tracemalloc
-    from dynpaint_addon.core import shadow as S
+    from dynpaint_addon.core import shadow
     rng = np.random.default_rng(5)
     h, w = 256, 384
     y, x = np.mgrid[0:h, 0:w]
@@ -266,10 +266,10 @@ def test_banded_march_equals_one_band_and_bounds_its_memory(monkeypatch):
     out = {}
     for light in (Light("sun", (0.6, 0.2, 0.4)), Light("point", (0.3, -0.2, 0.25))):
         for band in (1 << 20, 3000):
-            monkeypatch.setattr(S, "BAND_PIXELS", band)
+            monkeypatch.setattr(shadow, "BAND_PIXELS", band)
             calls = []
             tracemalloc.start()
-            t = S.cos_theta_shadow(n, light, 0.01, 32, heights_px=z, progress=calls.append)
+            t = shadow.cos_theta_shadow(n, light, 0.01, 32, heights_px=z, progress=calls.append)
             peak = tracemalloc.get_traced_memory()[1]
             tracemalloc.stop()
             out[band] = (t, peak)

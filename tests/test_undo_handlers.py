@@ -10,8 +10,11 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon.blender import handlers, headless, material as M, scene as S  # noqa: E402
-from dynpaint_addon.blender.properties import settings_to_params  # noqa: E402
+from dynpaint_addon.blender import handlers, headless, status  # noqa: E402
+from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
+from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.blender.shadow_images import bake_shape  # noqa: E402
+from dynpaint_addon.blender.settings import settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import shadow_term  # noqa: E402
 from dynpaint_addon.imageio import image_data_from_blender  # noqa: E402
 
@@ -30,9 +33,9 @@ def consistent(mat, scene, tmp_path, tag):
     s = mat.dynamic_painting
     p = settings_to_params(s)
     plane = s.plane
-    n, z, slopes = M.bake_shape(mat, p, fresh=True)
+    n, z, slopes = bake_shape(mat, p, fresh=True)
     for item in s.lights:
-        light = M.painting_frame_light(item.object, plane.matrix_world)
+        light = painting_frame_light(item.object, plane.matrix_world)
         fresh = shadow_term(n, z, slopes, light, p)
         got = image_data_from_blender(item.shadow).pixels[..., 0]
         assert np.array_equal(got, fresh), f"{tag}: {item.object.name}'s shadow image is stale"
@@ -40,17 +43,17 @@ def consistent(mat, scene, tmp_path, tag):
     want = core_of(mat, scene)
     err = float(np.abs(got - want)[1:-1, 1:-1].max())
     assert err <= 1e-4, f"{tag}: Cycles is {err:.2e} from the core"
-    return p.shadows.offset, M.painting_frame_light(s.lights[0].object, plane.matrix_world).vector
+    return p.shadows.offset, painting_frame_light(s.lights[0].object, plane.matrix_world).vector
 
 
 def test_undo_and_redo_of_a_light_move_and_a_parameter_change(paths, tmp_path):
     recipe = make_recipe("shadows_height", paths)
     plane, mat = headless.build_recipe_scene(recipe)
     scene = bpy.context.scene
-    S.exact_render_settings(scene, "cycles")
-    sun = M.linked_lights(mat, scene)[0]
+    exact_render_settings(scene, "cycles")
+    sun = linked_lights(mat, scene)[0]
     bpy.context.view_layer.objects.active = plane
-    handlers.LAST_ERRORS.clear()
+    status.LAST_ERRORS.clear()
     bpy.ops.ed.undo_push(message="painting")
     start = consistent(mat, scene, tmp_path, "start")
 
@@ -78,7 +81,7 @@ def test_undo_and_redo_of_a_light_move_and_a_parameter_change(paths, tmp_path):
     bpy.ops.ed.redo()                                 # light moved again
     again = consistent(*current(), tmp_path, "redo")
     assert np.allclose(again[1], moved[1], atol=1e-6)
-    assert handlers.LAST_ERRORS == []
+    assert status.LAST_ERRORS == []
 
 
 def test_a_bake_failing_inside_an_animation_render_never_reaches_the_render_loop(
@@ -86,7 +89,7 @@ def test_a_bake_failing_inside_an_animation_render_never_reaches_the_render_loop
     recipe = make_recipe("shadows_height", paths)
     plane, mat = headless.build_recipe_scene(recipe)
     scene = bpy.context.scene
-    sun = M.linked_lights(mat, scene)[0]
+    sun = linked_lights(mat, scene)[0]
     sun.rotation_mode = "XYZ"
     for frame, z in ((1, 0.0), (3, 1.5)):
         sun.rotation_euler = (0.6, 0.2, z)
@@ -96,10 +99,10 @@ def test_a_bake_failing_inside_an_animation_render_never_reaches_the_render_loop
 
     def broken(*args, **kwargs):
         raise RuntimeError("the bake broke (test)")
-    monkeypatch.setattr(M, "bake_shadows", broken)
-    handlers.LAST_ERRORS.clear()
-    S.exact_render_settings(scene, "cycles")
-    S.output_settings(scene, str(tmp_path / "x.exr"))
+    monkeypatch.setattr(handlers, "bake_shadows", broken)   # what the handler calls
+    status.LAST_ERRORS.clear()
+    exact_render_settings(scene, "cycles")
+    output_settings(scene, str(tmp_path / "x.exr"))
     scene.render.filepath = str(tmp_path / "f_####")
     scene.frame_start, scene.frame_end = 1, 3
     bpy.ops.render.render(animation=True)             # must finish: three frames written
@@ -107,5 +110,5 @@ def test_a_bake_failing_inside_an_animation_render_never_reaches_the_render_loop
         assert (tmp_path / f"f_{frame:04d}.exr").exists()
     after = image_data_from_blender(mat.dynamic_painting.lights[0].shadow).pixels
     assert np.array_equal(good, after)                # the last good image is kept
-    assert handlers.LAST_ERRORS and all("the bake broke" in m for _, m in handlers.LAST_ERRORS)
-    handlers.LAST_ERRORS.clear()
+    assert status.LAST_ERRORS and all("the bake broke" in m for _, m in status.LAST_ERRORS)
+    status.LAST_ERRORS.clear()

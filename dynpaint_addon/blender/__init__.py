@@ -1,29 +1,32 @@
 """Blender glue: properties, operators, panels and handlers (everything that imports bpy
-besides the node-graph builders). `register()` is called by the extension's root __init__."""
-_registered = [False]
+besides the node-graph builders). `register()` is called by the extension's root __init__.
 
+Imports run one way, from what Blender calls down to the helpers:
 
-def _modules():
-    from . import handlers, operators, panels, properties
-    return (properties, operators, panels, handlers)
+    properties, operators/, panels, handlers      (registered with Blender)
+      → sync (keep a painting current), scene, turntable, compositor, headless
+        → tree, osl, live_bake, shadow_images, images, lights, status, settings
+          → nodegraph/ → core/
+"""
+import bpy
+
+from . import handlers, live_bake, operators, panels, properties
+
+_MODULES = (properties, operators, panels, handlers)
 
 
 def register():
-    for module in _modules():
+    for module in _MODULES:
         module.register()
-    _registered[0] = True
 
 
 def unregister():
-    from . import live_bake
     live_bake.shutdown()
-    for module in reversed(_modules()):
+    for module in reversed(_MODULES):
         module.unregister()
-    _registered[0] = False
 
 
 def register_once():
     """Register for command-line use (the extension may not be installed)."""
-    import bpy
     if not hasattr(bpy.types.Material, "dynamic_painting"):
         register()

@@ -9,12 +9,19 @@ import numpy as np
 
 import bpy
 
+from .. import params as P
 from ..core.pipeline import shadow_term, shape_normals
-from ..imageio import write_exr
+from ..imageio import read_image, write_exr
 from ..nodegraph import build_bpy
-from ..nodegraph.compositor_backend import CompositorBackend, input_name
-from ..nodegraph.pipeline_graph import Features, describe
-from . import material as M
+from ..nodegraph.compositor_backend import INPUT_OF, CompositorBackend, input_name
+from ..nodegraph.derived_inputs import Source, derived_inputs, make_derived
+from ..nodegraph.features import Features
+from ..nodegraph.pipeline_graph import describe
+from ..recipe import Recipe
+from .images import bits_of, has_alpha, prepare_channel_image
+from .lights import painting_lights
+from .scene import output_settings
+from .settings import channel_images, settings_to_params
 
 GROUP_NAME = "Dynamic Painting"
 
@@ -30,7 +37,7 @@ def build_group(features, name=GROUP_NAME):
 
 def recipe_features(recipe, images):
     """Features of a recipe whose images are loaded ({channel: bpy Image})."""
-    alpha = {c for c, img in images.items() if M.has_alpha(img)}
+    alpha = {c for c, img in images.items() if has_alpha(img)}
     return Features.from_params(recipe.params, images.keys(), [lt.kind for lt in recipe.lights],
                                 tuple(images["shape"].size), alpha,
                                 {c: tuple(img.size) for c, img in images.items()})
@@ -60,36 +67,34 @@ def set_group_inputs(node, recipe, p=None):
                     sock.default_value = 1.0 if value == "auto" else float(value)
 
 
-def _numpy_prepared(recipe, images, folder):
-    """What the material gets from numpy and the compositor group takes as inputs: the §2
-    pre-blurred height map and the §11 blurred environment/background, as float EXRs."""
-    from ..core.pipeline import lookup_copy
-    from ..core.shape import default_preblur_px, preblurred_height
-    from ..imageio import read_image
-    p = recipe.params
-    made = {}
+# The derived images (nodegraph/derived_inputs.py) that replace a group input: the group reads
+# the pre-blurred height through its Shape input (INPUT_OF), and E and B straight (it
+# premultiplies them itself).
+GROUP_DERIVED = ("height", "environment", "background")
 
-    def as_image(channel, rgba):
+
+def _straight(rgba):
+    a = rgba[..., 3:4]
+    return np.concatenate([np.where(a > 0, rgba[..., :3] / np.where(a > 0, a, 1), 0), a], -1)
+
+
+def _numpy_prepared(recipe, features, images, folder):
+    """The derived images the group takes as inputs, as float EXRs → {group channel: image}."""
+    p = recipe.params
+    plan = [d for d in derived_inputs(features, p, {c: Source(img.name, bits_of(img))
+                                                    for c, img in images.items()})
+            if d.channel in GROUP_DERIVED]
+    made, _ = make_derived(plan, lambda c: read_image(recipe.images[c]),
+                           lambda c: "colour" if c != "shape" else p.shape.kind)
+    prepared = {}
+    for channel, rgba in made.items():
         path = os.path.join(folder, f"prepared_{channel}.exr")
-        write_exr(path, rgba)
+        write_exr(path, rgba if channel == "height" else _straight(rgba))
         img = bpy.data.images.load(path, check_existing=False)
         img.colorspace_settings.name = "Non-Color"
         img.alpha_mode = "CHANNEL_PACKED"
-        made[channel] = img
-
-    if p.shape.kind == "height":
-        shape = read_image(recipe.images["shape"])
-        sigma = default_preblur_px(shape.bits) if p.shape.preblur == "auto" else p.shape.preblur
-        if sigma > 0:
-            h = preblurred_height(shape.grey(), float(sigma))
-            a = shape.alpha() if shape.alpha() is not None else np.ones_like(h)
-            as_image("shape", np.stack([h, h, h, a], axis=-1))
-    for channel, sec in (("environment", p.reflection), ("background", p.refraction)):
-        if channel in recipe.images and sec.blur > 0:
-            rgba = lookup_copy(read_image(recipe.images[channel]), sec.blur, sec.extension)
-            a = rgba[..., 3:4]    # straight again: the group premultiplies its E and B
-            as_image(channel, np.concatenate([np.where(a > 0, rgba[..., :3] / np.where(a > 0, a, 1), 0), a], -1))
-    return made
+        prepared[INPUT_OF.get(channel, channel)] = img
+    return prepared
 
 
 def composite_recipe(recipe, out, shadow_folder=None):
@@ -103,10 +108,10 @@ def composite_recipe(recipe, out, shadow_folder=None):
     images = {}
     for channel, path in recipe.images.items():
         img = bpy.data.images.load(os.path.abspath(path), check_existing=True)
-        M.prepare_channel_image(img, channel)
+        prepare_channel_image(img, channel)
         images[channel] = img
-    images.update(_numpy_prepared(recipe, images, folder))
     f = recipe_features(recipe, images)
+    images.update(_numpy_prepared(recipe, f, images, folder))
     group = build_group(f)
     tree = bpy.data.node_groups.new("Composite", "CompositorNodeTree")
     tree.interface.new_socket("Image", in_out="OUTPUT", socket_type="NodeSocketColor")
@@ -119,7 +124,6 @@ def composite_recipe(recipe, out, shadow_folder=None):
         if input_name(channel) in node.inputs:
             tree.links.new(src.outputs["Image"], node.inputs[input_name(channel)])
     if recipe.params.shadows.enabled:
-        from ..imageio import read_image
         n, z, slopes = shape_normals(read_image(recipe.images["shape"]), recipe.params)
         for i, light in enumerate(recipe.lights):
             t = shadow_term(n, z, slopes, light, recipe.params)
@@ -142,7 +146,6 @@ def composite_recipe(recipe, out, shadow_folder=None):
     scene.view_settings.view_transform = "Standard"
     scene.view_settings.look = "None"
     r.dither_intensity = 0.0
-    from .scene import output_settings
     output_settings(scene, out)
     bpy.ops.render.render(write_still=True)
     return out
@@ -150,7 +153,6 @@ def composite_recipe(recipe, out, shadow_folder=None):
 
 def features_for_options(kind, suns, points, shadows, specular, channels, silhouette):
     """Features of a group chosen by hand (the operator's options)."""
-    from .. import params as P
     p = P.defaults()
     p.shape.kind, p.shadows.enabled, p.specular.enabled = kind, shadows, specular
     p.transparency.amount = "auto" if "transparency" in channels else (
@@ -185,13 +187,12 @@ def add_group_node(scene, group):
 
 def wire_painting(scene, node, mat):
     """Feed a group node built for a painting its images, settings and current lights."""
-    from .properties import channel_images, settings_to_params
     s = mat.dynamic_painting
     tree = scene.compositing_node_group
     images = channel_images(s)
     for item in s.derived:        # numpy-prepared copies: height, blurred E/B
-        if item.channel in ("height", "environment", "background") and item.image:
-            images["shape" if item.channel == "height" else item.channel] = item.image
+        if item.channel in GROUP_DERIVED and item.image:
+            images[INPUT_OF.get(item.channel, item.channel)] = item.image
     for i, item in enumerate(s.lights):
         if item.shadow is not None:
             images[f"Light {i + 1} Shadow"] = item.shadow
@@ -202,6 +203,4 @@ def wire_painting(scene, node, mat):
             src.image = img
             src.location = (node.location.x - 300, node.location.y - 120 * k)
             tree.links.new(src.outputs["Image"], node.inputs[name])
-    from ..recipe import Recipe
-    lights = [M.painting_frame_light(o, s.plane.matrix_world) for o in M.linked_lights(mat, scene)]
-    set_group_inputs(node, Recipe(settings_to_params(s), lights))
+    set_group_inputs(node, Recipe(settings_to_params(s), painting_lights(mat, scene)))

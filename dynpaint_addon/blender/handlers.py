@@ -13,15 +13,18 @@
   images numpy made (derived copies, shadow bakes: generated images): they are remade when
   the file opens, so a reopened file renders the same pixels as before it was saved.
 
-A handler never raises into Blender: failures are printed and the painting keeps its last
-good images (material.bake_shadows writes only after a complete bake).
+Each of them calls sync.update, which redoes only what changed. A handler never raises into
+Blender: failures are reported (status.py) and the painting keeps its last good images
+(shadow_images.bake_shadows writes only after a complete bake).
 """
 import bpy
 from bpy.app.handlers import persistent
 
-from . import material as M
-
-LAST_ERRORS = []      # (material name, message), newest last: the panel shows them
+from .live_bake import rendering
+from .shadow_images import bake_shadows, forget_cached_shapes
+from .status import problems, report
+from .sync import invalidate_generated, update
+from .tree import rebuild_tree, tree_is_stale
 
 
 def paintings(scene):
@@ -34,58 +37,37 @@ def paintings(scene):
     return [m for m in found if m.dynamic_painting.plane in in_scene]
 
 
-def report(mat, exc):
-    """Print a painting's problem and keep it for the panel (the newest 20)."""
-    message = f"Dynamic Painting: {mat.name}: {exc}"
-    print(message)
-    LAST_ERRORS.append((mat.name, str(exc)))
-    del LAST_ERRORS[:-20]
-
-
-def _lights_changed(mat, scene):
-    built = [(i.object.name if i.object else None, i.kind) for i in mat.dynamic_painting.lights]
-    return built != [(o.name, o.data.type) for o in M.linked_lights(mat, scene)]
-
-
 WATCHED = (bpy.types.Object, bpy.types.Light, bpy.types.Collection, bpy.types.Scene)
-
-
-def rendering():
-    """Baking must be synchronous: a render is running, or Blender has no UI at all."""
-    return bpy.app.background or bpy.app.is_job_running("RENDER")
 
 
 @persistent
 def on_depsgraph_update(scene, depsgraph):
+    """A light added, deleted, moved or relinked, the plane moved: bring paintings up to date
+    (a moving light bakes live: preview now, final once it stops)."""
     if not any(isinstance(u.id, WATCHED) for u in depsgraph.updates):
         return
-    from .live_bake import LIVE, lights_moved
+    when = "missing" if rendering() else "live"
     for mat in paintings(scene):
         try:
-            if _lights_changed(mat, scene):
-                M.refresh(mat, structure=True, derived=False, shadows=mat.dynamic_painting
-                          .shadows.enabled, scene=scene)
-            elif (mat.dynamic_painting.shadows.enabled and not rendering()
-                  and lights_moved(mat, depsgraph)):
-                LIVE.request(mat, scene, depsgraph)        # preview now, final once still
+            update(mat, scene, depsgraph, bake=when)
         except Exception as exc:     # never into Blender's update loop
             report(mat, exc)
 
 
 @persistent
 def on_frame_change(scene, depsgraph):
+    """Each frame's lights where that frame puts them: baked here in renders (the render waits
+    for its own light positions), live during playback."""
     for mat in paintings(scene):
         sh = mat.dynamic_painting.shadows
         if not sh.enabled or (sh.source == "osl" and scene.render.engine == "CYCLES"
                               and rendering()):
             continue         # Cycles marches in its OSL shader: nothing to bake per frame
         try:
-            if not rendering():      # timeline playback: the live bake keeps the UI free
-                from .live_bake import LIVE, lights_moved
-                if lights_moved(mat, depsgraph):
-                    LIVE.request(mat, scene, depsgraph)
-                continue
-            M.bake_shadows(mat, scene, depsgraph, force=False)
+            if rendering():
+                bake_shadows(mat, scene, depsgraph, force=False)
+            else:
+                update(mat, scene, depsgraph, bake="live")
         except Exception as exc:     # never into the render loop; the last bake stays
             report(mat, exc)
 
@@ -96,11 +78,10 @@ def on_render_pre(scene, *_):
     anything that cannot be mended is reported, once per render, and never raised."""
     for mat in paintings(scene):
         try:
-            if M.tree_is_stale(mat) and mat.dynamic_painting.image_shape is not None:
-                M.refresh(mat, structure=True, derived=True, shadows=False, scene=scene)
-                mat.dynamic_painting.signature = ""
-                M.rebuild_tree(mat, scene, force=True)
-            for problem in M.problems(mat):
+            if tree_is_stale(mat) and mat.dynamic_painting.image_shape is not None:
+                update(mat, scene)
+                rebuild_tree(mat, scene, force=True)
+            for problem in problems(mat):
                 report(mat, problem)
         except Exception as exc:
             report(mat, exc)
@@ -120,7 +101,7 @@ def remake_generated_images(*_):
     """After a file opens, or undo/redo: a .blend keeps no pixels of the images numpy made, and
     undo restores settings, lights and bake keys but not necessarily those pixels. Remake them
     so the painting matches what is loaded."""
-    M.forget_cached_shapes()
+    forget_cached_shapes()
     paintings_ = [m for m in bpy.data.materials if m.dynamic_painting.is_painting]
     if paintings_ and getattr(bpy.context, "view_layer", None) is not None:
         bpy.context.view_layer.update()     # after undo, world matrices are not evaluated yet
@@ -129,8 +110,8 @@ def remake_generated_images(*_):
             scene = scene_of(mat)
             if scene is None:
                 continue        # a painting whose plane is in no scene: nothing to show
-            M.invalidate_generated(mat)
-            M.refresh(mat, structure=False, derived=True, shadows=True, scene=scene)
+            invalidate_generated(mat)
+            update(mat, scene)
         except Exception as exc:     # a broken painting must not stop the file from opening
             report(mat, exc)
 

@@ -3,12 +3,16 @@
 The scene is built exactly as the add-on's Add › Dynamic Painting builds it, then framed by an
 orthographic camera pixel for pixel, so the result can be compared with the numpy core.
 """
+import math
 import os
 import time
 
 import bpy
 
-from . import register_once, scene as S
+from . import register_once
+from .scene import create_painting, exact_camera, exact_render_settings, output_settings
+from . import turntable
+from .lights import linked_lights
 
 
 def build_recipe_scene(recipe, size=1.0):
@@ -16,10 +20,10 @@ def build_recipe_scene(recipe, size=1.0):
     bpy.ops.wm.read_homefile(use_empty=True)
     register_once()
     context = bpy.context
-    plane, mat, _ = S.create_painting(context, recipe.images, recipe.params, recipe.lights,
+    plane, mat, _ = create_painting(context, recipe.images, recipe.params, recipe.lights,
                                       name=recipe.name or "Dynamic Painting", size=size,
                                       default_sun=False)
-    S.exact_camera(context.scene, plane)
+    exact_camera(context.scene, plane)
     context.view_layer.update()
     return plane, mat
 
@@ -28,8 +32,8 @@ def render_recipe(recipe, engine, out, frame=None):
     """Render the recipe's painting to `out` (.exr linear float or .png) → seconds rendering."""
     plane, mat = build_recipe_scene(recipe)
     scene = bpy.context.scene
-    S.exact_render_settings(scene, engine)
-    S.output_settings(scene, out)
+    exact_render_settings(scene, engine)
+    output_settings(scene, out)
     if frame is not None:
         scene.frame_set(frame)
     os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
@@ -54,7 +58,7 @@ def fit_camera(scene, plane, width, height):
 
 def video_render_settings(scene, engine, samples=16):
     """Antialiased, opaque frames for a video (the exact settings, with a normal pixel filter)."""
-    S.exact_render_settings(scene, engine)
+    exact_render_settings(scene, engine)
     scene.cycles.samples = samples
     scene.cycles.filter_width = 1.5
     scene.cycles.pixel_filter_type = "BLACKMAN_HARRIS"
@@ -68,9 +72,7 @@ def video_render_settings(scene, engine, samples=16):
 def turntable_light(recipe, mat, scene, name=None):
     """The light a turntable orbits: the named one, else the recipe's first Sun, else its first
     light → (object or None, elevation, azimuth, radius) from where the recipe puts it."""
-    import math
-    from . import material as M
-    lights = M.linked_lights(mat, scene)
+    lights = linked_lights(mat, scene)
     by_name = {o.name: o for o in lights}
     chosen = None
     if name is not None:
@@ -99,8 +101,6 @@ def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevati
     The recipe's first Sun (or the named light) orbits the painting once over `frames` frames,
     starting where the recipe puts it; every frame bakes its shadows at final quality.
     """
-    import math
-    from . import turntable as T
     plane, mat = build_recipe_scene(recipe)
     scene = bpy.context.scene
     w, h = size or tuple(mat.dynamic_painting.image_shape.size)
@@ -110,10 +110,10 @@ def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevati
     if elevation is not None:
         elev = math.radians(elevation)
     kind = "SUN" if light is None or light.data.type == "SUN" else "POINT"
-    T.add_light_turntable(bpy.context, mat, light, kind, 1, frames, elev, radius, azimuth,
+    turntable.add_light_turntable(bpy.context, mat, light, kind, 1, frames, elev, radius, azimuth,
                           clockwise)
     scene.render.fps = fps
-    T.video_output(scene, out)
+    turntable.video_output(scene, out)
     os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
     start = time.perf_counter()
 

@@ -20,11 +20,17 @@ import bpy
 
 from ..core.pipeline import shadow_term
 from ..core.shadow import BakeCancelled
-from . import material as M
-from .properties import settings_to_params
+from .settings import settings_to_params
+from .shadow_images import bake_shape, light_bakes, write_shadow
+from .status import report
 
 DEBOUNCE_S = 0.3
 TIMER_S = 0.05
+
+
+def rendering():
+    """Baking must be synchronous: a render is running, or Blender has no UI at all."""
+    return bpy.app.background or bpy.app.is_job_running("RENDER")
 
 
 class LiveBake:
@@ -35,25 +41,34 @@ class LiveBake:
         self.threads = []
         self.latencies = []         # (quality, ms from request to updated image)
         self.superseded = 0
+        self.wanted = {}            # material name → the final bake keys of the newest request
 
     # -- main thread --------------------------------------------------------------------
+    def ensure(self, mat, scene, depsgraph=None):
+        """Request a bake unless the newest request was for these very light places and
+        settings (it is in flight, or its final bake is due): asking again on every update
+        would keep superseding it."""
+        keys = [key for item, _, key in light_bakes(mat, depsgraph) if item.shadow is not None]
+        if self.wanted.get(mat.name) != keys:
+            self.request(mat, scene, depsgraph)
+
     def request(self, mat, scene, depsgraph=None, quality="preview"):
         """Start a bake of `mat`'s lights where they are now; supersedes one in flight."""
-        s = mat.dynamic_painting
-        p = settings_to_params(s)
+        p = settings_to_params(mat.dynamic_painting)
+        self.wanted[mat.name] = [key for item, _, key in light_bakes(mat, depsgraph, p)
+                                 if item.shadow is not None]
         if quality != "final":
-            p.shadows.quality = quality
-        plane = s.plane
-        plane_m = (plane.evaluated_get(depsgraph) if depsgraph else plane).matrix_world
-        items = [i for i in s.lights if i.object is not None and i.shadow is not None]
-        lights = [M.painting_frame_light(i.object, plane_m, depsgraph) for i in items]
-        shape = M.bake_shape(mat, p)
+            p.shadows.quality = quality       # its key says so: the final bake is still due
+        bakes = [b for b in light_bakes(mat, depsgraph, p) if b[0].shadow is not None]
+        items = [item for item, _, _ in bakes]
+        lights = [light for _, light, _ in bakes]
+        keys = [key for _, _, key in bakes]
+        shape = bake_shape(mat, p)
         name = mat.name
         gen = self.generation.get(name, 0) + 1
         self.generation[name] = gen
         if quality != "final":
             self.still_since[name] = time.perf_counter()
-        keys = [M.bake_key(light, p, s) for light in lights]
         job = (name, gen, quality, [i.object.name for i in items], lights, keys, shape, p,
                time.perf_counter())
         thread = threading.Thread(target=self._run, args=job, daemon=True)
@@ -77,8 +92,7 @@ class LiveBake:
             for item in mat.dynamic_painting.lights:
                 if item.object is not None and item.object.name in names:
                     k = names.index(item.object.name)
-                    M.float_image(item.shadow.name, M.grey_rgba(results[k]))
-                    item.bake_key = keys[k]
+                    write_shadow(mat, item, results[k], keys[k])
             self.latencies.append((quality, (time.perf_counter() - t_request) * 1000))
             del self.latencies[:-50]
             applied += 1
@@ -111,9 +125,7 @@ class LiveBake:
             self.superseded += 1
             return
         except Exception as exc:        # keep the last good image; the panel says why
-            from .handlers import LAST_ERRORS
-            print(f"Dynamic Painting: {name}: live bake failed: {exc}")
-            LAST_ERRORS.append((name, f"live bake failed, the last good shadows are kept: {exc}"))
+            report(name, f"live bake failed, the last good shadows are kept: {exc}")
             return
         self.results.put((name, gen, quality, names, keys, [np.asarray(r) for r in results],
                           t_request))
@@ -129,22 +141,6 @@ def _tick():
         print(f"Dynamic Painting: live bake: {exc}")
         busy = False
     return TIMER_S if busy else None
-
-
-def lights_moved(mat, depsgraph=None):
-    """True if a light or the plane moved since the images were baked."""
-    s = mat.dynamic_painting
-    plane = s.plane
-    if plane is None:
-        return False
-    m = (plane.evaluated_get(depsgraph) if depsgraph else plane).matrix_world
-    for item in s.lights:
-        if item.object is None or item.shadow is None:
-            continue
-        light = M.painting_frame_light(item.object, m, depsgraph)
-        if M.light_key(light) not in item.bake_key:
-            return True
-    return False
 
 
 def shutdown():

@@ -13,12 +13,16 @@ import numpy as np
 
 import bpy
 
+from .. import params as P
 from ..core.shape import slopes_from_normals
 from ..imageio import write_exr
 from ..nodegraph import osl_codegen
 from ..nodegraph.pipeline_graph import describe
 from ..nodegraph.shader_backend import (SETTINGS, ShaderBackend, drive_location, drive_property,
                                         drive_sun_direction, light_strength_expression)
+from .images import has_alpha
+from .settings import settings_to_params
+from .shadow_images import bake_shape
 
 TEXT_PREFIX = "DP OSL "
 
@@ -43,7 +47,6 @@ def cache_folder():
 
 def image_file(img, name):
     """A file OSL can read holding `img`'s pixels → (path, srgb: decode sRGB in the shader)."""
-    from .material import has_alpha
     srgb_codes = img.colorspace_settings.name == "sRGB"     # the file holds sRGB codes
     src = bpy.path.abspath(img.filepath) if img.filepath else ""
     # OIIO premultiplies the colour of files with straight alpha (PNG) as it reads them; the
@@ -108,13 +111,14 @@ def build_osl_tree(mat, features, images, lights, march):
     return script
 
 
+# the shader's parameter name (osl_codegen.Program.param) → the settings it is driven by
+PARAM_OF_INPUT = {osl_codegen.ident(param.path): param for param in P.PARAMS}
+
+
 def _param_path(name):
     """'diffuse_t0' → ('diffuse', 't0'): the settings path of a generated parameter."""
-    from .. import params as P
-    for param in P.PARAMS:
-        if f"{param.section}_{param.key}" == name:
-            return param.section, param.key
-    raise KeyError(name)
+    param = PARAM_OF_INPUT[name]
+    return param.section, param.key
 
 
 def _drive_vector(script, sock, obj, kind):
@@ -131,9 +135,7 @@ def _drive_vector(script, sock, obj, kind):
 def _set_relief_bounds(mat, script, features):
     """The march's global bounds: highest relief (height maps) or steepest slope (normal
     maps), from the numpy copy the material also uses."""
-    from . import material as M
-    from .properties import settings_to_params
-    n, z_px, slopes = M.bake_shape(mat, settings_to_params(mat.dynamic_painting))
+    n, z_px, slopes = bake_shape(mat, settings_to_params(mat.dynamic_painting))
     if "relief_max" in script.inputs:
         script.inputs["relief_max"].default_value = float(z_px.max()) / features.size[0] \
             if z_px is not None else 0.0

@@ -1,30 +1,18 @@
 """The Dynamic Painting panel, in Material Properties and in the 3D viewport's sidebar (N).
 
-Sub-panels follow how an artist thinks about a painting: Images, Shape, Light & Style,
-Shadows, Highlights, Reflection & Refraction, Fresnel, Transparency, Lights. The same draw
-functions serve both places; the classes are generated once per place.
+Sub-panels follow how an artist thinks about a painting: Images, Lights, then one per entry of
+params.PANELS (Shape, Light & Style, Shadows, …), each showing the parameters of its
+sections (a parameter's `header` toggle in the panel's header, `shown_if` only when it
+applies). The same draw functions serve both places; the classes are generated once per place.
 """
 import bpy
 
 from .. import params as P
-from . import handlers
+from ..looks import LOOKS
 from .live_bake import LIVE
-from .operators import LOOKS, active_painting
-
-SECTION_PANELS = (
-    # (id, label, [(section, keys or None for all)], header toggle "section.key" or None)
-    ("shape", "Shape", [("shape", None)], None),
-    ("style", "Light & Style", [("diffuse", None)], None),
-    ("shadows", "Shadows", [("shadows", ("source", "quality", "offset", "steps", "resolution",
-                                         "occupancy"))],
-     "shadows.enabled"),
-    ("highlights", "Highlights", [("specular", ("s0", "s1", "curve", "amount"))], "specular.enabled"),
-    ("warps", "Reflection & Refraction", [("reflection", None), ("refraction", None)], None),
-    ("fresnel", "Fresnel", [("fresnel", None)], None),
-    ("transparency", "Transparency", [("transparency", None), ("silhouette", None)], None),
-)
-HEIGHT_ONLY = {"height_scale", "preblur"}
-NORMAL_ONLY = {"flip_green"}
+from .operators.add import draw_add_menu
+from .operators.common import active_painting
+from .status import errors_of, problems
 
 
 def _draw_param(layout, group, param):
@@ -39,19 +27,23 @@ def _draw_param(layout, group, param):
         layout.prop(group, param.key)
 
 
-def _draw_section(layout, s, section, keys):
+def _shown(s, param):
+    if param.header:
+        return False
+    if param.shown_if:
+        section, key = param.shown_if[0].split(".")
+        return getattr(getattr(s, section), key) == param.shown_if[1]
+    return True
+
+
+def _draw_section(layout, s, section):
     group = getattr(s, section)
     col = layout.column()
     col.use_property_split = True
     col.use_property_decorate = True
-    kind = s.shape.kind
     for param in P.PARAMS:
-        if param.section != section or (keys is not None and param.key not in keys):
-            continue
-        if section == "shape" and (param.key in HEIGHT_ONLY and kind != "height"
-                                   or param.key in NORMAL_ONLY and kind != "normal"):
-            continue
-        _draw_param(col, group, param)
+        if param.section == section and _shown(s, param):
+            _draw_param(col, group, param)
     if section == "diffuse":
         row = layout.row(align=True)
         for key in ("CLASSIC", "GOOCH", "CARTOON"):
@@ -129,10 +121,9 @@ def _make_panels(space, region, context_name, category, prefix):
         if s.shadows.enabled and LIVE.latencies:
             quality, ms = LIVE.latencies[-1]
             layout.label(text=f"Last live bake: {quality}, {ms:.0f} ms", icon="TIME")
-        from .material import problems
         for problem in problems(mat):
             layout.label(text=problem, icon="ERROR")
-        errors = [m for name, m in handlers.LAST_ERRORS if name == mat.name]
+        errors = errors_of(mat)
         if errors:
             layout.label(text=errors[-1], icon="ERROR")
 
@@ -155,7 +146,8 @@ def _make_panels(space, region, context_name, category, prefix):
         self.layout, active_painting(context).dynamic_painting))
     sub("lights", "Lights", lambda self, context: _draw_lights(
         self.layout, context, active_painting(context)))
-    for idname, label, sections, header in SECTION_PANELS:
+    for idname, (label, sections) in P.PANELS.items():
+        header = next((prm.path for prm in P.PARAMS if prm.header and prm.panel == idname), None)
         sub(idname, label, _section_drawer(sections), header)
     return panels
 
@@ -163,10 +155,10 @@ def _make_panels(space, region, context_name, category, prefix):
 def _section_drawer(sections):
     def draw(self, context):
         s = active_painting(context).dynamic_painting
-        for section, keys in sections:
+        for section in sections:
             if len(sections) > 1:
                 self.layout.label(text=section.title())
-            _draw_section(self.layout, s, section, keys)
+            _draw_section(self.layout, s, section)
     return draw
 
 
@@ -181,7 +173,6 @@ class DYNPAINT_PT_view3d_samples(bpy.types.Panel):
         return True          # with or without a painting selected
 
     def draw(self, context):
-        from .operators import draw_add_menu
         draw_add_menu(self.layout.column(align=True))
 
 

@@ -1,37 +1,16 @@
 """The painting's settings as Blender properties, generated from params.py (one definition).
 
 `Material.dynamic_painting` holds one PropertyGroup per params.py section (shape, diffuse, …),
-the channel images, the linked lights and the bookkeeping of what was built. Each parameter
-is either *live* (a driver carries it into the node tree: changing or keyframing it rebuilds
-nothing) or *structural* (it decides which branches exist, §12: changing it rebuilds the tree
-only). Parameters the numpy side uses (pre-blur, blur radii, shadow settings) refresh the
-derived images instead.
+the channel images, the linked lights and the bookkeeping of what was built. Every property
+calls sync.on_setting_changed when it changes; what that redoes is decided by comparison
+(sync.py), not by the property.
 """
 import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty,
                        IntProperty, PointerProperty, StringProperty)
 
 from .. import params as P
-
-# Structural: decide the graph (pipeline_graph.Features).
-STRUCTURAL = {"shape.kind", "diffuse.curve", "shadows.enabled", "shadows.source", "specular.enabled",
-              "specular.curve", "reflection.mode", "reflection.extension", "refraction.mode",
-              "refraction.extension", "fresnel.mode", "fresnel.domain", "silhouette.source",
-              "transparency.amount_auto"}
-# Used by numpy to make derived images (height copy, E/B copies) or the shadow bake.
-DERIVED = {"shape.preblur", "shape.preblur_auto", "reflection.blur", "reflection.extension",
-           "refraction.blur", "refraction.extension"}
-SHADOW_INPUTS = {"shape.kind", "shape.flip_green", "shape.z_min", "shape.height_scale",
-                 "shape.preblur", "shape.preblur_auto", "shadows.enabled", "shadows.offset",
-                 "shadows.steps", "shadows.occupancy", "shadows.quality", "shadows.resolution"}
-
-LABELS = {"t0": "Start (t0)", "t1": "End (t1)", "s0": "Start (s0)", "s1": "End (s1)",
-          "z_min": "Minimum N.z", "ior": "IOR (η)", "mu": "Art IOR (μ)", "x1": "Refraction Until",
-          "x2": "Equal Mix At", "kappa": "Reflect ↔ Refract (κ)", "max_offset": "Max Offset",
-          "flip_green": "Flip Green (DirectX)", "steps": "Steps (K)", "offset": "Offset (d)",
-          "height_scale": "Height", "preblur": "Pre-blur", "amount": "Amount",
-          "source": "Source"}
-
+from .sync import on_setting_changed
 
 CHOICE_LABELS = {"baked": "Baked (numpy)", "osl": "In-shader (Cycles OSL)",
                  "art": "Art-directed", "cos": "1 − cos θ", "sin": "sin θ",
@@ -40,8 +19,7 @@ CHOICE_LABELS = {"baked": "Baked (numpy)", "osl": "In-shader (Cycles OSL)",
 
 def _on_change(path):
     def update(self, context):
-        from . import material           # late: material imports this module
-        material.on_setting_changed(self.id_data, path)
+        on_setting_changed(self.id_data, path)
     return update
 
 
@@ -52,7 +30,7 @@ def _description(param):
 
 
 def _property(param):
-    kw = {"name": LABELS.get(param.key, param.key.replace("_", " ").title()),
+    kw = {"name": param.ui_label,
           "description": _description(param), "update": _on_change(param.path)}
     if param.kind is bool:
         return {param.key: BoolProperty(default=param.default, **kw)}
@@ -67,11 +45,10 @@ def _property(param):
     limits = {k: v for k, v in limits.items() if v is not None}
     if param.kind == "auto_float":
         auto = param.default == "auto"
-        fallback = {"shape.preblur": 1.5, "transparency.amount": 1.0}.get(param.path, 0.0)
         auto_kw = {"name": "Auto", "update": _on_change(param.path + "_auto"),
                    "description": "Use the automatic value: " + param.help.split("'auto'")[-1]
                    .strip(" =;")}
-        return {param.key: FloatProperty(default=fallback if auto else param.default,
+        return {param.key: FloatProperty(default=param.auto_value if auto else param.default,
                                          precision=3, **limits, **kw),
                 param.key + "_auto": BoolProperty(default=auto, **auto_kw)}
     return {param.key: FloatProperty(default=param.default, precision=3, step=1, **limits, **kw)}
@@ -132,38 +109,6 @@ DYNPAINT_PG_settings = type("DYNPAINT_PG_settings", (bpy.types.PropertyGroup,),
                              "__doc__": "Dynamic Painting settings of a material"})
 
 CLASSES = (*SECTION_CLASSES, DYNPAINT_PG_light, DYNPAINT_PG_derived, DYNPAINT_PG_settings)
-
-
-def settings_to_params(settings):
-    """The settings as a params namespace (params.defaults() layout), for the core."""
-    p = P.defaults()
-    for param in P.PARAMS:
-        group = getattr(settings, param.section)
-        value = getattr(group, param.key)
-        if param.kind == "auto_float" and getattr(group, param.key + "_auto"):
-            value = "auto"
-        elif isinstance(value, float):
-            value = float(f"{value:.7g}")   # Blender stores float32: 0.01 reads 0.0099999998
-        setattr(getattr(p, param.section), param.key, value)
-    return p
-
-
-def params_to_settings(p, settings):
-    """Write a params namespace into the settings (recipe import)."""
-    for param in P.PARAMS:
-        group = getattr(settings, param.section)
-        value = getattr(getattr(p, param.section), param.key)
-        if param.kind == "auto_float":
-            setattr(group, param.key + "_auto", value == "auto")
-            if value == "auto":
-                continue
-        setattr(group, param.key, value)
-
-
-def channel_images(settings):
-    """{channel: bpy Image} of the images assigned to the painting."""
-    return {c: getattr(settings, f"image_{c}") for c in P.CHANNELS
-            if getattr(settings, f"image_{c}") is not None}
 
 
 def register():

@@ -14,9 +14,14 @@ import bpy
 from mathutils import Matrix, Vector
 
 from .. import params as P
-from ..nodegraph.shader_backend import POINT_POWER_UNIT
-from . import material as M
-from .properties import params_to_settings
+from ..core.inputs import normal_map_problem, size_message
+from ..core.lights import Light
+from ..core.pipeline import PER_PIXEL_CHANNELS
+from ..imageio import image_data_from_blender
+from .images import load_image, prepare_channel_image
+from .lights import add_light, linked_lights
+from .settings import params_to_settings
+from .sync import batch, update
 
 FACE_CAMERA = "Dynamic Painting: face camera"
 DEFAULT_SUN = (-0.45, 0.5, 0.74)    # toward the light, painting frame: upper left, in front
@@ -35,24 +40,6 @@ def plane_mesh(name, width_px, height_px):
     return mesh
 
 
-def load_image(path, channel):
-    """Load (or reuse) an image file for a channel, colour-managed as §0 says."""
-    path = os.path.abspath(path)
-    if not os.path.isfile(path):
-        raise FileNotFoundError(f"{path}: file not found")
-    known = set(bpy.data.images)
-    try:
-        img = bpy.data.images.load(path, check_existing=True)
-    except RuntimeError as exc:
-        raise ValueError(f"{path}: Blender cannot read it ({str(exc).strip()})") from None
-    if img.size[0] == 0 or img.size[1] == 0 or not img.has_data:
-        if img not in known:
-            bpy.data.images.remove(img)      # leave no broken image behind
-        raise ValueError(f"{path}: not an image Blender can read (unknown or corrupt format)")
-    M.prepare_channel_image(img, channel)
-    return img
-
-
 @contextmanager
 def unchanged_images_on_failure():
     """Images loaded inside the block are removed again if it raises: a failed Add leaves the
@@ -69,9 +56,6 @@ def unchanged_images_on_failure():
 def check_images(loaded, kind):
     """The rules of core/inputs.py on the painting's images → warnings; raises ValueError
     (one line) for a shape image that cannot be what `kind` says."""
-    from ..core.inputs import normal_map_problem, size_message
-    from ..core.pipeline import PER_PIXEL_CHANNELS
-    from ..imageio import image_data_from_blender
     shape = loaded["shape"]
     if kind == "normal":
         name = os.path.basename(bpy.path.abspath(shape.filepath)) or shape.name
@@ -117,7 +101,7 @@ def _create_painting(context, images, p, lights, name, size, location, rotation,
     for channel, src in images.items():
         loaded[channel] = load_image(src, channel) if isinstance(src, (str, os.PathLike)) else src
         if isinstance(src, bpy.types.Image):
-            M.prepare_channel_image(src, channel)
+            prepare_channel_image(src, channel)
     if "shape" not in loaded:
         raise ValueError("a painting needs a shape image (normal or height map)")
     if "dark" not in loaded and "bright" not in loaded:
@@ -143,7 +127,7 @@ def _create_painting(context, images, p, lights, name, size, location, rotation,
         created.append(mat)
         mesh.materials.append(mat)
         s = mat.dynamic_painting
-        with M.batch():
+        with batch():
             params_to_settings(p, s)
             for channel, img in loaded.items():
                 setattr(s, f"image_{channel}", img)
@@ -157,12 +141,12 @@ def _create_painting(context, images, p, lights, name, size, location, rotation,
         if lights:
             for light in lights:
                 created.append(add_light(scene, light, obj.matrix_world, context.collection))
-        elif default_sun and not M.linked_lights(mat, scene):
+        elif default_sun and not linked_lights(mat, scene):
             created.append(add_light(scene, _default_sun(), obj.matrix_world, context.collection))
             messages.append("the scene had no light: added a Sun")
         context.view_layer.update()
-        messages += M.refresh(mat, structure=True, derived=True, shadows=p.shadows.enabled,
-                              scene=scene, progress=progress)
+        # force: a painting of an earlier file may have had this name (cached shapes)
+        messages += update(mat, scene, progress=progress, force=True)
         s.is_painting = True       # from here on, handlers and setting changes keep it current
     except Exception:
         _remove(created)
@@ -171,7 +155,6 @@ def _create_painting(context, images, p, lights, name, size, location, rotation,
 
 
 def _default_sun():
-    from ..core.lights import Light
     return Light("sun", DEFAULT_SUN, (1.0, 1.0, 1.0), 1.0, "Sun")
 
 
@@ -181,27 +164,6 @@ def _remove(blocks):
             if isinstance(block, bpy.types.ID) and block.name in coll and coll[block.name] == block:
                 coll.remove(block)
                 break
-
-
-def add_light(scene, light, plane_matrix, collection):
-    """Create a Blender light for a core Light given in the painting frame → the object."""
-    kind = "SUN" if light.kind == "sun" else "POINT"
-    data = bpy.data.lights.new(light.name or kind.title(), kind)
-    data.color = light.colour
-    data.energy = light.strength * (1.0 if kind == "SUN" else POINT_POWER_UNIT)
-    if kind == "SUN":
-        data.angle = 0.0
-    obj = bpy.data.objects.new(data.name, data)
-    collection.objects.link(obj)
-    m = Matrix(plane_matrix)
-    if kind == "SUN":
-        world_dir = (m.to_3x3() @ Vector(light.vector)).normalized()
-        obj.rotation_mode = "QUATERNION"
-        obj.rotation_quaternion = world_dir.to_track_quat("Z", "Y")
-        obj.location = m @ (Vector(light.vector).normalized() * 2.0)
-    else:
-        obj.location = m @ Vector(light.vector)
-    return obj
 
 
 # -- exact-pixel rendering (parity tests, the `render` command) -------------------------------

@@ -12,9 +12,11 @@ import math
 import os
 
 import bpy
+from bpy_extras import anim_utils
 from mathutils import Vector
 
-from . import material as M
+from .lights import linked_lights
+from .sync import update
 
 PIVOT_NAME = "Turntable"
 
@@ -49,7 +51,6 @@ def _clear_transform_animation(obj):
 
 def _fcurves(action, obj):
     """An action's F-curves for `obj` (Blender 5.0 keeps them in layered channelbags)."""
-    from bpy_extras import anim_utils
     bag = anim_utils.action_get_channelbag_for_slot(action, obj.animation_data.action_slot)
     return bag.fcurves if bag is not None else action.fcurves
 
@@ -106,12 +107,11 @@ def add_light_turntable(context, mat, light=None, kind="SUN", frame_start=1, fra
         key.interpolation = "LINEAR"
     fc.modifiers.new("CYCLES")
     scene.frame_start, scene.frame_end = frame_start, frame_end
-    if light not in M.linked_lights(mat, scene):
+    if light not in linked_lights(mat, scene):
         messages.append(f"{light.name} is not in the painting's light collection: it will not "
                         "light the painting")
     scene.frame_set(scene.frame_current)
-    s = mat.dynamic_painting      # a new light joins the tree's drivers; shadows re-bake
-    M.refresh(mat, structure=True, derived=False, shadows=s.shadows.enabled, scene=scene)
+    update(mat, scene, rebake=True)    # a new light joins the tree's drivers; shadows re-bake
     return pivot, light, messages
 
 

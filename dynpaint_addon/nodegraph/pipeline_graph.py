@@ -20,99 +20,10 @@ Channels the graph samples (the add-on supplies an image for each):
 Structure (what exists) comes from `Features`; values (t0, η, …) are live `dp.param` nodes, so
 changing a value never rebuilds the tree, and toggling a feature rebuilds only the tree.
 """
-from dataclasses import dataclass
-
-from ..core.pipeline import silhouette_channel
+from .features import Features
 from .graph import FLOAT, VECTOR, Graph
 
 UP = (0.0, 0.0, 1.0)
-
-
-@dataclass(frozen=True)
-class Features:
-    """Everything that decides the graph's structure (§12). Hashable: equal features, same tree."""
-    size: tuple = (1, 1)                 # shape image (W, H) in pixels
-    shape_kind: str = "normal"
-    channels: frozenset = frozenset({"shape", "dark", "bright"})
-    lights: tuple = ("sun",)             # kinds, in light order
-    shadows: bool = False
-    specular: bool = False
-    diffuse_curve: str = "linear"
-    specular_curve: str = "smoothstep"
-    reflection_mode: str = "stereographic"
-    reflection_extension: str = "wrap"
-    refraction_mode: str = "physical"
-    refraction_extension: str = "extend"
-    fresnel_mode: str = "physical"
-    fresnel_domain: str = "cos"
-    transparency: str = "none"           # 'none' (k ≡ 0, pruned), 'param' (slider), 'map' (auto with a map)
-    silhouette: str = ""                 # channel whose alpha cuts out: 'shape', 'dark' or ''
-    lookup_sizes: tuple = ()             # ((channel, (W, H)), …) of environment and background
-    shadow_source: str = "baked"         # 'osl': Cycles renders an OSL shader that marches §6
-
-    @classmethod
-    def from_params(cls, p, channels, light_kinds, size, alpha_channels=(), sizes=None):
-        """Resolve the parameters' structural choices and 'auto' values like core.render.
-
-        channels: the channels that have an image; sizes: {channel: (W, H)} of the
-        environment and background (their warped lookups are built texel by texel).
-        """
-        channels = frozenset(channels)
-        sizes = sizes or {}
-        amount = p.transparency.amount
-        if amount == "auto":
-            transparency = "map" if "transparency" in channels else "none"
-        else:
-            transparency = "param" if amount > 0 or "transparency" in channels else "none"
-            # An explicit 0 with no map prunes the branch; any other value stays live.
-        silhouette = silhouette_channel(p.silhouette.source,
-                                        lambda c: c in channels and c in alpha_channels)
-        return cls(size=tuple(size), shape_kind=p.shape.kind, channels=channels,
-                   lights=tuple(light_kinds), shadows=p.shadows.enabled,
-                   specular=p.specular.enabled, diffuse_curve=p.diffuse.curve,
-                   specular_curve=p.specular.curve, reflection_mode=p.reflection.mode,
-                   reflection_extension=p.reflection.extension,
-                   refraction_mode=p.refraction.mode,
-                   refraction_extension=p.refraction.extension, fresnel_mode=p.fresnel.mode,
-                   fresnel_domain=p.fresnel.domain, transparency=transparency,
-                   silhouette=silhouette, shadow_source=p.shadows.source,
-                   lookup_sizes=tuple(sorted((c, tuple(sizes[c])) for c in
-                                             ("environment", "background") if c in channels)))
-
-    def key(self):
-        """A stable text form (repr of a frozenset changes order between processes)."""
-        fields = {k: (sorted(v) if isinstance(v, frozenset) else v) for k, v in vars(self).items()}
-        return repr(fields)
-
-    @property
-    def has_lookups(self):
-        return self.transparency != "none"
-
-    @property
-    def reflects(self):
-        return self.has_lookups and "environment" in self.channels
-
-    @property
-    def refracts(self):
-        return self.has_lookups and "background" in self.channels
-
-    def image_channels(self):
-        """The images the built tree samples (what the add-on must provide)."""
-        need = {"height" if self.shape_kind == "height" else "shape"}
-        need |= {c for c in ("dark", "bright") if c in self.channels}
-        if self.specular:
-            need |= {c for c in ("specular_color", "gloss") if c in self.channels}
-        if self.has_lookups:
-            need |= {c for c in ("transparency",) if c in self.channels}
-            need |= {c for c in ("environment",) if self.reflects}
-            need |= {c for c in ("background",) if self.refracts}
-        if self.silhouette:
-            need.add("silhouette")
-        if self.silhouette and "background" in self.channels:
-            need.add("background_sharp")
-        if self.shadows:
-            need |= {f"shadow_{i}" for i in range(len(self.lights))}
-        return need
 
 
 # -- reusable sub-graphs (node groups) ------------------------------------------------------

@@ -1,0 +1,131 @@
+"""A painting's images in Blender: its inputs (colour management, loading) and the images numpy
+derives from them (nodegraph/derived_inputs.py), remade exactly when their keys change."""
+import os
+
+import numpy as np
+
+import bpy
+
+from .. import params as P
+from ..imageio import file_channels, image_data_from_blender
+from ..nodegraph.derived_inputs import Source, derived_inputs, grey_rgba, make_derived
+from .settings import channel_images, settings_to_params
+
+COLOUR_CHANNELS = {c for c, (_, kind) in P.CHANNELS.items() if kind == "colour"}
+
+
+def bits_of(img):
+    """Bits per channel of a loaded image (8, 16 or 32), without reading its pixels. 16-bit PNG
+    and TIFF get float buffers in Blender but hold sRGB-encoded codes like 8-bit files."""
+    if not img.is_float:
+        return 8
+    return 16 if img.file_format in ("PNG", "TIFF") else 32
+
+
+def is_float_file(img):
+    """Does the image come from a float file (EXR, HDR: linear values)?"""
+    return bits_of(img) == 32
+
+
+def has_alpha(img):
+    return file_channels(img) in (2, 4)
+
+
+def prepare_channel_image(img, channel):
+    """Colour images are sRGB-decoded by Blender (8/16-bit) or linear (float); data images
+    are never colour-managed (§0). Alpha is kept apart from colour (channel packed)."""
+    if channel in COLOUR_CHANNELS and not is_float_file(img):
+        img.colorspace_settings.name = "sRGB"     # 8- and 16-bit files hold sRGB codes (§0)
+    else:
+        img.colorspace_settings.name = "Non-Color"
+    img.alpha_mode = "CHANNEL_PACKED"
+    img.use_half_precision = False   # 16-bit GPU textures cost EEVEE ~1e-2 on steep slopes
+
+
+def load_image(path, channel):
+    """Load (or reuse) an image file for a channel, colour-managed as §0 says."""
+    path = os.path.abspath(path)
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"{path}: file not found")
+    known = set(bpy.data.images)
+    try:
+        img = bpy.data.images.load(path, check_existing=True)
+    except RuntimeError as exc:
+        raise ValueError(f"{path}: Blender cannot read it ({str(exc).strip()})") from None
+    if img.size[0] == 0 or img.size[1] == 0 or not img.has_data:
+        if img not in known:
+            bpy.data.images.remove(img)      # leave no broken image behind
+        raise ValueError(f"{path}: not an image Blender can read (unknown or corrupt format)")
+    prepare_channel_image(img, channel)
+    return img
+
+
+def float_image(name, rgba):
+    """A float RGBA image holding `rgba` (y-up (H, W, 4)), reused when the name exists."""
+    h, w = rgba.shape[:2]
+    img = bpy.data.images.get(name)
+    if img is None or tuple(img.size) != (w, h) or not img.is_float:
+        if img is not None:
+            bpy.data.images.remove(img)
+        img = bpy.data.images.new(name, w, h, alpha=True, float_buffer=True, is_data=True)
+    img.colorspace_settings.name = "Non-Color"   # before the pixels: it regenerates them
+    img.alpha_mode = "CHANNEL_PACKED"
+    img.use_half_precision = False
+    img.pixels.foreach_set(np.ascontiguousarray(rgba, dtype=np.float32).ravel())
+    return img
+
+
+def grey_image(name, grey):
+    return float_image(name, grey_rgba(grey))
+
+
+# -- derived images -------------------------------------------------------------------------
+def sources(settings):
+    """{channel: Source} of the painting's input images, for the derived-image plan."""
+    return {c: Source(img.name, bits_of(img)) for c, img in channel_images(settings).items()}
+
+
+def derived_image(settings, channel):
+    return next((d.image for d in settings.derived if d.channel == channel), None)
+
+
+def update_derived_images(mat, features, force=False):
+    """Make the images numpy derives from the inputs that the graph with `features` samples,
+    only those whose key changed (or all: `force`), reading each source once; drop the rest.
+    → warnings (non-finite pixels replaced)."""
+    s = mat.dynamic_painting
+    p = settings_to_params(s)
+    imgs = channel_images(s)
+    plan = derived_inputs(features, p, sources(s))
+    stored = {d.channel: d for d in s.derived}
+    todo = [d for d in plan if force or d.channel not in stored or stored[d.channel].image is None
+            or stored[d.channel].key != d.key]
+    made, warnings = make_derived(
+        todo, lambda channel: image_data_from_blender(imgs[channel]),
+        lambda channel: "colour" if channel != "shape" else p.shape.kind)
+    images = {}
+    base = f"DP {mat.name}"
+    for item in todo:
+        rgba = made[item.channel]
+        if item.same_as:
+            image = images.get(item.same_as) or derived_image(s, item.same_as)
+        elif rgba is None:               # checked: the input itself has no NaN/Inf
+            image = imgs[item.source]
+        else:
+            suffix = " finite" if item.finite_copy else ""
+            image = float_image(f"{base} {item.channel}{suffix}", rgba)
+        images[item.channel] = image
+        _store(s, item.channel, image, item.key)
+    wanted = {d.channel for d in plan}
+    for i in reversed(range(len(s.derived))):
+        if s.derived[i].channel not in wanted:
+            s.derived.remove(i)
+    return warnings
+
+
+def _store(settings, channel, image, key):
+    item = next((d for d in settings.derived if d.channel == channel), None)
+    if item is None:
+        item = settings.derived.add()
+        item.channel = channel
+    item.image, item.key = image, key

@@ -1,0 +1,53 @@
+"""File › Export › Dynamic Painting Recipe: the painting as a recipe the command line renders."""
+import os
+
+import bpy
+from bpy.props import BoolProperty, StringProperty
+from bpy_extras.io_utils import ExportHelper
+
+from ...recipe import Recipe, recipe_to_toml
+from ..lights import painting_lights
+from ..settings import channel_images, settings_to_params
+from .common import PaintingOperator, active_painting, run_and_report
+
+
+def export_recipe(mat, scene, path, only_changed=True):
+    """The painting as recipe text; images without a file on disk are written beside it."""
+    s = mat.dynamic_painting
+    folder = os.path.dirname(os.path.abspath(path))
+    images = {}
+    for channel, img in channel_images(s).items():
+        src = bpy.path.abspath(img.filepath, library=img.library) if img.filepath else ""
+        if not src or img.packed_file is not None or not os.path.isfile(src):
+            ext = ".exr" if img.is_float else ".png"
+            src = os.path.join(folder, f"{bpy.path.clean_name(mat.name)}_{channel}{ext}")
+            img.save(filepath=src)  # writes the pixels; the image keeps its own source
+        images[channel] = os.path.abspath(src)
+    recipe = Recipe(settings_to_params(s), painting_lights(mat, scene), images, mat.name, path)
+    return recipe_to_toml(recipe, folder, only_changed)
+
+
+class DYNPAINT_OT_export_recipe(PaintingOperator, bpy.types.Operator, ExportHelper):
+    """Export the painting as a recipe (painting.toml) for the command line or another machine;
+    packed or generated images are saved next to it"""
+    bl_idname = "dynpaint.export_recipe"
+    bl_label = "Export Dynamic Painting Recipe"
+    filename_ext = ".toml"
+    filter_glob: StringProperty(default="*.toml", options={"HIDDEN"})
+    only_changed: BoolProperty(name="Only Changed Settings", default=True,
+                               description="Leave settings at their defaults out of the file")
+
+    def execute(self, context):
+        mat = active_painting(context)
+
+        def work():
+            os.makedirs(os.path.dirname(os.path.abspath(self.filepath)), exist_ok=True)
+            text = export_recipe(mat, context.scene, self.filepath, self.only_changed)
+            with open(self.filepath, "w", encoding="utf-8") as fh:
+                fh.write(text)
+            return [("INFO", f"Wrote {self.filepath}")]
+        return run_and_report(self, context, work, failure="Could not export the recipe: ",
+                              catch=(OSError, ValueError, RuntimeError))
+
+
+CLASSES = (DYNPAINT_OT_export_recipe,)

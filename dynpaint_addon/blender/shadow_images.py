@@ -1,0 +1,111 @@
+"""The cos-θ images of a painting's lights (docs/pipeline.md §6): baked with the numpy core,
+each remembered with the key of what it was baked from, so a bake runs only when its light
+moved or a parameter with the `bake` role (params.py) changed."""
+import time
+
+import numpy as np
+
+from .. import params as P
+from ..core.pipeline import shadow_term, shape_normals
+from ..imageio import image_data_from_blender
+from .images import grey_image
+from .lights import painting_frame_light, plane_matrix
+from .settings import settings_to_params
+
+BAKE_PARAMS = tuple(prm for prm in P.PARAMS if prm.bake)
+
+
+def light_key(light):
+    """Where a light is, as far as its bake is concerned."""
+    return repr((light.kind, np.round(light.vector, 9).tolist()))
+
+
+def bake_key(light, p, s):
+    """What a bake depends on: the light's place, the bake's parameters, the shape image."""
+    values = [getattr(getattr(p, prm.section), prm.key) for prm in BAKE_PARAMS]
+    return light_key(light) + "|" + repr((values, s.image_shape.name if s.image_shape else None))
+
+
+_SHAPES = {}   # material name → (key, (normals, heights_px, slopes)): the bakes' decoded shape
+
+
+def bake_shape(mat, p, fresh=False):
+    """The shape decoded for the bake (§2), cached per painting until its shape image or the
+    shape settings change, so per-frame and live bakes do not read and decode it each time;
+    `fresh` decodes again (the image's pixels may have been edited)."""
+    s = mat.dynamic_painting
+    key = (s.image_shape.name, repr(vars(p.shape)))
+    hit = _SHAPES.get(mat.name)
+    if fresh or hit is None or hit[0] != key:
+        hit = (key, shape_normals(image_data_from_blender(s.image_shape), p, np.float32))
+        _SHAPES[mat.name] = hit
+    return hit[1]
+
+
+def forget_cached_shapes():
+    """Another file is open: cached shapes may belong to same-named paintings of the last one."""
+    _SHAPES.clear()
+
+
+def forget_cached_shape(mat):
+    """The painting's shape image was replaced: decode it again at the next bake."""
+    _SHAPES.pop(mat.name, None)
+
+
+def light_bakes(mat, depsgraph=None, p=None):
+    """[(light item, core Light in the painting frame, bake key)] of the painting's lights."""
+    s = mat.dynamic_painting
+    p = p or settings_to_params(s)
+    m = plane_matrix(mat, depsgraph)
+    return [(item, light, bake_key(light, p, s)) for item, light in
+            ((i, painting_frame_light(i.object, m, depsgraph)) for i in s.lights
+             if i.object is not None)]
+
+
+def stale_lights(mat, depsgraph=None, p=None):
+    """The light_bakes whose image is missing or was baked for another place or settings."""
+    return [(item, light, key) for item, light, key in light_bakes(mat, depsgraph, p)
+            if item.shadow is None or item.bake_key != key]
+
+
+def shadow_image_name(mat, light_name):
+    return f"DP {mat.name} shadow {light_name}"
+
+
+def bake_shadows(mat, scene, depsgraph=None, force=True, progress=None):
+    """Bake the cos-θ term (§6) of the linked lights into their images. → milliseconds taken.
+
+    Without `force`, a light whose painting-frame position and shadow inputs are those of its
+    last bake is skipped (static lights in an animation bake once). A failure leaves the
+    previous images untouched: new pixels are written only after every light is baked.
+    """
+    s = mat.dynamic_painting
+    p = settings_to_params(s)
+    if s.image_shape is None:
+        raise ValueError("no shape image to bake shadows from: assign one under Images "
+                         "(the last baked shadows are kept)")
+    todo = light_bakes(mat, depsgraph, p) if force else stale_lights(mat, depsgraph, p)
+    if not todo:
+        return 0.0
+    n, z_px, slopes = bake_shape(mat, p, fresh=force)
+    t_start = time.perf_counter()
+    results = []
+    for i, (_, light, _) in enumerate(todo):
+        part = None if progress is None else \
+            (lambda f, i=i: progress((i + f) / len(todo)))     # noqa: E731
+        results.append(shadow_term(n, z_px, slopes, light, p, progress=part))
+    ms = (time.perf_counter() - t_start) * 1000
+    if ms > 2000:      # long bakes (huge images, reference quality) say what they did
+        w, h = s.image_shape.size
+        print(f"Dynamic Painting: {mat.name}: baked {len(todo)} light(s) at {w}×{h} "
+              f"({p.shadows.quality}) in {ms / 1000:.1f} s")
+    for (item, _, key), t in zip(todo, results):
+        write_shadow(mat, item, t, key)
+    s.shadows_stale = False
+    return ms
+
+
+def write_shadow(mat, item, t, key):
+    """Write a finished bake into the light's image."""
+    item.shadow = grey_image(shadow_image_name(mat, item.object.name), t)
+    item.bake_key = key

@@ -1,0 +1,93 @@
+"""A painting's node tree: built from the graph description for its features, and rebuilt
+exactly when they change (docs/pipeline.md §12). Values (t0, η, …) reach the tree through
+drivers (nodegraph/shader_backend.py), so changing one rebuilds nothing."""
+from ..nodegraph import build_bpy
+from ..nodegraph.features import Features
+from ..nodegraph.pipeline_graph import describe
+from ..nodegraph.shader_backend import ShaderBackend
+from . import osl
+from .images import has_alpha
+from .lights import linked_lights
+from .settings import channel_images, settings_to_params
+
+
+def features_for(mat, scene):
+    """The painting's Features and its linked lights (in the tree's order)."""
+    s = mat.dynamic_painting
+    imgs = channel_images(s)
+    if "shape" not in imgs:
+        raise ValueError("the painting has no shape image (normal or height map)")
+    if "dark" not in imgs and "bright" not in imgs:
+        raise ValueError("the painting needs a dark or a bright image")
+    data_alpha = {c for c, img in imgs.items() if has_alpha(img)}
+    lights = linked_lights(mat, scene)
+    f = Features.from_params(settings_to_params(s), imgs.keys(),
+                             [o.data.type.lower() for o in lights], imgs["shape"].size,
+                             data_alpha, {c: tuple(img.size) for c, img in imgs.items()})
+    return f, lights
+
+
+def signature(features, lights):
+    """What the tree is built from: equal signatures, equal trees."""
+    return repr((features.key(), [o.name for o in lights]))
+
+
+def sync_light_items(s, lights):
+    """Keep s.lights in the order of `lights`, each with its shadow image."""
+    if [(i.object, i.kind) for i in s.lights] == [(o, o.data.type) for o in lights]:
+        return
+    old = {item.object.name: (item.shadow, item.bake_key) for item in s.lights
+           if item.object is not None}
+    s.lights.clear()
+    for obj in lights:
+        item = s.lights.add()
+        item.object = obj
+        item.kind = obj.data.type
+        item.shadow, item.bake_key = old.get(obj.name, (None, ""))
+
+
+def tree_images(s):
+    """{channel: image} the tree samples: the inputs, the derived images replacing or adding
+    to them, and one cos-θ image per light ('shadow_<i>')."""
+    images = channel_images(s)
+    images.update({item.channel: item.image for item in s.derived})
+    images.update({f"shadow_{i}": item.shadow for i, item in enumerate(s.lights)
+                   if item.shadow is not None})
+    return images
+
+
+def rebuild_tree(mat, scene, force=False, features=None):
+    """Rebuild the node tree if its features or lights changed (or `force`). → True if rebuilt."""
+    s = mat.dynamic_painting
+    f, lights = features or features_for(mat, scene)
+    sig = signature(f, lights)
+    if not force and sig == s.signature and len(mat.node_tree.nodes):
+        return False
+    sync_light_items(s, lights)
+    images = tree_images(s)
+    missing = f.image_channels() - images.keys()
+    if missing:
+        raise ValueError(f"images not ready: {', '.join(sorted(missing))}")
+    tree = mat.node_tree
+    tree.animation_data_clear()
+    tree.nodes.clear()
+    build_bpy.build(tree, describe(f), ShaderBackend(mat, images, lights))
+    if f.shadow_source == "osl":
+        # Cycles renders the OSL shader (in-shader march); EEVEE keeps the node material.
+        eevee_out = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+        eevee_out.target = "EEVEE"
+        osl.build_osl_tree(mat, f, images, lights, march=f.shadows)
+        cycles_out = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"
+                          and n != eevee_out)
+        cycles_out.target = "CYCLES"
+        scene.cycles.shading_system = True
+    may_be_transparent = f.has_lookups or bool(f.silhouette)
+    mat.surface_render_method = "BLENDED" if may_be_transparent else "DITHERED"
+    s.signature = sig
+    return True
+
+
+def tree_is_stale(mat):
+    """An image the node tree samples was deleted (its node lost the image)."""
+    return any(n.bl_idname == "ShaderNodeTexImage" and n.image is None
+               for n in mat.node_tree.nodes)

@@ -1,0 +1,141 @@
+"""Images derived from a painting's inputs before shading, for every backend (no bpy).
+
+A node tree (material, compositor group, OSL shader, web page) samples a few images that are
+not the artist's own but made from them by numpy:
+
+  height             the §2 pre-blurred height map (grey; alpha: the shape image's)
+  silhouette         the alpha of the silhouette channel (§11) as a float image
+  environment        E and B as the warped lookups read them (§8, §9): linear
+  background         premultiplied RGBA, blurred for glossy / translucent looks (§11)
+  background_sharp   B unblurred, shown outside the silhouette (§11)
+  <input channel>    a finite copy of a float input that holds NaN/Inf (§14, core/inputs.py)
+
+`derived_inputs` plans them from the features of the graph and the parameters (cheap: no
+pixel is read); `Derived.make` makes one from its source's pixels. Each carries a key built
+from what it depends on — its source image and the parameters whose `derives` role names it
+(params.py) — so a backend remakes an image exactly when its key changes. Without bpy, so
+the material, the compositor group, the OSL shader and the web page share one preparation.
+
+    >>> from dynpaint_addon import params
+    >>> from dynpaint_addon.nodegraph.features import Features
+    >>> f = Features(size=(8, 8), shape_kind="height")
+    >>> [d.channel for d in derived_inputs(f, params.defaults(), {"shape": Source("h.png", 8)})]
+    ['height']
+"""
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from .. import params as P
+from ..core.inputs import finite_pixels, non_finite_message
+from ..core.pipeline import PER_PIXEL_CHANNELS, lookup_copy
+from ..core.shape import default_preblur_px, preblurred_height
+
+
+@dataclass(frozen=True)
+class Source:
+    """What the plan needs to know of an input image without reading it."""
+    name: str            # identifies the image (and so its pixels)
+    bits: int = 8        # 8, 16 or 32 (float: may hold NaN/Inf)
+
+
+@dataclass(frozen=True)
+class Derived:
+    channel: str                         # the channel the graph samples
+    source: str                          # the input channel it is made from
+    key: str                             # same key, same pixels
+    make: Callable = None                # ImageData (finite) → RGBA float32 (H, W, 4), y-up
+    finite_copy: bool = False            # needed only if the source has NaN/Inf pixels
+    same_as: str = ""                    # equal to another derived image: share it
+
+
+def _key(channel, source, p, *extra):
+    """The source image and every parameter whose `derives` role names this channel."""
+    values = [(prm.path, getattr(getattr(p, prm.section), prm.key)) for prm in P.PARAMS
+              if channel in prm.derives]
+    return repr((source.name, *values, *extra))
+
+
+def grey_rgba(grey, alpha=None):
+    a = np.ones_like(grey) if alpha is None else alpha
+    return np.stack([grey, grey, grey, a], axis=-1)
+
+
+def _rgba(px):
+    """Any (H, W, C) pixels as RGBA: grey repeated, missing alpha 1."""
+    rgb = px[..., :3] if px.shape[2] >= 3 else np.repeat(px[..., :1], 3, 2)
+    alpha = px[..., -1:] if px.shape[2] in (2, 4) else np.ones(px.shape[:2] + (1,), px.dtype)
+    return np.concatenate([rgb, alpha], -1)
+
+
+def derived_inputs(features, p, sources):
+    """The derived images a graph with `features` samples (see the module) → [Derived].
+
+    sources: {channel: Source} of the painting's input images.
+    """
+    need = features.image_channels()
+    out = []
+    for channel in ("shape", *PER_PIXEL_CHANNELS):
+        src = sources.get(channel)
+        if channel in need and src is not None and src.bits == 32:
+            out.append(Derived(channel, channel, _key(channel, src, p, "finite"),
+                               lambda d: _rgba(d.pixels), finite_copy=True))
+    if "height" in need:
+        src = sources["shape"]
+        sigma = p.shape.preblur
+        sigma = float(default_preblur_px(src.bits) if sigma == "auto" else sigma)
+        out.append(Derived("height", "shape", _key("height", src, p, sigma),
+                           lambda d: grey_rgba(preblurred_height(d.grey(), sigma), _alpha(d))))
+    if "silhouette" in need:
+        # A float copy of the alpha: EEVEE reads 8-bit alpha up to 1/255 off (254 → 255).
+        channel = features.silhouette
+        out.append(Derived("silhouette", channel, _key("silhouette", sources[channel], p, channel),
+                           lambda d: grey_rgba(*[np.clip(np.nan_to_num(d.alpha()), 0, 1)] * 2)))
+    for channel, sec in (("environment", p.reflection), ("background", p.refraction)):
+        if channel in need:
+            out.append(Derived(channel, channel, _key(channel, sources[channel], p),
+                               lambda d, sec=sec: lookup_copy(d, sec.blur, sec.extension)))
+    if "background_sharp" in need:
+        src = sources["background"]
+        same = "background" if "background" in need and p.refraction.blur == 0 else ""
+        out.append(Derived("background_sharp", "background",
+                           _key("background_sharp", src, p, same),
+                           lambda d: lookup_copy(d, 0.0, "extend"), same_as=same))
+    return out
+
+
+def _alpha(data):
+    a = data.alpha()
+    return None if a is None else np.clip(a, 0, 1)
+
+
+def finite_source(data, role):
+    """`data` with NaN/Inf replaced by the rule of core/inputs.py → (ImageData, warning or '')."""
+    clean, bad = finite_pixels(data.pixels, role)
+    if not bad:
+        return data, ""
+    return type(data)(clean, data.bits, data.name), non_finite_message(data.name, bad)
+
+
+def make_derived(items, read, role_of):
+    """Make every item that needs pixels, reading each source once → ({channel: RGBA, or None
+    where the source itself or the image of `same_as` will do}, warnings).
+
+    read(channel) → ImageData; role_of(channel) → the role core/inputs.py replaces NaN/Inf by
+    ('colour', 'normal' or 'height')."""
+    cache, made, warnings = {}, {}, []
+    for item in items:
+        if item.same_as:
+            made[item.channel] = None
+            continue
+        if item.source not in cache:
+            cache[item.source] = finite_source(read(item.source), role_of(item.source))
+            if cache[item.source][1]:
+                warnings.append(cache[item.source][1])
+        data, warning = cache[item.source]
+        if item.finite_copy and not warning:
+            made[item.channel] = None
+        else:
+            made[item.channel] = item.make(data).astype(np.float32, copy=False)
+    return made, warnings
