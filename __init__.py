@@ -2,13 +2,16 @@
 
 The add-on's properties, operators, panels and handlers live in dynpaint_addon/blender/, next
 to the numpy core they shade with; this file only hands Blender's register/unregister to them.
+They import bpy, so they are imported when Blender registers the add-on, not when this
+package is imported (test runners import the repository root as a package too).
 """
-from .dynpaint_addon import blender as _glue
 
 
 def register():
-    _glue.register()
+    from .dynpaint_addon import blender
+    blender.register()
 
 
 def unregister():
-    _glue.unregister()
+    from .dynpaint_addon import blender
+    blender.unregister()

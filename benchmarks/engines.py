@@ -24,7 +24,8 @@ import bpy  # noqa: E402
 
 from report import publish  # noqa: E402
 
-from dynpaint_addon.blender import compositor, headless, material as M, scene as S  # noqa: E402
+from dynpaint_addon.blender import compositor, headless  # noqa: E402
+from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render, shape_normals  # noqa: E402
 from dynpaint_addon.core.shadow import cos_theta_shadow  # noqa: E402
 from dynpaint_addon.imageio import read_image  # noqa: E402
@@ -85,9 +86,9 @@ def main(argv=None):
     for engine in ("eevee", "cycles"):
         plane, mat = headless.build_recipe_scene(recipe)
         scene = bpy.context.scene
-        S.exact_render_settings(scene, engine)
+        exact_render_settings(scene, engine)
         out = os.path.join(folder, f"{engine}.exr")
-        S.output_settings(scene, out)
+        output_settings(scene, out)
         bpy.ops.render.render(write_still=True)           # first render compiles (EEVEE)
         seconds = timed(lambda: bpy.ops.render.render(write_still=True))
         row(f"{engine.upper() if engine == 'eevee' else 'Cycles'} node material", seconds, bake_ms,
@@ -99,9 +100,9 @@ def main(argv=None):
         r.params.shadows.steps = k
         plane, mat = headless.build_recipe_scene(r)
         scene = bpy.context.scene
-        S.exact_render_settings(scene, "cycles")
+        exact_render_settings(scene, "cycles")
         out = os.path.join(folder, f"osl{k}.exr")
-        S.output_settings(scene, out)
+        output_settings(scene, out)
         seconds = timed(lambda: bpy.ops.render.render(write_still=True), 1)
         row(f"Cycles + OSL, march K = {k}", seconds, 0, read_image(out).pixels,
             "no bake: exact per frame")

@@ -27,7 +27,7 @@ import bpy  # noqa: E402
 
 from report import publish  # noqa: E402
 
-from dynpaint_addon.blender import scene as S  # noqa: E402
+from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import ImageData  # noqa: E402
 from dynpaint_addon.core.shadow import cos_theta_shadow  # noqa: E402
@@ -84,7 +84,7 @@ def build_scene(size, objects=OBJECTS):
     scene.camera = cam
     scene.render.resolution_x = scene.render.resolution_y = size
     scene.render.resolution_percentage = 100
-    S.exact_render_settings(scene, "cycles")
+    exact_render_settings(scene, "cycles")
     scene.render.film_transparent = False
     return scene
 
@@ -108,7 +108,7 @@ def emission_material(name, build):
 
 
 def render_to(scene, path):
-    S.output_settings(scene, path)
+    output_settings(scene, path)
     bpy.ops.render.render(write_still=True)
     return read_image(path).pixels
 

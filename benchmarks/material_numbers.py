@@ -27,7 +27,9 @@ import bpy  # noqa: E402
 from report import publish  # noqa: E402
 
 from dynpaint_addon import params as P  # noqa: E402
-from dynpaint_addon.blender import headless, material as M, scene as S  # noqa: E402
+from dynpaint_addon.blender import headless  # noqa: E402
+from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.blender.shadow_images import bake_shadows  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.core.shape import normals_from_height_px  # noqa: E402
@@ -90,7 +92,7 @@ def warm_up_eevee():
     scene.collection.objects.link(cam)
     scene.camera = cam
     cam.location = (0, 0, 5)
-    S.exact_render_settings(scene, "eevee")
+    exact_render_settings(scene, "eevee")
     scene.render.resolution_x = scene.render.resolution_y = 8
     scene.render.filepath = os.path.join(tempfile.gettempdir(), "dp_warm_up.png")
     timed_render()
@@ -105,7 +107,7 @@ def measure(recipe, folder):
     row["nodes"] = count_nodes(mat.node_tree)
     scene = bpy.context.scene
     if recipe.params.shadows.enabled:
-        row["bake_ms"] = M.bake_shadows(mat, scene)
+        row["bake_ms"] = bake_shadows(mat, scene)
     images = load_images(recipe)
     t = time.perf_counter()
     want = core_render(images, recipe.lights, recipe.params).rgba
@@ -113,8 +115,8 @@ def measure(recipe, folder):
     w, h = scene.render.resolution_x, scene.render.resolution_y
     for engine in ("eevee", "cycles"):
         out = os.path.join(folder, f"{recipe.name}_{engine}.exr")
-        S.exact_render_settings(scene, engine)
-        S.output_settings(scene, out)
+        exact_render_settings(scene, engine)
+        output_settings(scene, out)
         if engine == "eevee":
             # Compile time: EEVEE compiles a new material on its first render. Render it at
             # 8×8 (no pixel work) first, then four more times; the difference is the compile.

@@ -10,7 +10,7 @@ import time
 
 import numpy as np
 
-from . import params as P
+from . import params
 from .core.colour import linear_to_srgb
 from .core.lights import Light
 from .core.pipeline import PER_PIXEL_CHANNELS, ImageData, render, shape_normals
@@ -19,6 +19,8 @@ from .core.bake import QUALITY, bake, quality_settings
 from .core.shadow import ShadowStats
 from .imageio import ImageReadError, read_image, write_exr, write_png
 from .recipe import RecipeError, load_images, load_recipe
+from .samples import recipe_path
+from .testpainting import builtin_images, builtin_recipe, write_test_painting
 
 
 class CommandError(Exception):
@@ -92,7 +94,7 @@ def _render_blender(args, recipe):
         raise CommandError("--width and --float64 apply to the numpy engine only")
     if os.path.splitext(args.out)[1].lower() not in (".png", ".exr"):
         raise CommandError(f"{args.out}: unsupported output format (use .png or .exr)")
-    from .blender.headless import render_recipe
+    from .blender.headless import render_recipe     # Blender only when asked for
     seconds = render_recipe(recipe, args.engine, args.out, args.frame)
     print(f"rendered with {args.engine} in {seconds * 1000:.0f} ms → {args.out}")
 
@@ -114,7 +116,7 @@ def add_param_option(parser, flag, path):
     """An option for the parameter at `path`, with the table's default, unit and help.
     Options whose default depends on others (K and the resolution follow --quality, the
     pre-blur the image's bit depth) default to None: 'from …'."""
-    prm = P.BY_PATH[path]
+    prm = params.BY_PATH[path]
     unit = f" {prm.unit}" if prm.unit else ""
     follows = path in ("shadows.steps", "shadows.resolution") or prm.kind == "auto_float"
     default = None if follows else prm.default
@@ -135,7 +137,7 @@ def add_param_option(parser, flag, path):
 def _check_ranges(args, options):
     """Every parameter option within its params.py range, or one clear line."""
     for flag, path in options.items():
-        prm, value = P.BY_PATH[path], getattr(args, _dest(flag))
+        prm, value = params.BY_PATH[path], getattr(args, _dest(flag))
         if not isinstance(value, (int, float)) or isinstance(value, bool):
             continue
         unit = f" {prm.unit}" if prm.unit else ""
@@ -147,7 +149,7 @@ def _check_ranges(args, options):
 
 def _bake_params(args):
     """The recipe parameters bake-shadow's options set (the rest at their defaults)."""
-    p = P.defaults()
+    p = params.defaults()
     for flag, path in BAKE_OPTIONS.items():
         value = getattr(args, _dest(flag))
         if value is not None:
@@ -167,8 +169,8 @@ def cmd_bake_shadow(args):
         raise CommandError(str(exc)) from None
     p = _bake_params(args)
     quality = "custom" if args.steps is not None or args.scale is not None else args.quality
-    level = QUALITY.get(args.quality, {"steps": P.BY_PATH["shadows.steps"].default,
-                                       "scale": P.BY_PATH["shadows.resolution"].default})
+    level = QUALITY.get(args.quality, {"steps": params.BY_PATH["shadows.steps"].default,
+                                       "scale": params.BY_PATH["shadows.resolution"].default})
     steps, scale, dtype = quality_settings(
         quality, level["steps"] if args.steps is None else args.steps,
         level["scale"] if args.scale is None else args.scale)
@@ -192,7 +194,6 @@ def cmd_bake_shadow(args):
 
 
 def cmd_turntable(args):
-    from .samples import recipe_path
     out_ext = os.path.splitext(args.out)[1].lower()
     if out_ext not in (".mp4", ".mkv", ".mov"):
         raise CommandError(f"--out {args.out}: a turntable is a video (use .mp4)")
@@ -205,7 +206,7 @@ def cmd_turntable(args):
     if args.elevation is not None and not -90 <= args.elevation <= 90:
         raise CommandError(f"--elevation must be in [-90, 90] degrees, got {args.elevation}")
     recipe = load_recipe(recipe_path(args.recipe))
-    from .blender.headless import render_turntable
+    from .blender.headless import render_turntable  # Blender only when asked for
     try:
         seconds = render_turntable(recipe, args.out, args.frames, args.engine, args.size,
                                    args.elevation, args.light, args.clockwise, args.samples,
@@ -217,7 +218,6 @@ def cmd_turntable(args):
 
 
 def cmd_demo(args):
-    from .testpainting import builtin_images, builtin_recipe
     recipe = builtin_recipe()
     t = time.perf_counter()
     result = render(builtin_images(args.size), recipe.lights, recipe.params)
@@ -228,14 +228,13 @@ def cmd_demo(args):
 
 
 def cmd_make_test_painting(args):
-    from .testpainting import write_test_painting
     path = write_test_painting(args.folder, args.size)
     print(f"wrote {path}")
 
 
 def cmd_params(args):
     section = None
-    for p in P.PARAMS:
+    for p in params.PARAMS:
         if p.section != section:
             section = p.section
             print(f"\n[{section}]")
@@ -244,7 +243,7 @@ def cmd_params(args):
         unit = f" ({p.unit})" if p.unit else ""
         print(f"  {p.key} = {p.default!r}{unit}{rng}{choices}  {p.spec}\n      {p.help}")
     print("\n[images]  (paths relative to the recipe)")
-    for ch, (what, space) in P.CHANNELS.items():
+    for ch, (what, space) in params.CHANNELS.items():
         print(f"  {ch}: {what} [{space}]")
     print("\n[[lights]]  type = \"sun\" with direction = [x, y, z] (toward the light), or "
           "\"point\" with position = [x, y, z] (image widths from the painting's centre);\n"

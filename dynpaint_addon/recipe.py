@@ -24,8 +24,9 @@ import os
 import tomllib
 from dataclasses import dataclass, field
 
-from . import params as P
+from . import params
 from .core.lights import LIGHT_KINDS, Light
+from .imageio import read_image
 
 LIGHT_KEYS = ("type", "direction", "position", "color", "strength", "name")
 
@@ -119,7 +120,7 @@ def _parse_light(i, table, where):
 def parse_recipe(data, base_dir=".", source="recipe", check_files=True):
     """Validate a recipe dict (as read from TOML) → Recipe. Image paths resolve from base_dir."""
     where = f"{source}: "
-    params = P.defaults()
+    values = params.defaults()
     text = {"name": "", "description": ""}
     images, lights = {}, []
     for key, value in data.items():
@@ -131,9 +132,9 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True):
             if not isinstance(value, dict):
                 raise RecipeError(f"{where}images: expected a table [images]")
             for ch, rel in value.items():
-                if ch not in P.CHANNELS:
+                if ch not in params.CHANNELS:
                     raise RecipeError(f"{where}images.{ch}: unknown image channel"
-                                      f"{_suggest(ch, P.CHANNELS)}; channels: {', '.join(P.CHANNELS)}")
+                                      f"{_suggest(ch, params.CHANNELS)}; channels: {', '.join(params.CHANNELS)}")
                 if not isinstance(rel, str) or not rel:
                     raise RecipeError(f"{where}images.{ch}: expected a file path, got {rel!r}")
                 full = os.path.normpath(os.path.join(base_dir, rel))
@@ -144,25 +145,25 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True):
             if not isinstance(value, list):
                 raise RecipeError(f"{where}lights: expected an array of tables [[lights]]")
             lights = [_parse_light(i, t, where) for i, t in enumerate(value)]
-        elif key in P.SECTIONS:
+        elif key in params.SECTIONS:
             if not isinstance(value, dict):
                 raise RecipeError(f"{where}{key}: expected a table [{key}]")
-            section = getattr(params, key)
+            section = getattr(values, key)
             for k, v in value.items():
-                param = P.BY_PATH.get(f"{key}.{k}")
+                param = params.BY_PATH.get(f"{key}.{k}")
                 if param is None:
-                    keys = [p.key for p in P.PARAMS if p.section == key]
+                    keys = [p.key for p in params.PARAMS if p.section == key]
                     raise RecipeError(f"{where}{key}.{k}: unknown key{_suggest(k, keys)}")
                 setattr(section, k, _check_value(param, v, f"{where}{key}.{k}"))
         else:
-            options = ("name", "description", "images", "lights") + P.SECTIONS
+            options = ("name", "description", "images", "lights") + params.SECTIONS
             raise RecipeError(f"{where}{key}: unknown key{_suggest(key, options)}")
-    for ch in P.REQUIRED_CHANNELS:
+    for ch in params.REQUIRED_CHANNELS:
         if ch not in images:
             raise RecipeError(f"{where}images.{ch}: missing (a painting needs a shape image)")
     if "dark" not in images and "bright" not in images:
         raise RecipeError(f"{where}images.dark: missing (a painting needs a dark or a bright image)")
-    return Recipe(params, lights, images, text["name"], description=text["description"])
+    return Recipe(values, lights, images, text["name"], description=text["description"])
 
 
 def load_recipe(path):
@@ -207,8 +208,8 @@ def recipe_to_toml(recipe, base_dir, only_changed=True):
     for ch, full in recipe.images.items():
         rel = os.path.relpath(full, base_dir).replace(os.sep, "/")
         lines.append(f"{ch} = {_toml_value(rel)}")
-    defaults = P.as_dict(P.defaults())
-    for section, values in P.as_dict(recipe.params).items():
+    defaults = params.as_dict(params.defaults())
+    for section, values in params.as_dict(recipe.params).items():
         changed = {k: v for k, v in values.items() if not only_changed or v != defaults[section][k]}
         if changed:
             lines += ["", f"[{section}]"] + [f"{k} = {_toml_value(v)}" for k, v in changed.items()]
@@ -225,5 +226,4 @@ def recipe_to_toml(recipe, base_dir, only_changed=True):
 
 def load_images(recipe):
     """Read every image the recipe names → {channel: ImageData}."""
-    from .imageio import read_image
     return {ch: read_image(path) for ch, path in recipe.images.items()}

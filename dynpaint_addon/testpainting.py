@@ -6,10 +6,11 @@ import os
 
 import numpy as np
 
-from . import params as P
+from . import params
 from .core.colour import linear_to_srgb
 from .core.lights import Light
 from .core.pipeline import ImageData
+from .imageio import write_png
 from .recipe import Recipe, recipe_to_toml
 
 
@@ -58,7 +59,7 @@ def builtin_images(size=256):
 
 def builtin_recipe():
     """Parameters and lights of the test painting (images not attached)."""
-    p = P.defaults()
+    p = params.defaults()
     p.shape.kind = "height"
     p.shape.height_scale = 0.25
     p.shadows.enabled = True
@@ -72,7 +73,6 @@ def builtin_recipe():
 
 def write_test_painting(folder, size=256):
     """Write the test painting's images and painting.toml into folder → the recipe's path."""
-    from .imageio import write_png
     os.makedirs(folder, exist_ok=True)
     recipe = builtin_recipe()
     for channel, img in builtin_images(size).items():

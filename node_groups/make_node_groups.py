@@ -13,7 +13,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import bpy  # noqa: E402
 
-from dynpaint_addon.blender import compositor as C  # noqa: E402
+from dynpaint_addon.blender.compositor import build_group, features_for_options  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 # name: (shape kind, suns, points, shadows, highlights, channels, silhouette, what it is for)
@@ -42,8 +42,8 @@ def main(argv=None):
     bpy.ops.wm.read_homefile(use_empty=True)
     groups = set()
     for name, (kind, suns, points, shadows, spec, chans, silhouette, about) in VARIANTS.items():
-        f = C.features_for_options(kind, suns, points, shadows, spec, chans, silhouette)
-        group = C.build_group(f, name)
+        f = features_for_options(kind, suns, points, shadows, spec, chans, silhouette)
+        group = build_group(f, name)
         group.asset_mark()
         group.asset_data.description = about
         group.asset_data.tags.new("Dynamic Painting")

@@ -1,4 +1,11 @@
-"""Shared helpers for the test suite (real numpy core; Blender where a test says so)."""
+"""Shared helpers for the test suite (real numpy core; Blender where a test says so).
+
+Tests live by layer: tests/core (the numpy core, recipes, benchmarks), tests/nodegraph (the
+graph description, features, derived inputs), tests/blender (everything that imports bpy or
+runs Blender: the add-on, renders, the command line's image files). Tests under
+tests/blender are marked `blender`, so `pytest -m "not blender"` runs the rest in seconds.
+With DYNPAINT_NO_BPY=1 importing bpy fails, which proves that they need no Blender.
+"""
 import os
 import subprocess
 import sys
@@ -7,6 +14,23 @@ import numpy as np
 import pytest
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BLENDER_TESTS = os.path.join(REPO, "tests", "blender")
+
+if os.environ.get("DYNPAINT_NO_BPY"):
+    sys.modules["bpy"] = None        # `import bpy` raises ImportError
+
+
+def pytest_ignore_collect(collection_path, config):
+    """`-m "not blender"`: do not even import the Blender tests (importing bpy takes seconds)."""
+    if config.getoption("markexpr", "").replace(" ", "") == "notblender":
+        return str(collection_path).startswith(BLENDER_TESTS) or None
+    return None
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        if str(item.path).startswith(BLENDER_TESTS + os.sep):
+            item.add_marker(pytest.mark.blender)
 
 
 def unit(v):

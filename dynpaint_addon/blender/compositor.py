@@ -9,7 +9,7 @@ import numpy as np
 
 import bpy
 
-from .. import params as P
+from .. import params
 from ..core.pipeline import shadow_term, shape_normals
 from ..imageio import read_image, write_exr
 from ..nodegraph import build_bpy
@@ -153,7 +153,7 @@ def composite_recipe(recipe, out, shadow_folder=None):
 
 def features_for_options(kind, suns, points, shadows, specular, channels, silhouette):
     """Features of a group chosen by hand (the operator's options)."""
-    p = P.defaults()
+    p = params.defaults()
     p.shape.kind, p.shadows.enabled, p.specular.enabled = kind, shadows, specular
     p.transparency.amount = "auto" if "transparency" in channels else (
         1.0 if {"environment", "background"} & set(channels) else "auto")

@@ -6,12 +6,12 @@ import numpy as np
 
 import bpy
 
-from .. import params as P
+from .. import params
 from ..imageio import file_channels, image_data_from_blender
 from ..nodegraph.derived_inputs import Source, derived_inputs, grey_rgba, make_derived
 from .settings import channel_images, settings_to_params
 
-COLOUR_CHANNELS = {c for c, (_, kind) in P.CHANNELS.items() if kind == "colour"}
+COLOUR_CHANNELS = {c for c, (_, kind) in params.CHANNELS.items() if kind == "colour"}
 
 
 def bits_of(img):

@@ -13,7 +13,7 @@ import numpy as np
 
 import bpy
 
-from .. import params as P
+from .. import params
 from ..core.shape import slopes_from_normals
 from ..imageio import write_exr
 from ..nodegraph import osl_codegen
@@ -112,7 +112,7 @@ def build_osl_tree(mat, features, images, lights, march):
 
 
 # the shader's parameter name (osl_codegen.Program.param) → the settings it is driven by
-PARAM_OF_INPUT = {osl_codegen.ident(param.path): param for param in P.PARAMS}
+PARAM_OF_INPUT = {osl_codegen.ident(param.path): param for param in params.PARAMS}
 
 
 def _param_path(name):

@@ -7,7 +7,7 @@ applies). The same draw functions serve both places; the classes are generated o
 """
 import bpy
 
-from .. import params as P
+from .. import params
 from ..looks import LOOKS
 from .live_bake import LIVE
 from .operators.add import draw_add_menu
@@ -41,7 +41,7 @@ def _draw_section(layout, s, section):
     col = layout.column()
     col.use_property_split = True
     col.use_property_decorate = True
-    for param in P.PARAMS:
+    for param in params.PARAMS:
         if param.section == section and _shown(s, param):
             _draw_param(col, group, param)
     if section == "diffuse":
@@ -59,7 +59,7 @@ def _draw_section(layout, s, section):
 
 def _draw_images(layout, s):
     col = layout.column(align=True)
-    for channel, (what, kind) in P.CHANNELS.items():
+    for channel, (what, kind) in params.CHANNELS.items():
         row = col.row(align=True)
         row.label(text=channel.replace("_", " ").title())
         img = getattr(s, f"image_{channel}")
@@ -146,8 +146,8 @@ def _make_panels(space, region, context_name, category, prefix):
         self.layout, active_painting(context).dynamic_painting))
     sub("lights", "Lights", lambda self, context: _draw_lights(
         self.layout, context, active_painting(context)))
-    for idname, (label, sections) in P.PANELS.items():
-        header = next((prm.path for prm in P.PARAMS if prm.header and prm.panel == idname), None)
+    for idname, (label, sections) in params.PANELS.items():
+        header = next((prm.path for prm in params.PARAMS if prm.header and prm.panel == idname), None)
         sub(idname, label, _section_drawer(sections), header)
     return panels
 

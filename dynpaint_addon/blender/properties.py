@@ -9,7 +9,7 @@ import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty,
                        IntProperty, PointerProperty, StringProperty)
 
-from .. import params as P
+from .. import params
 from .sync import on_setting_changed
 
 CHOICE_LABELS = {"baked": "Baked (numpy)", "osl": "In-shader (Cycles OSL)",
@@ -56,18 +56,18 @@ def _property(param):
 
 def _section_class(section):
     annotations = {}
-    for param in P.PARAMS:
+    for param in params.PARAMS:
         if param.section == section:
             annotations.update(_property(param))
     return type(f"DYNPAINT_PG_{section}", (bpy.types.PropertyGroup,),
                 {"__annotations__": annotations, "__doc__": f"Dynamic Painting: {section}"})
 
 
-SECTION_CLASSES = [_section_class(s) for s in P.SECTIONS]
+SECTION_CLASSES = [_section_class(s) for s in params.SECTIONS]
 
 
 def _image_pointer(channel):
-    what, kind = P.CHANNELS[channel]
+    what, kind = params.CHANNELS[channel]
     return PointerProperty(type=bpy.types.Image, name=channel.replace("_", " ").title(),
                            description=f"{what[0].upper()}{what[1:]} ({kind})",
                            update=_on_change("images." + channel))
@@ -101,8 +101,8 @@ SETTINGS_ANNOTATIONS = {
     "derived": CollectionProperty(type=DYNPAINT_PG_derived),
     "signature": StringProperty(options={"HIDDEN"}),
     "shadows_stale": BoolProperty(default=False, options={"HIDDEN"}),
-    **{f"image_{c}": _image_pointer(c) for c in P.CHANNELS},
-    **{s: PointerProperty(type=cls) for s, cls in zip(P.SECTIONS, SECTION_CLASSES)},
+    **{f"image_{c}": _image_pointer(c) for c in params.CHANNELS},
+    **{s: PointerProperty(type=cls) for s, cls in zip(params.SECTIONS, SECTION_CLASSES)},
 }
 DYNPAINT_PG_settings = type("DYNPAINT_PG_settings", (bpy.types.PropertyGroup,),
                             {"__annotations__": SETTINGS_ANNOTATIONS,

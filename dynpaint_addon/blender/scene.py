@@ -13,7 +13,7 @@ import numpy as np
 import bpy
 from mathutils import Matrix, Vector
 
-from .. import params as P
+from .. import params
 from ..core.inputs import normal_map_problem, size_message
 from ..core.lights import Light
 from ..core.pipeline import PER_PIXEL_CHANNELS
@@ -95,7 +95,7 @@ LARGE_PX = 4096 * 4096     # from here on, say what a painting costs
 def _create_painting(context, images, p, lights, name, size, location, rotation, default_sun,
                      progress):
     scene = context.scene
-    p = p or P.defaults()
+    p = p or params.defaults()
     messages = []
     loaded = {}
     for channel, src in images.items():

@@ -3,13 +3,13 @@
 The properties themselves are defined in properties.py (generated from params.py); the
 functions here only read and write them, so every layer of the glue can use them.
 """
-from .. import params as P
+from .. import params
 
 
 def settings_to_params(settings):
     """The settings as a params namespace (params.defaults() layout), for the core."""
-    p = P.defaults()
-    for param in P.PARAMS:
+    p = params.defaults()
+    for param in params.PARAMS:
         group = getattr(settings, param.section)
         value = getattr(group, param.key)
         if param.kind == "auto_float" and getattr(group, param.key + "_auto"):
@@ -22,7 +22,7 @@ def settings_to_params(settings):
 
 def params_to_settings(p, settings):
     """Write a params namespace into the settings (recipe import)."""
-    for param in P.PARAMS:
+    for param in params.PARAMS:
         group = getattr(settings, param.section)
         value = getattr(getattr(p, param.section), param.key)
         if param.kind == "auto_float":
@@ -34,5 +34,5 @@ def params_to_settings(p, settings):
 
 def channel_images(settings):
     """{channel: bpy Image} of the images assigned to the painting."""
-    return {c: getattr(settings, f"image_{c}") for c in P.CHANNELS
+    return {c: getattr(settings, f"image_{c}") for c in params.CHANNELS
             if getattr(settings, f"image_{c}") is not None}

@@ -5,14 +5,14 @@ import time
 
 import numpy as np
 
-from .. import params as P
+from .. import params
 from ..core.pipeline import shadow_term, shape_normals
 from ..imageio import image_data_from_blender
 from .images import grey_image
 from .lights import painting_frame_light, plane_matrix
 from .settings import settings_to_params
 
-BAKE_PARAMS = tuple(prm for prm in P.PARAMS if prm.bake)
+BAKE_PARAMS = tuple(prm for prm in params.PARAMS if prm.bake)
 
 
 def light_key(light):

@@ -27,9 +27,11 @@ def features_for(mat, scene):
     return f, lights
 
 
-def signature(features, lights):
-    """What the tree is built from: equal signatures, equal trees."""
-    return repr((features.key(), [o.name for o in lights]))
+def signature(features, lights, images):
+    """What the tree is built from — features, lights, the images its nodes sample: equal
+    signatures, equal trees."""
+    sampled = sorted((c, images[c].name) for c in features.image_channels() if c in images)
+    return repr((features.key(), [o.name for o in lights], sampled))
 
 
 def sync_light_items(s, lights):
@@ -60,11 +62,11 @@ def rebuild_tree(mat, scene, force=False, features=None):
     """Rebuild the node tree if its features or lights changed (or `force`). → True if rebuilt."""
     s = mat.dynamic_painting
     f, lights = features or features_for(mat, scene)
-    sig = signature(f, lights)
-    if not force and sig == s.signature and len(mat.node_tree.nodes):
-        return False
     sync_light_items(s, lights)
     images = tree_images(s)
+    sig = signature(f, lights, images)
+    if not force and sig == s.signature and len(mat.node_tree.nodes):
+        return False
     missing = f.image_channels() - images.keys()
     if missing:
         raise ValueError(f"images not ready: {', '.join(sorted(missing))}")

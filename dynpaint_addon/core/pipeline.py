@@ -254,93 +254,163 @@ def _rows(img, r0, r1):
     return ImageData(img.pixels[r0:r1], img.bits, img.name)
 
 
+@dataclass
+class Band:
+    """Rows r0 … r1 − 1 of the painting being shaded: what the terms read and write, in order.
+
+    Each term of §4–§11 is one function below, registered by @term in the order the pipeline
+    applies it; it reads the inputs (`image`, `p`, the decoded normals `n`) and what earlier
+    terms left (`rgba`, `s_mix`, `c_spec`), and writes its result and its passes.
+    """
+    ctx: _Shading
+    r0: int
+    r1: int
+    rgba: np.ndarray = None          # premultiplied linear RGBA so far
+    s_mix: np.ndarray = None         # §7 highlight weight s (RGB), 0 without highlights
+    c_spec: np.ndarray = None        # §7 highlight colour
+    specular_terms: list = None      # §7 per-light highlight terms (from the light terms)
+    passes: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        self.p, self.dtype, self.lights = self.ctx.p, self.ctx.dtype, self.ctx.lights
+        self.n = self.ctx.n[self.r0:self.r1]
+        self.shape = (self.r1 - self.r0, self.ctx.ws)
+        self.s_mix = np.zeros(self.shape + (3,), self.dtype)
+
+    def has(self, channel):
+        return channel in self.ctx.imgs
+
+    def image(self, channel):
+        """A per-pixel input's rows of this band."""
+        return _rows(self.ctx.imgs[channel], self.r0, self.r1)
+
+    def colour(self, channel):
+        """A colour input's rows, linear RGB (§0)."""
+        return _linear(self.image(channel), self.dtype)
+
+    def grey(self, channel, default=1.0):
+        """A data input's rows as one channel, or `default` everywhere without the image."""
+        if not self.has(channel):
+            return np.full(self.shape, default, self.dtype)
+        return self.image(channel).grey().astype(self.dtype)
+
+
+TERMS = []
+
+
+def term(fn):
+    """Register a shading term: the pipeline applies them in the order they are defined."""
+    TERMS.append(fn)
+    return fn
+
+
 def _shade(ctx, r0, r1):
     """§3–§11 for rows r0 … r1 − 1 of the painting → (premultiplied RGBA, passes)."""
-    imgs, lights, p, dtype, cache = ctx.imgs, ctx.lights, ctx.p, ctx.dtype, ctx.cache
-    hs, ws = r1 - r0, ctx.ws
-    rows = (r0, r1)
-    n = ctx.n[r0:r1]
-    c0 = _linear(_rows(imgs.get("dark", imgs.get("bright")), r0, r1), dtype)
-    c1 = _linear(_rows(imgs.get("bright", imgs.get("dark")), r0, r1), dtype)
+    band = Band(ctx, r0, r1)
+    for shading_term in TERMS:
+        shading_term(band)
+    rgba = np.where(np.isfinite(band.rgba), band.rgba, 0)
+    return rgba.astype(ctx.dtype, copy=False), band.passes
+
+
+@term
+def diffuse(b):
+    """§4–§5: the light terms, the weight W = clip(Σ k·c·t) and C_d = C0(1 − W) + C1·W."""
+    p, dtype, lights = b.p, b.dtype, b.lights
+    c0 = b.colour("dark" if b.has("dark") else "bright")
+    c1 = b.colour("bright" if b.has("bright") else "dark")
     c0 = np.where(np.isfinite(c0), c0, 0)
     c1 = np.where(np.isfinite(c1), c1, 0)
-
-    # §4–§5 diffuse, barycentric mix with coloured lights
-    raw, spec = light_terms(ctx.n, ctx.z_px, ctx.slopes, lights, p, dtype, rows, ctx.shadows)
+    ctx = b.ctx
+    raw, spec = light_terms(ctx.n, ctx.z_px, ctx.slopes, lights, p, dtype, (b.r0, b.r1),
+                            ctx.shadows)
     terms = [shading.clamp_step(t, p.diffuse.t0, p.diffuse.t1, p.diffuse.curve) for t in raw]
-    colours = [lt.colour for lt in lights]
-    strengths = [lt.strength for lt in lights]
     if lights:
-        w_mix = shading.light_weight(terms, colours, strengths)
+        w_mix = shading.light_weight(terms, [lt.colour for lt in lights],
+                                     [lt.strength for lt in lights])
     else:
-        w_mix = np.zeros((hs, ws, 3), dtype)
+        w_mix = np.zeros(b.shape + (3,), dtype)
     c_d = shading.barycentric_mix(c0, c1, w_mix)
-    passes = {"normal": n, "t": raw, "W": w_mix}
+    b.passes.update({"normal": b.n, "t": raw, "W": w_mix})
+    b.specular_terms = spec
+    b.rgba = np.concatenate([c_d, np.ones(b.shape + (1,), dtype)], axis=2)
 
-    # §7 opaque highlight
-    s_mix = np.zeros((hs, ws, 3), dtype)
-    c_spec = _linear(_rows(imgs["specular_color"], r0, r1), dtype) if "specular_color" in imgs \
-        else np.ones(3, dtype)
-    if p.specular.enabled and lights:
-        s_mix = shading.light_weight(spec, colours, strengths)
-        gloss = _rows(imgs["gloss"], r0, r1).grey().astype(dtype) if "gloss" in imgs \
-            else np.ones((hs, ws), dtype)
-        g = np.clip(gloss * dtype(p.specular.amount), 0, 1)
-        c_s = shading.opaque_highlight(c_d, c_spec, g[..., None] * s_mix)
-        passes["s"] = s_mix
-    else:
-        c_s = c_d
-    rgba = np.concatenate([c_s, np.ones((hs, ws, 1), dtype)], axis=2)
 
-    # §11 transparency: G = F·C_M + (1 − F)·C_T; C2' = clip(G + s·C_spec); C = (1−k)C_s + k·C2'
+@term
+def highlights(b):
+    """§7: the opaque highlight C_s = C_d(1 − g·s) + C_spec·g·s."""
+    p, dtype, lights = b.p, b.dtype, b.lights
+    b.c_spec = b.colour("specular_color") if b.has("specular_color") else np.ones(3, dtype)
+    if not (p.specular.enabled and lights):
+        return
+    b.s_mix = shading.light_weight(b.specular_terms, [lt.colour for lt in lights],
+                                   [lt.strength for lt in lights])
+    g = np.clip(b.grey("gloss") * dtype(p.specular.amount), 0, 1)
+    c_s = shading.opaque_highlight(b.rgba[..., :3], b.c_spec, g[..., None] * b.s_mix)
+    b.rgba = np.concatenate([c_s, b.rgba[..., 3:]], axis=2)
+    b.passes["s"] = b.s_mix
+
+
+@term
+def transparency(b):
+    """§8–§11: reflection of E and refraction of B by UV warps, mixed by Fresnel (G), the
+    highlight added (C2′ = clip(G + s·C_spec)) and shown by k: C = (1 − k)·C_s + k·C2′."""
+    p, dtype, ctx = b.p, b.dtype, b.ctx
     amount = p.transparency.amount
     if amount == "auto":
-        amount = 1.0 if "transparency" in imgs else 0.0
-    kmap = _rows(imgs["transparency"], r0, r1).grey().astype(dtype) if "transparency" in imgs \
-        else np.ones((hs, ws), dtype)
-    k = np.clip(kmap * dtype(amount), 0, 1)
-    if amount > 0 and np.any(k > 0):
-        c_m = c_t = None
-        if "environment" in imgs:
-            e = _lookup_source(imgs, "environment", p.reflection.blur, p.reflection.extension, dtype, cache)
-            off = warps.reflection_offset(n, p.reflection.distance, p.reflection.mode,
-                                          p.reflection.max_offset)
-            c_m = _warped_lookup(e, off, (ctx.hs, ws), p.reflection.extension, rows)
-        if "background" in imgs:
-            b = _lookup_source(imgs, "background", p.refraction.blur, p.refraction.extension, dtype, cache)
-            if p.refraction.mode == "physical":
-                off = warps.refraction_offset_physical(n, p.refraction.distance, p.refraction.ior)
-            else:
-                off = warps.refraction_offset_linear(n, p.refraction.distance, p.refraction.mu)
-            c_t = _warped_lookup(b, off, (ctx.hs, ws), p.refraction.extension, rows)
-        if c_m is not None and c_t is not None:
-            eta = p.refraction.ior if p.refraction.mode == "physical" else 2.0 ** p.refraction.mu
-            if p.fresnel.mode == "physical":
-                f = fr.fresnel_physical(n, eta)
-            else:
-                f = fr.fresnel_art(n, p.fresnel.x1, p.fresnel.x2, p.fresnel.kappa, p.fresnel.domain)
-            g_mix = f[..., None] * c_m + (1 - f[..., None]) * c_t
-            passes["F"] = f
-        elif c_m is not None or c_t is not None:
-            g_mix = c_m if c_m is not None else c_t
+        amount = 1.0 if b.has("transparency") else 0.0
+    k = np.clip(b.grey("transparency") * dtype(amount), 0, 1)
+    if not (amount > 0 and np.any(k > 0)):
+        return
+    rows, n = (b.r0, b.r1), b.n
+    c_m = c_t = None
+    if b.has("environment"):
+        e = _lookup_source(ctx.imgs, "environment", p.reflection.blur, p.reflection.extension,
+                           dtype, ctx.cache)
+        off = warps.reflection_offset(n, p.reflection.distance, p.reflection.mode,
+                                      p.reflection.max_offset)
+        c_m = _warped_lookup(e, off, (ctx.hs, ctx.ws), p.reflection.extension, rows)
+    if b.has("background"):
+        bg = _lookup_source(ctx.imgs, "background", p.refraction.blur, p.refraction.extension,
+                            dtype, ctx.cache)
+        if p.refraction.mode == "physical":
+            off = warps.refraction_offset_physical(n, p.refraction.distance, p.refraction.ior)
         else:
-            g_mix = np.zeros((hs, ws, 4), dtype)
-        c2 = g_mix.copy()
-        c2[..., :3] = np.clip(g_mix[..., :3] + s_mix * c_spec, 0, 1)
-        rgba = (1 - k[..., None]) * rgba + k[..., None] * c2
-        passes["k"] = k
+            off = warps.refraction_offset_linear(n, p.refraction.distance, p.refraction.mu)
+        c_t = _warped_lookup(bg, off, (ctx.hs, ctx.ws), p.refraction.extension, rows)
+    if c_m is not None and c_t is not None:
+        eta = p.refraction.ior if p.refraction.mode == "physical" else 2.0 ** p.refraction.mu
+        if p.fresnel.mode == "physical":
+            f = fr.fresnel_physical(n, eta)
+        else:
+            f = fr.fresnel_art(n, p.fresnel.x1, p.fresnel.x2, p.fresnel.kappa, p.fresnel.domain)
+        g_mix = f[..., None] * c_m + (1 - f[..., None]) * c_t
+        b.passes["F"] = f
+    elif c_m is not None or c_t is not None:
+        g_mix = c_m if c_m is not None else c_t
+    else:
+        g_mix = np.zeros(b.shape + (4,), dtype)
+    c2 = g_mix.copy()
+    c2[..., :3] = np.clip(g_mix[..., :3] + b.s_mix * b.c_spec, 0, 1)
+    b.rgba = (1 - k[..., None]) * b.rgba + k[..., None] * c2
+    b.passes["k"] = k
 
-    # §11 silhouette: final = B·(1 − α) + C·α (B at the pixel itself, unwarped)
-    alpha = _silhouette(imgs, p.silhouette.source)
-    if alpha is not None:
-        alpha = alpha[r0:r1]
-        alpha = np.clip(np.where(np.isfinite(alpha), alpha, 0), 0, 1).astype(dtype)[..., None]
-        behind = _warped_lookup(_lookup_source(imgs, "background", 0.0, "extend", dtype, cache),
-                                np.zeros((hs, ws, 2), dtype), (ctx.hs, ws), "extend", rows) \
-            if "background" in imgs else np.zeros((hs, ws, 4), dtype)
-        rgba = behind * (1 - alpha) + rgba * alpha
-    rgba = np.where(np.isfinite(rgba), rgba, 0)
-    return rgba.astype(dtype, copy=False), passes
+
+@term
+def silhouette(b):
+    """§11: outside the silhouette α the background shows: B·(1 − α) + C·α (B unwarped)."""
+    ctx, dtype = b.ctx, b.dtype
+    alpha = _silhouette(ctx.imgs, b.p.silhouette.source)
+    if alpha is None:
+        return
+    alpha = alpha[b.r0:b.r1]
+    alpha = np.clip(np.where(np.isfinite(alpha), alpha, 0), 0, 1).astype(dtype)[..., None]
+    behind = _warped_lookup(_lookup_source(ctx.imgs, "background", 0.0, "extend", dtype,
+                                           ctx.cache),
+                            np.zeros(b.shape + (2,), dtype), (ctx.hs, ctx.ws), "extend",
+                            (b.r0, b.r1)) \
+        if b.has("background") else np.zeros(b.shape + (4,), dtype)
+    b.rgba = behind * (1 - alpha) + b.rgba * alpha
 
 
 # §1 silhouette.source → the channels whose alpha may cut the painting out, in order

@@ -13,7 +13,7 @@ alpha to Channel Packed); the height map is used as given (an 8-bit one wants th
 first); environment and background are used unblurred (for glossy/translucent looks, feed
 blurred copies, e.g. made by the add-on).
 """
-from .. import params as P
+from .. import params
 from .build_bpy import link_or_set
 
 # channel of the description → group input it reads
@@ -57,7 +57,7 @@ class CompositorBackend:
             i = int(channel.split("_")[1])
             return self._socket(tree, f"Light {i + 1} Shadow", "NodeSocketColor",
                                 description="Its baked cos-θ term (pipeline.md §6), Non-Color")
-        what, kind = P.CHANNELS[channel]
+        what, kind = params.CHANNELS[channel]
         return self._socket(tree, input_name(channel), "NodeSocketColor",
                             description=f"{what[0].upper()}{what[1:]} ({kind})")
 
@@ -118,7 +118,7 @@ class CompositorBackend:
         return made, {"color": color, "alpha": split.outputs["Alpha"]}
 
     def param(self, tree, node, inputs):
-        param = P.BY_PATH[node.props["path"]]
+        param = params.BY_PATH[node.props["path"]]
         default = param.default
         if param.kind is bool:
             default = float(default)

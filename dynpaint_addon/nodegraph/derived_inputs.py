@@ -27,7 +27,7 @@ from typing import Callable
 
 import numpy as np
 
-from .. import params as P
+from .. import params
 from ..core.inputs import finite_pixels, non_finite_message
 from ..core.pipeline import PER_PIXEL_CHANNELS, lookup_copy
 from ..core.shape import default_preblur_px, preblurred_height
@@ -52,7 +52,7 @@ class Derived:
 
 def _key(channel, source, p, *extra):
     """The source image and every parameter whose `derives` role names this channel."""
-    values = [(prm.path, getattr(getattr(p, prm.section), prm.key)) for prm in P.PARAMS
+    values = [(prm.path, getattr(getattr(p, prm.section), prm.key)) for prm in params.PARAMS
               if channel in prm.derives]
     return repr((source.name, *values, *extra))
 

@@ -12,7 +12,7 @@ structural parameter needs no code here.
 """
 import dataclasses
 
-from .. import params as P
+from .. import params
 from ..core.pipeline import silhouette_channel
 
 # The structural parameters whose Features value depends on the images as well: the value the
@@ -34,7 +34,7 @@ def _silhouette(source, channels, alpha_channels):
 
 RESOLVE = {"transparency.amount": _transparency, "silhouette.source": _silhouette}
 DEFAULT_CHANNELS = frozenset({"shape", "dark", "bright"})
-STRUCTURAL = tuple(p for p in P.PARAMS if p.structural)
+STRUCTURAL = tuple(p for p in params.PARAMS if p.structural)
 
 
 def _default(param):

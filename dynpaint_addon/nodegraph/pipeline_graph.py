@@ -20,6 +20,8 @@ Channels the graph samples (the add-on supplies an image for each):
 Structure (what exists) comes from `Features`; values (t0, η, …) are live `dp.param` nodes, so
 changing a value never rebuilds the tree, and toggling a feature rebuilds only the tree.
 """
+from dataclasses import dataclass, field
+
 from .features import Features
 from .graph import FLOAT, VECTOR, Graph
 
@@ -247,6 +249,37 @@ def _fresnel_art_group(domain):
 EXTENSION_MODES = {"wrap": "REPEAT", "extend": "EXTEND", "mirror": "MIRROR"}
 
 
+@dataclass
+class Build:
+    """What the terms of describe() share: the graph, the features, the pixel's UV, normal and
+    surface point (§2), and what earlier terms left — the colour so far (C), its alpha, the
+    highlight weight s and colour, and the passes a backend may expose."""
+    g: Graph
+    f: Features
+    uv: object
+    u: object
+    v: object
+    aspect: float
+    normal: object = None
+    surface: object = None
+    colour: object = (0.0, 0.0, 0.0)
+    alpha: object = 1.0
+    s_mix: object = (0.0, 0.0, 0.0)
+    c_spec: object = (1.0, 1.0, 1.0)
+    acc_s: object = (0.0, 0.0, 0.0)
+    passes: dict = field(default_factory=dict)
+
+
+TERMS = []
+
+
+def term(fn):
+    """Register a term of the graph: describe() adds them in the order they are defined, each
+    the twin of the core's term of the same name (core/pipeline.py)."""
+    TERMS.append(fn)
+    return fn
+
+
 def describe(f):
     """Features → Graph of the whole pipeline, with only the branches the scene needs (§12)."""
     g = Graph("Dynamic Painting")
@@ -281,8 +314,21 @@ def describe(f):
                             g.math("MULTIPLY", g.math("SUBTRACT", v, 0.5), 1.0 / aspect),
                             surface_z, label="P_S")
 
+    b = Build(g, f, uv, u, v, aspect, normal, surface)
+    for graph_term in TERMS:
+        graph_term(b)
+    g.output(b.colour, b.alpha, {"W": b.passes.get("W", (0.0, 0.0, 0.0)), "s": b.s_mix,
+                                 "F": b.passes.get("F", 0.0),
+                                 **{k: v for k, v in b.passes.items() if k.startswith("t")}})
+    return g
+
+
+@term
+def diffuse(b):
+    """§3–§5: per light its term (N·L or the cos-θ image) through Clamp&Step, the weight
+    W = clip(Σ k·c·t) and C_d = C0(1 − W) + C1·W."""
+    g, f = b.g, b.f
     acc_t = acc_s = (0.0, 0.0, 0.0)
-    light_terms = {}
     if f.lights:
         with g.section("Light & Style (§3–§7)"):
             t0, t1 = g.param("diffuse.t0"), g.param("diffuse.t1")
@@ -291,102 +337,118 @@ def describe(f):
         for i, kind in enumerate(f.lights):
             with g.section(f"Light {i + 1}"):
                 vec, weight = g.light(i, kind)
-                shadow = g.shadow_term(i, kind, normal, vec) if f.shadows else 0.0
+                shadow = g.shadow_term(i, kind, b.normal, vec) if f.shadows else 0.0
                 terms = g.group(_light_group(kind, f.shadows, f.specular, f.diffuse_curve,
                                              f.specular_curve),
-                                {"Normal": normal, "Light": vec, "Surface": surface,
+                                {"Normal": b.normal, "Light": vec, "Surface": b.surface,
                                  "Shadow": shadow, "T0": t0, "T1": t1, "S0": s0, "S1": s1})
-                light_terms[f"t{i + 1}"] = terms["Diffuse"]
+                b.passes[f"t{i + 1}"] = terms["Diffuse"]
                 acc_t = g.group(_accumulate(), {"Sum": acc_t, "Term": terms["Diffuse"],
                                                 "Weight": weight})["Sum"]
                 if f.specular:
                     acc_s = g.group(_accumulate(), {"Sum": acc_s, "Term": terms["Specular"],
                                                     "Weight": weight})["Sum"]
-
+    b.acc_s = acc_s
     with g.section("Barycentric mix (§5)"):
         c0 = g.sample("dark" if "dark" in f.channels else "bright", None, "EXTEND")[0]
         c1 = g.sample("bright" if "bright" in f.channels else "dark", None, "EXTEND")[0]
         w = _clip01(g, acc_t, label="W = clip(Σ k·c·t)") if f.lights else (0.0, 0.0, 0.0)
-        color = g.mix_vector(w, c0, c1, label="C_d = C0(1 − W) + C1·W")
+        b.colour = g.mix_vector(w, c0, c1, label="C_d = C0(1 − W) + C1·W")
+        b.passes["W"] = w
 
-    s_mix, c_spec = (0.0, 0.0, 0.0), (1.0, 1.0, 1.0)
-    if f.specular and f.lights:
-        with g.section("Highlights (§7)"):
-            s_mix = _clip01(g, acc_s, label="s")
-            if "specular_color" in f.channels:
-                c_spec = g.sample("specular_color", None, "EXTEND")[0]
-            amount = g.param("specular.amount")
-            gloss = g.math("MULTIPLY", g.separate(g.sample("gloss", None, "EXTEND")[0])[0], amount,
-                           clamp=True, label="g") if "gloss" in f.channels \
-                else g.math("MULTIPLY", amount, 1.0, clamp=True, label="g")
-            gs = g.vmath("SCALE", s_mix, scale=gloss, label="g·s")
-            color = g.mix_vector(gs, color, c_spec, label="C_s")
-    alpha = 1.0
 
-    fresnel_used = False
-    if f.has_lookups:
-        with g.section("Reflection & Refraction (§8–§10)"):
-            c_m = c_t = None
-            a_m = a_t = 0.0
+@term
+def highlights(b):
+    """§7: the opaque highlight C_s = C_d(1 − g·s) + C_spec·g·s."""
+    g, f = b.g, b.f
+    if not (f.specular and f.lights):
+        return
+    with g.section("Highlights (§7)"):
+        b.s_mix = _clip01(g, b.acc_s, label="s")
+        if "specular_color" in f.channels:
+            b.c_spec = g.sample("specular_color", None, "EXTEND")[0]
+        amount = g.param("specular.amount")
+        gloss = g.math("MULTIPLY", g.separate(g.sample("gloss", None, "EXTEND")[0])[0], amount,
+                       clamp=True, label="g") if "gloss" in f.channels \
+            else g.math("MULTIPLY", amount, 1.0, clamp=True, label="g")
+        gs = g.vmath("SCALE", b.s_mix, scale=gloss, label="g·s")
+        b.colour = g.mix_vector(gs, b.colour, b.c_spec, label="C_s")
 
-            def warped(channel, offset, extension):
-                ox, oy, _ = g.separate(offset)
-                return g.sample_bilinear(channel, g.math("ADD", u, ox),
-                                         g.math("ADD", v, g.math("MULTIPLY", oy, aspect)),
-                                         dict(f.lookup_sizes)[channel],
-                                         EXTENSION_MODES[extension])
 
-            if f.reflects:
-                off = g.group(_reflection_group(f.reflection_mode),
-                              {"Normal": normal, "Distance": g.param("reflection.distance"),
-                               "Max Offset": g.param("reflection.max_offset")})["Offset"]
-                c_m, a_m = warped("environment", off, f.reflection_extension)
-            if f.refracts:
-                off = g.group(_refraction_group(f.refraction_mode),
-                              {"Normal": normal, "Distance": g.param("refraction.distance"),
-                               "IOR": g.param("refraction.ior") if f.refraction_mode == "physical" else 1.0,
-                               "Mu": g.param("refraction.mu") if f.refraction_mode == "linear" else 0.0})["Offset"]
-                c_t, a_t = warped("background", off, f.refraction_extension)
-            if c_m is not None and c_t is not None:
-                if f.fresnel_mode == "physical":
-                    eta = g.param("refraction.ior") if f.refraction_mode == "physical" \
-                        else g.math("POWER", 2.0, g.param("refraction.mu"), label="η = 2^μ")
-                    fres = g.group(_fresnel_physical(), {"Normal": normal, "IOR": eta})
-                else:
-                    fres = g.group(_fresnel_art_group(f.fresnel_domain),
-                                   {"Normal": normal, "X1": g.param("fresnel.x1"),
-                                    "X2": g.param("fresnel.x2"),
-                                    "Kappa": g.param("fresnel.kappa")})
-                fr = fres["Fresnel"]
-                fresnel_used = True
-                g_rgb = g.mix_vector(g.combine(fr, fr, fr), c_t, c_m, label="G = F·C_M + (1−F)·C_T")
-                g_a = g.mix_float(fr, a_t, a_m)
-            elif c_m is not None or c_t is not None:
-                g_rgb, g_a = (c_m, a_m) if c_m is not None else (c_t, a_t)
+@term
+def transparency(b):
+    """§8–§11: reflection of E and refraction of B by UV warps, mixed by Fresnel (G), the
+    highlight added (C2′ = clip(G + s·C_spec)) and shown by k: C = (1 − k)·C_s + k·C2′."""
+    g, f, u, v, aspect, normal = b.g, b.f, b.u, b.v, b.aspect, b.normal
+    if not f.has_lookups:
+        return
+    with g.section("Reflection & Refraction (§8–§10)"):
+        c_m = c_t = None
+        a_m = a_t = 0.0
+
+        def warped(channel, offset, extension):
+            ox, oy, _ = g.separate(offset)
+            return g.sample_bilinear(channel, g.math("ADD", u, ox),
+                                     g.math("ADD", v, g.math("MULTIPLY", oy, aspect)),
+                                     dict(f.lookup_sizes)[channel],
+                                     EXTENSION_MODES[extension])
+
+        if f.reflects:
+            off = g.group(_reflection_group(f.reflection_mode),
+                          {"Normal": normal, "Distance": g.param("reflection.distance"),
+                           "Max Offset": g.param("reflection.max_offset")})["Offset"]
+            c_m, a_m = warped("environment", off, f.reflection_extension)
+        if f.refracts:
+            off = g.group(_refraction_group(f.refraction_mode),
+                          {"Normal": normal, "Distance": g.param("refraction.distance"),
+                           "IOR": g.param("refraction.ior")
+                           if f.refraction_mode == "physical" else 1.0,
+                           "Mu": g.param("refraction.mu")
+                           if f.refraction_mode == "linear" else 0.0})["Offset"]
+            c_t, a_t = warped("background", off, f.refraction_extension)
+        if c_m is not None and c_t is not None:
+            if f.fresnel_mode == "physical":
+                eta = g.param("refraction.ior") if f.refraction_mode == "physical" \
+                    else g.math("POWER", 2.0, g.param("refraction.mu"), label="η = 2^μ")
+                fres = g.group(_fresnel_physical(), {"Normal": normal, "IOR": eta})
             else:
-                g_rgb, g_a = (0.0, 0.0, 0.0), 0.0
-        with g.section("Transparency (§11)"):
-            c2 = _clip01(g, g.vmath("MULTIPLY_ADD", s_mix, c_spec, g_rgb), label="C2′")
-            if f.transparency == "map":
-                k = g.separate(g.sample("transparency", None, "EXTEND")[0])[0]
-                k = g.math("MULTIPLY", k, 1.0, clamp=True, label="k")
-            else:
-                amount = g.param("transparency.amount")
-                k = g.math("MULTIPLY", g.separate(g.sample("transparency", None, "EXTEND")[0])[0],
-                           amount, clamp=True, label="k") if "transparency" in f.channels \
-                    else g.math("MULTIPLY", amount, 1.0, clamp=True, label="k")
-            color = g.mix_vector(g.combine(k, k, k), color, c2, label="C = (1−k)C_s + k·C2′")
-            alpha = g.mix_float(k, 1.0, g_a)
+                fres = g.group(_fresnel_art_group(f.fresnel_domain),
+                               {"Normal": normal, "X1": g.param("fresnel.x1"),
+                                "X2": g.param("fresnel.x2"),
+                                "Kappa": g.param("fresnel.kappa")})
+            fr = fres["Fresnel"]
+            b.passes["F"] = fr
+            g_rgb = g.mix_vector(g.combine(fr, fr, fr), c_t, c_m,
+                                 label="G = F·C_M + (1−F)·C_T")
+            g_a = g.mix_float(fr, a_t, a_m)
+        elif c_m is not None or c_t is not None:
+            g_rgb, g_a = (c_m, a_m) if c_m is not None else (c_t, a_t)
+        else:
+            g_rgb, g_a = (0.0, 0.0, 0.0), 0.0
+    with g.section("Transparency (§11)"):
+        c2 = _clip01(g, g.vmath("MULTIPLY_ADD", b.s_mix, b.c_spec, g_rgb), label="C2′")
+        if f.transparency == "map":
+            k = g.separate(g.sample("transparency", None, "EXTEND")[0])[0]
+            k = g.math("MULTIPLY", k, 1.0, clamp=True, label="k")
+        else:
+            amount = g.param("transparency.amount")
+            k = g.math("MULTIPLY", g.separate(g.sample("transparency", None, "EXTEND")[0])[0],
+                       amount, clamp=True, label="k") if "transparency" in f.channels \
+                else g.math("MULTIPLY", amount, 1.0, clamp=True, label="k")
+        b.colour = g.mix_vector(g.combine(k, k, k), b.colour, c2, label="C = (1−k)C_s + k·C2′")
+        b.alpha = g.mix_float(k, 1.0, g_a)
 
-    if f.silhouette:
-        with g.section("Silhouette (§11)"):
-            a = g.sample("silhouette", None, "EXTEND", label=f"{f.silhouette} alpha")[1]
-            if "background" in f.channels:
-                b_rgb, b_a = g.sample("background_sharp", None, "EXTEND", label="behind")
-            else:
-                b_rgb, b_a = (0.0, 0.0, 0.0), 0.0
-            color = g.mix_vector(g.combine(a, a, a), b_rgb, color, label="B(1−α) + C·α")
-            alpha = g.mix_float(a, b_a, alpha)
-    g.output(color, alpha, {"W": w, "s": s_mix, "F": fres["Fresnel"] if fresnel_used else 0.0,
-                            **light_terms})
-    return g
+@term
+def silhouette(b):
+    """§11: outside the silhouette α the background shows: B·(1 − α) + C·α (B unwarped)."""
+    g, f = b.g, b.f
+    if not f.silhouette:
+        return
+    with g.section("Silhouette (§11)"):
+        a = g.sample("silhouette", None, "EXTEND", label=f"{f.silhouette} alpha")[1]
+        if "background" in f.channels:
+            b_rgb, b_a = g.sample("background_sharp", None, "EXTEND", label="behind")
+        else:
+            b_rgb, b_a = (0.0, 0.0, 0.0), 0.0
+        b.colour = g.mix_vector(g.combine(a, a, a), b_rgb, b.colour, label="B(1−α) + C·α")
+        b.alpha = g.mix_float(a, b_a, b.alpha)

@@ -138,22 +138,24 @@ class ShaderBackend:
         out = tree.nodes.new("ShaderNodeOutputMaterial")
         made = [emission]
         if isinstance(alpha, bpy.types.NodeSocket):
-            # premultiplied (rgb, α) → Transparent·(1 − α) + Emission(rgb/α)·α (÷0 gives 0)
-            spread = tree.nodes.new("ShaderNodeCombineXYZ")
+            # premultiplied (rgb, α) → Emission(rgb) + Transparent of colour 1 − α: coverage α
+            # and colour rgb exactly, also where α = 0 and rgb is not (a highlight on clear
+            # glass with nothing behind it adds light, §11), with no division by α
+            clear_rgb = tree.nodes.new("ShaderNodeCombineXYZ")
+            see_through = tree.nodes.new("ShaderNodeMath")
+            see_through.operation = "SUBTRACT"
+            see_through.inputs[0].default_value = 1.0
+            tree.links.new(alpha, see_through.inputs[1])
             for i in range(3):
-                tree.links.new(alpha, spread.inputs[i])
-            straight = tree.nodes.new("ShaderNodeVectorMath")
-            straight.operation = "DIVIDE"
-            link_or_set(tree, rgb, straight.inputs[0])
-            tree.links.new(spread.outputs[0], straight.inputs[1])
-            tree.links.new(straight.outputs[0], emission.inputs["Color"])
+                tree.links.new(see_through.outputs[0], clear_rgb.inputs[i])
+            link_or_set(tree, rgb, emission.inputs["Color"])
             clear = tree.nodes.new("ShaderNodeBsdfTransparent")
-            mix = tree.nodes.new("ShaderNodeMixShader")
-            tree.links.new(alpha, mix.inputs[0])
-            tree.links.new(clear.outputs[0], mix.inputs[1])
-            tree.links.new(emission.outputs[0], mix.inputs[2])
-            tree.links.new(mix.outputs[0], out.inputs["Surface"])
-            made = [spread, straight, emission, clear, mix]
+            tree.links.new(clear_rgb.outputs[0], clear.inputs["Color"])
+            add = tree.nodes.new("ShaderNodeAddShader")
+            tree.links.new(clear.outputs[0], add.inputs[0])
+            tree.links.new(emission.outputs[0], add.inputs[1])
+            tree.links.new(add.outputs[0], out.inputs["Surface"])
+            made = [see_through, clear_rgb, emission, clear, add]
         else:
             link_or_set(tree, rgb, emission.inputs["Color"])
             tree.links.new(emission.outputs[0], out.inputs["Surface"])

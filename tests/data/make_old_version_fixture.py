@@ -16,7 +16,9 @@ sys.path[:0] = [REPO, os.path.dirname(HERE)]
 
 import bpy  # noqa: E402
 
-from dynpaint_addon.blender import headless, material as M, scene as S  # noqa: E402
+from dynpaint_addon.blender import headless  # noqa: E402
+from dynpaint_addon.blender.lights import linked_lights  # noqa: E402
+from dynpaint_addon.blender.scene import exact_render_settings  # noqa: E402
 from parity_recipes import make_recipe, write_images  # noqa: E402
 
 
@@ -25,14 +27,14 @@ def main():
     paths = write_images(tempfile.mkdtemp())
     plane, mat = headless.build_recipe_scene(make_recipe("shadows_height", paths))
     scene = bpy.context.scene
-    sun = M.linked_lights(mat, scene)[0]
+    sun = linked_lights(mat, scene)[0]
     sun.rotation_mode = "XYZ"
     for frame, z in ((1, 0.0), (10, 2.0)):
         sun.rotation_euler = (0.7, 0.1, z)
         sun.keyframe_insert("rotation_euler", frame=frame)
     scene.frame_end = 10
     scene.frame_set(4)
-    S.exact_render_settings(scene, "cycles")
+    exact_render_settings(scene, "cycles")
     for img in bpy.data.images:
         if img.source == "FILE":
             img.pack()

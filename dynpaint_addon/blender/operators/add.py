@@ -8,7 +8,7 @@ from bpy.props import BoolProperty, CollectionProperty, EnumProperty, FloatPrope
 from bpy.utils import previews
 from bpy_extras.io_utils import ImportHelper
 
-from ... import params as P
+from ... import params
 from ...channel_names import IMAGE_EXTENSIONS, guess_channels
 from ...imageio import image_data_from_blender
 from ...recipe import RecipeError, load_recipe
@@ -87,7 +87,7 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
         if "shape" not in channels or ("dark" not in channels and "bright" not in channels):
             raise ValueError("pick at least a shape image (name it '…normal…' or '…height…') and "
                              "a dark and/or bright image")
-        p = P.defaults()
+        p = params.defaults()
         shape = load_image(channels["shape"], "shape")
         kind = self.shape_kind.lower() if self.shape_kind != "AUTO" else \
             ("height" if looks_like_height(shape) else "normal")

@@ -5,7 +5,7 @@ import bpy
 from bpy.props import EnumProperty, StringProperty
 from bpy_extras.io_utils import ImportHelper
 
-from ... import params as P
+from ... import params
 from ...channel_names import IMAGE_EXTENSIONS
 from ..images import load_image
 from ..settings import channel_images
@@ -18,8 +18,8 @@ class DYNPAINT_OT_image_open(PaintingOperator, bpy.types.Operator, ImportHelper)
     bl_label = "Open Image"
     bl_options = {"REGISTER", "UNDO"}
 
-    channel: EnumProperty(items=[(c, c.replace("_", " ").title(), P.CHANNELS[c][0])
-                                 for c in P.CHANNELS], options={"HIDDEN"})
+    channel: EnumProperty(items=[(c, c.replace("_", " ").title(), params.CHANNELS[c][0])
+                                 for c in params.CHANNELS], options={"HIDDEN"})
     filter_glob: StringProperty(default=";".join("*" + e for e in IMAGE_EXTENSIONS),
                                 options={"HIDDEN"})
 
@@ -39,7 +39,7 @@ class DYNPAINT_OT_image_remove(PaintingOperator, bpy.types.Operator):
     bl_label = "Remove Image"
     bl_options = {"REGISTER", "UNDO"}
 
-    channel: EnumProperty(items=[(c, c, "") for c in P.CHANNELS], options={"HIDDEN"})
+    channel: EnumProperty(items=[(c, c, "") for c in params.CHANNELS], options={"HIDDEN"})
 
     def execute(self, context):
         s = active_painting(context).dynamic_painting

@@ -94,7 +94,7 @@ def test_shipped_node_groups_regenerate_and_append(tmp_path):
     import subprocess
     import sys
     import os
-    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    from conftest import REPO as repo
     out = str(tmp_path / "groups.blend")
     res = subprocess.run([sys.executable, os.path.join(repo, "node_groups", "make_node_groups.py"),
                           "--out", out], capture_output=True, text=True)

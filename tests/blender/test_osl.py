@@ -87,7 +87,7 @@ def test_shipped_shaders_are_current():
     """The example .osl files are what the generator writes today."""
     import importlib.util
     import os
-    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    from conftest import REPO as repo
     spec = importlib.util.spec_from_file_location("make_shaders", os.path.join(
         repo, "shaders_osl", "make_shaders.py"))
     mod = importlib.util.module_from_spec(spec)
@@ -100,7 +100,7 @@ def test_shipped_shaders_are_current():
 def test_shipped_shader_compiles_with_cycles(tmp_path):
     import os
     from dynpaint_addon.blender import osl
-    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    from conftest import REPO as repo
     bpy.ops.wm.read_homefile(use_empty=True)
     tree = bpy.data.materials.new("t").node_tree
     node = tree.nodes.new("ShaderNodeScript")

@@ -5,7 +5,9 @@ import sys
 import numpy as np
 import pytest
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(__file__)), "benchmarks"))
+from conftest import REPO
+
+sys.path.insert(0, os.path.join(REPO, "benchmarks"))
 
 import point_light_study  # noqa: E402
 import shadow_quality  # noqa: E402
