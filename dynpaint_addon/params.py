@@ -33,8 +33,9 @@ class Param:
     label: str = ""      # short UI label (default: the key in title case)
     auto_value: float = 0.0   # auto_float: what the slider shows when 'auto' is switched off
     # Roles. structural: it decides which branches the graph has (a field of
-    # nodegraph.features.Features, named `feature` or after the path); a parameter that is not
-    # structural is live in the built graph (a driver or a group input carries it). derives:
+    # nodegraph.features.Features, named `feature` or after the path); the graph reads any
+    # parameter's value live (a driver or a group input carries it: changing it rebuilds
+    # nothing), a structural one's too where a branch needs it. derives:
     # the images numpy derives from the inputs with it (core/derived.py). bake: the cos-θ
     # bake reads it.
     structural: bool = False
@@ -151,7 +152,8 @@ PARAMS = (
     P("refraction", "extension", "enum", "extend", "Background lookups beyond its edges",
       choices=EXTENSIONS, spec="§9", structural=True, derives=("background",)),
     P("refraction", "blur", float, 0.0, "Translucent refraction: Gaussian blur σ of the background",
-      unit="image widths", min=0.0, max=1.0, spec="§11", derives=("background",)),
+      unit="image widths", min=0.0, max=1.0, spec="§11",
+      derives=("background", "background_sharp")),     # blur 0: the sharp copy is the same
     # §10 Fresnel
     P("fresnel", "mode", "enum", "physical", "Reflection/refraction ratio: physical Fresnel of η, "
       "or the art-directed piecewise-linear curve", choices=("physical", "art"), spec="§10",

@@ -31,6 +31,7 @@ def test_built_zip_excludes_dev_files(tmp_path):
         assert f"sample_scenes/{sample}/painting.toml" in names
         assert f"sample_scenes/{sample}/thumbnail.png" in names
     assert "sample_scenes/make_samples.py" not in names
+    assert not [n for n in names if n.endswith(".oso")]       # compiled where needed
     for dev in ("tests/", ".ci/", "scripts/", "benchmarks/", "docs/", ".venv/", "requirements-dev.txt",
                 "pytest.ini", "__pycache__"):
         assert not any(n.startswith(dev) or f"/{dev}" in n for n in names), dev
@@ -158,6 +159,15 @@ def test_core_never_imports_bpy():
                  for f in ("graph.py", "pipeline_graph.py")]
     for path in glob.glob(os.path.join(REPO, "dynpaint_addon", "core", "*.py")) + described:
         assert not re.search(r"^\s*(import|from)\s+bpy", open(path).read(), re.M), path
+
+
+def test_no_compiled_shader_is_committed():
+    """A compiled .oso embeds one machine's paths: compiled where needed, never committed."""
+    res = subprocess.run(["git", "ls-files", "*.oso"], cwd=REPO, capture_output=True, text=True)
+    if res.returncode != 0:
+        pytest.skip("not a git checkout")
+    assert res.stdout.strip() == ""
+    assert "*.oso" in open(os.path.join(REPO, ".gitignore")).read().split()
 
 
 def test_venv_is_ignored():
