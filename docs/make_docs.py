@@ -17,7 +17,7 @@ DOCS = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(DOCS)
 sys.path.insert(0, REPO)
 
-from dynpaint_addon import params as P                       # noqa: E402
+from dynpaint_addon import params                       # noqa: E402
 from dynpaint_addon.cli import _resample_images             # noqa: E402
 from dynpaint_addon.core.lights import Light                 # noqa: E402
 from dynpaint_addon.core.pipeline import render              # noqa: E402
@@ -129,7 +129,7 @@ def parameters_page(pictures):
              "with this text as its tooltip; in a recipe it is `section.key` (`[shadows]` "
              "`offset = 0.02`).", ""]
     section = None
-    for prm in P.PARAMS:
+    for prm in params.PARAMS:
         if prm.section != section:
             section = prm.section
             lines += [f"## {section}", ""]
@@ -144,7 +144,7 @@ def parameters_page(pictures):
             lines += [f"![{prm.path}: {' vs '.join(captions)}](img/params/{file})", "",
                       f"*Left: {captions[0]}. Right: {captions[1]}.*", ""]
     lines += ["## Images", "", "| recipe key | what it is | colour or data |", "|---|---|---|"]
-    lines += [f"| `{ch}` | {what} | {space} |" for ch, (what, space) in P.CHANNELS.items()]
+    lines += [f"| `{ch}` | {what} | {space} |" for ch, (what, space) in params.CHANNELS.items()]
     lines += ["", "## Lights", "",
               "Every Sun and Point light in the scene (or in the painting's light collection). "
               "A Sun's *Strength* is k (§5) and only its direction counts; a Point light's "
@@ -155,15 +155,19 @@ def parameters_page(pictures):
     return "\n".join(lines) + "\n"
 
 
+def picture_index():
+    """parameter → (picture file in img/params/, captions): what parameters.md links."""
+    return {path: (path.replace(".", "_") + ".png", [c for _, c in values])
+            for path, (_, values, _) in PICTURES.items()}
+
+
 def main():
     os.makedirs(os.path.join(DOCS, "img", "params"), exist_ok=True)
-    pictures = {}
+    pictures = picture_index()
     for path, (sample, values, overrides) in PICTURES.items():
-        file = path.replace(".", "_") + ".png"
         rgb = parameter_picture(path, sample, values, overrides)
-        write_png(os.path.join(DOCS, "img", "params", file), _srgb(rgb), bits=8)
-        pictures[path] = (file, [c for _, c in values])
-        print(f"{path}: img/params/{file}", flush=True)
+        write_png(os.path.join(DOCS, "img", "params", pictures[path][0]), _srgb(rgb), bits=8)
+        print(f"{path}: img/params/{pictures[path][0]}", flush=True)
     write_png(os.path.join(DOCS, "img", "turntable.png"), _srgb(turntable_strip()), bits=8)
     with open(os.path.join(DOCS, "parameters.md"), "w", encoding="utf-8") as fh:
         fh.write(parameters_page(pictures))

@@ -24,7 +24,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 
-from dynpaint_addon import params as P                                   # noqa: E402
+from dynpaint_addon import params                                   # noqa: E402
 from dynpaint_addon.core.colour import linear_to_srgb, srgb_to_linear    # noqa: E402
 from dynpaint_addon.core.lights import Light                             # noqa: E402
 from dynpaint_addon.core.sampling import gaussian_blur, resample        # noqa: E402
@@ -148,7 +148,7 @@ def make_portrait(folder, size):
     save(folder, "height.png", np.round(height * 65535) / 65535, 16)
     save(folder, "dark.png", srgb8(dark), 8)
     save(folder, "bright.png", srgb8(bright), 8)
-    p = P.defaults()
+    p = params.defaults()
     p.shape.kind = "height"
     p.shape.height_scale = round(float(relief), 4)
     p.shadows.enabled = True
@@ -210,7 +210,7 @@ def make_glass(folder, size):
     crop = resample(crop, h // 2, w // 2)
     crop = crop * (0.5 / max(1e-6, float(np.mean(crop))))
     save(folder, "background.exr", np.clip(crop, 0, 4).astype(np.float32), 32)
-    p = P.defaults()
+    p = params.defaults()
     p.shape.kind = "normal"
     p.refraction.mode, p.refraction.ior, p.refraction.distance = "physical", 1.5, 0.12
     p.reflection.distance, p.reflection.extension = 0.3, "wrap"
@@ -290,7 +290,7 @@ def make_impossible(folder, size):
         * (1 + 0.2 * s2[..., None])
     save(folder, "dark.png", srgb8(dark), 8)
     save(folder, "bright.png", srgb8(bright), 8)
-    p = P.defaults()
+    p = params.defaults()
     p.shape.kind = "normal"
     p.shadows.enabled = True
     p.shadows.offset = 0.004

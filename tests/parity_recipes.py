@@ -10,7 +10,7 @@ import os
 
 import numpy as np
 
-from dynpaint_addon import params as P
+from dynpaint_addon import params
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.imageio import write_exr, write_png
 from dynpaint_addon.recipe import Recipe
@@ -167,7 +167,7 @@ FULL_WITH_DEFAULTS = ({"shape": "normal_opaque_alpha", "dark": "dark", "bright":
 def make_recipe(name, paths):
     images, overrides, lights = {"pruned": PRUNED, "full_with_defaults": FULL_WITH_DEFAULTS}.get(
         name) or RECIPES[name]
-    p = P.defaults()
+    p = params.defaults()
     for path, value in overrides.items():
         section, key = path.split(".")
         setattr(getattr(p, section), key, value)
@@ -178,8 +178,8 @@ def random_params(rng, renderable=False):
     """A random parameter set with its extremes drawn often (each number is its min, its max or
     uniform between). renderable: keep to what a rendered sweep can afford (baked shadows, no
     OSL compile per set; K ≤ 8 steps)."""
-    p = P.defaults()
-    for prm in P.PARAMS:
+    p = params.defaults()
+    for prm in params.PARAMS:
         if prm.kind is bool:
             value = bool(rng.integers(2))
         elif prm.kind == "enum":

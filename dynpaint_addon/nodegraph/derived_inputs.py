@@ -99,7 +99,9 @@ def derived_inputs(features, p, sources):
     if "background_sharp" in need:
         src = sources["background"]
         same = "background" if "background" in need and p.refraction.blur == 0 else ""
-        out.append(Derived("background_sharp", "background", _key("background_sharp", src, p),
+        # shared or not is part of the key: the tree samples another image then
+        out.append(Derived("background_sharp", "background",
+                           _key("background_sharp", src, p, same),
                            lambda d: lookup_copy(d, 0.0, "extend"), same_as=same))
     return out
 

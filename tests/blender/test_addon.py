@@ -267,7 +267,7 @@ def test_every_panel_draws_existing_properties_and_operators(empty_scene, folder
                 getattr(cls, method)(panel, bpy.context)
     drawn = {name for kind, name in log if kind == "prop"}
     from dynpaint_addon import params as P
-    height_params = {p.key for p in P.PARAMS if p.key != "flip_green"}   # a height map
+    height_params = {p.key for p in params.PARAMS if p.key != "flip_green"}   # a height map
     assert height_params <= drawn, height_params - drawn
     assert {"dynpaint.bake_shadows", "dynpaint.image_open", "dynpaint.apply_look",
             "dynpaint.add_light_turntable", "dynpaint.add", "dynpaint.add_sample"} <= \

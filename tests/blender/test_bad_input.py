@@ -9,7 +9,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon import params as P  # noqa: E402
+from dynpaint_addon import params  # noqa: E402
 from dynpaint_addon.blender import status  # noqa: E402
 from dynpaint_addon.blender.lights import linked_lights  # noqa: E402
 from dynpaint_addon.blender.scene import create_painting  # noqa: E402
@@ -110,7 +110,7 @@ LIGHTS = [Light("sun", (-0.5, 0.45, 0.74), (1.0, 1.0, 1.0), 1.0, "Sun")]
 
 
 def params_for(kind):
-    p = P.defaults()
+    p = params.defaults()
     p.shape.kind = kind
     p.shape.height_scale = 0.1
     p.shadows.enabled = True

@@ -9,7 +9,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon import params as P  # noqa: E402
+from dynpaint_addon import params  # noqa: E402
 from dynpaint_addon.blender import headless, status  # noqa: E402
 from dynpaint_addon.blender.images import load_image  # noqa: E402
 from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
@@ -101,7 +101,7 @@ def renders_like_the_core(mat, scene, tmp_path, what):
 def painting(paths, kind="normal", without=(), **settings):
     """A painting with every channel (but those `without`), shadows and highlights on, framed
     for exact renders."""
-    p = P.defaults()
+    p = params.defaults()
     p.shape.kind = kind
     p.shadows.enabled = p.specular.enabled = True
     p.transparency.amount = 0.5
@@ -163,7 +163,7 @@ def test_every_parameter_dragged_through_its_range_keeps_a_fresh_material(paths,
     (each choice of a menu): after every step the material equals a fresh build."""
     mat, scene = painting(paths, kind)
     s = mat.dynamic_painting
-    for param in P.PARAMS:
+    for param in params.PARAMS:
         if param.path == "shape.kind":
             continue          # the other test's painting (a height image is no normal map)
         for value in _drag_values(param):
@@ -179,7 +179,7 @@ IMAGE_CHOICES = {
 }
 SHAPES = {"normal": ["normal", "normal_alpha", "normal_opaque_alpha"],
           "height": ["height16", "height8", "height.exr"]}
-EDITABLE = [p for p in P.PARAMS if p.path not in ("shape.kind", "shadows.source")]
+EDITABLE = [p for p in params.PARAMS if p.path not in ("shape.kind", "shadows.source")]
 
 
 def _random_value(rng, param):

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from dynpaint_addon.core.pipeline import ImageData, render
-from dynpaint_addon import params as P
+from dynpaint_addon import params
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.imageio import ImageReadError, read_image, write_exr, write_png
 
@@ -54,7 +54,7 @@ def test_files_store_the_top_row_first(tmp_path):
 def test_colour_images_are_decoded_from_srgb_data_are_not(tmp_path):
     """§0: an 8-bit mid-grey colour image shades as linear 0.214; an EXR colour image as is."""
     shape = ImageData(np.tile(np.array([0.5, 0.5, 1.0], np.float32), (2, 2, 1)), 8)
-    p = P.defaults()
+    p = params.defaults()
     dark = np.full((2, 2, 3), 0.5, np.float32)
     out = render({"shape": shape, "dark": ImageData(dark, 8)}, [Light("sun", (0, 0, 1))], p).rgba
     assert out[0, 0, 0] == pytest.approx(0.2140, abs=1e-4)

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from dynpaint_addon import params as P
+from dynpaint_addon import params
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.pipeline import ImageData, render, shape_normals
 
@@ -23,7 +23,7 @@ def hand_painting():
 
 
 def test_end_to_end_against_values_computed_by_hand():
-    p = P.defaults()
+    p = params.defaults()
     p.specular.enabled = True
     p.specular.s0, p.specular.s1, p.specular.curve = 0.0, 1.0, "linear"
     colour = (1.0, 0.5, 0.25)
@@ -42,7 +42,7 @@ def test_end_to_end_against_values_computed_by_hand():
 
 
 def test_float64_path_matches_float32():
-    p = P.defaults()
+    p = params.defaults()
     lights = [Light("sun", (0.6, 0, 0.8))]
     a = render(hand_painting(), lights, p, np.float32).rgba
     b = render(hand_painting(), lights, p, np.float64).rgba
@@ -63,7 +63,7 @@ def dome_painting(size=24, with_alpha=False):
 
 
 def glass_params(**fresnel):
-    p = P.defaults()
+    p = params.defaults()
     p.transparency.amount = 0.7
     p.specular.enabled = True
     p.specular.s0 = 0.5
@@ -114,7 +114,7 @@ def test_transparency_composite_weights_sum_to_one():
     e_val, b_val = 0.8, 0.2
     imgs = {"shape": flat, "dark": const(size, size, 0.1), "bright": const(size, size, 0.9),
             "environment": const(3, 3, e_val, 32), "background": const(3, 3, b_val, 32)}
-    p = P.defaults()
+    p = params.defaults()
     p.transparency.amount = 1.0
     out = render(imgs, [Light("sun", (0, 0, 1))], p).rgba
     f = ((1.5 - 1) / 2.5) ** 2
@@ -125,9 +125,9 @@ def test_transparency_composite_weights_sum_to_one():
 def test_silhouette_shows_the_background_outside():
     imgs = dome_painting(with_alpha=True)
     imgs["background"] = const(4, 4, (0.25, 0.5, 0.75), 32)
-    out = render(imgs, LIGHTS, P.defaults()).rgba
+    out = render(imgs, LIGHTS, params.defaults()).rgba
     np.testing.assert_allclose(out[0, 0], [0.25, 0.5, 0.75, 1], atol=1e-6)     # outside
-    no_bg = render({k: v for k, v in imgs.items() if k != "background"}, LIGHTS, P.defaults()).rgba
+    no_bg = render({k: v for k, v in imgs.items() if k != "background"}, LIGHTS, params.defaults()).rgba
     np.testing.assert_allclose(no_bg[0, 0], 0)                                 # transparent
     assert no_bg[12, 12, 3] == 1
 
@@ -135,7 +135,7 @@ def test_silhouette_shows_the_background_outside():
 def test_mismatched_sizes_are_resampled_to_the_shape_image():
     imgs = dome_painting(24)
     imgs["dark"] = const(7, 11, 0.3)
-    result = render(imgs, LIGHTS, P.defaults())
+    result = render(imgs, LIGHTS, params.defaults())
     assert result.rgba.shape == (24, 24, 4)
     assert any("resampled" in w and "dark" in w for w in result.warnings)
 
@@ -143,9 +143,9 @@ def test_mismatched_sizes_are_resampled_to_the_shape_image():
 def test_nan_shape_and_tiny_images():
     """§14: a whole image of NaN → a clear error; 1×1 images render; partial NaN is reported."""
     with pytest.raises(ValueError, match="no finite pixel"):
-        render({"shape": const(4, 4, np.nan, 32), "dark": const(4, 4, 0.5)}, LIGHTS, P.defaults())
+        render({"shape": const(4, 4, np.nan, 32), "dark": const(4, 4, 0.5)}, LIGHTS, params.defaults())
     for kind in ("normal", "height"):
-        p = P.defaults()
+        p = params.defaults()
         p.shape.kind = kind
         p.shadows.enabled = True
         for hw in ((1, 1), (2, 2), (1, 5)):
@@ -155,7 +155,7 @@ def test_nan_shape_and_tiny_images():
             assert out.shape == hw + (4,) and np.all(np.isfinite(out))
     shape = dome_painting()["shape"].pixels.copy()
     shape[3, 4] = np.nan
-    res = render({"shape": ImageData(shape, 32), "dark": const(24, 24, 0.5)}, LIGHTS, P.defaults())
+    res = render({"shape": ImageData(shape, 32), "dark": const(24, 24, 0.5)}, LIGHTS, params.defaults())
     assert np.all(np.isfinite(res.rgba)) and any("NaN" in w for w in res.warnings)
 
 
@@ -172,7 +172,7 @@ def test_random_parameter_sweep_stays_finite_and_in_range():
                 transparency=ImageData(rng.uniform(0, 1, (size, size, 1)).astype(np.float32)),
                 gloss=ImageData(rng.uniform(0, 1, (size, size, 1)).astype(np.float32)),
                 specular_color=ImageData(rng.uniform(0, 1, (size, size, 3)).astype(np.float32)))
-    as_height = P.defaults()
+    as_height = params.defaults()
     as_height.shape.kind, as_height.shape.height_scale = "height", 0.1
     normal = ImageData(np.concatenate([shape_normals(imgs["shape"], as_height)[0] * 0.5 + 0.5,
                                        imgs["shape"].pixels[..., -1:]], -1), 32)

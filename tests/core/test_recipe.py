@@ -3,7 +3,7 @@ import os
 
 import pytest
 
-from dynpaint_addon import params as P
+from dynpaint_addon import params
 from dynpaint_addon.recipe import RecipeError, load_recipe, parse_recipe, recipe_to_toml
 from dynpaint_addon.testpainting import write_test_painting
 
@@ -51,7 +51,7 @@ def test_bad_recipes_name_the_key(painting, extra, message):
 
 def test_every_parameter_accepts_its_default_and_bounds(painting):
     folder = os.path.dirname(painting)
-    for prm in P.PARAMS:
+    for prm in params.PARAMS:
         values = [prm.default] + [v for v in (prm.min, prm.max) if v is not None] + list(prm.choices)
         for v in values:
             v = int(v) if prm.kind is int else v
@@ -69,7 +69,7 @@ def test_round_trip(painting, tmp_path):
         out = tmp_path / f"copy{only_changed}.toml"
         out.write_text(recipe_to_toml(r, str(tmp_path), only_changed))
         back = load_recipe(str(out))
-        assert P.as_dict(back.params) == P.as_dict(r.params)
+        assert params.as_dict(back.params) == params.as_dict(r.params)
         assert back.lights == r.lights and back.images == r.images and back.name == r.name
 
 

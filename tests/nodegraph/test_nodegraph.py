@@ -3,12 +3,12 @@ import dataclasses
 
 import pytest
 
-from dynpaint_addon import params as P
+from dynpaint_addon import params
 from dynpaint_addon.nodegraph.graph import Ref
 from dynpaint_addon.nodegraph.pipeline_graph import Features, describe
 
 MINIMAL = Features(size=(40, 30))
-FULL = Features(size=(40, 30), channels=frozenset(P.CHANNELS), lights=("sun", "point"),
+FULL = Features(size=(40, 30), channels=frozenset(params.CHANNELS), lights=("sun", "point"),
                 shadows=True, specular=True, transparency="map", silhouette="shape",
                 lookup_sizes=(("background", (48, 40)), ("environment", (32, 24))))
 
@@ -30,10 +30,10 @@ def test_every_graph_is_topologically_ordered_and_wired():
 
 
 def test_parameters_exist_in_params_table():
-    params = describe(FULL).params() | describe(dataclasses.replace(
+    used = describe(FULL).params() | describe(dataclasses.replace(
         FULL, refraction_mode="linear", fresnel_mode="art")).params()
-    assert params <= set(P.BY_PATH)
-    assert {"diffuse.t0", "diffuse.t1", "refraction.ior", "reflection.distance"} <= params
+    assert used <= set(params.BY_PATH)
+    assert {"diffuse.t0", "diffuse.t1", "refraction.ior", "reflection.distance"} <= used
 
 
 def test_minimal_tree_has_only_what_the_scene_needs():
@@ -74,14 +74,14 @@ def test_one_light_group_per_light_and_shared_node_groups():
     ("auto", False, "none"), ("auto", True, "map"), (0.0, False, "none"), (0.5, False, "param"),
     (0.0, True, "param")])
 def test_transparency_branch_resolution(amount, has_map, expected):
-    p = P.defaults()
+    p = params.defaults()
     p.transparency.amount = amount
     channels = {"shape", "dark"} | ({"transparency"} if has_map else set())
     assert Features.from_params(p, channels, ["sun"], (4, 4)).transparency == expected
 
 
 def test_live_values_do_not_change_structure():
-    p = P.defaults()
+    p = params.defaults()
     a = Features.from_params(p, {"shape", "dark"}, ["sun"], (4, 4))
     p.diffuse.t0, p.refraction.ior, p.shape.height_scale = 0.3, 1.9, 0.5
     assert Features.from_params(p, {"shape", "dark"}, ["sun"], (4, 4)) == a
