@@ -26,8 +26,7 @@ from report import publish  # noqa: E402
 
 from dynpaint_addon.blender import compositor, headless  # noqa: E402
 from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
-from dynpaint_addon.core.pipeline import render as core_render, shape_normals  # noqa: E402
-from dynpaint_addon.core.shadow import cos_theta_shadow  # noqa: E402
+from dynpaint_addon.core.pipeline import render as core_render, shadow_term, shape_normals  # noqa: E402
 from dynpaint_addon.imageio import read_image  # noqa: E402
 from dynpaint_addon.recipe import load_images, load_recipe  # noqa: E402
 from dynpaint_addon.testpainting import write_test_painting  # noqa: E402
@@ -37,7 +36,7 @@ def reference(recipe):
     """float64 render with the K = 1024 bake: the yardstick (pipeline.md §13)."""
     imgs = load_images(recipe)
     p = copy.deepcopy(recipe.params)
-    p.shadows.steps = 1024
+    p.shadows.quality = "reference"         # K = 1024 march in float64 (core/bake.py)
     return core_render({k: v for k, v in imgs.items()}, recipe.lights, p, np.float64).rgba
 
 
@@ -73,12 +72,10 @@ def main(argv=None):
         print(f"{engine}: {seconds:.2f} s + bake {bake_ms:.0f} ms, mean {mean:.1e}, max {worst:.1e}",
               flush=True)
 
-    # numpy core (float32, the default K = 64 bake inside)
+    # numpy core (float32, the recipe's bake inside: final quality, by crossings for a sun)
     imgs = load_images(recipe)
     n, z, sl = shape_normals(imgs["shape"], recipe.params)
-    bake_ms = timed(lambda: cos_theta_shadow(n, recipe.lights[0], recipe.params.shadows.offset,
-                                             recipe.params.shadows.steps, heights_px=z,
-                                             slopes=sl), 1) * 1000
+    bake_ms = timed(lambda: shadow_term(n, z, sl, recipe.lights[0], recipe.params), 1) * 1000
     got = core_render(imgs, recipe.lights, recipe.params).rgba
     row("numpy core", timed(lambda: core_render(imgs, recipe.lights, recipe.params), 1) - bake_ms / 1000,
         bake_ms, got, "float32")
@@ -92,7 +89,7 @@ def main(argv=None):
         bpy.ops.render.render(write_still=True)           # first render compiles (EEVEE)
         seconds = timed(lambda: bpy.ops.render.render(write_still=True))
         row(f"{engine.upper() if engine == 'eevee' else 'Cycles'} node material", seconds, bake_ms,
-            read_image(out).pixels, "1 sample, baked K = 64")
+            read_image(out).pixels, f"1 sample, baked at {recipe.params.shadows.quality} quality")
 
     for k in args.osl_steps:
         r = copy.deepcopy(recipe)
@@ -124,10 +121,12 @@ def main(argv=None):
     for engine, seconds, bake, mean, worst, note in rows:
         lines.append(f"| {engine} | {seconds:.2f} | {bake:.0f} | {mean:.1e} | {worst:.1e} | {note} |")
     lines += ["", "The bake runs when a light moves (and per rendered frame when it is animated); "
-              "the OSL shader needs none. The compositor's time includes reading its images. "
-              "Max errors sit on shadow edges: a march with K steps places an edge up to a step "
-              "away from where K = 1024 puts it (OSL at K = 256 brings the worst pixel to "
-              "≈0.1); the means are what an artist sees."]
+              "the OSL shader needs none. The node materials and the compositor group read the "
+              "numpy bake at the recipe's quality (final: exact crossings for a sun, "
+              "docs/shadow-quality.md); the OSL shader marches K steps per pixel. The "
+              "compositor's time includes reading its images. Max errors sit on shadow edges: a "
+              "march with K steps places an edge up to a step away from where K = 1024 puts it; "
+              "the means are what an artist sees."]
     publish(lines, args.out)
 
 

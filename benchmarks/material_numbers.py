@@ -63,8 +63,9 @@ def write_paintings(folder, size):
         write_png(paths[name], px, bits)
     sun = Light("sun", (-0.6, 0.5, 0.45), (1.0, 0.92, 0.8), 1.0, "Key")
     point = Light("point", (0.45, -0.1, 0.35), (0.45, 0.55, 1.0), 0.25, "Fill")
-    minimal = Recipe(params.defaults(), [sun], {"shape": paths["normal.png"], "dark": paths["dark.png"],
-                                           "bright": paths["bright.png"]}, "minimal")
+    minimal = Recipe(params.defaults(), [sun],
+                     {"shape": paths["normal.png"], "dark": paths["dark.png"],
+                      "bright": paths["bright.png"]}, "minimal")
     p = params.defaults()
     p.shape.kind, p.shape.height_scale = "height", 0.25
     p.shadows.enabled, p.specular.enabled, p.specular.s0 = True, True, 0.92
