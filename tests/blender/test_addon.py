@@ -8,7 +8,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon import blender  # noqa: E402
+from dynpaint_addon import blender, params  # noqa: E402
 from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
 from dynpaint_addon.blender.scene import FACE_CAMERA, exact_camera, exact_render_settings, output_settings  # noqa: E402
 from dynpaint_addon.blender.settings import settings_to_params  # noqa: E402
@@ -266,7 +266,6 @@ def test_every_panel_draws_existing_properties_and_operators(empty_scene, folder
             if hasattr(cls, method):
                 getattr(cls, method)(panel, bpy.context)
     drawn = {name for kind, name in log if kind == "prop"}
-    from dynpaint_addon import params as P
     height_params = {p.key for p in params.PARAMS if p.key != "flip_green"}   # a height map
     assert height_params <= drawn, height_params - drawn
     assert {"dynpaint.bake_shadows", "dynpaint.image_open", "dynpaint.apply_look",
