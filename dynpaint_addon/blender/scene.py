@@ -11,7 +11,7 @@ from contextlib import contextmanager
 import numpy as np
 
 import bpy
-from mathutils import Matrix, Vector
+from mathutils import Vector
 
 from .. import params
 from ..core.inputs import normal_map_problem, size_message

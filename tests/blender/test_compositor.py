@@ -74,7 +74,6 @@ def test_operator_adds_a_wired_group_for_the_active_painting(tmp_path):
     scene.camera = cam
     scene.render.resolution_x, scene.render.resolution_y = 40, 30
     scene.view_settings.view_transform = "Standard"
-    from dynpaint_addon.blender import scene as S
     output_settings(scene, str(tmp_path / "op.exr"))
     bpy.ops.render.render(write_still=True)
     got = read_image(str(tmp_path / "op.exr")).pixels

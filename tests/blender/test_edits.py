@@ -16,7 +16,6 @@ from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  #
 from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
 from dynpaint_addon.blender.settings import channel_images, settings_to_params  # noqa: E402
 from dynpaint_addon.blender.sync import update  # noqa: E402
-from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.imageio import read_image  # noqa: E402
 from dynpaint_addon.recipe import Recipe  # noqa: E402

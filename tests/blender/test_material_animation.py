@@ -111,7 +111,6 @@ def test_animation_frame_equals_a_single_frame_render(paths, tmp_path):
 
 
 def test_a_failing_frame_bake_keeps_the_image_and_never_raises(paths):
-    from dynpaint_addon.blender import handlers
     from dynpaint_addon.imageio import image_data_from_blender
     recipe = make_recipe("shadows_height", paths)
     plane, mat = headless.build_recipe_scene(recipe)

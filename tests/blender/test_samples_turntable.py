@@ -14,7 +14,6 @@ from dynpaint_addon.blender import headless  # noqa: E402
 from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
 from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
 from dynpaint_addon.blender.turntable import add_light_turntable, light_at  # noqa: E402
-from dynpaint_addon.blender import turntable as T  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.imageio import read_image  # noqa: E402
