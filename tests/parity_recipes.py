@@ -23,6 +23,15 @@ def _grid(w, h):
     return (x + 0.5) / w, (y + 0.5) / h
 
 
+def doubled_tilts(n):
+    """Unit normals with each tilt from +z doubled (azimuth kept): what a map painted for the
+    decoder normalize((0,0,1) + N) stores to mean `n`."""
+    rxy = np.hypot(n[..., 0], n[..., 1])
+    theta = 2 * np.arctan2(rxy, n[..., 2])
+    along = np.where(rxy > 0, np.sin(theta) / np.where(rxy > 0, rxy, 1), 0)
+    return np.stack([n[..., 0] * along, n[..., 1] * along, np.cos(theta)], -1)
+
+
 def write_images(folder):
     """Write every test image (y-up arrays → files) → {name: path}."""
     os.makedirs(folder, exist_ok=True)
@@ -46,6 +55,11 @@ def write_images(folder):
     save("normal_alpha.png", np.concatenate([(n + 1) / 2, alpha[..., None]], -1), 16)
     save("normal_opaque_alpha.png", np.concatenate([(n + 1) / 2, np.ones_like(alpha)[..., None]],
                                                    -1), 16)
+    # the same normals in other tools' conventions (§2): two-channel (x, y in red and green,
+    # blue 0) and painted for a decoder that halves every tilt (each tilt stored doubled)
+    save("normal_rg.png", np.concatenate([(n[..., :2] + 1) / 2, np.zeros_like(x)[..., None]], -1),
+         16)
+    save("normal_halving.png", (doubled_tilts(n) + 1) / 2, 16)
     # height maps: a smooth dome plus a ridge, 16-bit and 8-bit
     hgt = 0.7 * np.exp(-((x - 0.4) ** 2 + (y - 0.55) ** 2) / 0.06) \
         + 0.3 * np.exp(-((x - 0.75) ** 2) / 0.01) 
@@ -149,6 +163,9 @@ RECIPES = {
                                     {"silhouette.source": "dark"}, [SUN]),
     "flip_green_zmin": (BASE, {"shape.flip_green": True, "shape.z_min": 0.6}, [SUN]),
     "one_image_no_light": ({"shape": "normal", "dark": "dark"}, {}, []),
+    "normal_two_channel": ({**BASE, "shape": "normal_rg"}, {}, [SUN]),       # encoding auto
+    "normal_halving_strength": ({**BASE, "shape": "normal_halving"},
+                                {"shape.strength": 0.5, "shadows.enabled": True}, [SUN]),
 }
 
 

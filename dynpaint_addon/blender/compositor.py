@@ -67,10 +67,10 @@ def set_group_inputs(node, recipe, p=None):
                     sock.default_value = 1.0 if value == "auto" else float(value)
 
 
-# The derived images (nodegraph/derived_inputs.py) that replace a group input: the group reads
-# the pre-blurred height through its Shape input (INPUT_OF), and E and B straight (it
-# premultiplies them itself).
-GROUP_DERIVED = ("height", "environment", "background")
+# The derived images (nodegraph/derived_inputs.py) that replace a group input: a normal map in
+# the standard convention, the pre-blurred height through the Shape input (INPUT_OF), E and B
+# straight (the group premultiplies them itself).
+GROUP_DERIVED = ("shape", "height", "environment", "background")
 
 
 def _straight(rgba):
@@ -88,8 +88,10 @@ def _numpy_prepared(recipe, features, images, folder):
                            lambda c: "colour" if c != "shape" else p.shape.kind)
     prepared = {}
     for channel, rgba in made.items():
+        if rgba is None:            # the input as it is
+            continue
         path = os.path.join(folder, f"prepared_{channel}.exr")
-        write_exr(path, rgba if channel == "height" else _straight(rgba))
+        write_exr(path, _straight(rgba) if channel in ("environment", "background") else rgba)
         img = bpy.data.images.load(path, check_existing=False)
         img.colorspace_settings.name = "Non-Color"
         img.alpha_mode = "CHANNEL_PACKED"

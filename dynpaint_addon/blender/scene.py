@@ -14,7 +14,7 @@ import bpy
 from mathutils import Vector
 
 from .. import params
-from ..core.inputs import normal_map_problem, size_message
+from ..core.inputs import normal_map_notes, normal_map_problem, size_message
 from ..core.lights import Light
 from ..core.pipeline import PER_PIXEL_CHANNELS
 from ..imageio import image_data_from_blender
@@ -53,18 +53,21 @@ def unchanged_images_on_failure():
         raise
 
 
-def check_images(loaded, kind):
+def check_images(loaded, p):
     """The rules of core/inputs.py on the painting's images → warnings; raises ValueError
-    (one line) for a shape image that cannot be what `kind` says."""
+    (one line) for a shape image that cannot be what the settings `p` say."""
     shape = loaded["shape"]
-    if kind == "normal":
+    notes = []
+    if p.shape.kind == "normal":
         name = os.path.basename(bpy.path.abspath(shape.filepath)) or shape.name
-        problem = normal_map_problem(image_data_from_blender(shape).pixels, name)
+        px = image_data_from_blender(shape).pixels
+        problem = normal_map_problem(px, name, p.shape.encoding)
         if problem:
             raise ValueError(problem)
-    return [size_message(ch, tuple(img.size), tuple(shape.size))
-            for ch, img in loaded.items()
-            if ch in PER_PIXEL_CHANNELS and tuple(img.size) != tuple(shape.size)]
+        notes += normal_map_notes(px, name, p.shape.encoding, p.shape.strength)
+    return notes + [size_message(ch, tuple(img.size), tuple(shape.size))
+                    for ch, img in loaded.items()
+                    if ch in PER_PIXEL_CHANNELS and tuple(img.size) != tuple(shape.size)]
 
 
 def face_camera(obj, camera):
@@ -106,7 +109,7 @@ def _create_painting(context, images, p, lights, name, size, location, rotation,
         raise ValueError("a painting needs a shape image (normal or height map)")
     if "dark" not in loaded and "bright" not in loaded:
         raise ValueError("a painting needs a dark or a bright image (one may serve both)")
-    messages += check_images(loaded, p.shape.kind)
+    messages += check_images(loaded, p)
     w, h = loaded["shape"].size
     if w * h >= LARGE_PX:
         messages.append(f"large painting: {w}×{h} ({w * h / 1e6:.0f} Mpx); its numpy images "

@@ -5,12 +5,17 @@
   map 0; in every other image NaN and −Inf become 0 and +Inf the image's largest finite value
   (a stray firefly stays as bright as the brightest real pixel, not infinite). Reported.
 - A normal map must look like one: a grey image (one channel, or R = G = B everywhere) or one
-  whose blue is below ½ (N.z < 0, facing away from the viewer) in most pixels is refused with
-  a message that says what it looks like instead.
+  whose blue is below ½ (N.z < 0, facing away from the viewer) in most opaque pixels is
+  refused with a message that says what it looks like instead — or which setting reads it (a
+  two-channel map read as RGB). Unit vectors mostly facing away are a map made for a decoder
+  that halves each tilt: usable, with a note. A usable map gets notes: read as two-channel, the share of its
+  opaque pixels that face away (and the strength that keeps them).
 - Per-pixel images of another size than the shape image are resampled to it (reported).
 No bpy here.
 """
 import numpy as np
+
+from .shape import normal_vectors, resolve_encoding, scale_tilt
 
 FLAT_NORMAL_RGB = (0.5, 0.5, 1.0)
 
@@ -43,10 +48,17 @@ def non_finite_message(name, bad):
             f"+Inf → the image's largest finite value; in a normal map: flat)")
 
 
-def normal_map_problem(px, name="shape image"):
+def _opaque(px):
+    """Pixels that show (alpha above ½, or all of them without alpha)."""
+    if px.shape[-1] in (2, 4):
+        return np.nan_to_num(px[..., -1]) > 0.5
+    return np.ones(px.shape[:-1], bool)
+
+
+def normal_map_problem(px, name="shape image", encoding="auto"):
     """Why these pixels cannot be a normal map (one line), or None if they can.
 
-    px: (H, W, C) file values in 0..1 (C = 1 … 4).
+    px: (H, W, C) file values in 0..1 (C = 1 … 4); encoding: shape.encoding (§2).
     """
     px = np.asarray(px)
     if px.shape[-1] < 3:
@@ -57,11 +69,54 @@ def normal_map_problem(px, name="shape image"):
             np.allclose(rgb[..., 1], rgb[..., 2], atol=2e-3):
         return (f"{name} is grey (R = G = B everywhere): a normal map is coloured (flat = "
                 f"light blue 0.5, 0.5, 1.0); read it as a height map: shape kind 'height'")
-    away = float(np.mean(rgb[..., 2] < 0.5))
-    if away > 0.5:
+    if resolve_encoding(rgb, encoding) == "rg":
+        return None                      # blue is ignored
+    opaque = _opaque(px)
+    away = float(np.mean(rgb[..., 2][opaque] < 0.5)) if opaque.any() else 0.0
+    if away > 0.5 and not _unit_vectors(rgb[opaque]):
+        if resolve_encoding(rgb, "auto") == "rg":
+            return (f"{name} stores only x and y (blue is 0 in every pixel: the two-channel "
+                    f"convention): set the shape encoding to 'rg' or 'auto' "
+                    f"(recipe: shape.encoding = \"rg\")")
         return (f"{name} does not look like a normal map: blue < 0.5 (a normal facing away from "
                 f"the viewer) in {away:.0%} of its pixels; is it a colour or height image?")
     return None
+
+
+def _unit_vectors(rgb):
+    """Do most pixels hold unit vectors 2C − 1? A map made by software for a decoder that
+    halves each tilt stores its tilts doubled — most face away — but every vector is still
+    unit length; a colour or height image read as a normal map is not."""
+    length = np.sqrt(np.sum((2 * rgb - 1) ** 2, axis=-1))
+    return rgb.size > 0 and float(np.mean(np.abs(length - 1) < 0.05)) >= 0.8
+
+
+def normal_map_notes(px, name="shape image", encoding="auto", strength=1.0):
+    """What an artist should know about a usable normal map (§2), one line each: a map read
+    as two-channel, and the share of its *opaque* pixels facing away from the viewer (tilted
+    up to N.z = z_min), with the strength that would keep them if a halving decoder was meant."""
+    px = np.asarray(px)
+    rgb = np.nan_to_num(px[..., :3].astype(np.float32))
+    resolved = resolve_encoding(rgb, encoding)
+    notes = []
+    if encoding == "auto" and resolved == "rg":
+        notes.append(f"{name}: read as a two-channel normal map (x, y in red and green, "
+                     f"z = √(1 − x² − y²))")
+    n = normal_vectors(rgb, resolved, strength)
+    opaque = _opaque(px) & (np.sqrt(np.sum(n * n, axis=-1)) >= 0.05)
+    if not opaque.any():
+        return notes
+    away = float(np.mean(n[..., 2][opaque] < 0))
+    if away > 0.01:
+        hint = ""
+        if strength == 1:
+            halved = float(np.mean(scale_tilt(n, 0.5)[..., 2][opaque] < 0))
+            if halved < away / 4:
+                hint = ("; painted for a decoder that halves each tilt? shape strength 0.5 "
+                        f"keeps {1 - halved / away:.0%} of them")
+        notes.append(f"{name}: {away:.0%} of its opaque pixels face away from the viewer and "
+                     f"are tilted up to the minimum N.z{hint}")
+    return notes
 
 
 def size_message(channel, size, shape_size):

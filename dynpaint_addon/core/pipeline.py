@@ -22,7 +22,8 @@ import numpy as np
 from . import fresnel as fr
 from . import shading, warps
 from .colour import srgb_to_linear
-from .inputs import finite_pixels, non_finite_message, normal_map_problem, size_message
+from .inputs import (finite_pixels, non_finite_message, normal_map_notes, normal_map_problem,
+                     size_message)
 from .lights import light_vectors
 from .sampling import gaussian_blur, pixel_centres, resample, sample_bilinear
 from .bake import bake as shadow_bake
@@ -105,7 +106,8 @@ def shape_normals(shape, p, dtype=np.float32):
             sigma = default_preblur_px(shape.bits)
         z_px = height_field_px(shape.grey().astype(dtype), p.shape.height_scale, float(sigma))
         return normals_from_height_px(z_px, p.shape.z_min), z_px, None
-    n = decode_normal_map(shape.rgb().astype(dtype), p.shape.flip_green, p.shape.z_min)
+    n = decode_normal_map(shape.rgb().astype(dtype), p.shape.flip_green, p.shape.z_min,
+                          p.shape.encoding, p.shape.strength)
     return n, None, slopes_from_normals(n)
 
 
@@ -197,9 +199,11 @@ def render(images, lights, p, dtype=np.float32, cache=None, keep_passes=True):
     if not np.any(np.isfinite(shape.pixels)):
         raise ValueError("the shape image has no finite pixel (all NaN or Inf)")
     if p.shape.kind == "normal":
-        problem = normal_map_problem(shape.pixels, shape.name or "shape image")
+        name = shape.name or "shape image"
+        problem = normal_map_problem(shape.pixels, name, p.shape.encoding)
         if problem:
             raise ValueError(problem)
+        warnings += normal_map_notes(shape.pixels, name, p.shape.encoding, p.shape.strength)
 
     imgs = {}
     for name, img in images.items():     # core/inputs.py: the rules for imperfect images

@@ -68,11 +68,54 @@ def _finalize(n, z_min):
     return np.where(ok[..., None], out, up).astype(dtype, copy=False)
 
 
-def decode_normal_map(rgb, flip_green=False, z_min=Z_MIN_DEFAULT):
-    """§2 normal map: N = 2C − 1 on RGB, renormalized, fallbacks, z_min; `flip_green` for
-    DirectX-style maps (green means "lit from below")."""
+ENCODINGS = ("auto", "rgb", "rg")
+
+
+def resolve_encoding(rgb, encoding="auto"):
+    """'rgb' or 'rg' for a normal map's pixels (0..1): 'auto' reads a map whose blue is 0
+    everywhere and whose x, y lie in the unit disc as a two-channel map (z = √(1 − x² − y²),
+    the convention of many engines and tools), any other as RGB."""
+    if encoding != "auto":
+        return encoding
+    rgb = np.nan_to_num(np.asarray(rgb, dtype=np.float32)[..., :3])
+    if rgb.size == 0:
+        return "rgb"
+    x, y = 2 * rgb[..., 0] - 1, 2 * rgb[..., 1] - 1
+    two_channel = np.mean(rgb[..., 2] < 0.02) >= 0.99 and np.mean(x * x + y * y <= 1.05) >= 0.99
+    return "rg" if two_channel and np.ptp(rgb[..., :2]) > 0 else "rgb"
+
+
+def scale_tilt(n, strength):
+    """Each normal's tilt from +z (its angle θ) scaled to strength·θ, azimuth and length kept
+    (§2): 0.5 is exactly the decoder N = normalize((0,0,1) + normalize(2C − 1)) some web
+    relighting tools use (the half-way vector halves the angle); 1 leaves the map as it is."""
+    if strength == 1:
+        return n
+    dtype = n.dtype
+    length = np.sqrt(np.sum(n * n, axis=-1))
+    rxy = np.hypot(n[..., 0], n[..., 1])
+    theta = np.arctan2(rxy, n[..., 2]) * dtype.type(strength)
+    along = np.where(rxy > 0, length * np.sin(theta) / np.where(rxy > 0, rxy, 1), 0)
+    return np.stack([n[..., 0] * along, n[..., 1] * along, length * np.cos(theta)],
+                    axis=-1).astype(dtype, copy=False)
+
+
+def normal_vectors(rgb, encoding="rgb", strength=1.0):
+    """§2 normal map → the vectors 2C − 1 (not yet unit, no fallbacks): `encoding` 'rg' takes
+    z = √(1 − x² − y²) (blue ignored), 'auto' detects it; `strength` scales each tilt."""
     rgb = np.asarray(rgb)
     n = 2 * rgb[..., :3] - 1
+    if resolve_encoding(rgb, encoding) == "rg":
+        z = np.sqrt(np.maximum(1 - n[..., 0] ** 2 - n[..., 1] ** 2, 0))
+        n = np.concatenate([n[..., :2], z[..., None].astype(n.dtype)], axis=-1)
+    return scale_tilt(n, strength)
+
+
+def decode_normal_map(rgb, flip_green=False, z_min=Z_MIN_DEFAULT, encoding="rgb", strength=1.0):
+    """§2 normal map: N = 2C − 1 on RGB (or RG, `encoding`), each tilt scaled by `strength`,
+    renormalized, fallbacks, z_min; `flip_green` for DirectX-style maps (green means "lit
+    from below")."""
+    n = normal_vectors(rgb, encoding, strength)
     if flip_green:
         n = n * np.array([1, -1, 1], dtype=n.dtype)
     return finalize_normals(n, z_min)

@@ -8,7 +8,9 @@ not the artist's own but made from them by numpy:
   environment        E and B as the warped lookups read them (§8, §9): linear
   background         premultiplied RGBA, blurred for glossy / translucent looks (§11)
   background_sharp   B unblurred, shown outside the silhouette (§11)
-  <input channel>    a finite copy of a float input that holds NaN/Inf (§14, core/inputs.py)
+  <input channel>    a finite copy of a float input that holds NaN/Inf (§14, core/inputs.py);
+                     for a normal map also the map in the standard RGB convention when it is
+                     stored otherwise (two-channel) or its tilts are scaled (§2)
 
 `derived_inputs` plans them from the features of the graph and the parameters (cheap: no
 pixel is read); `Derived.make` makes one from its source's pixels. Each carries a key built
@@ -30,7 +32,7 @@ import numpy as np
 from .. import params
 from ..core.inputs import finite_pixels, non_finite_message
 from ..core.pipeline import PER_PIXEL_CHANNELS, lookup_copy
-from ..core.shape import default_preblur_px, preblurred_height
+from ..core.shape import default_preblur_px, normal_vectors, preblurred_height, resolve_encoding
 
 
 @dataclass(frozen=True)
@@ -46,7 +48,8 @@ class Derived:
     source: str                          # the input channel it is made from
     key: str                             # same key, same pixels
     make: Callable = None                # ImageData (finite) → RGBA float32 (H, W, 4), y-up
-    finite_copy: bool = False            # needed only if the source has NaN/Inf pixels
+    finite_copy: bool = False            # replaces its source: needed only if the source has
+    #                                      NaN/Inf pixels or `make` converts it (else None)
     same_as: str = ""                    # equal to another derived image: share it
 
 
@@ -78,9 +81,10 @@ def derived_inputs(features, p, sources):
     out = []
     for channel in ("shape", *PER_PIXEL_CHANNELS):
         src = sources.get(channel)
-        if channel in need and src is not None and src.bits == 32:
-            out.append(Derived(channel, channel, _key(channel, src, p, "finite"),
-                               lambda d: _rgba(d.pixels), finite_copy=True))
+        convert = _standard_normal_map(p) if channel == "shape" else _as_it_is
+        if channel in need and src is not None and (src.bits == 32 or channel == "shape"):
+            out.append(Derived(channel, channel, _key(channel, src, p, "finite"), convert,
+                               finite_copy=True))
     if "height" in need:
         src = sources["shape"]
         sigma = p.shape.preblur
@@ -104,6 +108,24 @@ def derived_inputs(features, p, sources):
                            _key("background_sharp", src, p, same),
                            lambda d: lookup_copy(d, 0.0, "extend"), same_as=same))
     return out
+
+
+def _as_it_is(data):
+    return None
+
+
+def _standard_normal_map(p):
+    """A normal map in the convention the graph decodes (N = 2C − 1 on RGB), or None when it
+    is stored so already (rgb encoding, strength 1): §2's encoding and strength applied."""
+    def make(data):
+        rgb = data.rgb()
+        if resolve_encoding(rgb, p.shape.encoding) == "rgb" and p.shape.strength == 1:
+            return None
+        n = normal_vectors(rgb, p.shape.encoding, p.shape.strength)
+        a = data.alpha()
+        return _rgba(np.concatenate([(n + 1) / 2] + ([a[..., None]] if a is not None else []),
+                                    -1))
+    return make
 
 
 def _alpha(data):
@@ -135,8 +157,8 @@ def make_derived(items, read, role_of):
             if cache[item.source][1]:
                 warnings.append(cache[item.source][1])
         data, warning = cache[item.source]
-        if item.finite_copy and not warning:
-            made[item.channel] = None
-        else:
-            made[item.channel] = item.make(data).astype(np.float32, copy=False)
+        rgba = item.make(data)
+        if rgba is None and item.finite_copy and warning:
+            rgba = _rgba(data.pixels)            # a finite copy of the source
+        made[item.channel] = None if rgba is None else rgba.astype(np.float32, copy=False)
     return made, warnings

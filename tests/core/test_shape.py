@@ -93,3 +93,71 @@ def test_gaussian_blur_preserves_constants_and_mass():
     spike = np.zeros((21, 21), np.float64)
     spike[10, 10] = 1
     assert gaussian_blur(spike, 2.0, "wrap").sum() == pytest.approx(1.0)
+
+
+# -- other tools' normal-map conventions (issue 15) ------------------------------------------
+from dynpaint_addon.core.inputs import normal_map_notes, normal_map_problem  # noqa: E402
+from dynpaint_addon.core.shape import resolve_encoding, scale_tilt  # noqa: E402
+
+
+def _unit_normals(rng, count, min_z=0.2):
+    n = rng.normal(size=(count, 3))
+    n[:, 2] = np.abs(n[:, 2]) + min_z
+    return n / np.linalg.norm(n, axis=1, keepdims=True)
+
+
+def test_two_channel_maps_decode_to_the_same_normals():
+    n = _unit_normals(np.random.default_rng(1), 400)[None]
+    rg = np.concatenate([(n[..., :2] + 1) / 2, np.zeros(n.shape[:-1] + (1,))], -1)
+    assert resolve_encoding(rg) == "rg" and resolve_encoding((n + 1) / 2) == "rgb"
+    for encoding in ("auto", "rg"):
+        np.testing.assert_allclose(decode_normal_map(rg, z_min=0.001, encoding=encoding), n,
+                                   atol=1e-12)
+    # blue ignored: whatever it holds
+    rg[..., 2] = 0.7
+    np.testing.assert_allclose(decode_normal_map(rg, z_min=0.001, encoding="rg"), n, atol=1e-12)
+
+
+def test_strength_one_half_is_the_halving_decoder_exactly():
+    from parity_recipes import doubled_tilts
+    n = _unit_normals(np.random.default_rng(2), 400, min_z=0.05)[None]
+    stored = doubled_tilts(n)                             # tilts up to ~174°: many face away
+    assert np.mean(stored[..., 2] < 0) > 0.2
+    decoder = stored + [0, 0, 1]
+    decoder /= np.linalg.norm(decoder, axis=-1, keepdims=True)
+    got = decode_normal_map((stored + 1) / 2, z_min=0.001, strength=0.5)
+    np.testing.assert_allclose(got, decoder, atol=1e-12)
+    np.testing.assert_allclose(got, n, atol=1e-12)
+    # strength scales the angle: 0 is flat, 1 the map as it is
+    np.testing.assert_array_equal(scale_tilt(n, 1.0), n)
+    np.testing.assert_allclose(scale_tilt(n, 0.0), np.broadcast_to([0, 0, 1], n.shape),
+                               atol=1e-15)
+
+
+def test_convention_messages_name_the_setting_that_reads_the_map():
+    n = _unit_normals(np.random.default_rng(3), 400)[None]
+    rg = np.concatenate([(n[..., :2] + 1) / 2, np.zeros(n.shape[:-1] + (1,))], -1)
+    assert normal_map_problem(rg, "x.png") is None            # auto: read as two-channel
+    assert normal_map_problem(rg, "x.png", "rg") is None
+    message = normal_map_problem(rg, "x.png", "rgb")
+    assert "encoding to 'rg'" in message and "colour or height" not in message
+    assert any("two-channel" in note for note in normal_map_notes(rg, "x.png"))
+    # a map for the halving decoder read at strength 1: its back-facing share, and the cure
+    from parity_recipes import doubled_tilts
+    halving = (doubled_tilts(_unit_normals(np.random.default_rng(4), 400, 0.05)[None]) + 1) / 2
+    notes = normal_map_notes(halving, "h.png")
+    assert len(notes) == 1 and "face away" in notes[0] and "strength 0.5" in notes[0]
+    assert normal_map_notes(halving, "h.png", strength=0.5) == []
+
+
+def test_back_facing_shares_count_only_opaque_pixels():
+    rng = np.random.default_rng(5)
+    n = _unit_normals(rng, 400)[None]
+    back = n.copy()
+    back[..., 2] *= -1                                       # all face away …
+    px = np.concatenate([(np.concatenate([n, back], 1) + 1) / 2,
+                         np.concatenate([np.ones((1, 400, 1)), np.zeros((1, 400, 1))], 1)], -1)
+    assert normal_map_notes(px, "a.png") == []               # … but are transparent
+    px[..., 400:, 3] = 1
+    assert "50% of its opaque pixels" in normal_map_notes(px, "a.png")[0]
+    assert normal_map_problem(px[..., :3], "b.png") is None  # half away: usable, not refused

@@ -16,7 +16,8 @@ def plan(f, p, bits=None):
 
 def test_only_what_the_graph_samples_is_planned():
     p = params.defaults()
-    assert plan(Features(size=(8, 8)), p) == {}
+    # a normal map is checked for its convention (two-channel, scaled tilts); nothing else
+    assert list(plan(Features(size=(8, 8)), p)) == ["shape"]
     f = Features(size=(8, 8), shape_kind="height", transparency="param", silhouette="dark",
                  channels=frozenset({"shape", "dark", "environment", "background"}),
                  lookup_sizes=(("background", (8, 8)), ("environment", (8, 8))))
