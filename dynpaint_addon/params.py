@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from types import SimpleNamespace
 
 from .core.fresnel import DOMAINS
+from .core.inputs import MASK_CHANNELS
 from .core.sampling import EXTENSIONS
 from .core.shape import ENCODINGS
 from .core.shading import CURVES
@@ -138,6 +139,10 @@ PARAMS = (
       spec="§7", structural=True),
     P("specular", "amount", float, 1.0, "g: gloss strength (multiplies the gloss map)",
       min=0.0, max=1.0, spec="§7"),
+    P("specular", "gloss_channel", "enum", "auto", "What of the gloss map is g: its luminance, "
+      "one channel, or auto (a map painted in one pure channel is read from that channel, "
+      "else its luminance)", choices=MASK_CHANNELS, spec="§7", label="Gloss Channel",
+      derives=("gloss",)),
     # §8 reflection
     P("reflection", "distance", float, 0.05, "d_E: how far the environment appears behind the "
       "surface (reflection offset scale)", unit="image widths", min=0.0, max=10.0, spec="§8"),
@@ -180,6 +185,10 @@ PARAMS = (
     P("transparency", "amount", "auto_float", "auto", "k: where the surface shows the reflection/"
       "refraction mix (multiplies the transparency map); 'auto' = 1 with a map, 0 without",
       min=0.0, max=1.0, spec="§11", auto_value=1.0, structural=True, feature="transparency"),
+    P("transparency", "channel", "enum", "auto", "What of the transparency map is k: its "
+      "luminance, one channel, or auto (a mask painted in one pure channel, say red on black, "
+      "is read from that channel, else its luminance)", choices=MASK_CHANNELS, spec="§11",
+      label="Map Channel", derives=("transparency",)),
     P("silhouette", "source", "enum", "auto", "Whose alpha cuts the painting out over the "
       "background: auto (shape, else dark), shape, dark, none",
       choices=("auto", "shape", "dark", "none"), spec="§11", structural=True,

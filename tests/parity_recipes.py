@@ -74,7 +74,10 @@ def write_images(folder):
     save("dark_alpha.png", np.concatenate([dark, alpha[..., None]], -1))
     save("spec.png", np.stack([1 - 0.3 * x, 0.9 + 0.1 * y, 0.7 + 0.3 * x], -1))
     save("gloss.png", 0.4 + 0.6 * np.clip(np.sin(np.pi * x) * np.sin(np.pi * y) * 1.2, 0, 1))
-    save("transparency.png", np.clip(1.4 * np.exp(-((x - 0.5) ** 2 + (y - 0.5) ** 2) / 0.08), 0, 1))
+    k = np.clip(1.4 * np.exp(-((x - 0.5) ** 2 + (y - 0.5) ** 2) / 0.08), 0, 1)
+    save("transparency.png", k)
+    # a mask painted in one colour channel (pure red marks the glass, issue 15), 8-bit RGB
+    save("transparency_red.png", np.stack([k, np.zeros_like(k), np.zeros_like(k)], -1))
     save("white.png", np.ones((H, W, 3)))
     # environment and background: other sizes, smooth and colourful
     ex, ey = _grid(32, 24)
@@ -164,6 +167,9 @@ RECIPES = {
     "flip_green_zmin": (BASE, {"shape.flip_green": True, "shape.z_min": 0.6}, [SUN]),
     "one_image_no_light": ({"shape": "normal", "dark": "dark"}, {}, []),
     "normal_two_channel": ({**BASE, "shape": "normal_rg"}, {}, [SUN]),       # encoding auto
+    "glass_red_mask": ({**GLASS, "transparency": "transparency_red", "gloss": "spec"},
+                       {"refraction.distance": 0.1, "specular.enabled": True,
+                        "specular.gloss_channel": "green"}, [SUN]),       # channel auto
     "normal_halving_strength": ({**BASE, "shape": "normal_halving"},
                                 {"shape.strength": 0.5, "shadows.enabled": True}, [SUN]),
 }

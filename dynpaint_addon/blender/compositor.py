@@ -68,9 +68,10 @@ def set_group_inputs(node, recipe, p=None):
 
 
 # The derived images (nodegraph/derived_inputs.py) that replace a group input: a normal map in
-# the standard convention, the pre-blurred height through the Shape input (INPUT_OF), E and B
+# the standard convention, masks as read, the pre-blurred height through the Shape input (INPUT_OF), E and B
 # straight (the group premultiplies them itself).
-GROUP_DERIVED = ("shape", "height", "environment", "background")
+GROUP_DERIVED = ("shape", "height", "environment", "background", "background_sharp",
+                 "transparency", "gloss")
 
 
 def _straight(rgba):
@@ -87,11 +88,16 @@ def _numpy_prepared(recipe, features, images, folder):
     made, _ = make_derived(plan, lambda c: read_image(recipe.images[c]),
                            lambda c: "colour" if c != "shape" else p.shape.kind)
     prepared = {}
-    for channel, rgba in made.items():
+    for item in plan:
+        channel, rgba = item.channel, made[item.channel]
+        if item.same_as and item.same_as in prepared:
+            prepared[channel] = prepared[item.same_as]
+            continue
         if rgba is None:            # the input as it is
             continue
         path = os.path.join(folder, f"prepared_{channel}.exr")
-        write_exr(path, _straight(rgba) if channel in ("environment", "background") else rgba)
+        write_exr(path, _straight(rgba) if channel in ("environment", "background",
+                                                       "background_sharp") else rgba)
         img = bpy.data.images.load(path, check_existing=False)
         img.colorspace_settings.name = "Non-Color"
         img.alpha_mode = "CHANNEL_PACKED"

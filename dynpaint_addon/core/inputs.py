@@ -119,6 +119,42 @@ def normal_map_notes(px, name="shape image", encoding="auto", strength=1.0):
     return notes
 
 
+MASK_CHANNELS = ("auto", "luminance", "red", "green", "blue", "alpha")
+_CHANNEL_INDEX = {"red": 0, "green": 1, "blue": 2}
+
+
+def mask_values(px, channel="auto"):
+    """A data image read as one value per pixel (transparency k, gloss g; §7, §11) →
+    (values (H, W), the channel read). 'luminance' is Rec.709 luminance of RGB (grey images:
+    their grey); 'red', 'green', 'blue', 'alpha' read that channel; 'auto' reads a mask
+    painted in one pure channel (the others 0 everywhere) from that channel, else luminance.
+    """
+    px = np.asarray(px)
+    c = px.shape[-1]
+    if channel == "auto":
+        channel = "luminance"
+        if c >= 3:
+            rgb = np.nan_to_num(px[..., :3])
+            lit = [i for i in range(3) if np.max(rgb[..., i], initial=0) > 1 / 255]
+            if len(lit) == 1 and np.min(rgb[..., lit[0]]) < np.max(rgb[..., lit[0]]):
+                channel = ("red", "green", "blue")[lit[0]]
+    if channel == "alpha":
+        return (px[..., -1] if c in (2, 4) else np.ones(px.shape[:-1], px.dtype)), channel
+    if c < 3:
+        return px[..., 0], channel if channel == "luminance" else "grey"
+    if channel == "luminance":
+        return px[..., :3] @ np.array([0.2126, 0.7152, 0.0722], px.dtype), channel
+    return px[..., _CHANNEL_INDEX[channel]], channel
+
+
+def mask_note(name, channel, resolved):
+    """The line an artist gets when 'auto' read a mask from one pure channel."""
+    if channel == "auto" and resolved in _CHANNEL_INDEX:
+        return (f"{name}: read from its {resolved} channel (a mask painted in pure "
+                f"{resolved}); set its channel to 'luminance' to read its brightness")
+    return ""
+
+
 def size_message(channel, size, shape_size):
     return (f"{channel} image is {size[0]}×{size[1]}, resampled to the shape image's "
             f"{shape_size[0]}×{shape_size[1]}")

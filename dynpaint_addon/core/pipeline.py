@@ -22,8 +22,8 @@ import numpy as np
 from . import fresnel as fr
 from . import shading, warps
 from .colour import srgb_to_linear
-from .inputs import (finite_pixels, non_finite_message, normal_map_notes, normal_map_problem,
-                     size_message)
+from .inputs import (finite_pixels, mask_note, mask_values, non_finite_message, normal_map_notes,
+                     normal_map_problem, size_message)
 from .lights import light_vectors
 from .sampling import gaussian_blur, pixel_centres, resample, sample_bilinear
 from .bake import bake as shadow_bake
@@ -217,6 +217,7 @@ def render(images, lights, p, dtype=np.float32, cache=None, keep_passes=True):
             img = ImageData(resample(img.pixels.astype(dtype), hs, ws), img.bits, img.name)
         imgs[name] = img
 
+    warnings += mask_notes(imgs, p)
     n, z_px, slopes = shape_normals(imgs["shape"], p, dtype)
     shadows = [shadow_term(n, z_px, slopes, light, p) for light in lights] \
         if p.shadows.enabled else None
@@ -235,6 +236,25 @@ def render(images, lights, p, dtype=np.float32, cache=None, keep_passes=True):
 
 
 RENDER_BAND_PIXELS = 1 << 20
+MASKS = {"transparency": ("transparency", "channel"), "gloss": ("specular", "gloss_channel")}
+
+
+def mask_setting(p, channel):
+    """The parameter that says how a mask channel (transparency, gloss) is read."""
+    section, key = MASKS[channel]
+    return getattr(getattr(p, section), key)
+
+
+def mask_notes(images, p):
+    """What 'auto' made of the masks: a line for each read from one pure channel."""
+    notes = []
+    for channel in MASKS:
+        if channel in images:
+            setting = mask_setting(p, channel)
+            resolved = mask_values(images[channel].pixels, setting)[1]
+            note = mask_note(f"{channel} image", setting, resolved)
+            notes += [note] if note else []
+    return notes
 
 
 @dataclass
@@ -292,11 +312,12 @@ class Band:
         """A colour input's rows, linear RGB (§0)."""
         return _linear(self.image(channel), self.dtype)
 
-    def grey(self, channel, default=1.0):
-        """A data input's rows as one channel, or `default` everywhere without the image."""
+    def mask(self, channel, setting):
+        """A data input's rows as one value per pixel, read by `setting` (core/inputs.py
+        mask_values), or 1 everywhere without the image."""
         if not self.has(channel):
-            return np.full(self.shape, default, self.dtype)
-        return self.image(channel).grey().astype(self.dtype)
+            return np.ones(self.shape, self.dtype)
+        return mask_values(self.image(channel).pixels, setting)[0].astype(self.dtype)
 
 
 TERMS = []
@@ -349,7 +370,7 @@ def highlights(b):
         return
     b.s_mix = shading.light_weight(b.specular_terms, [lt.colour for lt in lights],
                                    [lt.strength for lt in lights])
-    g = np.clip(b.grey("gloss") * dtype(p.specular.amount), 0, 1)
+    g = np.clip(b.mask("gloss", p.specular.gloss_channel) * dtype(p.specular.amount), 0, 1)
     c_s = shading.opaque_highlight(b.rgba[..., :3], b.c_spec, g[..., None] * b.s_mix)
     b.rgba = np.concatenate([c_s, b.rgba[..., 3:]], axis=2)
     b.passes["s"] = b.s_mix
@@ -363,7 +384,7 @@ def transparency(b):
     amount = p.transparency.amount
     if amount == "auto":
         amount = 1.0 if b.has("transparency") else 0.0
-    k = np.clip(b.grey("transparency") * dtype(amount), 0, 1)
+    k = np.clip(b.mask("transparency", p.transparency.channel) * dtype(amount), 0, 1)
     if not (amount > 0 and np.any(k > 0)):
         return
     rows, n = (b.r0, b.r1), b.n

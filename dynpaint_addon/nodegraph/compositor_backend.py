@@ -16,8 +16,12 @@ blurred copies, e.g. made by the add-on).
 from .. import params
 from .build_bpy import link_or_set
 
-# channel of the description → group input it reads
-INPUT_OF = {"height": "shape", "background_sharp": "background"}
+# channel of the description → group input it reads (the pre-blurred height map comes in
+# through the Shape input); the background outside the silhouette has an input of its own, as
+# the Background input may be a blurred copy (translucent looks, §11)
+INPUT_OF = {"height": "shape"}
+SHARP_BACKGROUND = ("background shown outside the silhouette, unblurred (the same image as "
+                    "Background, or its sharp original when Background is blurred)", "colour")
 EXTENSIONS = {"REPEAT": "Repeat", "EXTEND": "Extend", "MIRROR": "Extend"}
 INTERPOLATIONS = {"Linear": "Bilinear", "Closest": "Nearest"}
 
@@ -57,7 +61,8 @@ class CompositorBackend:
             i = int(channel.split("_")[1])
             return self._socket(tree, f"Light {i + 1} Shadow", "NodeSocketColor",
                                 description="Its baked cos-θ term (pipeline.md §6), Non-Color")
-        what, kind = params.CHANNELS[channel]
+        what, kind = SHARP_BACKGROUND if channel == "background_sharp" else \
+            params.CHANNELS[channel]
         return self._socket(tree, input_name(channel), "NodeSocketColor",
                             description=f"{what[0].upper()}{what[1:]} ({kind})")
 

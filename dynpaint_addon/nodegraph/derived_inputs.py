@@ -10,7 +10,8 @@ not the artist's own but made from them by numpy:
   background_sharp   B unblurred, shown outside the silhouette (§11)
   <input channel>    a finite copy of a float input that holds NaN/Inf (§14, core/inputs.py);
                      for a normal map also the map in the standard RGB convention when it is
-                     stored otherwise (two-channel) or its tilts are scaled (§2)
+                     stored otherwise (two-channel) or its tilts are scaled (§2); for the
+                     transparency and gloss maps the values read (luminance or a channel)
 
 `derived_inputs` plans them from the features of the graph and the parameters (cheap: no
 pixel is read); `Derived.make` makes one from its source's pixels. Each carries a key built
@@ -31,7 +32,8 @@ import numpy as np
 
 from .. import params
 from ..core.inputs import finite_pixels, non_finite_message
-from ..core.pipeline import PER_PIXEL_CHANNELS, lookup_copy
+from ..core.inputs import mask_values
+from ..core.pipeline import MASKS, PER_PIXEL_CHANNELS, lookup_copy, mask_setting
 from ..core.shape import default_preblur_px, normal_vectors, preblurred_height, resolve_encoding
 
 
@@ -81,8 +83,9 @@ def derived_inputs(features, p, sources):
     out = []
     for channel in ("shape", *PER_PIXEL_CHANNELS):
         src = sources.get(channel)
-        convert = _standard_normal_map(p) if channel == "shape" else _as_it_is
-        if channel in need and src is not None and (src.bits == 32 or channel == "shape"):
+        convert = _standard_normal_map(p) if channel == "shape" else \
+            _mask(mask_setting(p, channel)) if channel in MASKS else _as_it_is
+        if channel in need and src is not None and (src.bits == 32 or convert is not _as_it_is):
             out.append(Derived(channel, channel, _key(channel, src, p, "finite"), convert,
                                finite_copy=True))
     if "height" in need:
@@ -125,6 +128,18 @@ def _standard_normal_map(p):
         a = data.alpha()
         return _rgba(np.concatenate([(n + 1) / 2] + ([a[..., None]] if a is not None else []),
                                     -1))
+    return make
+
+
+def _mask(setting):
+    """A transparency or gloss map as one grey value per pixel, read by `setting`
+    (core/inputs.py mask_values): the graph reads its red channel. None for a grey image read
+    as its grey: the image itself reads so."""
+    def make(data):
+        values, resolved = mask_values(data.pixels, setting)
+        if data.pixels.shape[-1] < 3 and resolved in ("luminance", "grey"):
+            return None
+        return grey_rgba(values)
     return make
 
 

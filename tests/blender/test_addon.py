@@ -11,7 +11,7 @@ bpy = pytest.importorskip("bpy")
 from dynpaint_addon import blender, params  # noqa: E402
 from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
 from dynpaint_addon.blender.scene import FACE_CAMERA, exact_camera, exact_render_settings, output_settings  # noqa: E402
-from dynpaint_addon.blender.settings import settings_to_params  # noqa: E402
+from dynpaint_addon.blender.settings import channel_images, settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.imageio import read_image  # noqa: E402
 from dynpaint_addon.recipe import load_images, load_recipe  # noqa: E402
@@ -43,8 +43,8 @@ def render_cycles(scene, plane, path):
 def core_of(mat, scene):
     """The numpy core's render of the painting as the scene has it now."""
     s = mat.dynamic_painting
-    images = {c: read_image(bpy.path.abspath(getattr(s, f"image_{c}").filepath))
-              for c in ("shape", "dark", "bright") if getattr(s, f"image_{c}") is not None}
+    images = {c: read_image(bpy.path.abspath(img.filepath))
+              for c, img in channel_images(s).items()}
     lights = [painting_frame_light(o, s.plane.matrix_world) for o in linked_lights(mat, scene)]
     return core_render(images, lights, settings_to_params(s)).rgba
 
@@ -266,7 +266,8 @@ def test_every_panel_draws_existing_properties_and_operators(empty_scene, folder
             if hasattr(cls, method):
                 getattr(cls, method)(panel, bpy.context)
     drawn = {name for kind, name in log if kind == "prop"}
-    height_params = {p.key for p in params.PARAMS if p.key != "flip_green"}   # a height map
+    height_params = {p.key for p in params.PARAMS                 # a height map: no normal-only
+                     if p.shown_if != ("shape.kind", "normal")}
     assert height_params <= drawn, height_params - drawn
     assert {"dynpaint.bake_shadows", "dynpaint.image_open", "dynpaint.apply_look",
             "dynpaint.add_light_turntable", "dynpaint.add", "dynpaint.add_sample"} <= \

@@ -46,6 +46,7 @@ def files(tmp_path_factory):
     steep = np.stack([(x - 0.5) * 4, (y - 0.37) * 4, np.ones_like(x)], -1)
     steep /= np.linalg.norm(steep, axis=-1, keepdims=True)
     png("normal_halving.png", doubled_tilts(steep) * 0.5 + 0.5, 16)
+    png("mask_red.png", np.stack([dome, np.zeros_like(dome), np.zeros_like(dome)], -1))
     png("dark.png", np.stack([0.1 + 0.2 * x, 0.1 + 0.1 * y, np.full_like(x, 0.3)], -1))
     png("bright.png", np.stack([0.9 - 0.2 * x, 0.7 + 0.2 * y, np.full_like(x, 0.4)], -1))
     png("dark16.png", np.stack([0.1 + 0.2 * x, 0.1 + 0.1 * y, np.full_like(x, 0.3)], -1), 16)
@@ -118,10 +119,13 @@ CASES = {
                                      "set the shape encoding to 'rg'")),
     "map for a halving decoder": ({"shape": "normal_halving.png", "dark": "dark.png"}, "normal",
                                   ("ok", "shape strength 0.5")),
+    "mask in one colour channel": ({"shape": "height.png", "dark": "dark.png",
+                                    "transparency": "mask_red.png", "background": "bright.png"},
+                                   "height", ("ok", "read from its red channel")),
 }
 RENDERED = ("1×1 images", "2×2 height map", "different sizes", "non-square",
             "8-bit, 16-bit and float", "EXR with NaN and Inf", "palette and CMYK images",
-            "two-channel normal map", "map for a halving decoder")
+            "two-channel normal map", "map for a halving decoder", "mask in one colour channel")
 LIGHTS = [Light("sun", (-0.5, 0.45, 0.74), (1.0, 1.0, 1.0), 1.0, "Sun")]
 
 

@@ -201,3 +201,48 @@ def test_blur_cache_is_reused_and_never_stale():
         other = ImageData(rng.uniform(0, 1, (16, 16, 3)).astype(np.float32), 32)
         cached = render({**imgs, "environment": other}, LIGHTS, p, cache=cache).rgba
         np.testing.assert_array_equal(cached, render({**imgs, "environment": other}, LIGHTS, p).rgba)
+
+
+# -- masks painted in one colour channel (issue 15) -------------------------------------------
+from dynpaint_addon.core.inputs import mask_values  # noqa: E402
+
+
+def test_masks_read_a_pure_channel_or_luminance():
+    rng = np.random.default_rng(7)
+    k = rng.uniform(0, 1, (6, 5))
+    zero = np.zeros_like(k)
+    red = np.stack([k, zero, zero], -1)
+    values, channel = mask_values(red)
+    assert channel == "red" and np.array_equal(values, k)
+    # luminance when asked (what it was before: pure red reads at most 0.2126)
+    assert mask_values(red, "luminance")[0].max() <= 0.2126 + 1e-12
+    colour = rng.uniform(0, 1, (6, 5, 3))
+    assert mask_values(colour)[1] == "luminance"
+    assert np.array_equal(mask_values(colour, "blue")[0], colour[..., 2])
+    grey_alpha = np.stack([k, 1 - k], -1)
+    assert np.array_equal(mask_values(grey_alpha)[0], k)
+    assert np.array_equal(mask_values(grey_alpha, "alpha")[0], 1 - k)
+    assert np.all(mask_values(colour, "alpha")[0] == 1)          # no alpha: opaque
+
+
+def test_a_red_transparency_mask_shows_the_glass_fully_and_says_so():
+    imgs = builtin_images_for_masks()
+    p = params.defaults()
+    p.transparency.amount = 1.0
+    lights = [Light("sun", (0.2, 0.3, 0.9))]
+    result = render(imgs, lights, p, keep_passes=True)
+    assert result.passes["k"].max() == pytest.approx(1.0)
+    assert any("read from its red channel" in w for w in result.warnings)
+    p.transparency.channel = "luminance"
+    assert render(imgs, lights, p).passes["k"].max() == pytest.approx(0.2126, abs=1e-6)
+
+
+def builtin_images_for_masks():
+    h, w = 12, 16
+    n = np.zeros((h, w, 3))
+    n[..., 2] = 1
+    red = np.zeros((h, w, 3))
+    red[3:9, 4:12, 0] = 1.0
+    return {"shape": ImageData((n + 1) / 2, 16), "dark": ImageData(np.full((h, w, 3), 0.2)),
+            "bright": ImageData(np.full((h, w, 3), 0.8)), "transparency": ImageData(red),
+            "background": ImageData(np.full((h, w, 3), 0.5))}
