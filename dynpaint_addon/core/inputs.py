@@ -64,7 +64,7 @@ def normal_map_problem(px, name="shape image", encoding="auto"):
     if px.shape[-1] < 3:
         return (f"{name} is a grey image: a normal map is RGB (read it as a height map: "
                 f"shape kind 'height')")
-    rgb = np.nan_to_num(px[..., :3].astype(np.float32))
+    rgb = np.nan_to_num(px[..., :3].astype(np.float32), posinf=0.0, neginf=0.0)
     if np.allclose(rgb[..., 0], rgb[..., 1], atol=2e-3) and \
             np.allclose(rgb[..., 1], rgb[..., 2], atol=2e-3):
         return (f"{name} is grey (R = G = B everywhere): a normal map is coloured (flat = "
@@ -96,7 +96,7 @@ def normal_map_notes(px, name="shape image", encoding="auto", strength=1.0):
     as two-channel, and the share of its *opaque* pixels facing away from the viewer (tilted
     up to N.z = z_min), with the strength that would keep them if a halving decoder was meant."""
     px = np.asarray(px)
-    rgb = np.nan_to_num(px[..., :3].astype(np.float32))
+    rgb = np.nan_to_num(px[..., :3].astype(np.float32), posinf=0.0, neginf=0.0)
     resolved = resolve_encoding(rgb, encoding)
     notes = []
     if encoding == "auto" and resolved == "rg":

@@ -77,7 +77,7 @@ def resolve_encoding(rgb, encoding="auto"):
     the convention of many engines and tools), any other as RGB."""
     if encoding != "auto":
         return encoding
-    rgb = np.nan_to_num(np.asarray(rgb, dtype=np.float32)[..., :3])
+    rgb = np.nan_to_num(np.asarray(rgb, dtype=np.float32)[..., :3], posinf=0.0, neginf=0.0)
     if rgb.size == 0:
         return "rgb"
     x, y = 2 * rgb[..., 0] - 1, 2 * rgb[..., 1] - 1
