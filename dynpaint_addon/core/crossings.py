@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .sampling import pixel_centres, sample_bilinear, sample_bilinear_extend
-from .shadow import cos_theta_shadow, exit_distance, inside_box
+from .shadow import cos_theta_shadow, exit_distance, inside_box, vertical_cos_theta
 
 MAX_CROSSINGS = 8     # enter/exit pairs followed per ray (more are very rare)
 MAX_TABLE_BYTES = 1.5 * 2**30   # larger grids fall back to the march
@@ -137,9 +137,11 @@ def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None):
     lvec = lvec / np.linalg.norm(lvec)
     if lvec[2] <= 0:
         return np.zeros((h, w), dtype)
-    if np.hypot(lvec[0], lvec[1]) < 1e-6 or offset <= 0:
-        # straight up (no horizontal direction to lay rows along), or the d → 0 limit
+    if offset <= 0:             # the d → 0 limit: hard visibility, marched
         return cos_theta_shadow(normals, light, offset, 64, heights_px=heights_px, slopes=slopes)
+    if np.hypot(lvec[0], lvec[1]) < 1e-6:
+        # straight up: no horizontal direction to lay rows along, and no need (closed form)
+        return vertical_cos_theta(normals, offset, heights_px=heights_px)
     return _bake(_SunGrid(lvec, h, w), normals, offset, heights_px, slopes)
 
 

@@ -68,6 +68,28 @@ def inside_box(x0, y0, height, width):
     return (x0 >= 0.5) & (x0 <= width - 0.5) & (y0 >= 0.5) & (y0 <= height - 0.5)
 
 
+def vertical_cos_theta(normals, offset, *, heights_px=None):
+    """t for a sun straight above (L = (0, 0, 1), §6), in closed form: what the march
+    computes, without marching. The ray from P0 = P_S − d·N_S rises vertically, so along it
+    the relief stays H(P0.xy): on a height map r = max(H(P0.xy) − P0.z, 0) (the tangent
+    plane of P_S where P0 lies outside the box of pixel centres, as the march's tail has it);
+    on a normal map the height rebuilt along the ray stays that of P_S's tangent plane, so
+    t = N.z. Requires d > 0."""
+    f = normals.dtype.type
+    nz = normals[..., 2]
+    if heights_px is None:
+        return np.clip(nz, 0, 1).astype(normals.dtype, copy=False)
+    h, w = normals.shape[:2]
+    d = f(float(offset) * w)
+    x, y = pixel_centres(h, w, f)
+    x0, y0 = x - d * normals[..., 0], y - d * normals[..., 1]
+    z0 = heights_px.astype(normals.dtype, copy=False) - d * nz
+    inside = inside_box(x0, y0, h, w)
+    t = np.where(inside, d / np.maximum(sample_bilinear(heights_px, x0, y0, "extend") - z0, d),
+                 nz)
+    return np.clip(np.where(np.isfinite(t), t, 0), 0, 1).astype(normals.dtype, copy=False)
+
+
 class BakeCancelled(Exception):
     """A bake was superseded (its `cancel` callback said so) before it finished."""
 

@@ -9,6 +9,7 @@ from conftest import REPO
 
 sys.path.insert(0, os.path.join(REPO, "benchmarks"))
 
+import overhead_lights  # noqa: E402
 import point_light_study  # noqa: E402
 import shadow_quality  # noqa: E402
 
@@ -34,3 +35,9 @@ def test_point_light_study_prints(one_run, capsys):
     point_light_study.study(64, 0.5)
     out = capsys.readouterr().out
     assert "K = 64 march" in out and "aimed crossings" in out and "flat pixels" in out
+
+
+def test_overhead_lights_prints_a_ratio_per_case(one_run, capsys):
+    worst = overhead_lights.main(["--size", "64", "--levels", "draft"])
+    out = capsys.readouterr().out
+    assert np.isfinite(worst) and out.count("| draft |") == 8 and "goal ≤ 1.2×" in out

@@ -364,3 +364,40 @@ def test_sun_crossings_do_not_depend_on_blocks_chunks_or_threads(kind, monkeypat
     monkeypatch.setattr(crossings, "THREADS", 3)
     assert len(crossings._SunGrid(np.array(unit(light.vector)), 160, 160).blocks) == 8
     np.testing.assert_allclose(crossings.sun_cos_theta(n, light, 0.01, **kw), one, atol=1e-5)
+
+
+# -- a sun straight above (issue 15, point 6) ------------------------------------------------
+from dynpaint_addon.core import bake as bake_module  # noqa: E402
+from dynpaint_addon.core.shadow import vertical_cos_theta  # noqa: E402
+
+
+@pytest.mark.parametrize("kind", ["height", "normal"])
+def test_a_sun_straight_above_has_the_marchs_answer_in_closed_form(kind):
+    from dynpaint_addon.testpainting import builtin_images
+    z = height_field_px(builtin_images(96)["shape"].grey().astype(np.float64), 0.25)
+    n = normals_from_height_px(z)
+    kw = {"heights_px": z} if kind == "height" else {"slopes": slopes_from_normals(n)}
+    up = Light("sun", (0, 0, 1))
+    closed = vertical_cos_theta(n, 0.01, heights_px=kw.get("heights_px"))
+    for steps in (64, 1024):
+        assert np.abs(closed - cos_theta_shadow(n, up, 0.01, steps, **kw)).max() < 1e-12
+    if kind == "height":
+        assert closed.min() < 0.5            # the cast shadows of the walls are in it
+
+
+def test_a_sun_straight_above_never_marches(monkeypatch):
+    """Overhead was the slowest case (the crossings fell back to a K = 64 march: 7–34× a
+    45° sun, benchmarks/overhead_lights.py); now it is the cheapest, at every level."""
+    from dynpaint_addon.testpainting import builtin_images
+    z = height_field_px(builtin_images(512)["shape"].grey().astype(np.float32), 0.25)
+    n = normals_from_height_px(z)
+
+    def marched(*args, **kwargs):
+        raise AssertionError("a sun straight above was marched")
+    for module in (bake_module, crossings):
+        monkeypatch.setattr(module, "cos_theta_shadow", marched)
+    up = Light("sun", (0, 0, 1))
+    for quality in ("draft", "preview", "final"):
+        for kw in ({"heights_px": z}, {"slopes": slopes_from_normals(n)}):
+            t = bake_module.bake(n, up, 0.01, quality, **kw)
+            assert t.shape == z.shape and np.all((t >= 0) & (t <= 1))
