@@ -272,3 +272,20 @@ def test_every_panel_draws_existing_properties_and_operators(empty_scene, folder
     assert {"dynpaint.bake_shadows", "dynpaint.image_open", "dynpaint.apply_look",
             "dynpaint.add_light_turntable", "dynpaint.add", "dynpaint.add_sample"} <= \
         {name for kind, name in log if kind == "operator"}
+
+
+def test_add_from_images_named_as_other_tools_name_them(empty_scene, folder, tmp_path):
+    """Issue 15, point 3: 'diffuse', 'alpha', 'nrm' … land in their channels; a file named
+    after none of them is reported, never taken as the dark image; the painting takes the
+    images' common name."""
+    import shutil
+    picked = {"Eye_nrm.png": "normal.png", "Eye_diffuse.png": "bright.png",
+              "Eye_alpha.png": "transparency.png", "Eye_trees.png": "bg.png"}
+    for name, source in picked.items():
+        shutil.copy(os.path.join(folder, source), tmp_path / name)
+    assert add(str(tmp_path), *picked) == {"FINISHED"}
+    s = bpy.context.object.active_material.dynamic_painting
+    assert s.image_shape.name == "Eye_nrm.png" and s.image_bright.name == "Eye_diffuse.png"
+    assert s.image_transparency.name == "Eye_alpha.png"
+    assert s.image_dark is None and s.image_background is None     # trees: not guessed
+    assert bpy.context.object.name == "Eye"

@@ -9,7 +9,7 @@ from bpy.utils import previews
 from bpy_extras.io_utils import ImportHelper
 
 from ... import params
-from ...channel_names import IMAGE_EXTENSIONS, guess_channels
+from ...channel_names import IMAGE_EXTENSIONS, common_name, guess_channels
 from ...imageio import image_data_from_blender
 from ...recipe import RecipeError, load_recipe
 from ...samples import list_samples
@@ -81,9 +81,9 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
         if bad:
             raise ValueError(f"{os.path.basename(bad[0])}: not an image or a .toml recipe")
         channels, rest = guess_channels(paths)
-        for channel in ("shape", "dark", "bright"):     # unnamed files fill the basics in order
-            if channel not in channels and rest:
-                channels[channel] = rest.pop(0)
+        if not channels:        # no file named after a channel: they are the basics, in order
+            channels = dict(zip(("shape", "dark", "bright"), rest))
+            rest = rest[len(channels):]
         if "shape" not in channels or ("dark" not in channels and "bright" not in channels):
             raise ValueError("pick at least a shape image (name it '…normal…' or '…height…') and "
                              "a dark and/or bright image")
@@ -92,7 +92,8 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
         kind = self.shape_kind.lower() if self.shape_kind != "AUTO" else \
             ("height" if looks_like_height(shape) else "normal")
         p.shape.kind = kind
-        name = os.path.splitext(os.path.basename(channels.get("dark") or channels["bright"]))[0]
+        name = common_name(channels.values()) or \
+            os.path.splitext(os.path.basename(channels.get("dark") or channels["bright"]))[0]
         plane, _, messages = create_painting(context, {**channels, "shape": shape}, p, None,
                                              name=name, size=self.size, location=location,
                                              rotation=rotation, progress=progress)
