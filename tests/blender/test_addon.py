@@ -289,3 +289,24 @@ def test_add_from_images_named_as_other_tools_name_them(empty_scene, folder, tmp
     assert s.image_transparency.name == "Eye_alpha.png"
     assert s.image_dark is None and s.image_background is None     # trees: not guessed
     assert bpy.context.object.name == "Eye"
+
+
+def test_the_proposed_channels_can_be_changed_before_the_painting_is_made(empty_scene, folder,
+                                                                          tmp_path):
+    """The confirm dialog's operator (with a UI it opens after the file browser): each file
+    with the channel proposed for it, changed by the artist; one image per channel."""
+    import shutil
+    for name, source in {"a_nrm.png": "normal.png", "a_diffuse.png": "bright.png",
+                         "a_trees.png": "bg.png"}.items():
+        shutil.copy(os.path.join(folder, source), tmp_path / name)
+    choose = [{"name": "a_nrm.png", "channel": "shape"},
+              {"name": "a_diffuse.png", "channel": "bright"},
+              {"name": "a_trees.png", "channel": "bright"}]
+    with pytest.raises(RuntimeError, match="bright is chosen twice"):
+        bpy.ops.dynpaint.add_images(directory=str(tmp_path), choices=choose)
+    assert not bpy.data.materials
+    choose[2]["channel"] = "background"                   # trees: the artist knows better
+    assert bpy.ops.dynpaint.add_images(directory=str(tmp_path), choices=choose) == {"FINISHED"}
+    s = bpy.context.object.active_material.dynamic_painting
+    assert s.image_background.name == "a_trees.png" and s.image_bright.name == "a_diffuse.png"
+    assert bpy.context.object.name == "a"

@@ -4,7 +4,8 @@ import os
 import numpy as np
 
 import bpy
-from bpy.props import BoolProperty, CollectionProperty, EnumProperty, FloatProperty, StringProperty
+from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty,
+                       StringProperty)
 from bpy.utils import previews
 from bpy_extras.io_utils import ImportHelper
 
@@ -27,6 +28,11 @@ def looks_like_height(img):
                 and np.allclose(px[..., 1], px[..., 2], atol=2e-3))
 
 
+SHAPE_KINDS = (("AUTO", "Detect", "Grey images are height maps, coloured ones normal maps"),
+               ("NORMAL", "Normal Map", "RGB normal map"),
+               ("HEIGHT", "Height Map", "Grey height map, lighter = nearer"))
+
+
 class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
     """Add a Dynamic Painting: pick a recipe (painting.toml) or its images (shape, dark, bright,
     and optionally specular colour, gloss, environment, background, transparency)"""
@@ -38,14 +44,23 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
                                 options={"HIDDEN"})
     files: CollectionProperty(type=bpy.types.OperatorFileListElement, options={"HIDDEN", "SKIP_SAVE"})
     directory: StringProperty(subtype="DIR_PATH", options={"HIDDEN", "SKIP_SAVE"})
-    shape_kind: EnumProperty(name="Shape Image", default="AUTO", items=(
-        ("AUTO", "Detect", "Grey images are height maps, coloured ones normal maps"),
-        ("NORMAL", "Normal Map", "RGB normal map"),
-        ("HEIGHT", "Height Map", "Grey height map, lighter = nearer")))
+    shape_kind: EnumProperty(name="Shape Image", default="AUTO", items=SHAPE_KINDS)
     size: FloatProperty(name="Width", default=2.0, min=0.001, unit="LENGTH",
                         description="Width of the painting's plane in the scene")
     add_lights: BoolProperty(name="Recipe Lights", default=True,
                              description="Create the lights a recipe describes")
+    confirm: BoolProperty(name="Confirm Channels", default=True, options={"SKIP_SAVE"},
+                          description="Show which channel each picked image becomes, to check "
+                                      "or change it, before the painting is made")
+
+    def confirmation(self, images):
+        """The confirm dialog's properties for the picked images."""
+        channels, _ = proposed_channels(images)
+        by_file = {path: channel for channel, path in channels.items()}
+        return {"directory": os.path.dirname(images[0]), "shape_kind": self.shape_kind,
+                "size": self.size,
+                "choices": [{"name": os.path.basename(p), "channel": by_file.get(p, NOT_USED)}
+                            for p in images]}
 
     def execute(self, context):
         paths = [os.path.join(self.directory, f.name) for f in self.files if f.name] \
@@ -54,13 +69,15 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
             self.report({"ERROR"}, "Pick a painting.toml recipe or the painting's images")
             return {"CANCELLED"}
 
+        images = [p for p in paths if not p.lower().endswith(".toml")]
+        if images == paths and not bpy.app.background and self.confirm:
+            # show the proposed channels before anything is made (the artist may change them)
+            return bpy.ops.dynpaint.add_images("INVOKE_DEFAULT", **self.confirmation(images))
+
         def work(progress):     # a large painting's first bake takes a while: progress
             with unchanged_images_on_failure():
                 plane, messages = self._create(context, paths, progress)
-            for obj in context.selected_objects:
-                obj.select_set(False)
-            plane.select_set(True)
-            context.view_layer.objects.active = plane
+            select_only(context, plane)
             return [("WARNING", m) for m in messages] + \
                 [("INFO", f"Added Dynamic Painting '{plane.name}'")]
         return run_and_report(self, context, work, progress=True,
@@ -80,28 +97,9 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
         bad = [p for p in paths if os.path.splitext(p)[1].lower() not in IMAGE_EXTENSIONS]
         if bad:
             raise ValueError(f"{os.path.basename(bad[0])}: not an image or a .toml recipe")
-        channels, rest = guess_channels(paths)
-        if not channels:        # no file named after a channel: they are the basics, in order
-            channels = dict(zip(("shape", "dark", "bright"), rest))
-            rest = rest[len(channels):]
-        if "shape" not in channels or ("dark" not in channels and "bright" not in channels):
-            raise ValueError("pick at least a shape image (name it '…normal…' or '…height…') and "
-                             "a dark and/or bright image")
-        p = params.defaults()
-        shape = load_image(channels["shape"], "shape")
-        kind = self.shape_kind.lower() if self.shape_kind != "AUTO" else \
-            ("height" if looks_like_height(shape) else "normal")
-        p.shape.kind = kind
-        name = common_name(channels.values()) or \
-            os.path.splitext(os.path.basename(channels.get("dark") or channels["bright"]))[0]
-        plane, _, messages = create_painting(context, {**channels, "shape": shape}, p, None,
-                                             name=name, size=self.size, location=location,
-                                             rotation=rotation, progress=progress)
-        if rest:
-            messages.append(f"not used (name them after a channel): "
-                            f"{', '.join(os.path.basename(r) for r in rest)}")
-        messages.append(f"shape image read as a {kind} map")
-        return plane, messages
+        channels, rest = proposed_channels(paths)
+        return painting_from_images(context, channels, rest, self.shape_kind, self.size,
+                                    location, rotation, progress)
 
     @staticmethod
     def _view_rotation(context):
@@ -112,6 +110,104 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
         if space is None or space.type != "VIEW_3D" or space.region_3d is None:
             return None
         return space.region_3d.view_rotation.to_euler()
+
+
+def proposed_channels(paths):
+    """The channels Add proposes for picked image files → ({channel: path}, [not used])."""
+    channels, rest = guess_channels(paths)
+    if not channels:        # no file named after a channel: they are the basics, in order
+        channels = dict(zip(("shape", "dark", "bright"), rest))
+        rest = rest[len(channels):]
+    return channels, rest
+
+
+def painting_from_images(context, channels, rest, shape_kind, size, location, rotation,
+                         progress=None):
+    """A painting from image files assigned to channels → (plane, messages)."""
+    if "shape" not in channels or ("dark" not in channels and "bright" not in channels):
+        raise ValueError("pick at least a shape image (name it '…normal…' or '…height…') and "
+                         "a dark and/or bright image")
+    p = params.defaults()
+    shape = load_image(channels["shape"], "shape")
+    kind = shape_kind.lower() if shape_kind != "AUTO" else \
+        ("height" if looks_like_height(shape) else "normal")
+    p.shape.kind = kind
+    name = common_name(channels.values()) or \
+        os.path.splitext(os.path.basename(channels.get("dark") or channels["bright"]))[0]
+    plane, _, messages = create_painting(context, {**channels, "shape": shape}, p, None,
+                                         name=name, size=size, location=location,
+                                         rotation=rotation, progress=progress)
+    if rest:
+        messages.append(f"not used: {', '.join(os.path.basename(r) for r in rest)}")
+    messages.append(f"shape image read as a {kind} map")
+    return plane, messages
+
+
+NOT_USED = "NONE"
+
+
+class DYNPAINT_PG_image_choice(bpy.types.PropertyGroup):
+    """One picked image file and the channel it will be (Add › From Images)."""
+    channel: EnumProperty(name="Channel", items=[(NOT_USED, "Not used", "Leave this file out")]
+                          + [(c, c.replace("_", " ").title(), params.CHANNELS[c][0])
+                             for c in params.CHANNELS])
+
+
+class DYNPAINT_OT_add_images(bpy.types.Operator):
+    """Add a Dynamic Painting from image files: check the channel proposed for each file (by
+    its name) and change it before the painting is made"""
+    bl_idname = "dynpaint.add_images"
+    bl_label = "Add Dynamic Painting"
+    bl_options = {"REGISTER", "UNDO"}
+
+    directory: StringProperty(subtype="DIR_PATH", options={"HIDDEN", "SKIP_SAVE"})
+    choices: CollectionProperty(type=DYNPAINT_PG_image_choice, options={"SKIP_SAVE"})
+    shape_kind: EnumProperty(name="Shape Image", default="AUTO", items=SHAPE_KINDS)
+    size: FloatProperty(name="Width", default=2.0, min=0.001, unit="LENGTH",
+                        description="Width of the painting's plane in the scene")
+
+    def invoke(self, context, event):
+        return context.window_manager.invoke_props_dialog(self, width=420,
+                                                          title="Which image is which?")
+
+    def draw(self, context):
+        layout = self.layout
+        col = layout.column(align=True)
+        for item in self.choices:
+            row = col.row(align=True)
+            row.label(text=item.name, icon="IMAGE_DATA")
+            row.prop(item, "channel", text="")
+        layout.prop(self, "shape_kind")
+        layout.prop(self, "size")
+
+    def execute(self, context):
+        chosen = [(i.channel, os.path.join(self.directory, i.name)) for i in self.choices]
+        used = [c for c, _ in chosen if c != NOT_USED]
+        twice = sorted({c for c in used if used.count(c) > 1})
+        if twice:
+            self.report({"ERROR"}, f"one image per channel: {', '.join(twice)} is chosen twice")
+            return {"CANCELLED"}
+        channels = {c: path for c, path in chosen if c != NOT_USED}
+        rest = [path for c, path in chosen if c == NOT_USED]
+
+        def work(progress):
+            with unchanged_images_on_failure():
+                plane, messages = painting_from_images(
+                    context, channels, rest, self.shape_kind, self.size,
+                    tuple(context.scene.cursor.location),
+                    DYNPAINT_OT_add._view_rotation(context), progress)
+            select_only(context, plane)
+            return [("WARNING", m) for m in messages] + \
+                [("INFO", f"Added Dynamic Painting '{plane.name}'")]
+        return run_and_report(self, context, work, progress=True,
+                              catch=(ValueError, OSError, MemoryError))
+
+
+def select_only(context, obj):
+    for other in context.selected_objects:
+        other.select_set(False)
+    obj.select_set(True)
+    context.view_layer.objects.active = obj
 
 
 class DYNPAINT_OT_import_recipe(bpy.types.Operator, ImportHelper):
@@ -195,5 +291,5 @@ def forget_previews():
         previews.remove(_PREVIEWS.pop("samples"))
 
 
-CLASSES = (DYNPAINT_OT_add, DYNPAINT_OT_add_sample, DYNPAINT_OT_import_recipe,
-           VIEW3D_MT_dynpaint_add)
+CLASSES = (DYNPAINT_PG_image_choice, DYNPAINT_OT_add, DYNPAINT_OT_add_images,
+           DYNPAINT_OT_add_sample, DYNPAINT_OT_import_recipe, VIEW3D_MT_dynpaint_add)
