@@ -189,6 +189,11 @@ PARAMS = (
       "luminance, one channel, or auto (a mask painted in one pure channel, say red on black, "
       "is read from that channel, else its luminance)", choices=MASK_CHANNELS, spec="§11",
       label="Map Channel", derives=("transparency",)),
+    P("view", "show", "enum", "painting", "What the material shows, to tune by eye: the painting, "
+      "or one pass alone — W, the light weight that mixes dark and bright (§5); t, the first "
+      "light's term after Clamp&Step (§4); s, the highlight weight (§7); F, the Fresnel ratio "
+      "(§10, 0 without both environment and background)", choices=("painting", "W", "t", "s", "F"),
+      spec="§5, §11", label="Show", structural=True),
     P("silhouette", "source", "enum", "auto", "Whose alpha cuts the painting out over the "
       "background: auto (shape, else dark), shape, dark, none",
       choices=("auto", "shape", "dark", "none"), spec="§11", structural=True,
@@ -207,6 +212,7 @@ PANELS = {
     "warps": ("Reflection & Refraction", ("reflection", "refraction")),
     "fresnel": ("Fresnel", ("fresnel",)),
     "transparency": ("Transparency", ("transparency", "silhouette")),
+    "view": ("View", ("view",)),
 }
 
 # §1 channels: recipe key → (what it is, colour or data)

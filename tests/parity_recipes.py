@@ -167,6 +167,17 @@ RECIPES = {
     "flip_green_zmin": (BASE, {"shape.flip_green": True, "shape.z_min": 0.6}, [SUN]),
     "one_image_no_light": ({"shape": "normal", "dark": "dark"}, {}, []),
     "normal_two_channel": ({**BASE, "shape": "normal_rg"}, {}, [SUN]),       # encoding auto
+    "view_weight": (BASE, {"view.show": "W"},
+                    [_sun((-0.7, 0.2, 0.5), (1.0, 0.5, 0.3), 0.8, "Key"),
+                     _point((0.4, -0.3, 0.4), (0.3, 0.5, 1.0), 0.6, "Fill")]),
+    "view_t_shadows": ({**BASE, "shape": "height.exr"},
+                       {"view.show": "t", "shape.kind": "height", "shape.height_scale": 0.1,
+                        "shadows.enabled": True, "diffuse.curve": "smoothstep"},
+                       [_sun((0.8, 0.3, 0.5))]),
+    "view_highlight": ({**BASE, "gloss": "gloss"},
+                       {"view.show": "s", "specular.enabled": True, "specular.s0": 0.6}, [SUN]),
+    "view_fresnel": (GLASS, {"view.show": "F", "fresnel.mode": "art", "fresnel.kappa": 0.3},
+                     [SUN]),
     "glass_red_mask": ({**GLASS, "transparency": "transparency_red", "gloss": "spec"},
                        {"refraction.distance": 0.1, "specular.enabled": True,
                         "specular.gloss_channel": "green"}, [SUN]),       # channel auto

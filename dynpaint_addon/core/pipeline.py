@@ -438,6 +438,26 @@ def silhouette(b):
     b.rgba = behind * (1 - alpha) + b.rgba * alpha
 
 
+@term
+def view(b):
+    """What the painting shows (view.show): itself, or one of its passes alone, opaque."""
+    show = b.p.view.show
+    if show == "painting":
+        return
+    dtype, zero = b.dtype, np.zeros(b.shape, b.dtype)
+    if show == "t":
+        t = b.passes["t"]
+        p = b.p
+        value = shading.clamp_step(t[0], p.diffuse.t0, p.diffuse.t1, p.diffuse.curve) if t \
+            else zero
+    elif show == "F":
+        value = b.passes.get("F", zero)
+    else:
+        value = b.passes.get(show, zero) if show == "W" else b.s_mix
+    rgb = value if np.ndim(value) == 3 else np.repeat(np.asarray(value)[..., None], 3, -1)
+    b.rgba = np.concatenate([rgb.astype(dtype), np.ones(b.shape + (1,), dtype)], -1)
+
+
 # §1 silhouette.source → the channels whose alpha may cut the painting out, in order
 SILHOUETTE_ORDER = {"auto": ("shape", "dark"), "shape": ("shape",), "dark": ("dark",), "none": ()}
 

@@ -452,3 +452,19 @@ def silhouette(b):
             b_rgb, b_a = (0.0, 0.0, 0.0), 0.0
         b.colour = g.mix_vector(g.combine(a, a, a), b_rgb, b.colour, label="B(1−α) + C·α")
         b.alpha = g.mix_float(a, b_a, b.alpha)
+
+
+@term
+def view(b):
+    """What the painting shows (view.show): itself, or one of its passes alone, opaque."""
+    show = b.f.view_show
+    if show == "painting":
+        return
+    g = b.g
+    with g.section("View"):
+        if show in ("t", "F"):
+            value = b.passes.get("t1" if show == "t" else "F", 0.0)
+            b.colour = g.combine(value, value, value, label=show)
+        else:
+            b.colour = b.passes.get("W", (0.0, 0.0, 0.0)) if show == "W" else b.s_mix
+        b.alpha = 1.0
