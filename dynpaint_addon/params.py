@@ -190,8 +190,8 @@ PARAMS = (
       "is read from that channel, else its luminance)", choices=MASK_CHANNELS, spec="§11",
       label="Map Channel", derives=("transparency",)),
     P("view", "show", "enum", "painting", "What the material shows, to tune by eye: the painting, "
-      "or one pass alone — W, the light weight that mixes dark and bright (§5); t, the first "
-      "light's term after Clamp&Step (§4); s, the highlight weight (§7); F, the Fresnel ratio "
+      "or one pass alone — W, the light weight that mixes dark and bright (§5); t, the largest "
+      "light term after Clamp&Step (§4); s, the highlight weight (§7); F, the Fresnel ratio "
       "(§10, 0 without both environment and background)", choices=("painting", "W", "t", "s", "F"),
       spec="§5, §11", label="Show", structural=True),
     P("silhouette", "source", "enum", "auto", "Whose alpha cuts the painting out over the "

@@ -376,6 +376,14 @@ def highlights(b):
     b.passes["s"] = b.s_mix
 
 
+def fresnel(n, p):
+    """§10: the reflection/refraction ratio F of the normals, physical or art-directed."""
+    eta = p.refraction.ior if p.refraction.mode == "physical" else 2.0 ** p.refraction.mu
+    if p.fresnel.mode == "physical":
+        return fr.fresnel_physical(n, eta)
+    return fr.fresnel_art(n, p.fresnel.x1, p.fresnel.x2, p.fresnel.kappa, p.fresnel.domain)
+
+
 @term
 def transparency(b):
     """§8–§11: reflection of E and refraction of B by UV warps, mixed by Fresnel (G), the
@@ -404,11 +412,7 @@ def transparency(b):
             off = warps.refraction_offset_linear(n, p.refraction.distance, p.refraction.mu)
         c_t = _warped_lookup(bg, off, (ctx.hs, ctx.ws), p.refraction.extension, rows)
     if c_m is not None and c_t is not None:
-        eta = p.refraction.ior if p.refraction.mode == "physical" else 2.0 ** p.refraction.mu
-        if p.fresnel.mode == "physical":
-            f = fr.fresnel_physical(n, eta)
-        else:
-            f = fr.fresnel_art(n, p.fresnel.x1, p.fresnel.x2, p.fresnel.kappa, p.fresnel.domain)
+        f = fresnel(n, p)
         g_mix = f[..., None] * c_m + (1 - f[..., None]) * c_t
         b.passes["F"] = f
     elif c_m is not None or c_t is not None:
@@ -444,18 +448,29 @@ def view(b):
     show = b.p.view.show
     if show == "painting":
         return
-    dtype, zero = b.dtype, np.zeros(b.shape, b.dtype)
-    if show == "t":
-        t = b.passes["t"]
-        p = b.p
-        value = shading.clamp_step(t[0], p.diffuse.t0, p.diffuse.t1, p.diffuse.curve) if t \
-            else zero
-    elif show == "F":
-        value = b.passes.get("F", zero)
+    dtype, zero, p = b.dtype, np.zeros(b.shape, b.dtype), b.p
+    if show == "t":         # the largest light term: the order of the lights does not matter
+        terms = [shading.clamp_step(t, p.diffuse.t0, p.diffuse.t1, p.diffuse.curve)
+                 for t in b.passes["t"]]
+        value = np.maximum.reduce(terms) if terms else zero
+    elif show == "F":       # also where k ≡ 0 left it uncomputed
+        has_both = b.has("environment") and b.has("background") and \
+            transparency_branch(p.transparency.amount, b.has("transparency")) != "none"
+        value = b.passes.get("F", fresnel(b.n, p) if has_both else zero)
     else:
         value = b.passes.get(show, zero) if show == "W" else b.s_mix
     rgb = value if np.ndim(value) == 3 else np.repeat(np.asarray(value)[..., None], 3, -1)
     b.rgba = np.concatenate([rgb.astype(dtype), np.ones(b.shape + (1,), dtype)], -1)
+
+
+def transparency_branch(amount, has_map):
+    """§11, §12: whether the k branch exists and what drives it — 'none' (k ≡ 0, pruned),
+    'param' (the slider, live) or 'map' (auto with a transparency map). An explicit 0 with
+    no map prunes it; any other value keeps it (a slider may be dragged up). One rule for the
+    core's passes and the graphs' features."""
+    if amount == "auto":
+        return "map" if has_map else "none"
+    return "param" if amount > 0 or has_map else "none"
 
 
 # §1 silhouette.source → the channels whose alpha may cut the painting out, in order

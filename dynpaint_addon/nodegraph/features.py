@@ -13,18 +13,15 @@ structural parameter needs no code here.
 import dataclasses
 
 from .. import params
-from ..core.pipeline import silhouette_channel
+from ..core.pipeline import silhouette_channel, transparency_branch
 
 # The structural parameters whose Features value depends on the images as well: the value the
 # graph needs is resolved from the setting, the channels that have an image and those with alpha.
 
 
 def _transparency(amount, channels, alpha_channels):
-    """k (§11): 'none' (k ≡ 0, branch pruned), 'param' (the slider, live) or 'map' (auto with
-    a transparency map). An explicit 0 with no map prunes the branch; any other value stays live."""
-    if amount == "auto":
-        return "map" if "transparency" in channels else "none"
-    return "param" if amount > 0 or "transparency" in channels else "none"
+    """k (§11): core.pipeline.transparency_branch of the setting and the map."""
+    return transparency_branch(amount, "transparency" in channels)
 
 
 def _silhouette(source, channels, alpha_channels):

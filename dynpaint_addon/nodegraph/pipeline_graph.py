@@ -463,7 +463,13 @@ def view(b):
     g = b.g
     with g.section("View"):
         if show in ("t", "F"):
-            value = b.passes.get("t1" if show == "t" else "F", 0.0)
+            if show == "t":     # the largest light term: the order of the lights does not matter
+                terms = [v for k, v in b.passes.items() if k.startswith("t")]
+                value = terms[0] if terms else 0.0
+                for other in terms[1:]:
+                    value = g.math("MAXIMUM", value, other)
+            else:
+                value = b.passes.get("F", 0.0)
             b.colour = g.combine(value, value, value, label=show)
         else:
             b.colour = b.passes.get("W", (0.0, 0.0, 0.0)) if show == "W" else b.s_mix
