@@ -10,7 +10,7 @@ import numpy as np
 import bpy
 
 from .. import params
-from ..core.pipeline import shadow_term, shape_normals
+from ..core.pipeline import pixel_role, shadow_term, shape_normals
 from ..imageio import read_image, write_exr
 from ..nodegraph import build_bpy
 from ..nodegraph.compositor_backend import INPUT_OF, CompositorBackend, input_name
@@ -86,7 +86,7 @@ def _numpy_prepared(recipe, features, images, folder):
                                                     for c, img in images.items()})
             if d.channel in GROUP_DERIVED]
     made, _ = make_derived(plan, lambda c: read_image(recipe.images[c]),
-                           lambda c: "colour" if c != "shape" else p.shape.kind)
+                           lambda c: pixel_role(c, p))
     prepared = {}
     for item in plan:
         channel, rgba = item.channel, made[item.channel]

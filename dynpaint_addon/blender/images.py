@@ -7,6 +7,7 @@ import numpy as np
 import bpy
 
 from .. import params
+from ..core.pipeline import pixel_role
 from ..imageio import file_channels, image_data_from_blender
 from ..nodegraph.derived_inputs import Source, derived_inputs, grey_rgba, make_derived
 from .settings import channel_images, settings_to_params
@@ -102,7 +103,7 @@ def update_derived_images(mat, features, force=False):
             or stored[d.channel].key != d.key]
     made, warnings = make_derived(
         todo, lambda channel: image_data_from_blender(imgs[channel]),
-        lambda channel: "colour" if channel != "shape" else p.shape.kind)
+        lambda channel: pixel_role(channel, p))
     images = {}
     base = f"DP {mat.name}"
     for item in todo:

@@ -55,11 +55,11 @@ class LiveBake:
     def request(self, mat, scene, depsgraph=None, quality="preview"):
         """Start a bake of `mat`'s lights where they are now; supersedes one in flight."""
         p = settings_to_params(mat.dynamic_painting)
-        self.wanted[mat.name] = [key for item, _, key in light_bakes(mat, depsgraph, p)
-                                 if item.shadow is not None]
+        bakes = [b for b in light_bakes(mat, depsgraph, p) if b[0].shadow is not None]
+        self.wanted[mat.name] = [key for _, _, key in bakes]
         if quality != "final":
             p.shadows.quality = quality       # its key says so: the final bake is still due
-        bakes = [b for b in light_bakes(mat, depsgraph, p) if b[0].shadow is not None]
+            bakes = [b for b in light_bakes(mat, depsgraph, p) if b[0].shadow is not None]
         items = [item for item, _, _ in bakes]
         lights = [light for _, light, _ in bakes]
         keys = [key for _, _, key in bakes]

@@ -16,7 +16,7 @@ from mathutils import Vector
 from .. import params
 from ..core.inputs import normal_map_notes, normal_map_problem, size_message
 from ..core.lights import Light
-from ..core.pipeline import MASKS, PER_PIXEL_CHANNELS, mask_notes
+from ..core.pipeline import MASKS, PER_PIXEL_CHANNELS, mask_channels, mask_notes
 from ..imageio import image_data_from_blender
 from .images import load_image, prepare_channel_image
 from .lights import add_light, linked_lights
@@ -65,8 +65,8 @@ def check_images(loaded, p):
         if problem:
             raise ValueError(problem)
         notes += normal_map_notes(px, name, p.shape.encoding, p.shape.strength)
-    notes += mask_notes({c: image_data_from_blender(img) for c, img in loaded.items()
-                         if c in MASKS}, p)
+    masks = {c: image_data_from_blender(img) for c, img in loaded.items() if c in MASKS}
+    notes += mask_notes(mask_channels(masks, p), p)
     return notes + [size_message(ch, tuple(img.size), tuple(shape.size))
                     for ch, img in loaded.items()
                     if ch in PER_PIXEL_CHANNELS and tuple(img.size) != tuple(shape.size)]

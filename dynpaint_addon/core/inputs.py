@@ -8,8 +8,8 @@
   whose blue is below ½ (N.z < 0, facing away from the viewer) in most opaque pixels is
   refused with a message that says what it looks like instead — or which setting reads it (a
   two-channel map read as RGB). Unit vectors mostly facing away are a map made for a decoder
-  that halves each tilt: usable, with a note. A usable map gets notes: read as two-channel, the share of its
-  opaque pixels that face away (and the strength that keeps them).
+  that halves each tilt: usable, with a note. A usable map gets notes: read as two-channel,
+  the share of its opaque pixels that face away (and the strength that keeps them).
 - Per-pixel images of another size than the shape image are resampled to it (reported).
 No bpy here.
 """
@@ -123,21 +123,31 @@ MASK_CHANNELS = ("auto", "luminance", "red", "green", "blue", "alpha")
 _CHANNEL_INDEX = {"red": 0, "green": 1, "blue": 2}
 
 
+def mask_channel(px, channel="auto"):
+    """The channel `mask_values` reads: `channel` itself, or for 'auto' the one pure channel a
+    mask is painted in (the others 0 everywhere), else 'luminance'. Decided on the whole image
+    (a part of it may look painted in one channel when the whole is not)."""
+    px = np.asarray(px)
+    if channel != "auto":
+        return channel
+    if px.shape[-1] >= 3:
+        rgb = np.nan_to_num(px[..., :3])
+        lit = [i for i in range(3) if np.max(rgb[..., i], initial=0) > 1 / 255]
+        if len(lit) == 1 and np.min(rgb[..., lit[0]]) < np.max(rgb[..., lit[0]]):
+            return ("red", "green", "blue")[lit[0]]
+    return "luminance"
+
+
 def mask_values(px, channel="auto"):
     """A data image read as one value per pixel (transparency k, gloss g; §7, §11) →
     (values (H, W), the channel read). 'luminance' is Rec.709 luminance of RGB (grey images:
     their grey); 'red', 'green', 'blue', 'alpha' read that channel; 'auto' reads a mask
-    painted in one pure channel (the others 0 everywhere) from that channel, else luminance.
+    painted in one pure channel (the others 0 everywhere) from that channel, else luminance
+    (`mask_channel`).
     """
     px = np.asarray(px)
     c = px.shape[-1]
-    if channel == "auto":
-        channel = "luminance"
-        if c >= 3:
-            rgb = np.nan_to_num(px[..., :3])
-            lit = [i for i in range(3) if np.max(rgb[..., i], initial=0) > 1 / 255]
-            if len(lit) == 1 and np.min(rgb[..., lit[0]]) < np.max(rgb[..., lit[0]]):
-                channel = ("red", "green", "blue")[lit[0]]
+    channel = mask_channel(px, channel)
     if channel == "alpha":
         return (px[..., -1] if c in (2, 4) else np.ones(px.shape[:-1], px.dtype)), channel
     if c < 3:

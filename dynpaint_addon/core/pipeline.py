@@ -22,8 +22,8 @@ import numpy as np
 from . import fresnel as fr
 from . import shading, warps
 from .colour import srgb_to_linear
-from .inputs import (finite_pixels, mask_note, mask_values, non_finite_message, normal_map_notes,
-                     normal_map_problem, size_message)
+from .inputs import (finite_pixels, mask_channel, mask_note, mask_values, non_finite_message,
+                     normal_map_notes, normal_map_problem, size_message)
 from .lights import light_vectors
 from .sampling import gaussian_blur, pixel_centres, resample, sample_bilinear
 from .bake import bake as shadow_bake
@@ -207,21 +207,19 @@ def render(images, lights, p, dtype=np.float32, cache=None, keep_passes=True):
 
     imgs = {}
     for name, img in images.items():     # core/inputs.py: the rules for imperfect images
-        role = "colour" if name != "shape" else p.shape.kind
-        clean, bad = finite_pixels(img.pixels, role)
-        if bad:
-            warnings.append(non_finite_message(f"{name} image", bad))
-            img = ImageData(clean, img.bits, img.name)
+        img, warning = finite_image(img, pixel_role(name, p), f"{name} image")
+        warnings += [warning] if warning else []
         if name in PER_PIXEL_CHANNELS and img.pixels.shape[:2] != (hs, ws):
             warnings.append(size_message(name, img.size, (ws, hs)))
             img = ImageData(resample(img.pixels.astype(dtype), hs, ws), img.bits, img.name)
         imgs[name] = img
 
-    warnings += mask_notes(imgs, p)
+    masks = mask_channels(imgs, p)
+    warnings += mask_notes(masks, p)
     n, z_px, slopes = shape_normals(imgs["shape"], p, dtype)
     shadows = [shadow_term(n, z_px, slopes, light, p) for light in lights] \
         if p.shadows.enabled else None
-    ctx = _Shading(imgs, lights, p, dtype, cache, n, z_px, slopes, shadows, hs, ws)
+    ctx = _Shading(imgs, lights, p, dtype, cache, n, z_px, slopes, shadows, hs, ws, masks)
     if keep_passes or hs * ws <= RENDER_BAND_PIXELS:
         rgba, passes = _shade(ctx, 0, hs)
         return RenderResult(rgba, passes, warnings)
@@ -245,16 +243,30 @@ def mask_setting(p, channel):
     return getattr(getattr(p, section), key)
 
 
-def mask_notes(images, p):
-    """What 'auto' made of the masks: a line for each read from one pure channel."""
-    notes = []
-    for channel in MASKS:
-        if channel in images:
-            setting = mask_setting(p, channel)
-            resolved = mask_values(images[channel].pixels, setting)[1]
-            note = mask_note(f"{channel} image", setting, resolved)
-            notes += [note] if note else []
-    return notes
+def mask_channels(images, p):
+    """{mask channel: the channel it is read from}, decided on each whole image."""
+    return {c: mask_channel(images[c].pixels, mask_setting(p, c)) for c in MASKS if c in images}
+
+
+def mask_notes(masks, p):
+    """What 'auto' made of the masks (`mask_channels`): a line for each read from one pure
+    channel."""
+    notes = [mask_note(f"{c} image", mask_setting(p, c), read) for c, read in masks.items()]
+    return [note for note in notes if note]
+
+
+def pixel_role(channel, p):
+    """How core/inputs.py replaces a channel's NaN/Inf pixels: the shape image by its kind
+    ('normal' or 'height'), every other image as colour."""
+    return p.shape.kind if channel == "shape" else "colour"
+
+
+def finite_image(img, role, name):
+    """`img` with NaN/Inf replaced by the rule of core/inputs.py → (ImageData, warning or '')."""
+    clean, bad = finite_pixels(img.pixels, role)
+    if not bad:
+        return img, ""
+    return ImageData(clean, img.bits, img.name), non_finite_message(name, bad)
 
 
 @dataclass
@@ -271,6 +283,7 @@ class _Shading:
     shadows: object
     hs: int
     ws: int
+    masks: dict            # transparency/gloss → the channel each is read from (whole image)
 
 
 def _rows(img, r0, r1):
@@ -292,6 +305,7 @@ class Band:
     rgba: np.ndarray = None          # premultiplied linear RGBA so far
     s_mix: np.ndarray = None         # §7 highlight weight s (RGB), 0 without highlights
     c_spec: np.ndarray = None        # §7 highlight colour
+    diffuse_terms: list = None       # §4 per-light terms t after Clamp&Step
     specular_terms: list = None      # §7 per-light highlight terms (from the light terms)
     passes: dict = field(default_factory=dict)
 
@@ -312,12 +326,13 @@ class Band:
         """A colour input's rows, linear RGB (§0)."""
         return _linear(self.image(channel), self.dtype)
 
-    def mask(self, channel, setting):
-        """A data input's rows as one value per pixel, read by `setting` (core/inputs.py
-        mask_values), or 1 everywhere without the image."""
+    def mask(self, channel):
+        """A mask input's rows as one value per pixel, read from the channel decided on the
+        whole image (core/inputs.py mask_values), or 1 everywhere without the image."""
         if not self.has(channel):
             return np.ones(self.shape, self.dtype)
-        return mask_values(self.image(channel).pixels, setting)[0].astype(self.dtype)
+        return mask_values(self.image(channel).pixels, self.ctx.masks[channel])[0] \
+            .astype(self.dtype)
 
 
 TERMS = []
@@ -357,7 +372,7 @@ def diffuse(b):
         w_mix = np.zeros(b.shape + (3,), dtype)
     c_d = shading.barycentric_mix(c0, c1, w_mix)
     b.passes.update({"normal": b.n, "t": raw, "W": w_mix})
-    b.specular_terms = spec
+    b.diffuse_terms, b.specular_terms = terms, spec
     b.rgba = np.concatenate([c_d, np.ones(b.shape + (1,), dtype)], axis=2)
 
 
@@ -370,7 +385,7 @@ def highlights(b):
         return
     b.s_mix = shading.light_weight(b.specular_terms, [lt.colour for lt in lights],
                                    [lt.strength for lt in lights])
-    g = np.clip(b.mask("gloss", p.specular.gloss_channel) * dtype(p.specular.amount), 0, 1)
+    g = np.clip(b.mask("gloss") * dtype(p.specular.amount), 0, 1)
     c_s = shading.opaque_highlight(b.rgba[..., :3], b.c_spec, g[..., None] * b.s_mix)
     b.rgba = np.concatenate([c_s, b.rgba[..., 3:]], axis=2)
     b.passes["s"] = b.s_mix
@@ -392,7 +407,7 @@ def transparency(b):
     amount = p.transparency.amount
     if amount == "auto":
         amount = 1.0 if b.has("transparency") else 0.0
-    k = np.clip(b.mask("transparency", p.transparency.channel) * dtype(amount), 0, 1)
+    k = np.clip(b.mask("transparency") * dtype(amount), 0, 1)
     if not (amount > 0 and np.any(k > 0)):
         return
     rows, n = (b.r0, b.r1), b.n
@@ -450,15 +465,13 @@ def view(b):
         return
     dtype, zero, p = b.dtype, np.zeros(b.shape, b.dtype), b.p
     if show == "t":         # the largest light term: the order of the lights does not matter
-        terms = [shading.clamp_step(t, p.diffuse.t0, p.diffuse.t1, p.diffuse.curve)
-                 for t in b.passes["t"]]
-        value = np.maximum.reduce(terms) if terms else zero
+        value = np.maximum.reduce(b.diffuse_terms) if b.diffuse_terms else zero
     elif show == "F":       # also where k ≡ 0 left it uncomputed
         has_both = b.has("environment") and b.has("background") and \
             transparency_branch(p.transparency.amount, b.has("transparency")) != "none"
-        value = b.passes.get("F", fresnel(b.n, p) if has_both else zero)
+        value = b.passes["F"] if "F" in b.passes else fresnel(b.n, p) if has_both else zero
     else:
-        value = b.passes.get(show, zero) if show == "W" else b.s_mix
+        value = b.passes["W"] if show == "W" else b.s_mix
     rgb = value if np.ndim(value) == 3 else np.repeat(np.asarray(value)[..., None], 3, -1)
     b.rgba = np.concatenate([rgb.astype(dtype), np.ones(b.shape + (1,), dtype)], -1)
 

@@ -31,9 +31,8 @@ from typing import Callable
 import numpy as np
 
 from .. import params
-from ..core.inputs import finite_pixels, non_finite_message
 from ..core.inputs import mask_values
-from ..core.pipeline import MASKS, PER_PIXEL_CHANNELS, lookup_copy, mask_setting
+from ..core.pipeline import MASKS, PER_PIXEL_CHANNELS, finite_image, lookup_copy, mask_setting
 from ..core.shape import default_preblur_px, normal_vectors, preblurred_height, resolve_encoding
 
 
@@ -122,9 +121,10 @@ def _standard_normal_map(p):
     is stored so already (rgb encoding, strength 1): §2's encoding and strength applied."""
     def make(data):
         rgb = data.rgb()
-        if resolve_encoding(rgb, p.shape.encoding) == "rgb" and p.shape.strength == 1:
+        encoding = resolve_encoding(rgb, p.shape.encoding)
+        if encoding == "rgb" and p.shape.strength == 1:
             return None
-        n = normal_vectors(rgb, p.shape.encoding, p.shape.strength)
+        n = normal_vectors(rgb, encoding, p.shape.strength)
         a = data.alpha()
         return _rgba(np.concatenate([(n + 1) / 2] + ([a[..., None]] if a is not None else []),
                                     -1))
@@ -148,27 +148,20 @@ def _alpha(data):
     return None if a is None else np.clip(a, 0, 1)
 
 
-def finite_source(data, role):
-    """`data` with NaN/Inf replaced by the rule of core/inputs.py → (ImageData, warning or '')."""
-    clean, bad = finite_pixels(data.pixels, role)
-    if not bad:
-        return data, ""
-    return type(data)(clean, data.bits, data.name), non_finite_message(data.name, bad)
-
-
 def make_derived(items, read, role_of):
     """Make every item that needs pixels, reading each source once → ({channel: RGBA, or None
     where the source itself or the image of `same_as` will do}, warnings).
 
     read(channel) → ImageData; role_of(channel) → the role core/inputs.py replaces NaN/Inf by
-    ('colour', 'normal' or 'height')."""
+    ('colour', 'normal' or 'height': core.pipeline.pixel_role)."""
     cache, made, warnings = {}, {}, []
     for item in items:
         if item.same_as:
             made[item.channel] = None
             continue
         if item.source not in cache:
-            cache[item.source] = finite_source(read(item.source), role_of(item.source))
+            data = read(item.source)
+            cache[item.source] = finite_image(data, role_of(item.source), data.name)
             if cache[item.source][1]:
                 warnings.append(cache[item.source][1])
         data, warning = cache[item.source]

@@ -246,3 +246,21 @@ def builtin_images_for_masks():
     return {"shape": ImageData((n + 1) / 2, 16), "dark": ImageData(np.full((h, w, 3), 0.2)),
             "bright": ImageData(np.full((h, w, 3), 0.8)), "transparency": ImageData(red),
             "background": ImageData(np.full((h, w, 3), 0.5))}
+
+
+def test_banded_renders_read_a_mask_from_the_channel_the_whole_image_says(monkeypatch):
+    """'auto' decides on the whole mask: a band whose pixels happen to be pure red reads the
+    same channel (luminance) as the rest of a colour mask, so bands equal one pass."""
+    from dynpaint_addon.core import pipeline
+    imgs = builtin_images_for_masks()
+    colour = np.zeros((12, 16, 3))
+    colour[:6, :, 0] = np.linspace(0, 1, 16)            # top half: red only …
+    colour[6:] = [0.2, 0.7, 0.4]                        # … bottom half: a colour
+    imgs["transparency"] = ImageData(colour)
+    p = params.defaults()
+    p.transparency.amount = 1.0
+    lights = [Light("sun", (0.2, 0.3, 0.9))]
+    whole = render(imgs, lights, p, keep_passes=False).rgba
+    monkeypatch.setattr(pipeline, "RENDER_BAND_PIXELS", 16 * 3)
+    banded = render(imgs, lights, p, keep_passes=False).rgba
+    np.testing.assert_array_equal(banded, whole)

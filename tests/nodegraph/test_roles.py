@@ -8,7 +8,7 @@ import pytest
 
 from dynpaint_addon import params
 from dynpaint_addon.core.lights import Light
-from dynpaint_addon.core.pipeline import ImageData, shadow_term, shape_normals
+from dynpaint_addon.core.pipeline import ImageData, pixel_role, shadow_term, shape_normals
 from dynpaint_addon.nodegraph.derived_inputs import Source, derived_inputs, make_derived
 from dynpaint_addon.nodegraph.features import Features
 from dynpaint_addon.nodegraph.pipeline_graph import describe
@@ -99,7 +99,7 @@ def images(kind):
 def made(p, imgs):
     plan = derived_inputs(features(p), p, {c: Source(c, im.bits) for c, im in imgs.items()})
     arrays, _ = make_derived(plan, imgs.__getitem__,
-                             lambda c: "colour" if c != "shape" else p.shape.kind)
+                             lambda c: pixel_role(c, p))
     return {d.channel: (d.key, arrays[d.channel]) for d in plan}
 
 
