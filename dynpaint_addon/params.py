@@ -11,7 +11,7 @@ from .core.fresnel import DOMAINS
 from .core.inputs import MASK_CHANNELS
 from .core.sampling import EXTENSIONS
 from .core.shape import ENCODINGS
-from .core.shading import CURVES
+from .core.shading import CURVES, MIX_SPACES
 from .core.bake import QUALITIES
 from .core.shadow import OCCUPANCIES
 from .core.warps import REFLECTION_MODES, REFRACTION_MODES
@@ -24,7 +24,8 @@ class Param:
     the docs) is generated from these fields."""
     section: str
     key: str
-    kind: type | str     # bool, int, float, 'enum', 'auto_float' (a number or "auto")
+    kind: type | str     # bool, int, float, 'enum', 'auto_float' (a number or "auto"),
+    #                      'vec2' (two numbers [x, y], each within min … max)
     default: object
     help: str
     unit: str = ""
@@ -105,6 +106,10 @@ PARAMS = (
       label="End (t1)"),
     P("diffuse", "curve", "enum", "linear", "Shape of the ramp between t0 and t1", choices=CURVES,
       spec="§3", structural=True),
+    P("diffuse", "mix_space", "enum", "painted", "How the dark and bright images mix: painted "
+      "mixes the colours as painted (display sRGB values, as the paper and the painter's screen "
+      "do), linear mixes linear light (mid-tones come out lighter than painted)",
+      choices=MIX_SPACES, spec="§5", label="Mix Colours", structural=True),
     # §6 shadows
     P("shadows", "enabled", bool, False, "cos-θ shadows: cast shadows, shading and a subsurface "
       "look in one number (replaces N·L in the diffuse term)", spec="§6", structural=True,
@@ -151,8 +156,15 @@ PARAMS = (
       structural=True),
     P("reflection", "max_offset", float, 0.5, "Largest reflection offset", unit="image widths",
       min=0.0, max=10.0, spec="§8", label="Max Offset"),
-    P("reflection", "extension", "enum", "wrap", "Environment lookups beyond its edges",
+    P("reflection", "extension", "enum", "mirror", "Environment lookups beyond its edges: "
+      "mirror (seamless on photographs), wrap (for tiling images), extend (edge pixels)",
       choices=EXTENSIONS, spec="§8", structural=True, derives=("environment",)),
+    P("reflection", "offset", "vec2", (0.0, 0.0), "Where the environment sits: its centre "
+      "moved from the painting's centre by (x, y), e.g. to put a reflection in a pupil",
+      unit="image widths", min=-10.0, max=10.0, spec="§8"),
+    P("reflection", "scale", float, 1.0, "How large the environment is: 1 spans the painting, "
+      "2 twice its size, 0.5 half (repeated by the extension beyond its edges)", unit="×",
+      min=0.01, max=100.0, spec="§8"),
     P("reflection", "blur", float, 0.0, "Glossy reflection: Gaussian blur σ of the environment",
       unit="image widths", min=0.0, max=1.0, spec="§11", derives=("environment",)),
     # §9 refraction
@@ -166,6 +178,11 @@ PARAMS = (
       "+1 magnifies most, −1 shrinks most", min=-1.0, max=1.0, spec="§9", label="Art IOR (μ)"),
     P("refraction", "extension", "enum", "extend", "Background lookups beyond its edges",
       choices=EXTENSIONS, spec="§9", structural=True, derives=("background",)),
+    P("refraction", "offset", "vec2", (0.0, 0.0), "Where the background sits: its centre moved "
+      "from the painting's centre by (x, y), refracted and shown around the silhouette alike",
+      unit="image widths", min=-10.0, max=10.0, spec="§9"),
+    P("refraction", "scale", float, 1.0, "How large the background is: 1 spans the painting",
+      unit="×", min=0.01, max=100.0, spec="§9"),
     P("refraction", "blur", float, 0.0, "Translucent refraction: Gaussian blur σ of the background",
       unit="image widths", min=0.0, max=1.0, spec="§11",
       derives=("background", "background_sharp")),     # blur 0: the sharp copy is the same

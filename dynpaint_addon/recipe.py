@@ -22,7 +22,7 @@ import difflib
 import math
 import os
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from . import params
 from .core.lights import LIGHT_KINDS, Light
@@ -62,6 +62,11 @@ def _check_value(param, value, where):
         return value
     if kind == "auto_float" and value == "auto":
         return value
+    if kind == "vec2":
+        if not isinstance(value, (list, tuple)) or len(value) != 2:
+            raise RecipeError(f"{where}: expected two numbers [x, y], got {value!r}")
+        component = replace(param, kind=float)
+        return tuple(_check_value(component, c, f"{where}[{i}]") for i, c in enumerate(value))
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         expected = "an integer" if kind is int else ("a number or \"auto\"" if kind == "auto_float"
                                                      else "a number")

@@ -133,7 +133,8 @@ RECIPES = {
                       {"specular.enabled": True, "specular.s0": 0.6, "specular.amount": 0.8},
                       [_sun((0.2, 0.3, 0.9)), _point((0.3, 0.2, 0.5), (0.9, 0.9, 1.0), 0.5)]),
     "reflection_wrap": ({**BASE, "environment": "env", "transparency": "transparency"},
-                        {"reflection.distance": 0.15, "specular.enabled": True}, [SUN]),
+                        {"reflection.distance": 0.15, "reflection.extension": "wrap",
+                         "specular.enabled": True}, [SUN]),
     "reflection_clamped_45deg_mirror": (
         {**BASE, "environment": "env"},
         {"reflection.mode": "clamped", "reflection.distance": 0.08, "reflection.max_offset": 0.3,
@@ -181,6 +182,13 @@ RECIPES = {
     "glass_red_mask": ({**GLASS, "transparency": "transparency_red", "gloss": "spec"},
                        {"refraction.distance": 0.1, "specular.enabled": True,
                         "specular.gloss_channel": "green"}, [SUN]),       # channel auto
+    "placed_environment": (GLASS, {"reflection.offset": (0.3, -0.2), "reflection.scale": 0.6,
+                                   "refraction.offset": (-0.15, 0.1), "refraction.scale": 1.7,
+                                   "refraction.distance": 0.1}, [SUN]),       # mirror default
+    "placed_background_silhouette": ({**BASE, "shape": "normal_alpha", "background": "bg"},
+                                     {"refraction.offset": (0.2, 0.35), "refraction.scale": 0.45,
+                                      "refraction.extension": "mirror",
+                                      "transparency.amount": 0.5}, [SUN]),
     "normal_halving_strength": ({**BASE, "shape": "normal_halving"},
                                 {"shape.strength": 0.5, "shadows.enabled": True}, [SUN]),
 }
@@ -222,7 +230,9 @@ def random_params(rng, renderable=False):
             value = int(rng.choice([0, 1, 2, 8]))
         else:
             lo, hi = prm.min, prm.max
-            value = float(rng.choice([lo, hi, rng.uniform(lo, hi)]))
+            value = tuple(float(rng.choice([lo, hi, rng.uniform(lo, hi)]))
+                          for _ in range(2 if prm.kind == "vec2" else 1))
+            value = value if prm.kind == "vec2" else value[0]
         setattr(getattr(p, prm.section), prm.key, value)
     if renderable:
         p.shadows.source = "baked"

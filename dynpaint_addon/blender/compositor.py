@@ -13,7 +13,7 @@ from .. import params
 from ..core.pipeline import pixel_role, shadow_term, shape_normals
 from ..imageio import read_image, write_exr
 from ..nodegraph import build_bpy
-from ..nodegraph.compositor_backend import INPUT_OF, CompositorBackend, input_name
+from ..nodegraph.compositor_backend import INPUT_OF, CompositorBackend, input_name, param_inputs
 from ..nodegraph.derived_inputs import Source, derived_inputs, make_derived
 from ..nodegraph.features import Features
 from ..nodegraph.pipeline_graph import describe
@@ -57,14 +57,11 @@ def set_group_inputs(node, recipe, p=None):
                 sock.default_value = (*light.colour, 1.0)
             elif what == "Strength":
                 sock.default_value = light.strength
-            continue
-        for section in vars(p):
-            prefix = section.title() + " "
-            if name.startswith(prefix):
-                key = name[len(prefix):].replace(" ", "_")
-                value = getattr(getattr(p, section), key, None)
-                if value is not None:
-                    sock.default_value = 1.0 if value == "auto" else float(value)
+    for param in params.PARAMS:
+        if param.kind != "enum":
+            for name, value in param_inputs(param, getattr(getattr(p, param.section), param.key)):
+                if name in node.inputs:
+                    node.inputs[name].default_value = value
 
 
 # The derived images (nodegraph/derived_inputs.py) that replace a group input: a normal map in

@@ -81,8 +81,7 @@ def build_osl_tree(mat, features, images, lights, march):
     for sock in script.inputs:
         name = sock.identifier
         if name.startswith("p_"):
-            section, key = _param_path(name[2:])
-            drive_property(sock, "MATERIAL", mat, f"{SETTINGS}.{section}.{key}")
+            drive_property(sock, "MATERIAL", mat, f"{SETTINGS}.{SETTING_OF_INPUT[name]}")
         elif name.endswith("_file"):
             channel = name[:-5]
             path, srgb = image_file(images[channel], f"{mat.name} {channel}")
@@ -111,14 +110,11 @@ def build_osl_tree(mat, features, images, lights, march):
     return script
 
 
-# the shader's parameter name (osl_codegen.Program.param) → the settings it is driven by
-PARAM_OF_INPUT = {osl_codegen.ident(param.path): param for param in params.PARAMS}
-
-
-def _param_path(name):
-    """'diffuse_t0' → ('diffuse', 't0'): the settings path of a generated parameter."""
-    param = PARAM_OF_INPUT[name]
-    return param.section, param.key
+# the shader's parameter name (osl_codegen.param_name) → the setting it is driven by
+SETTING_OF_INPUT = {osl_codegen.param_name(param.path, index): param.path + suffix
+                    for param in params.PARAMS
+                    for index, suffix in ([(0, "[0]"), (1, "[1]")] if param.kind == "vec2"
+                                          else [(None, "")])}
 
 
 def _drive_vector(script, sock, obj, kind):

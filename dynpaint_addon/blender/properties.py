@@ -7,7 +7,7 @@ calls sync.on_setting_changed when it changes; what that redoes is decided by co
 """
 import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty,
-                       IntProperty, PointerProperty, StringProperty)
+                       FloatVectorProperty, IntProperty, PointerProperty, StringProperty)
 
 from .. import params
 from .sync import on_setting_changed
@@ -51,6 +51,9 @@ def _property(param):
         return {param.key: FloatProperty(default=param.auto_value if auto else param.default,
                                          precision=3, **limits, **kw),
                 param.key + "_auto": BoolProperty(default=auto, **auto_kw)}
+    if param.kind == "vec2":
+        return {param.key: FloatVectorProperty(default=param.default, size=2, subtype="XYZ",
+                                               precision=3, step=1, **limits, **kw)}
     return {param.key: FloatProperty(default=param.default, precision=3, step=1, **limits, **kw)}
 
 

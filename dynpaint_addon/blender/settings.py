@@ -14,6 +14,8 @@ def settings_to_params(settings):
         value = getattr(group, param.key)
         if param.kind == "auto_float" and getattr(group, param.key + "_auto"):
             value = "auto"
+        elif param.kind == "vec2":
+            value = tuple(float(f"{c:.7g}") for c in value)
         elif isinstance(value, float):
             value = float(f"{value:.7g}")   # Blender stores float32: 0.01 reads 0.0099999998
         setattr(getattr(p, param.section), param.key, value)

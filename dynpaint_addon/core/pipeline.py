@@ -168,16 +168,22 @@ def lookup_copy(img, sigma_widths=0.0, extension="extend", dtype=np.float32):
     return gaussian_blur(rgba, sigma_widths * rgba.shape[1], extension)
 
 
-def _warped_lookup(img_rgba, offset, painting_shape, extension, rows=None):
-    """Sample an image mapped onto the painting's UV square at each pixel + offset (§8, §9);
-    rows (r0, r1): only those rows of the painting (offset holds just them)."""
+def placement(section):
+    """(offset, scale) of the reflection or refraction settings: where E or B sits (§8, §9)."""
+    return tuple(section.offset), section.scale
+
+
+def _warped_lookup(img_rgba, offset, painting_shape, extension, place, rows=None):
+    """Sample an image placed over the painting (place = (offset, scale), warps.placed_uv) at
+    each pixel + the warp's offset (§8, §9); rows (r0, r1): only those rows of the painting
+    (offset holds just them)."""
     h, w = painting_shape
     x, y = pixel_centres(h, w, img_rgba.dtype.type)
     if rows is not None:
         x, y = x[rows[0]:rows[1]], y[rows[0]:rows[1]]
-    dx, dy = warps.offset_to_pixels(offset, img_rgba.shape, painting_shape)
+    u, v = warps.placed_uv(x / w + offset[..., 0], y / h + offset[..., 1] * (w / h), *place, w / h)
     eh, ew = img_rgba.shape[:2]
-    return sample_bilinear(img_rgba, x * (ew / w) + dx, y * (eh / h) + dy, extension)
+    return sample_bilinear(img_rgba, u * ew, v * eh, extension)
 
 
 def render(images, lights, p, dtype=np.float32, cache=None, keep_passes=True):
@@ -370,7 +376,7 @@ def diffuse(b):
                                      [lt.strength for lt in lights])
     else:
         w_mix = np.zeros(b.shape + (3,), dtype)
-    c_d = shading.barycentric_mix(c0, c1, w_mix)
+    c_d = shading.barycentric_mix(c0, c1, w_mix, p.diffuse.mix_space)
     b.passes.update({"normal": b.n, "t": raw, "W": w_mix})
     b.diffuse_terms, b.specular_terms = terms, spec
     b.rgba = np.concatenate([c_d, np.ones(b.shape + (1,), dtype)], axis=2)
@@ -417,7 +423,8 @@ def transparency(b):
                            dtype, ctx.cache)
         off = warps.reflection_offset(n, p.reflection.distance, p.reflection.mode,
                                       p.reflection.max_offset)
-        c_m = _warped_lookup(e, off, (ctx.hs, ctx.ws), p.reflection.extension, rows)
+        c_m = _warped_lookup(e, off, (ctx.hs, ctx.ws), p.reflection.extension,
+                             placement(p.reflection), rows)
     if b.has("background"):
         bg = _lookup_source(ctx.imgs, "background", p.refraction.blur, p.refraction.extension,
                             dtype, ctx.cache)
@@ -425,7 +432,8 @@ def transparency(b):
             off = warps.refraction_offset_physical(n, p.refraction.distance, p.refraction.ior)
         else:
             off = warps.refraction_offset_linear(n, p.refraction.distance, p.refraction.mu)
-        c_t = _warped_lookup(bg, off, (ctx.hs, ctx.ws), p.refraction.extension, rows)
+        c_t = _warped_lookup(bg, off, (ctx.hs, ctx.ws), p.refraction.extension,
+                             placement(p.refraction), rows)
     if c_m is not None and c_t is not None:
         f = fresnel(n, p)
         g_mix = f[..., None] * c_m + (1 - f[..., None]) * c_t
@@ -442,7 +450,8 @@ def transparency(b):
 
 @term
 def silhouette(b):
-    """§11: outside the silhouette α the background shows: B·(1 − α) + C·α (B unwarped)."""
+    """§11: outside the silhouette α the background shows: B·(1 − α) + C·α (B unwarped, placed
+    where the refraction places it)."""
     ctx, dtype = b.ctx, b.dtype
     alpha = _silhouette(ctx.imgs, b.p.silhouette.source)
     if alpha is None:
@@ -451,8 +460,8 @@ def silhouette(b):
     alpha = np.clip(np.where(np.isfinite(alpha), alpha, 0), 0, 1).astype(dtype)[..., None]
     behind = _warped_lookup(_lookup_source(ctx.imgs, "background", 0.0, "extend", dtype,
                                            ctx.cache),
-                            np.zeros(b.shape + (2,), dtype), (ctx.hs, ctx.ws), "extend",
-                            (b.r0, b.r1)) \
+                            np.zeros(b.shape + (2,), dtype), (ctx.hs, ctx.ws),
+                            b.p.refraction.extension, placement(b.p.refraction), (b.r0, b.r1)) \
         if b.has("background") else np.zeros(b.shape + (4,), dtype)
     b.rgba = behind * (1 - alpha) + b.rgba * alpha
 

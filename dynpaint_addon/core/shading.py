@@ -4,7 +4,10 @@ Lights are given per pixel as unit vectors toward the light (§0), shape (H, W, 
 """
 import numpy as np
 
+from .colour import linear_to_srgb, srgb_to_linear
+
 CURVES = ("linear", "smoothstep", "smootherstep")
+MIX_SPACES = ("painted", "linear")
 
 
 def clamp_step(t, t0, t1, curve="linear"):
@@ -49,9 +52,16 @@ def light_weight(terms, colours, strengths):
     return np.clip(acc, 0, 1)
 
 
-def barycentric_mix(c0, c1, w):
-    """§5: C_d = C0·(1 − W) + C1·W (W per channel, so coloured lights tint the mix)."""
-    return c0 * (1 - w) + c1 * w
+def barycentric_mix(c0, c1, w, space):
+    """§5: C_d = C0·(1 − W) + C1·W (W per channel, so coloured lights tint the mix).
+
+    c0, c1 are linear RGB. space 'painted' mixes their display (sRGB) values, the colours the
+    artist painted and saw, and returns the mix linear; 'linear' mixes linear light."""
+    if space == "linear":
+        return c0 * (1 - w) + c1 * w
+    if space == "painted":
+        return srgb_to_linear(linear_to_srgb(c0) * (1 - w) + linear_to_srgb(c1) * w)
+    raise ValueError(f"unknown mix space {space!r} (expected one of {', '.join(MIX_SPACES)})")
 
 
 def opaque_highlight(c_d, c_spec, gs):

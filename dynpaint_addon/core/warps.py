@@ -86,13 +86,10 @@ def total_internal_reflection(n, eta):
     return np.hypot(n[..., 0], n[..., 1]) > eta
 
 
-def offset_to_pixels(offset, image_shape, painting_shape):
-    """Convert an offset in image widths of the *painting* into pixel units of another image
-    (environment or background) that is mapped onto the same UV square.
-
-    The painting spans u ∈ [0, 1] across its width and v ∈ [0, 1] across its height; an image
-    of size (h, w) sampled by UV moves w pixels per unit of u and h pixels per unit of v.
-    """
-    h, w = image_shape[:2]
-    aspect = painting_shape[1] / painting_shape[0]  # painting W/H: v per image width of y
-    return offset[..., 0] * w, offset[..., 1] * (h * aspect)
+def placed_uv(u, v, offset, scale, aspect):
+    """§8, §9 placement: a painting UV (u, v) → the UV of an environment or background placed
+    over it, centred on the painting's centre moved by `offset` (x, y in image widths) and
+    `scale` × the painting's size. aspect = painting W/H (v per image width along y).
+    (0, 0) and 1 map the image onto the painting's UV square, as before placement existed."""
+    return ((u - 0.5 - offset[0]) / scale + 0.5,
+            (v - 0.5 - offset[1] * aspect) / scale + 0.5)

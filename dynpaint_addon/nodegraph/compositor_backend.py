@@ -30,6 +30,15 @@ def input_name(channel):
     return channel.replace("_", " ").title()
 
 
+def param_inputs(param, value):
+    """A parameter's group inputs and their values: [(name, number)], two for a vec2
+    ('Reflection offset x', 'Reflection offset y'); 'auto' feeds 1 (the Features resolve it)."""
+    label = f"{param.section.title()} {param.key.replace('_', ' ')}"
+    if param.kind == "vec2":
+        return [(f"{label} {axis}", float(c)) for axis, c in zip("xy", value)]
+    return [(label, 1.0 if value == "auto" else float(value))]
+
+
 class CompositorBackend:
     prefix = "Compositor "      # node groups are typed: keep them apart from the material's
 
@@ -124,14 +133,9 @@ class CompositorBackend:
 
     def param(self, tree, node, inputs):
         param = params.BY_PATH[node.props["path"]]
-        default = param.default
-        if param.kind is bool:
-            default = float(default)
-        elif param.kind == "auto_float" and default == "auto":
-            default = 1.0
-        label = f"{param.section.title()} {param.key.replace('_', ' ')}"
+        name, default = param_inputs(param, param.default)[node.props.get("index") or 0]
         unit = f" ({param.unit})" if param.unit else ""
-        sock = self._socket(tree, label, "NodeSocketFloat", float(default),
+        sock = self._socket(tree, name, "NodeSocketFloat", default,
                             param.min if param.min is not None else -1e9,
                             param.max if param.max is not None else 1e9,
                             f"{param.help}{unit}. pipeline.md {param.spec}")

@@ -9,7 +9,7 @@ and are written as pseudo nodes with a `dp.` prefix:
 
   dp.uv       the painting's UV (u, v, 0), u, v ∈ [0, 1] over the painting
   dp.sample   an input image looked up at a UV (Image Texture vs Map UV)  → color, alpha
-  dp.param    a scalar parameter of params.py (a driven Value vs a group input)
+  dp.param    a parameter of params.py, or one component of it (a driven Value vs a group input)
   dp.light    a light's vector in the painting frame and its k·c weight (§5)
   dp.output   the premultiplied result (rgb, alpha)
   dp.group    a reusable sub-graph, built once as a node group
@@ -162,9 +162,12 @@ class Graph:
                                self.mix_float(fx, taps[1, 0][1], taps[1, 1][1]))
         return self.mix_vector(fyv, bottom, top, label=f"{channel} (bilinear)"), alpha
 
-    def param(self, path, label=""):
-        """A scalar parameter of params.py (e.g. 'diffuse.t0'), live in the built tree."""
-        return Ref(self.add("dp.param", label=label or path, path=path).id, 0)
+    def param(self, path, label="", index=None):
+        """A scalar parameter of params.py (e.g. 'diffuse.t0'), or component `index` of a
+        two-number one (reflection.offset), live in the built tree."""
+        props = {"path": path} if index is None else {"path": path, "index": index}
+        return Ref(self.add("dp.param", label=label or path + ("" if index is None else
+                                                                  f"[{index}]"), **props).id, 0)
 
     def light(self, index, kind):
         """Light `index` (a sun or a point light) → (vector, k·c weight) refs.

@@ -52,6 +52,12 @@ def ident(text):
     return "_".join(part for part in out.split("_") if part)
 
 
+def param_name(path, index=None):
+    """The shader parameter of a params.py parameter, or of its component `index`:
+    'diffuse.t0' → 'p_diffuse_t0', ('reflection.offset', 1) → 'p_reflection_offset_y'."""
+    return "p_" + ident(path) + ("" if index is None else "_" + "xy"[index])
+
+
 class Emitter:
     """Turns one Graph's nodes into OSL statements (a function body or the shader body)."""
 
@@ -172,8 +178,7 @@ class Emitter:
         self.types[(n.id, "alpha")] = FLOAT
 
     def op_dp_param(self, n):
-        path = n.props["path"]
-        self.values[(n.id, 0)] = self.program.param(path)
+        self.values[(n.id, 0)] = self.program.param(n.props["path"], n.props.get("index"))
         self.types[(n.id, 0)] = FLOAT
 
     def op_dp_light(self, n):
@@ -214,8 +219,8 @@ class Program:
             self.functions[sub.name] = (name, src)
         return self.functions[sub.name][0]
 
-    def param(self, path):
-        name = "p_" + ident(path)
+    def param(self, path, index=None):
+        name = param_name(path, index)
         self.params.setdefault(name, f"float {name} = 0.0")
         return name
 

@@ -136,6 +136,34 @@ def _accumulate(g, acc, term, weight):
                               label="Σ k·c·t"))
 
 
+def _per_channel(g, colour, fn, label):
+    r, gr, b = g.separate(colour)
+    return g.combine(fn(g, r), fn(g, gr), fn(g, b), label=label)
+
+
+@_subgraph("DP sRGB Encode (§5)", [("Color", VECTOR)], [("Color", VECTOR)])
+def _to_display(g, colour):
+    """core.colour.linear_to_srgb per channel: linear → the value as painted (negatives → 0)."""
+    def encode(g, c):
+        c = g.math("MAXIMUM", c, 0.0)
+        curve = g.math("MULTIPLY_ADD", g.math("POWER", g.math("MAXIMUM", c, 0.0031308),
+                                              1 / 2.4), 1.055, -0.055)
+        return g.mix_float(g.math("GREATER_THAN", c, 0.0031308), g.math("MULTIPLY", c, 12.92),
+                           curve)
+    g.set_outputs(Color=_per_channel(g, colour, encode, "as painted"))
+
+
+@_subgraph("DP sRGB Decode (§5)", [("Color", VECTOR)], [("Color", VECTOR)])
+def _to_linear(g, colour):
+    """core.colour.srgb_to_linear per channel: the value as painted → linear."""
+    def decode(g, v):
+        curve = g.math("POWER", g.math("DIVIDE", g.math("ADD", g.math("MAXIMUM", v, 0.04045),
+                                                       0.055), 1.055), 2.4)
+        return g.mix_float(g.math("GREATER_THAN", v, 0.04045), g.math("DIVIDE", v, 12.92),
+                           curve)
+    g.set_outputs(Color=_per_channel(g, colour, decode, "linear"))
+
+
 def _clip01(g, v, label=""):
     return g.vmath("MAXIMUM", g.vmath("MINIMUM", v, (1.0, 1.0, 1.0)), (0.0, 0.0, 0.0),
                    label=label)
@@ -353,7 +381,13 @@ def diffuse(b):
         c0 = g.sample("dark" if "dark" in f.channels else "bright", None, "EXTEND")[0]
         c1 = g.sample("bright" if "bright" in f.channels else "dark", None, "EXTEND")[0]
         w = _clip01(g, acc_t, label="W = clip(Σ k·c·t)") if f.lights else (0.0, 0.0, 0.0)
-        b.colour = g.mix_vector(w, c0, c1, label="C_d = C0(1 − W) + C1·W")
+        if f.diffuse_mix_space == "painted":    # the display values mix, the result is linear
+            mixed = g.mix_vector(w, g.group(_to_display(), {"Color": c0})["Color"],
+                                 g.group(_to_display(), {"Color": c1})["Color"],
+                                 label="C0(1 − W) + C1·W as painted")
+            b.colour = g.group(_to_linear(), {"Color": mixed})["Color"]
+        else:
+            b.colour = g.mix_vector(w, c0, c1, label="C_d = C0(1 − W) + C1·W")
         b.passes["W"] = w
 
 
@@ -375,6 +409,20 @@ def highlights(b):
         b.colour = g.mix_vector(gs, b.colour, b.c_spec, label="C_s")
 
 
+def _placed_lookup(b, channel, sized_as, section, u, v):
+    """`channel` placed over the painting by `section`'s offset and scale (core.warps.placed_uv)
+    and looked up at (u, v) texel by texel, with that section's extension → (color, alpha)."""
+    g = b.g
+    inv_scale = g.math("DIVIDE", 1.0, g.param(f"{section}.scale"), label="1 / scale")
+    cu = g.math("ADD", g.param(f"{section}.offset", index=0), 0.5, label="centre u")
+    cv = g.math("MULTIPLY_ADD", g.param(f"{section}.offset", index=1), b.aspect, 0.5,
+                label="centre v")
+    pu = g.math("MULTIPLY_ADD", g.math("SUBTRACT", u, cu), inv_scale, 0.5, label="placed u")
+    pv = g.math("MULTIPLY_ADD", g.math("SUBTRACT", v, cv), inv_scale, 0.5, label="placed v")
+    return g.sample_bilinear(channel, pu, pv, dict(b.f.lookup_sizes)[sized_as],
+                             EXTENSION_MODES[getattr(b.f, f"{section}_extension")])
+
+
 @term
 def transparency(b):
     """§8–§11: reflection of E and refraction of B by UV warps, mixed by Fresnel (G), the
@@ -386,18 +434,16 @@ def transparency(b):
         c_m = c_t = None
         a_m = a_t = 0.0
 
-        def warped(channel, offset, extension):
+        def warped(channel, offset, section):
             ox, oy, _ = g.separate(offset)
-            return g.sample_bilinear(channel, g.math("ADD", u, ox),
-                                     g.math("ADD", v, g.math("MULTIPLY", oy, aspect)),
-                                     dict(f.lookup_sizes)[channel],
-                                     EXTENSION_MODES[extension])
+            return _placed_lookup(b, channel, channel, section, g.math("ADD", u, ox),
+                                  g.math("ADD", v, g.math("MULTIPLY", oy, aspect)))
 
         if f.reflects:
             off = g.group(_reflection_group(f.reflection_mode),
                           {"Normal": normal, "Distance": g.param("reflection.distance"),
                            "Max Offset": g.param("reflection.max_offset")})["Offset"]
-            c_m, a_m = warped("environment", off, f.reflection_extension)
+            c_m, a_m = warped("environment", off, "reflection")
         if f.refracts:
             off = g.group(_refraction_group(f.refraction_mode),
                           {"Normal": normal, "Distance": g.param("refraction.distance"),
@@ -405,7 +451,7 @@ def transparency(b):
                            if f.refraction_mode == "physical" else 1.0,
                            "Mu": g.param("refraction.mu")
                            if f.refraction_mode == "linear" else 0.0})["Offset"]
-            c_t, a_t = warped("background", off, f.refraction_extension)
+            c_t, a_t = warped("background", off, "refraction")
         if c_m is not None and c_t is not None:
             if f.fresnel_mode == "physical":
                 eta = g.param("refraction.ior") if f.refraction_mode == "physical" \
@@ -440,14 +486,16 @@ def transparency(b):
 
 @term
 def silhouette(b):
-    """§11: outside the silhouette α the background shows: B·(1 − α) + C·α (B unwarped)."""
+    """§11: outside the silhouette α the background shows: B·(1 − α) + C·α (B unwarped, placed
+    where the refraction places it)."""
     g, f = b.g, b.f
     if not f.silhouette:
         return
     with g.section("Silhouette (§11)"):
         a = g.sample("silhouette", None, "EXTEND", label=f"{f.silhouette} alpha")[1]
         if "background" in f.channels:
-            b_rgb, b_a = g.sample("background_sharp", None, "EXTEND", label="behind")
+            b_rgb, b_a = _placed_lookup(b, "background_sharp", "background", "refraction",
+                                        b.u, b.v)
         else:
             b_rgb, b_a = (0.0, 0.0, 0.0), 0.0
         b.colour = g.mix_vector(g.combine(a, a, a), b_rgb, b.colour, label="B(1−α) + C·α")

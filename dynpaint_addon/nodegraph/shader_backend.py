@@ -102,8 +102,9 @@ class ShaderBackend:
     def param(self, tree, node, inputs):
         value = tree.nodes.new("ShaderNodeValue")
         value.outputs[0].default_value = 0.0
+        index = node.props.get("index")
         drive_property(value.outputs[0], "MATERIAL", self.material,
-                       f"{SETTINGS}.{node.props['path']}")
+                       f"{SETTINGS}.{node.props['path']}" + ("" if index is None else f"[{index}]"))
         return [value], {0: value.outputs[0]}
 
     def light(self, tree, node, inputs):

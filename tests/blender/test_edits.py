@@ -151,6 +151,8 @@ def _drag_values(param):
     if param.kind is int:
         return [0, 1, 8, param.default]
     values = [float(v) for v in np.linspace(param.min, param.max, 4)]
+    if param.kind == "vec2":
+        return [(x, y) for x, y in zip(values, values[::-1])] + [param.default]
     if param.kind == "auto_float":
         return values + ["auto"]
     return values + [param.default]
@@ -188,6 +190,8 @@ def _random_value(rng, param):
         return param.choices[rng.integers(len(param.choices))]
     if param.kind is int:
         return int(rng.choice([0, 1, 8, 64]))
+    if param.kind == "vec2":
+        return tuple(float(rng.uniform(param.min, param.max)) for _ in range(2))
     value = float(rng.choice([param.min, param.max, rng.uniform(param.min, param.max)]))
     return "auto" if param.kind == "auto_float" and rng.random() < 0.3 else value
 

@@ -2,6 +2,7 @@
 import numpy as np
 import pytest
 
+from dynpaint_addon.core.colour import linear_to_srgb
 from dynpaint_addon.core.shading import (barycentric_mix, clamp_step, light_weight,
                                          opaque_highlight, specular_term)
 
@@ -38,8 +39,27 @@ def test_coloured_lights_tint_the_mix():
     np.testing.assert_allclose(w[0, 0], [0.5, 0.8, 1.0])     # blue clipped at 1
     c0 = np.array([0.1, 0.2, 0.3], np.float32)
     c1 = np.array([0.9, 0.8, 0.7], np.float32)
-    np.testing.assert_allclose(barycentric_mix(c0, c1, w)[0, 0],
+    np.testing.assert_allclose(barycentric_mix(c0, c1, w, "linear")[0, 0],
                                c0 * (1 - w[0, 0]) + c1 * w[0, 0])
+
+
+def test_painted_mix_is_the_mix_of_the_colours_as_painted():
+    """§5 painted: half-way between black and white painted is 50 % grey as painted (0.5 on
+    screen), not 50 % linear light (0.735 on screen, 60 levels of 255 lighter); the ends are
+    the images themselves."""
+    black, white = np.zeros(3, np.float32), np.ones(3, np.float32)
+    half = np.full(3, 0.5, np.float32)
+    painted = barycentric_mix(black, white, half, "painted")
+    linear = barycentric_mix(black, white, half, "linear")
+    np.testing.assert_allclose(linear_to_srgb(painted), 0.5, atol=1e-6)
+    np.testing.assert_allclose(linear_to_srgb(linear), 0.7354, atol=1e-4)
+    c0 = np.array([0.02, 0.3, 0.7], np.float32)
+    c1 = np.array([0.9, 0.05, 0.4], np.float32)
+    for w in (0.0, 1.0):
+        np.testing.assert_allclose(barycentric_mix(c0, c1, np.full(3, w, np.float32), "painted"),
+                                   c1 if w else c0, rtol=1e-5, atol=1e-7)
+    with pytest.raises(ValueError, match="unknown mix space"):
+        barycentric_mix(c0, c1, half, "ok")
 
 
 def test_specular_is_gated_on_the_unlit_side():

@@ -28,13 +28,13 @@ def test_end_to_end_against_values_computed_by_hand():
     p.specular.s0, p.specular.s1, p.specular.curve = 0.0, 1.0, "linear"
     colour = (1.0, 0.5, 0.25)
     out = render(hand_painting(), [Light("sun", (0.6, 0, 0.8), colour)], p).rgba
-    c0, c1 = srgb_decode(64 / 255), srgb_decode(200 / 255)
+    c0, c1 = 64 / 255, 200 / 255                    # mixed as painted (§5), then decoded
     ndl = [0.8, 1.0, 0.28]                          # N·L by hand
     rz = [2 * 0.8 * 1.0 - 0.8, 2 * 1.0 * 0.8 - 0.8, 2 * 0.28 * 0.8 - 0.8]   # R_L.z = 0.8, 0.8, −0.352
     for i in range(3):
         for ch in range(3):
             w = min(ndl[i] * colour[ch], 1)
-            cd = c0 * (1 - w) + c1 * w
+            cd = srgb_decode(c0 * (1 - w) + c1 * w)
             s = min(max(rz[i], 0) * colour[ch], 1)
             expected = cd * (1 - s) + 1.0 * s
             assert out[0, i, ch] == pytest.approx(expected, abs=2e-6), (i, ch)
@@ -264,3 +264,52 @@ def test_banded_renders_read_a_mask_from_the_channel_the_whole_image_says(monkey
     monkeypatch.setattr(pipeline, "RENDER_BAND_PIXELS", 16 * 3)
     banded = render(imgs, lights, p, keep_passes=False).rgba
     np.testing.assert_array_equal(banded, whole)
+
+
+def _dot_image(size, at):
+    """A float image, black with one white texel at pixel (row, column) `at`."""
+    px = np.zeros((size, size, 3), np.float32)
+    px[at] = 1.0
+    return ImageData(px, 32)
+
+
+def _brightest(rgb):
+    return np.unravel_index(np.argmax(rgb.sum(-1)), rgb.shape[:2])
+
+
+@pytest.mark.parametrize("section, channel", [("reflection", "environment"),
+                                              ("refraction", "background")])
+def test_environment_and_background_are_placed_by_offset_and_scale(section, channel):
+    """§8, §9 placement: a flat glass painting (no warp) shows E or B where the offset puts its
+    centre and as large as the scale says (a dot's light, summed, grows with scale²). Before,
+    neither could be placed."""
+    size = 32
+    flat = ImageData(np.tile(np.array([0.5, 0.5, 1.0], np.float32), (size, size, 1)), 16)
+    imgs = {"shape": flat, "dark": const(size, size, 0.0), "transparency": const(size, size, 1.0),
+            channel: _dot_image(size, (20, 20))}
+    p = params.defaults()
+    p.refraction.ior = 1.0
+    p.reflection.extension = p.refraction.extension = "extend"    # one dot, no mirrored copies
+
+    def shown(offset=(0.0, 0.0), scale=1.0):
+        getattr(p, section).offset, getattr(p, section).scale = offset, scale
+        return render(imgs, [Light("sun", (0, 0, 1))], p).rgba[..., 0]
+
+    assert _brightest(shown()[..., None]) == (20, 20)
+    assert _brightest(shown((0.25, -0.125))[..., None]) == (20 - 4, 20 + 8)   # right, down
+    for scale in (2.0, 0.5):
+        assert shown(scale=scale).sum() == pytest.approx(scale ** 2, rel=1e-5)
+    assert _brightest(shown(scale=0.5)[..., None]) == (18, 18)    # nearer the centre
+
+
+def test_the_background_around_the_silhouette_is_placed_like_the_refraction():
+    """What shows outside the figure is the background the glass refracts: both move together."""
+    imgs = dome_painting(with_alpha=True)
+    h, w = imgs["shape"].pixels.shape[:2]
+    imgs["background"] = _dot_image(w, (1, 1))
+    p = params.defaults()
+    out = render(imgs, LIGHTS, p).rgba[..., :3]
+    assert _brightest(out) == (1, 1)
+    p.refraction.offset = (3 / w, 2 / w)
+    out = render(imgs, LIGHTS, p).rgba[..., :3]
+    assert _brightest(out) == (3, 4)

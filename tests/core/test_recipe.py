@@ -55,8 +55,20 @@ def test_every_parameter_accepts_its_default_and_bounds(painting):
         values = [prm.default] + [v for v in (prm.min, prm.max) if v is not None] + list(prm.choices)
         for v in values:
             v = int(v) if prm.kind is int else v
+            v = (v, v) if prm.kind == "vec2" and not isinstance(v, tuple) else v
             r = parse({prm.section: {prm.key: v}}, folder)
             assert getattr(getattr(r.params, prm.section), prm.key) == v
+
+
+def test_a_two_number_parameter_is_checked_by_component(painting):
+    folder = os.path.dirname(painting)
+    r = parse({"reflection": {"offset": [0.25, -1]}}, folder)
+    assert r.params.reflection.offset == (0.25, -1.0)
+    for bad, message in (([1.0], "expected two numbers"), (0.5, "expected two numbers"),
+                         ([0.0, 11.0], r"offset\[1\]: 11.0 is out of range"),
+                         ([0.0, "x"], r"offset\[1\]: expected a number")):
+        with pytest.raises(RecipeError, match=message):
+            parse({"reflection": {"offset": bad}}, folder)
 
 
 def test_round_trip(painting, tmp_path):
@@ -65,6 +77,7 @@ def test_round_trip(painting, tmp_path):
     assert [lt.kind for lt in r.lights] == ["sun", "point"]
     r.params.fresnel.mode = "art"
     r.params.diffuse.t0 = -0.25
+    r.params.refraction.offset = (0.5, -0.125)
     for only_changed in (True, False):
         out = tmp_path / f"copy{only_changed}.toml"
         out.write_text(recipe_to_toml(r, str(tmp_path), only_changed))

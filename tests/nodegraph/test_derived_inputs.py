@@ -44,7 +44,7 @@ def test_made_images_are_the_cores_own():
                                   lambda c: "colour" if c != "shape" else "height")
     assert warnings == []
     np.testing.assert_array_equal(made["height"][..., 0], preblurred_height(shape.grey(), 1.5))
-    np.testing.assert_array_equal(made["environment"], lookup_copy(env, 0.2, "wrap"))
+    np.testing.assert_array_equal(made["environment"], lookup_copy(env, 0.2, p.reflection.extension))
 
 
 def test_a_float_input_gets_a_finite_copy_only_where_it_needs_one():
