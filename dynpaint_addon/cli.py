@@ -178,7 +178,7 @@ def cmd_bake_shadow(args):
     stats = ShadowStats()
     t0 = time.perf_counter()
     t = bake(n, light, p.shadows.offset, quality, heights_px=z, slopes=slopes, steps=steps,
-             scale=scale, occupancy=p.shadows.occupancy, stats=stats)
+             scale=scale, occupancy=p.shadows.occupancy, reach=p.shadows.reach, stats=stats)
     ms = (time.perf_counter() - t0) * 1000
     write_exr(args.out, t)
     if args.verbose:

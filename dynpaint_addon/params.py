@@ -130,6 +130,11 @@ PARAMS = (
       "custom quality)", min=0, max=100000, spec="§6", label="Steps (K)", bake=True),
     P("shadows", "resolution", float, 1.0, "Resolution the bake marches at, then upsampled "
       "(custom quality)", unit="× the shape image", min=0.05, max=1.0, spec="§13", bake=True),
+    P("shadows", "reach", float, 0.05, "How far along each shadow ray a normal map's relief "
+      "is felt; beyond it the surface continues flat (its tangent plane). A normal map holds "
+      "slopes, not heights: rebuilt along a ray across an impossible figure or a depth jump "
+      "they never come back down and streak; 10 = the whole image", unit="image widths",
+      min=0.0, max=10.0, spec="§6", bake=True, shown_if=("shape.kind", "normal")),
     P("shadows", "occupancy", "enum", "linear", "How a march step counts as inside the relief: "
       "linear crossing (accurate) or the paper's midpoint test", choices=OCCUPANCIES, spec="§6",
       bake=True),

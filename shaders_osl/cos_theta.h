@@ -51,7 +51,7 @@ float dp_occupancy(float d0, float d1)
 float dp_cos_theta(vector N, vector light, int is_point, float u, float v,
                    string relief, int relief_srgb, int normal_map, float flip, float zmin,
                    float W, float H, float height_scale, float offset, float steps,
-                   float relief_max, float slope_max)
+                   float reach, float relief_max, float slope_max)
 {
     float scale = height_scale * W;                          // H (0..1) → pixels
     float x = u * W, y = v * H;
@@ -89,6 +89,10 @@ float dp_cos_theta(vector N, vector light, int is_point, float u, float v,
         stopped = ell_light <= ell;
         ell = min(ell, ell_light);
     }
+    // §6 Reach (normal maps): the rebuilt relief is felt up to reach, then the tangent plane
+    float reach_px = normal_map ? max(reach, 0.0) * W : inf;
+    int by_reach = ell > reach_px;
+    if (by_reach) { ell = reach_px; stopped = 0; }
     if (!(ell < inf)) ell = 0.0;
     int k_max = (int)max(steps, 0.0);
     int k_eff = k_max > 0 ? min(k_max, max(1, (int)ceil(4.0 * ell))) : 0;
@@ -115,8 +119,10 @@ float dp_cos_theta(vector N, vector light, int is_point, float u, float v,
     // tail along the tangent plane of P_S (never past a point light)
     float rate = ndl / N[2];
     float tail = rate > 0.0 ? delta / rate : inf;
+    if (!(delta > 0.0)) tail = 0.0;
+    if (by_reach) tail = ndl > 0.0 ? max(d / ndl - ell, 0.0) : inf;
     if (is_point) tail = min(tail, ell_light - ell);
-    if (!(delta > 0.0) || stopped) tail = 0.0;
+    if (stopped) tail = 0.0;
     float r = inside + tail;
     float t;
     if (d > 0.0) t = d / max(r, d);

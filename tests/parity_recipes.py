@@ -189,6 +189,10 @@ RECIPES = {
                                      {"refraction.offset": (0.2, 0.35), "refraction.scale": 0.45,
                                       "refraction.extension": "mirror",
                                       "transparency.amount": 0.5}, [SUN]),
+    "mix_linear": (BASE, {"diffuse.mix_space": "linear", "diffuse.curve": "smoothstep"},
+                   [_sun((-0.7, 0.2, 0.5), (1.0, 0.5, 0.3), 0.8, "Key")]),
+    "normal_shadows_short_reach": (BASE, {"shadows.enabled": True, "shadows.reach": 0.02},
+                                   [_sun((0.6, -0.4, 0.35))]),
     "normal_halving_strength": ({**BASE, "shape": "normal_halving"},
                                 {"shape.strength": 0.5, "shadows.enabled": True}, [SUN]),
 }

@@ -62,15 +62,16 @@ def _crossings_plan(light, quality, fast_level, h, w, size, normal_map, offset):
     if light.kind == "point" and fast_level and not normal_map and "point_scale" in q:
         sh, sw = scaled("point_scale")
         if crossings.point_grid_bytes(light, sh, sw, offset) <= crossings.MAX_TABLE_BYTES:
-            return (sh, sw), lambda n, lt, off, heights_px, slopes: crossings.point_cos_theta(
-                n, lt, off, heights_px=heights_px)
+            return (sh, sw), lambda n, lt, off, heights_px, slopes, reach: \
+                crossings.point_cos_theta(n, lt, off, heights_px=heights_px)
     return None
 
 
 def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=None, steps=64,
-         scale=1.0, occupancy="linear", stats=None, cancel=None, progress=None):
+         scale=1.0, occupancy="linear", reach=np.inf, stats=None, cancel=None, progress=None):
     """The cos-θ term at a quality level (§13): march at a reduced resolution if the level
-    says so, then upsample to the shape's size. Heights are in pixels of the full image.
+    says so, then upsample to the shape's size. Heights are in pixels of the full image;
+    reach: how far a normal map's rebuilt relief is felt (image widths, §6 Reach).
     progress: optional callable(fraction done) (the march reports once per band of rows)."""
     k, scale, dtype = quality_settings(quality, steps, scale)
     h, w = normals.shape[:2]
@@ -90,10 +91,11 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
         if stats is not None:
             stats.method = "exact crossings" if light.kind == "sun" else "aimed crossings"
 
-        def march(n, lt, off, _k, heights_px=None, slopes=None, cancel=None, progress=None, **_):
+        def march(n, lt, off, _k, heights_px=None, slopes=None, reach=np.inf, cancel=None,
+                  progress=None, **_):
             if cancel is not None and cancel():      # one pass: superseded before it starts
                 raise BakeCancelled()
-            t = fast(n, lt, off, heights_px=heights_px, slopes=slopes)
+            t = fast(n, lt, off, heights_px=heights_px, slopes=slopes, reach=reach)
             if progress is not None:
                 progress(1.0)
             return t
@@ -101,7 +103,8 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
         stats.size = (hs, ws)
     if (hs, ws) == (h, w):
         return march(normals, light, offset, k, heights_px=heights_px, slopes=slopes,
-                     occupancy=occupancy, stats=stats, cancel=cancel, progress=progress)
+                     occupancy=occupancy, reach=reach, stats=stats, cancel=cancel,
+                     progress=progress)
     # averages of unit normals with N.z ≥ z_min: renormalising keeps N.z ≥ z_min (|n| ≤ 1,
     # and |n| ≥ N.z ≥ z_min > 0, so the division is safe)
     n_s = resample_separable(normals, hs, ws)
@@ -109,5 +112,5 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
     z_s = None if heights_px is None else resample_separable(heights_px, hs, ws) * dtype(ws / w)
     sl_s = None if slopes is None else resample_separable(slopes, hs, ws)
     t = march(n_s, light, offset, k, heights_px=z_s, slopes=sl_s, occupancy=occupancy,
-              stats=stats, cancel=cancel, progress=progress)
+              reach=reach, stats=stats, cancel=cancel, progress=progress)
     return np.clip(resample_separable(t, h, w), 0, 1).astype(dtype, copy=False)

@@ -124,12 +124,13 @@ def fits(h, w):
     return 2 * levels * side * (side + 1) * 4 <= MAX_TABLE_BYTES
 
 
-def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None):
+def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None, reach=np.inf):
     """t = d / max(r, d) (H, W) for a sun, r from exact crossings.
 
     heights_px: the relief in pixels (height maps); or slopes (H, W, 2), −N.xy/N.z (normal
     maps): along a grid row the rebuilt height is then the running integral of the row's
-    slope, so the same crossing search applies (§6: height rebuilt along the ray only).
+    slope, so the same crossing search applies (§6: height rebuilt along the ray only), felt
+    up to `reach` image widths along the ray (shadow.cos_theta_shadow).
     """
     dtype = normals.dtype
     h, w = normals.shape[:2]
@@ -138,11 +139,14 @@ def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None):
     if lvec[2] <= 0:
         return np.zeros((h, w), dtype)
     if offset <= 0:             # the d → 0 limit: hard visibility, marched
-        return cos_theta_shadow(normals, light, offset, 64, heights_px=heights_px, slopes=slopes)
+        return cos_theta_shadow(normals, light, offset, 64, heights_px=heights_px, slopes=slopes,
+                                reach=reach)
     if np.hypot(lvec[0], lvec[1]) < 1e-6:
-        # straight up: no horizontal direction to lay rows along, and no need (closed form)
+        # straight up: no horizontal direction to lay rows along, and no need (closed form;
+        # on a normal map t = N.z whatever the reach)
         return vertical_cos_theta(normals, offset, heights_px=heights_px)
-    return _bake(_SunGrid(lvec, h, w), normals, offset, heights_px, slopes)
+    reach_px = max(0.0, float(reach)) * w if slopes is not None else np.inf
+    return _bake(_SunGrid(lvec, h, w, reach_px), normals, offset, heights_px, slopes)
 
 
 def _bake(grid, normals, offset, heights_px, slopes):
@@ -181,12 +185,13 @@ class _SunGrid:
     (+ 3 px): a rotated image's bounding grid is up to twice its area, 8 blocks ≈ 1.3×.
     """
 
-    def __init__(self, lvec, h, w):
+    def __init__(self, lvec, h, w, reach_px=np.inf):
         lx, ly, lz = lvec
         self.h, self.w = h, w
         self.lxy = float(np.hypot(lx, ly))
         self.ex, self.ey = lx / self.lxy, ly / self.lxy
         self.m = lz / self.lxy                          # rise per pixel of u
+        self.reach_u = reach_px * self.lxy              # the reach, in pixels of u
         self.cx, self.cy = w / 2.0, h / 2.0
         bx = np.array([0.5, w - 0.5, 0.5, w - 0.5]) - self.cx
         by = np.array([0.5, 0.5, h - 0.5, h - 0.5]) - self.cy
@@ -274,6 +279,7 @@ class _SunGrid:
         to_x = ((f32(w - 0.5) - x0) if ex > 0 else (f32(0.5) - x0)) / f32(ex) if ex else np.inf
         to_y = ((f32(h - 0.5) - y0) if ey > 0 else (f32(0.5) - y0)) / f32(ey) if ey else np.inf
         row0 = np.clip(np.floor(fv).astype(np.int32), 0, self.rows - 2)
+        to_edge = np.where(inbox0, np.maximum(np.minimum(to_x, to_y), 0), 0).ravel()
         if heights_px is not None:
             # the reference's δ0: the exact bilinear relief above P0, where P0 is in the box
             delta0 = _lookup(heights_px.astype(np.float32, copy=False), x0, y0) - z0
@@ -284,8 +290,8 @@ class _SunGrid:
             delta0 = f32(d) / nz
         return dict(fu=fu, row0=row0, wv=np.clip(fv - row0, f32(0), f32(1)),
                     c=(z0.astype(np.float64) - m * u0.astype(np.float64)).ravel(),
-                    u_end=fu + np.where(inbox0, np.maximum(np.minimum(to_x, to_y), 0),
-                                        0).ravel(),
+                    u_end=fu + np.minimum(to_edge, f32(min(self.reach_u, 1e30))),
+                    by_reach=to_edge > self.reach_u,
                     inbox0=inbox0.ravel(), delta0=delta0.ravel(), h0=h0, nz=nz.ravel(),
                     fall=(ndl / nz).ravel() / f32(lxy))   # δ's fall per px of u (tangent plane)
 
@@ -345,10 +351,13 @@ class _SunGrid:
         total, inside_end, gap, _ = _inside_length(
             search, rb, wv, fub.astype(f32), cb.astype(f32),
             (cb + ray["delta0"][sel]).astype(f32), (ray["u_end"][sel] - c0).astype(f32), fall)
-        # still inside where the box ends: the tail along the tangent plane of P_S (§6)
+        # still inside where the box ends: the tail along the tangent plane of P_S (§6);
+        # stopped by the reach: the rest of the ray against that plane itself
         with np.errstate(divide="ignore", invalid="ignore"):
-            tail = np.where(fall > 0, gap / fall, np.inf)
-        return total + np.where(inside_end & (gap > 0), tail, 0)
+            tail = np.where(inside_end & (gap > 0), np.where(fall > 0, gap / fall, np.inf), 0)
+            plane = np.where(fall > 0, np.maximum(ray["delta0"][sel] / fall - self.reach_u, 0),
+                             np.inf)
+        return total + np.where(ray["by_reach"][sel], plane, tail)
 
 
 def point_cos_theta(normals, light, offset, *, heights_px):

@@ -115,7 +115,8 @@ def shadow_term(n, z_px, slopes, light, p, cancel=None, progress=None):
     """The raw cos-θ term of one light (§6) at the parameters' quality level (§13)."""
     t = shadow_bake(n, light, p.shadows.offset, p.shadows.quality, heights_px=z_px, slopes=slopes,
                     steps=p.shadows.steps, scale=p.shadows.resolution,
-                    occupancy=p.shadows.occupancy, cancel=cancel, progress=progress)
+                    occupancy=p.shadows.occupancy, reach=p.shadows.reach, cancel=cancel,
+                    progress=progress)
     return t.astype(n.dtype, copy=False)
 
 

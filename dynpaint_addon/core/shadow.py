@@ -98,7 +98,7 @@ BAND_PIXELS = 1 << 20    # pixels marched at once: bounds the per-step state at 
 
 
 def cos_theta_shadow(normals, light, offset, steps, *, heights_px=None, slopes=None,
-                     occupancy="linear", stats=None, cancel=None, progress=None):
+                     occupancy="linear", reach=np.inf, stats=None, cancel=None, progress=None):
     """The raw cos-θ term t = d / max(r, d) ∈ [0, 1] for one light (§6), shape (H, W).
 
     normals: unit normals (H, W, 3) (N.z ≥ z_min, §2), in the dtype to compute in.
@@ -112,6 +112,10 @@ def cos_theta_shadow(normals, light, offset, steps, *, heights_px=None, slopes=N
     the segment at the light; d = 0 gives max(N·L, 0) × hard visibility; K = 0 marches nothing
     and extrapolates along the tangent plane (t = N·L on any surface); K is capped at
     MAX_STEPS_PER_PIXEL steps per pixel of the longest march, so a huge K stays finite in time.
+    reach (image widths, normal maps only; §6 "Reach"): the rebuilt relief is felt up to this
+    far along the ray, beyond it the surface is P_S's tangent plane (r = r(0…R) +
+    max(d/N·L − R, 0)): a plane stays exact, and an impossible figure's slopes, which rebuild
+    heights that never come back down, cast no shadow longer than R.
     cancel: optional callable, asked before every step; True aborts with BakeCancelled (a newer
     bake supersedes this one). progress: optional callable(fraction done), once per band.
 
@@ -123,7 +127,7 @@ def cos_theta_shadow(normals, light, offset, steps, *, heights_px=None, slopes=N
     h, w = normals.shape[:2]
     rows = max(1, BAND_PIXELS // max(w, 1))
     bands = [(r, min(h, r + rows)) for r in range(0, h, rows)] or [(0, 0)]
-    ctx = _MarchInputs(normals, light, offset, heights_px, slopes)
+    ctx = _MarchInputs(normals, light, offset, heights_px, slopes, reach)
     # K is the same for every band (it follows the longest march of the whole image), so a
     # banded bake equals an unbanded one bit for bit. The first band's setup is kept: up to
     # BAND_PIXELS pixels it is the only band.
@@ -152,6 +156,7 @@ class _MarchInputs:
     offset: float
     heights_px: object
     slopes: object
+    reach: float = np.inf
 
     def __post_init__(self):
         self.dtype = self.normals.dtype
@@ -160,6 +165,8 @@ class _MarchInputs:
         self.zs = self.heights_px.astype(self.dtype, copy=False) if self.heights_px is not None \
             else None
         self.d = self.f(max(0.0, float(self.offset)) * self.w)
+        self.reach_px = max(0.0, float(self.reach)) * self.w if self.slopes is not None \
+            else np.inf
         self.zmax = self.f(np.max(self.zs)) if self.zs is not None and self.zs.size else None
         self.s_max = self.f(np.max(np.hypot(self.slopes[..., 0], self.slopes[..., 1]))) \
             if self.slopes is not None and self.slopes.size else self.f(0)
@@ -207,9 +214,13 @@ def _ray_setup(c, r0, r1):
     else:
         ell_light = None
         stopped_by_light = np.zeros(x.shape, bool)
+    by_reach = ell > c.reach_px            # §6 Reach: beyond it, P_S's tangent plane
+    ell = np.minimum(ell, c.f(c.reach_px)) if np.isfinite(c.reach_px) else ell
+    stopped_by_light = stopped_by_light & ~by_reach
     ell = np.where(np.isfinite(ell), ell, 0).astype(c.dtype, copy=False)
     return dict(lx=lx, ly=ly, lz=lz, nz=nz, ndl=ndl, x0=x0, y0=y0, z0=z0, delta=delta,
-                h_rec=h_rec, ell=ell, ell_light=ell_light, stopped_by_light=stopped_by_light)
+                h_rec=h_rec, ell=ell, ell_light=ell_light, stopped_by_light=stopped_by_light,
+                by_reach=by_reach)
 
 
 def _march_band(c, r, k_eff, occupancy, cancel):
@@ -245,9 +256,13 @@ def _march_band(c, r, k_eff, occupancy, cancel):
     rate = ndl / r["nz"]
     with np.errstate(divide="ignore", invalid="ignore"):
         tail = np.where(rate > 0, delta / rate, np.inf)
+        # stopped by the reach: the rest of the ray against the tangent plane itself
+        plane = np.where(ndl > 0, np.maximum(d / ndl - ell, 0), np.inf)
+    tail = np.where(delta > 0, tail, 0)
+    tail = np.where(r["by_reach"], plane, tail)
     if r["ell_light"] is not None:
         tail = np.minimum(tail, r["ell_light"] - ell)
-    tail = np.where((delta > 0) & ~r["stopped_by_light"], tail, 0)
+    tail = np.where(~r["stopped_by_light"], tail, 0)
     dist = inside + tail
 
     if d > 0:

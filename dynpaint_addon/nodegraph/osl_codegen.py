@@ -238,7 +238,8 @@ class Program:
                 f"{relief}_file", f"{relief}_srgb", str(int(f.shape_kind == "normal")),
                 self.param("shape.flip_green"), self.param("shape.z_min"),
                 _num(f.size[0]), _num(f.size[1]), self.param("shape.height_scale"),
-                self.param("shadows.offset"), self.param("shadows.steps"), "relief_max",
+                self.param("shadows.offset"), self.param("shadows.steps"),
+                self.param("shadows.reach"), "relief_max",
                 "slope_max"]
         self.params.setdefault("relief_max", "float relief_max = 0.0")
         self.params.setdefault("slope_max", "float slope_max = 0.0")

@@ -69,7 +69,8 @@ def test_in_shader_march_matches_reference_bake(shape, light, paths, tmp_path):
     bpy.ops.render.render(write_still=True)
     got = read_image(str(tmp_path / "t.exr")).pixels[..., 0]
     n, z, slopes = shape_normals(load_images(recipe)["shape"], recipe.params, np.float64)
-    ref = cos_theta_shadow(n, light, recipe.params.shadows.offset, 1024, heights_px=z, slopes=slopes)
+    ref = cos_theta_shadow(n, light, recipe.params.shadows.offset, 1024, heights_px=z, slopes=slopes,
+                           reach=recipe.params.shadows.reach)
     assert np.abs(got - ref).mean() <= 5e-3
     assert np.abs(got - ref).mean() <= 1e-3          # measured ≈3e-4
 
