@@ -46,11 +46,9 @@ def _row(renders):
     return np.concatenate(tiles, 1)[:, :-GAP]
 
 
-OUT = DOCS     # where the page and its pictures go (a test writes them elsewhere)
-
-
-def _save(name, renders):
-    write_png(os.path.join(OUT, "img", "real", name), _row(renders), bits=8)
+def _save(out, name, renders):
+    """Write the renders side by side as img/real/<name> under `out` → its Markdown link."""
+    write_png(os.path.join(out, "img", "real", name), _row(renders), bits=8)
     return f"![{name}](img/real/{name})"
 
 
@@ -66,7 +64,7 @@ def normal_conventions():
             _shade({**PAINT, "shape": halving})[0],
             _shade({**PAINT, "shape": halving}, shape__strength=0.5)[0],
             _shade({**PAINT, "shape": ImageData(ex.normal_map_rgb(n).astype(np.float32), 16)})[0]]
-    return _save("normal_conventions.png", pics)
+    return pics
 
 
 def glass_sphere(mask_rgb, env, **settings):
@@ -83,7 +81,7 @@ def red_mask():
     before, _ = glass_sphere(ex.red_mask, env, transparency__channel="luminance",
                              reflection__distance=0.2)
     after, warnings = glass_sphere(ex.red_mask, env, reflection__distance=0.2)
-    return _save("red_mask.png", [before, after]), warnings
+    return [before, after], warnings
 
 
 def placement():
@@ -95,7 +93,7 @@ def placement():
     mirrored, _ = glass_sphere(grey, env, **kw)
     placed, _ = glass_sphere(grey, env, reflection__offset=(0.0, 0.15),
                              reflection__scale=1.6, **kw)
-    return _save("placement.png", [before, mirrored, placed])
+    return [before, mirrored, placed]
 
 
 def penrose():
@@ -106,7 +104,7 @@ def penrose():
                         np.cos(np.radians(35)) * np.sin(np.radians(200)), np.sin(np.radians(35))))
     pics = [_shade({**PAINT, "shape": shape}, [sun], shadows__enabled=True,
                    shadows__reach=reach)[0] for reach in (10.0, 0.05)]
-    return _save("penrose_shadows.png", pics)
+    return pics
 
 
 def mix_space():
@@ -120,18 +118,18 @@ def mix_space():
     half = {space: 255 * float(linear_to_srgb(barycentric_mix(
         np.zeros(3, np.float32), np.ones(3, np.float32), np.full(3, 0.5, np.float32), space))[0])
         for space in ("linear", "painted")}
-    return _save("mix_space.png", [linear, painted]), half
+    return [linear, painted], half
 
 
 def main(out=DOCS):
-    global OUT
-    OUT = out
     os.makedirs(os.path.join(out, "img", "real"), exist_ok=True)
-    conventions = normal_conventions()
-    mask, mask_warnings = red_mask()
-    placed = placement()
-    stairs = penrose()
-    mix, half = mix_space()
+    conventions = _save(out, "normal_conventions.png", normal_conventions())
+    renders, mask_warnings = red_mask()
+    mask = _save(out, "red_mask.png", renders)
+    placed = _save(out, "placement.png", placement())
+    stairs = _save(out, "penrose_shadows.png", penrose())
+    renders, half = mix_space()
+    mix = _save(out, "mix_space.png", renders)
     page = f"""# Real paintings as their artists made them
 
 Pictures made by `docs/make_real_paintings.py` from the example paintings of

@@ -4,8 +4,10 @@ Test data and the pictures of docs/real-paintings.md come from here, never from 
 set. Arrays are y-up like the core's (row 0 at the bottom, pipeline.md §0), values in [0, 1].
 
     >>> n, facet = penrose_triangle(96)
-    >>> n.shape, int(facet.max())        # 7 cubes per bar, three faces each, + the background
-    ((96, 96, 3), 63)
+    >>> n.shape, n[0, 0].tolist()        # the canvas faces the viewer
+    ((96, 96, 3), [0.0, 0.0, 1.0])
+    >>> float(np.unique(n[facet > 0][:, 2]).round(3)[0])   # every facet tilted alike: 1/√3
+    0.577
 """
 import numpy as np
 

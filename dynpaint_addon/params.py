@@ -67,6 +67,16 @@ class Param:
         return next(panel for panel, (_, sections) in PANELS.items() if self.section in sections)
 
     @property
+    def components(self):
+        """What a backend addresses one by one: (None,) for a number, (0, 1) for a vec2."""
+        return (0, 1) if self.kind == "vec2" else (None,)
+
+    def setting(self, index=None):
+        """Its path in the painting's settings, of component `index` for a vec2:
+        'diffuse.t0', 'reflection.offset[1]' (what a driver reads)."""
+        return self.path if index is None else f"{self.path}[{index}]"
+
+    @property
     def ui_label(self):
         return self.label or self.key.replace("_", " ").title()
 

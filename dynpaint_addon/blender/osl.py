@@ -111,10 +111,8 @@ def build_osl_tree(mat, features, images, lights, march):
 
 
 # the shader's parameter name (osl_codegen.param_name) → the setting it is driven by
-SETTING_OF_INPUT = {osl_codegen.param_name(param.path, index): param.path + suffix
-                    for param in params.PARAMS
-                    for index, suffix in ([(0, "[0]"), (1, "[1]")] if param.kind == "vec2"
-                                          else [(None, "")])}
+SETTING_OF_INPUT = {osl_codegen.param_name(param.path, index): param.setting(index)
+                    for param in params.PARAMS for index in param.components}
 
 
 def _drive_vector(script, sock, obj, kind):

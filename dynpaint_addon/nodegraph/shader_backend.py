@@ -9,6 +9,7 @@ plane's object space, whose unit is one image width, §0).
 """
 import bpy
 
+from .. import params
 from .build_bpy import link_or_set
 
 SETTINGS = "dynamic_painting"     # Material.dynamic_painting (blender/properties.py)
@@ -102,9 +103,8 @@ class ShaderBackend:
     def param(self, tree, node, inputs):
         value = tree.nodes.new("ShaderNodeValue")
         value.outputs[0].default_value = 0.0
-        index = node.props.get("index")
-        drive_property(value.outputs[0], "MATERIAL", self.material,
-                       f"{SETTINGS}.{node.props['path']}" + ("" if index is None else f"[{index}]"))
+        setting = params.BY_PATH[node.props["path"]].setting(node.props.get("index"))
+        drive_property(value.outputs[0], "MATERIAL", self.material, f"{SETTINGS}.{setting}")
         return [value], {0: value.outputs[0]}
 
     def light(self, tree, node, inputs):
