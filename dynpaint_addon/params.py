@@ -9,6 +9,7 @@ from types import SimpleNamespace
 
 from .core.fresnel import DOMAINS
 from .core.inputs import MASK_CHANNELS
+from .core.lights import FALLOFFS
 from .core.sampling import EXTENSIONS
 from .core.shape import ENCODINGS
 from .core.shading import CURVES, MIX_SPACES
@@ -120,6 +121,13 @@ PARAMS = (
       "mixes the colours as painted (display sRGB values, as the paper and the painter's screen "
       "do), linear mixes linear light (mid-tones come out lighter than painted)",
       choices=MIX_SPACES, spec="§5", label="Mix Colours", structural=True),
+    P("falloff", "mode", "enum", "none", "How point lights fade with distance: none (the "
+      "paper's lights: as strong everywhere) or inverse square with a radius, "
+      "k / (1 + (distance/radius)²); suns never fade", choices=FALLOFFS, spec="§5",
+      label="Point-Light Falloff", structural=True),
+    P("falloff", "radius", float, 0.5, "Distance from a point light at which its strength is "
+      "halved; far beyond it the light fades as the inverse square", unit="image widths",
+      min=0.001, max=100.0, spec="§5", shown_if=("falloff.mode", "inverse_square")),
     # §6 shadows
     P("shadows", "enabled", bool, False, "cos-θ shadows: cast shadows, shading and a subsurface "
       "look in one number (replaces N·L in the diffuse term)", spec="§6", structural=True,
@@ -238,7 +246,7 @@ BY_PATH = {p.path: p for p in PARAMS}
 # The sub-panels of the Dynamic Painting panel, in order: id → (label, sections shown).
 PANELS = {
     "shape": ("Shape", ("shape",)),
-    "style": ("Light & Style", ("diffuse",)),
+    "style": ("Light & Style", ("diffuse", "falloff")),
     "shadows": ("Shadows", ("shadows",)),
     "highlights": ("Highlights", ("specular",)),
     "warps": ("Reflection & Refraction", ("reflection", "refraction")),

@@ -195,6 +195,13 @@ RECIPES = {
                                    [_sun((0.6, -0.4, 0.35))]),
     "normal_halving_strength": ({**BASE, "shape": "normal_halving"},
                                 {"shape.strength": 0.5, "shadows.enabled": True}, [SUN]),
+    "falloff_sun_and_point": (BASE, {"falloff.mode": "inverse_square", "falloff.radius": 0.3,
+                                     "specular.enabled": True},
+                              [SUN, _point((0.2, -0.1, 0.15), (1.0, 0.8, 0.6), 2.5, "Fill")]),
+    "falloff_height_point": ({**BASE, "shape": "height16"},
+                             {"shape.kind": "height", "shape.height_scale": 0.2,
+                              "falloff.mode": "inverse_square", "falloff.radius": 0.05},
+                             [_point((-0.1, 0.05, 0.2), strength=4.0)]),
 }
 
 

@@ -24,7 +24,7 @@ from . import shading, warps
 from .colour import srgb_to_linear
 from .inputs import (finite_pixels, mask_channel, mask_note, mask_values, non_finite_message,
                      normal_map_notes, normal_map_problem, size_message)
-from .lights import light_vectors
+from .lights import falloff, light_vectors
 from .sampling import gaussian_blur, pixel_centres, resample, sample_bilinear
 from .bake import bake as shadow_bake
 from .shape import (decode_normal_map, default_preblur_px, height_field_px, normals_from_height_px,
@@ -121,7 +121,8 @@ def shadow_term(n, z_px, slopes, light, p, cancel=None, progress=None):
 
 
 def light_terms(n, z_px, slopes, lights, p, dtype=np.float32, rows=None, shadows=None):
-    """Per light: the raw light term (cos-θ or N·L, §4/§6) and the specular term (§7).
+    """Per light: the raw light term (cos-θ or N·L, §4/§6), the specular term (§7) and the
+    strength k reaching each pixel (§5: the light's strength, times a point light's falloff).
 
     rows: (r0, r1) to compute only those rows (n, z_px are then the full images); shadows:
     the cos-θ terms already baked for the whole image, one per light.
@@ -131,9 +132,9 @@ def light_terms(n, z_px, slopes, lights, p, dtype=np.float32, rows=None, shadows
     x, y = pixel_centres(h, w, dtype)
     x, y, nb = x[r0:r1], y[r0:r1], n[r0:r1]
     zs = z_px[r0:r1] if z_px is not None else np.zeros((r1 - r0, w), dtype)
-    raw, spec = [], []
+    raw, spec, strength = [], [], []
     for i, light in enumerate(lights):
-        lvec, _ = light_vectors(light, x, y, zs, dtype, image_size=(h, w))
+        lvec, dist = light_vectors(light, x, y, zs, dtype, image_size=(h, w))
         if p.shadows.enabled:
             t = shadows[i] if shadows is not None else shadow_term(n, z_px, slopes, light, p)
             t = t[r0:r1]
@@ -143,7 +144,10 @@ def light_terms(n, z_px, slopes, lights, p, dtype=np.float32, rows=None, shadows
         if p.specular.enabled:
             spec.append(shading.specular_term(nb, lvec, p.specular.s0, p.specular.s1,
                                               p.specular.curve))
-    return raw, spec
+        k = dtype(light.strength)
+        strength.append(k if dist is None else k * falloff(dist / dtype(w), p.falloff.mode,
+                                                           p.falloff.radius))
+    return raw, spec, strength
 
 
 def _lookup_source(imgs, name, sigma_widths, extension, dtype, cache):
@@ -314,6 +318,7 @@ class Band:
     c_spec: np.ndarray = None        # §7 highlight colour
     diffuse_terms: list = None       # §4 per-light terms t after Clamp&Step
     specular_terms: list = None      # §7 per-light highlight terms (from the light terms)
+    strengths: list = None           # §5 per-light k reaching each pixel (point-light falloff)
     passes: dict = field(default_factory=dict)
 
     def __post_init__(self):
@@ -369,12 +374,11 @@ def diffuse(b):
     c0 = np.where(np.isfinite(c0), c0, 0)
     c1 = np.where(np.isfinite(c1), c1, 0)
     ctx = b.ctx
-    raw, spec = light_terms(ctx.n, ctx.z_px, ctx.slopes, lights, p, dtype, (b.r0, b.r1),
-                            ctx.shadows)
+    raw, spec, b.strengths = light_terms(ctx.n, ctx.z_px, ctx.slopes, lights, p, dtype,
+                                         (b.r0, b.r1), ctx.shadows)
     terms = [shading.clamp_step(t, p.diffuse.t0, p.diffuse.t1, p.diffuse.curve) for t in raw]
     if lights:
-        w_mix = shading.light_weight(terms, [lt.colour for lt in lights],
-                                     [lt.strength for lt in lights])
+        w_mix = shading.light_weight(terms, [lt.colour for lt in lights], b.strengths)
     else:
         w_mix = np.zeros(b.shape + (3,), dtype)
     c_d = shading.barycentric_mix(c0, c1, w_mix, p.diffuse.mix_space)
@@ -390,8 +394,7 @@ def highlights(b):
     b.c_spec = b.colour("specular_color") if b.has("specular_color") else np.ones(3, dtype)
     if not (p.specular.enabled and lights):
         return
-    b.s_mix = shading.light_weight(b.specular_terms, [lt.colour for lt in lights],
-                                   [lt.strength for lt in lights])
+    b.s_mix = shading.light_weight(b.specular_terms, [lt.colour for lt in lights], b.strengths)
     g = np.clip(b.mask("gloss") * dtype(p.specular.amount), 0, 1)
     c_s = shading.opaque_highlight(b.rgba[..., :3], b.c_spec, g[..., None] * b.s_mix)
     b.rgba = np.concatenate([c_s, b.rgba[..., 3:]], axis=2)

@@ -44,10 +44,11 @@ def specular_term(n, l, s0, s1, curve="linear"):
 
 
 def light_weight(terms, colours, strengths):
-    """§5: W = clip(Σ_i k_i c_i t_i, 0, 1) per channel, for per-light scalar terms t_i (H, W)."""
+    """§5: W = clip(Σ_i k_i c_i t_i, 0, 1) per channel, for per-light scalar terms t_i (H, W)
+    and strengths k_i: a number, or one per pixel (H, W) where a point light falls off."""
     acc = None
     for t, c, k in zip(terms, colours, strengths):
-        contrib = t[..., None] * (np.asarray(c, dtype=t.dtype) * t.dtype.type(k))
+        contrib = (t * np.asarray(k, dtype=t.dtype))[..., None] * np.asarray(c, dtype=t.dtype)
         acc = contrib if acc is None else acc + contrib
     return np.clip(acc, 0, 1)
 

@@ -129,6 +129,18 @@ def _light_group(kind, shadows, specular, diffuse_curve, specular_curve):
     return build()
 
 
+@_subgraph("DP Inverse-Square Falloff (§5)", [("Weight", VECTOR), ("Light", VECTOR),
+                                              ("Surface", VECTOR), ("Radius", FLOAT)],
+           [("Weight", VECTOR)])
+def _inverse_square(g, weight, light, surface, radius):
+    """k·c of a point light at P_S: × 1/(1 + |P_L − P_S|²/r²) = r²/(r² + |P_L − P_S|²)."""
+    to_light = g.vmath("SUBTRACT", light, surface)
+    r2 = g.math("MULTIPLY", radius, radius, label="r²")
+    fade = g.math("DIVIDE", r2, g.math("ADD", r2, g.vmath("DOT_PRODUCT", to_light, to_light),
+                                       label="r² + dist²"), label="falloff")
+    g.set_outputs(Weight=g.vmath("SCALE", weight, scale=fade, label="k·c·falloff"))
+
+
 @_subgraph("DP Weight (§5)", [("Sum", VECTOR), ("Term", FLOAT), ("Weight", VECTOR)],
            [("Sum", VECTOR)])
 def _accumulate(g, acc, term, weight):
@@ -365,6 +377,10 @@ def diffuse(b):
         for i, kind in enumerate(f.lights):
             with g.section(f"Light {i + 1}"):
                 vec, weight = g.light(i, kind)
+                if kind == "point" and f.falloff_mode == "inverse_square":
+                    weight = g.group(_inverse_square(), {
+                        "Weight": weight, "Light": vec, "Surface": b.surface,
+                        "Radius": g.param("falloff.radius")})["Weight"]
                 shadow = g.shadow_term(i, kind, b.normal, vec) if f.shadows else 0.0
                 terms = g.group(_light_group(kind, f.shadows, f.specular, f.diffuse_curve,
                                              f.specular_curve),

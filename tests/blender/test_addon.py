@@ -257,6 +257,11 @@ class RecordingLayout:
 
 def test_every_panel_draws_existing_properties_and_operators(empty_scene, folder):
     add(folder, "height16.png", "dark.png", "bright.png")
+    s = bpy.context.object.active_material.dynamic_painting
+    for p in params.PARAMS:      # open what other settings hide (the falloff's radius, …)
+        if p.shown_if and p.shown_if[0] != "shape.kind":
+            section, key = p.shown_if[0].split(".")
+            setattr(getattr(s, section), key, p.shown_if[1])
     panels = [c for c in blender.panels.CLASSES]
     log = []
     for cls in panels:

@@ -121,7 +121,7 @@ def test_passes_per_light_match_core(paths, tmp_path):
     from dynpaint_addon.core.shading import clamp_step
     imgs = load_images(recipe)
     n, z, sl = shape_normals(imgs["shape"], recipe.params)
-    raw, _ = light_terms(n, z, sl, recipe.lights, recipe.params)
+    raw, _, _ = light_terms(n, z, sl, recipe.lights, recipe.params)
     for i, t in enumerate(raw):
         tree.links.new(node.outputs[f"Light {i + 1} t"], out.inputs[0])
         bpy.ops.render.render(write_still=True)

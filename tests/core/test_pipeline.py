@@ -311,3 +311,27 @@ def test_the_background_around_the_silhouette_is_placed_like_the_refraction():
     assert _brightest(render(imgs, LIGHTS, p).rgba[..., 0]) == (1, 1)
     p.refraction.offset = (3 / w, 2 / w)
     assert _brightest(render(imgs, LIGHTS, p).rgba[..., 0]) == (3, 4)
+
+
+def test_point_light_falloff_halves_the_weight_at_its_radius_and_spares_suns():
+    """§5: inverse-square falloff k / (1 + (dist/r)²) on a flat painting lit from straight above:
+    N·L = 1 under the light, so W is the falloff itself there; a sun does not fade."""
+    size = 65
+    flat = {"shape": const(size, size, (0.5, 0.5, 1.0), 16),
+            "dark": const(size, size, 0.0), "bright": const(size, size, 1.0)}
+    p = params.defaults()
+    p.falloff.mode, p.falloff.radius = "inverse_square", 0.25
+    p.diffuse.mix_space = "linear"
+    height = 0.25                                    # the light's height = its radius
+    w = render(flat, [Light("point", (0.0, 0.0, height))], p).passes["W"][..., 0]
+    assert w[size // 2, size // 2] == pytest.approx(0.5, abs=1e-6)      # dist = r → ½
+    x = (size // 2 + 16.5) / size - 0.5               # a pixel about r to the side
+    dist2 = x * x + height * height
+    expected = height / np.sqrt(dist2) / (1 + dist2 / 0.25 ** 2)        # N·L × falloff
+    assert w[size // 2, size // 2 + 16] == pytest.approx(expected, abs=1e-5)
+    p.falloff.mode = "none"
+    w_none = render(flat, [Light("point", (0.0, 0.0, height))], p).passes["W"][..., 0]
+    assert w_none[size // 2, size // 2] == pytest.approx(1.0, abs=1e-6)
+    p.falloff.mode = "inverse_square"
+    w_sun = render(flat, [Light("sun", (0.0, 0.0, 1.0))], p).passes["W"][..., 0]
+    assert np.allclose(w_sun, 1.0)

@@ -72,9 +72,11 @@ def test_every_parameter_has_a_consumer():
     driver or a group input), a derived image or the bake."""
     used = set()
     for kind in ("normal", "height"):
-        for refraction, fresnel in (("physical", "physical"), ("linear", "art")):
+        for refraction, fresnel, falloff in (("physical", "physical", "none"),
+                                             ("linear", "art", "inverse_square")):
             f = dataclasses.replace(features(base_params(kind)), refraction_mode=refraction,
-                                    fresnel_mode=fresnel)
+                                    fresnel_mode=fresnel, falloff_mode=falloff,
+                                    lights=("sun", "point"))
             used |= describe(f).params()
     idle = [prm.path for prm in params.PARAMS if not (prm.structural or prm.derives or prm.bake
                                                        or prm.path in used)]
