@@ -18,8 +18,10 @@ from .core.sampling import resample
 from .core.bake import QUALITY, bake, quality_settings
 from .core.shadow import ShadowStats
 from .imageio import ImageReadError, read_image, write_exr, write_png
+from .make_shape_cli import add_parser as add_make_shape_parser
 from .recipe import RecipeError, load_images, load_recipe
 from .samples import recipe_path
+from .shape_maker import ShapeError
 from .testpainting import builtin_images, builtin_recipe, write_test_painting
 
 
@@ -320,6 +322,7 @@ def build_parser():
 
     pa = sub.add_parser("params", help="list every recipe parameter with its unit, range, default")
     pa.set_defaults(func=cmd_params)
+    add_make_shape_parser(sub)
     return ap
 
 
@@ -327,7 +330,7 @@ def main(argv=None):
     args = build_parser().parse_args(argv)
     try:
         args.func(args)
-    except (CommandError, RecipeError, ImageReadError) as exc:
+    except (CommandError, RecipeError, ImageReadError, ShapeError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
     except (ValueError, OSError, MemoryError) as exc:

@@ -1,0 +1,153 @@
+"""Normal map → height map by least squares (docs/shape-from-painting.md, pipeline.md §2).
+
+A normal N gives the slopes of the relief, ∂z/∂x = −N.x/N.z and ∂z/∂y = −N.y/N.z (§2 read
+backwards). Between each pair of neighbouring pixels the height difference should equal the
+mean of their slopes; the height map that best satisfies all those equations (least squares,
+free edges) solves the Poisson equation −Δz = −div g:
+
+    z = argmin Σ_edges (z_b − z_a − g_ab)²
+
+Without a mask the image is solved at once by the discrete cosine transform (laplace.
+poisson_neumann). With a mask, equations between a pixel inside and one outside are dropped:
+the figure and its background are integrated each on its own (laplace.solve), and each
+figure part is lifted `depth` image widths above the background it borders.
+
+What no height map can reproduce — a painted, impossible normal field has a curl — is left
+over as the residual g − ∇z, returned as an image and a share of the field.
+
+    >>> import numpy as np
+    >>> y, x = np.mgrid[0:32, 0:48] / 48.0
+    >>> n = np.dstack([np.full_like(x, -0.3), np.zeros_like(x), np.ones_like(x)])
+    >>> r = integrate(n / np.linalg.norm(n, axis=2, keepdims=True))
+    >>> round(float(r.height[0, 47] - r.height[0, 0]), 3), round(r.residual_share, 6)  # 47/48 × 0.3
+    (0.294, 0.0)
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from .laplace import Grid, poisson_neumann, solve
+
+
+@dataclass
+class Integrated:
+    height: np.ndarray       # (H, W) heights in image widths, lowest 0
+    residual: np.ndarray     # (H, W) |g − ∇z| around each pixel (slope units, RMS of its edges)
+    residual_rms: float      # RMS of g − ∇z over all equations (slope units)
+    residual_share: float    # |g − ∇z| / |g|: 0 for a height map's normals, 1 for a pure curl
+    parts: int               # connected parts integrated separately (1 without a mask)
+    iterations: int          # of the masked solve (0: the DCT solves at once)
+
+
+def edge_slopes(normals):
+    """Slopes on the edges between neighbours: gx (H, W−1) between (i, j) and (i, j + 1), gy
+    (H − 1, W) between (i, j) and (i + 1, j); each the mean of its two pixels' −N.xy/N.z."""
+    n = np.asarray(normals, dtype=np.float64)
+    nz = np.maximum(n[..., 2], 1e-3)        # §2 keeps N.z ≥ z_min; this only guards raw input
+    p, q = -n[..., 0] / nz, -n[..., 1] / nz
+    return (p[:, 1:] + p[:, :-1]) / 2, (q[1:, :] + q[:-1, :]) / 2
+
+
+def _divergence(gx, gy, shape):
+    """b = −div g for the normal equations −L z = b (each edge pushes its two pixels apart)."""
+    b = np.zeros(shape)
+    b[:, :-1] -= gx
+    b[:, 1:] += gx
+    b[:-1, :] -= gy
+    b[1:, :] += gy
+    return b
+
+
+def components(wx, wy):
+    """Connected parts of the pixel grid joined by the edges wx (H, W−1), wy (H−1, W) (bool)
+    → (labels (H, W) in 0 … count − 1, count): runs of each row, merged along wy by
+    min-label propagation with pointer jumping."""
+    h, w = wx.shape[0], wx.shape[1] + 1
+    start = np.ones((h, w), bool)
+    start[:, 1:] = ~wx
+    run = np.cumsum(start.ravel()).reshape(h, w) - 1
+    a, b = run[:-1][wy], run[1:][wy]
+    label = np.arange(int(run[-1, -1]) + 1)
+    while True:
+        low = np.minimum(label[a], label[b])
+        new = label.copy()
+        np.minimum.at(new, a, low)
+        np.minimum.at(new, b, low)
+        new = new[new]
+        if np.array_equal(new, label):
+            break
+        label = new
+    _, dense = np.unique(label, return_inverse=True)
+    labels = dense[run]
+    return labels, int(dense.max()) + 1 if dense.size else 0
+
+
+def _border_pairs(mask):
+    """Flat indices (figure pixel, background pixel) of every figure pixel beside the background."""
+    idx = np.arange(mask.size).reshape(mask.shape)
+    fig, bg = [], []
+    for a, b in ((idx[:, :-1], idx[:, 1:]), (idx[:-1, :], idx[1:, :])):
+        ma, mb = mask.ravel()[a], mask.ravel()[b]
+        cut = ma != mb
+        fig.append(np.where(ma, a, b)[cut])
+        bg.append(np.where(ma, b, a)[cut])
+    return np.concatenate(fig), np.concatenate(bg)
+
+
+def _place_parts(z, mask, labels, count, depth):
+    """Shift each part: background parts to mean 0, then each figure part so that along its
+    border it stands `depth` above the background it touches (mean over the border); a
+    figure part that touches no background gets mean `depth`."""
+    flat, zf = labels.ravel(), z.ravel()
+    means = np.bincount(flat, zf, count) / np.maximum(np.bincount(flat, None, count), 1)
+    inside = np.bincount(flat, mask.ravel().astype(float), count) > 0
+    zf = zf - np.where(inside, 0.0, means)[flat]
+    fig, bg = _border_pairs(mask)
+    gap = np.bincount(flat[fig], zf[bg] - zf[fig], count)
+    touching = np.bincount(flat[fig], None, count)
+    lift = np.where(touching > 0, gap / np.maximum(touching, 1), -means) + depth
+    return (zf + np.where(inside, lift, 0.0)[flat]).reshape(z.shape)
+
+
+def _cuts(mask):
+    """Edge weights that keep the equations between pixels on the same side of the mask."""
+    return ((mask[:, 1:] == mask[:, :-1]).astype(float),
+            (mask[1:, :] == mask[:-1, :]).astype(float))
+
+
+def integrate(normals, mask=None, depth=0.0):
+    """Least-squares height of a unit normal field (H, W, 3), y up → Integrated.
+
+    mask: (H, W) bool, True on the figure; equations across its edge are dropped and each part
+    is placed by `depth` (image widths: how far a figure's rim stands above the background).
+    """
+    n = np.asarray(normals, dtype=np.float64)
+    h, w = n.shape[:2]
+    gx, gy = edge_slopes(n)
+    gx, gy = gx / w, gy / w                 # per pixel step, in image widths
+    if mask is None or np.all(mask) or not np.any(mask):
+        wx, wy = np.ones_like(gx), np.ones_like(gy)
+        z = poisson_neumann(_divergence(gx, gy, (h, w)))
+        iterations, count = 0, 1
+    else:
+        mask = np.asarray(mask, bool)
+        wx, wy = _cuts(mask)
+        labels, count = components(wx > 0, wy > 0)
+        z, iterations, _ = solve(Grid(wx, wy), _divergence(gx * wx, gy * wy, (h, w)), tol=1e-6)
+        z = _place_parts(z, mask, labels, count, depth)
+    rx = ((z[:, 1:] - z[:, :-1]) - gx) * w * wx      # back to slope units
+    ry = ((z[1:, :] - z[:-1, :]) - gy) * w * wy
+    sq, k = np.zeros((h, w)), np.zeros((h, w))
+    for r2, e, sl_a, sl_b in ((rx * rx, wx, np.s_[:, :-1], np.s_[:, 1:]),
+                              (ry * ry, wy, np.s_[:-1, :], np.s_[1:, :])):
+        sq[sl_a] += r2
+        sq[sl_b] += r2
+        k[sl_a] += e
+        k[sl_b] += e
+    equations = wx.sum() + wy.sum()
+    total = np.sum(rx * rx) + np.sum(ry * ry)
+    field = np.sum((gx * w * wx) ** 2) + np.sum((gy * w * wy) ** 2)
+    return Integrated(height=z - z.min(), residual=np.sqrt(sq / np.maximum(k, 1)),
+                      residual_rms=float(np.sqrt(total / max(equations, 1))),
+                      residual_share=float(np.sqrt(total / field)) if field > 0 else 0.0,
+                      parts=count, iterations=iterations)

@@ -1,0 +1,177 @@
+"""Poisson solves on the pixel grid, numpy only (docs/shape-from-painting.md).
+
+Two solvers for the graph Laplacian of the 4-neighbour pixel grid:
+
+* `poisson_neumann` — the whole image with free (Neumann) edges, exactly, by the discrete
+  cosine transform: the DCT-II basis diagonalises the Neumann second difference, eigenvalue
+  2 cos(πk/N) − 2 per axis, so L z = f is one forward and one inverse 2-D DCT (O(n log n)).
+* `solve` — any subset of the grid's edges (a cut mask) and pixels held at 0 beyond an edge
+  (a `Grid`), by conjugate gradients preconditioned with a multigrid V-cycle whose coarse
+  levels merge 2×2 blocks (`Multigrid`): a few tens of iterations at any size.
+
+Both use the sign convention L z = Σ_neighbours (z_nb − z) (negative semi-definite) and
+solve −L z = b, so b is a "source": −Δz = b.
+
+    >>> z = poisson_neumann(np.zeros((4, 5)))
+    >>> z.shape, float(abs(z).max())
+    ((4, 5), 0.0)
+"""
+import numpy as np
+
+
+
+def _dct(x, axis):
+    """Unnormalised DCT-II along `axis`: X_k = Σ_m x_m cos(πk(2m + 1)/(2N)) (Makhoul's FFT)."""
+    x = np.moveaxis(x, axis, -1)
+    n = x.shape[-1]
+    v = np.concatenate([x[..., ::2], x[..., 1::2][..., ::-1]], axis=-1)
+    twiddle = np.exp(-0.5j * np.pi * np.arange(n) / n)
+    return np.moveaxis(np.real(np.fft.fft(v, axis=-1) * twiddle), -1, axis)
+
+
+def _idct(X, axis):
+    """Inverse of `_dct` (a scaled DCT-III)."""
+    X = np.moveaxis(X, axis, -1)
+    n = X.shape[-1]
+    reversed_ = np.concatenate([np.zeros_like(X[..., :1]), X[..., :0:-1]], axis=-1)
+    twiddle = np.exp(0.5j * np.pi * np.arange(n) / n)
+    v = np.real(np.fft.ifft((X - 1j * reversed_) * twiddle, axis=-1))
+    x = np.empty_like(v)
+    half = (n + 1) // 2
+    x[..., ::2] = v[..., :half]
+    x[..., 1::2] = v[..., half:][..., ::-1]
+    return np.moveaxis(x, -1, axis)
+
+
+def poisson_neumann(b):
+    """Solve −L z = b on the whole grid with free edges → z with mean 0 (b's mean is ignored:
+    a Neumann problem is solvable only for sources that sum to 0, the rest is a constant)."""
+    b = np.asarray(b, dtype=np.float64)
+    h, w = b.shape
+    eig = (2 - 2 * np.cos(np.pi * np.arange(h) / h))[:, None] + \
+        (2 - 2 * np.cos(np.pi * np.arange(w) / w))[None, :]
+    eig[0, 0] = 1.0
+    coeff = _dct(_dct(b, 0), 1) / eig
+    coeff[0, 0] = 0.0
+    return _idct(_idct(coeff, 0), 1)
+
+
+class Grid:
+    """The operator A z = Σ_edges w_e (z_a − z_b) + d·z: −L over the kept edges (weights wx
+    between (i, j) and (i, j + 1), wy between (i, j) and (i + 1, j)) plus a Dirichlet term d
+    where a pixel's neighbour beyond an edge is held at 0. A pixel with no edge and no d is
+    not an unknown (it stays 0). dtype float32 halves the time where ~1e-4 is enough.
+    """
+
+    def __init__(self, wx, wy, dirichlet=None, dtype=np.float64):
+        self.dtype = np.dtype(dtype)
+        self.wx, self.wy = np.asarray(wx, dtype), np.asarray(wy, dtype)
+        h, w = self.wy.shape[0] + 1, self.wx.shape[1] + 1
+        self.shape = (h, w)
+        self.dirichlet = np.zeros((h, w), dtype) if dirichlet is None else \
+            np.asarray(dirichlet, dtype)
+        diag = self.dirichlet.copy()
+        diag[:, :-1] += self.wx
+        diag[:, 1:] += self.wx
+        diag[:-1, :] += self.wy
+        diag[1:, :] += self.wy
+        self.diag = diag
+        self.free = diag > 0
+        self.inv_diag = np.where(self.free, 1 / np.where(self.free, diag, 1), 0).astype(dtype)
+
+    def apply(self, z):
+        out = self.diag * z
+        out[:, :-1] -= self.wx * z[:, 1:]
+        out[:, 1:] -= self.wx * z[:, :-1]
+        out[:-1, :] -= self.wy * z[1:, :]
+        out[1:, :] -= self.wy * z[:-1, :]
+        return out
+
+
+def _coarse(grid):
+    """The same operator on 2×2 blocks: Galerkin (Pᵀ A P) for P = "each block's pixels share
+    one value", so weights across block sides add up, edges inside a block vanish and a cut
+    stays a cut. Odd sizes are padded with a pixel that is no unknown."""
+    h, w = grid.shape
+    ph, pw = h % 2, w % 2
+    wx = np.pad(grid.wx, ((0, ph), (0, pw)))
+    wy = np.pad(grid.wy, ((0, ph), (0, pw)))
+    d = np.pad(grid.dirichlet, ((0, ph), (0, pw)))
+    h2, w2 = (h + ph) // 2, (w + pw) // 2
+    wx_c = wx[:, 1::2][:, :w2 - 1].reshape(h2, 2, w2 - 1).sum(1)
+    wy_c = wy[1::2, :][:h2 - 1].reshape(h2 - 1, w2, 2).sum(2)
+    return Grid(wx_c, wy_c, d.reshape(h2, 2, w2, 2).sum((1, 3)), grid.dtype)
+
+
+def _restrict(r, shape):
+    h, w = r.shape
+    r = np.pad(r, ((0, h % 2), (0, w % 2)))
+    return r.reshape(shape[0], 2, shape[1], 2).sum((1, 3))
+
+
+def _prolong(e, shape):
+    h2, w2 = e.shape
+    fine = np.broadcast_to(e[:, None, :, None], (h2, 2, w2, 2)).reshape(2 * h2, 2 * w2)
+    return fine[:shape[0], :shape[1]]
+
+
+class Multigrid:
+    """A V-cycle for a Grid: damped Jacobi smoothing, block (aggregation) coarse levels down to
+    ≤ 256 pixels solved by a pseudo-inverse. Symmetric, so it preconditions CG (`solve`)."""
+
+    SMOOTH, OMEGA, OVERCORRECT = 2, 0.8, 1.8
+
+    def __init__(self, grid):
+        self.levels = [grid]
+        while self.levels[-1].shape[0] * self.levels[-1].shape[1] > 256:
+            self.levels.append(_coarse(self.levels[-1]))
+        last = self.levels[-1]
+        dense = np.array([last.apply(e.reshape(last.shape)).ravel()
+                          for e in np.eye(last.shape[0] * last.shape[1], dtype=last.dtype)])
+        self.coarsest = np.linalg.pinv(dense.astype(np.float64), hermitian=True)
+
+    def __call__(self, r, level=0):
+        grid = self.levels[level]
+        if level == len(self.levels) - 1:
+            return (self.coarsest @ r.ravel()).reshape(r.shape).astype(grid.dtype)
+        scaled = self.OMEGA * grid.inv_diag
+        e = scaled * r
+        for _ in range(self.SMOOTH - 1):
+            e += scaled * (r - grid.apply(e))
+        coarse = self.levels[level + 1]
+        e += self.OVERCORRECT * _prolong(self(_restrict(r - grid.apply(e), coarse.shape),
+                                              level + 1), r.shape)
+        for _ in range(self.SMOOTH):
+            e += scaled * (r - grid.apply(e))
+        return e
+
+
+def solve(grid, b, tol=1e-4, max_iter=200):
+    """grid.apply(z) = b by multigrid-preconditioned conjugate gradients → (z float64,
+    iterations, relative residual). Consistent singular systems (free edges) converge too;
+    b is taken as 0 where the grid has no unknown."""
+    mg = Multigrid(grid)
+    dt = grid.dtype.type
+    b = np.where(grid.free, b, 0).astype(dt)
+    z = np.zeros(grid.shape, dt)
+    r = b.copy()
+    norm_b = float(np.sqrt(np.sum(b.astype(np.float64) ** 2))) or 1.0
+    zr = mg(r)
+    p = zr.copy()
+    rz = float(np.sum(r * zr, dtype=np.float64))
+    it, res = 0, float(np.sqrt(np.sum(r.astype(np.float64) ** 2))) / norm_b
+    while it < max_iter and res > tol:
+        ap = grid.apply(p)
+        pap = float(np.sum(p * ap, dtype=np.float64))
+        if pap <= 0:
+            break
+        alpha = rz / pap
+        z += dt(alpha) * p
+        r -= dt(alpha) * ap
+        zr = mg(r)
+        rz_new = float(np.sum(r * zr, dtype=np.float64))
+        p = zr + dt(rz_new / rz) * p
+        rz = rz_new
+        it += 1
+        res = float(np.sqrt(np.sum(r.astype(np.float64) ** 2))) / norm_b
+    return z.astype(np.float64), it, res

@@ -1,0 +1,124 @@
+"""`make-shape` on the command line (issue 16): each method on files in other tools'
+conventions (16-bit PNGs, Sprite Lamp names, alpha silhouettes, EXR heights in image widths),
+the bake reading an integrated height at its true scale, and bad input as one line."""
+import numpy as np
+import pytest
+
+from dynpaint_addon.core.integrate import integrate
+from dynpaint_addon.imageio import read_image, write_exr, write_png
+
+from conftest import run_cli
+
+SIZE = 96
+
+
+def sphere(size=SIZE, radius=0.35, ball=0.6):
+    """A cap of a ball (radius `ball`) cut at `radius`: heights in image widths, unit
+    normals, the disc it covers."""
+    y, x = (np.mgrid[0:size, 0:size] + 0.5) / size - 0.5
+    r2 = x * x + y * y
+    disc = r2 < radius ** 2
+    z = np.where(disc, np.sqrt(ball ** 2 - np.minimum(r2, ball ** 2))
+                 - np.sqrt(ball ** 2 - radius ** 2), 0)
+    n = np.dstack([x, y, np.sqrt(np.clip(ball ** 2 - r2, 0, None))]) / ball
+    return z, np.where(disc[..., None], n, [0.0, 0.0, 1.0]), disc
+
+
+def ok(res):
+    assert res.returncode == 0, res.stderr
+    assert "Traceback" not in res.stderr
+    return res.stdout
+
+
+def test_integrate_writes_heights_in_image_widths_that_bake_at_their_true_scale(tmp_path):
+    z, n, inside = sphere()
+    write_png(tmp_path / "normal.png", (n + 1) / 2, bits=16)
+    out = ok(run_cli("make-shape", "integrate", tmp_path / "normal.png", "--out",
+                     tmp_path / "height.exr", "--residual", tmp_path / "res.exr", "-v"))
+    assert "integrate:" in out and "residual" in out and " s" in out
+    height = read_image(tmp_path / "height.exr").pixels[..., 0]
+    assert np.abs((height - height[0, 0]) - z).max() < 0.02 * z.max()     # a kink at its rim
+    ok(run_cli("bake-shadow", tmp_path / "height.exr", "--kind", "height", "--height-scale", "1",
+               "--light", "1", "0", "0.5", "--out", tmp_path / "t.exr"))
+    t = read_image(tmp_path / "t.exr").pixels[..., 0]
+    assert t[SIZE // 2, SIZE // 2 + 40] < 0.5 < t[SIZE // 2, SIZE // 2 + 20]  # shadow beside it
+
+
+def test_integrate_with_the_alpha_as_mask_lifts_the_figure_by_its_depth(tmp_path):
+    n = np.zeros((40, 50, 3))
+    n[..., 2] = 1
+    rgba = np.concatenate([(n + 1) / 2, np.zeros((40, 50, 1))], axis=2)
+    rgba[10:30, 10:40, 3] = 1
+    write_png(tmp_path / "box.png", rgba, bits=16)
+    ok(run_cli("make-shape", "integrate", tmp_path / "box.png", "--mask", "alpha", "--depth",
+               "0.08", "--out", tmp_path / "box.exr"))
+    h = read_image(tmp_path / "box.exr").pixels[..., 0]
+    assert h[20, 20] == pytest.approx(0.08, abs=1e-4) and h[0, 0] == pytest.approx(0, abs=1e-4)
+
+
+def test_normals_profiles_and_rg_photo_make_normal_maps(tmp_path):
+    z, n, inside = sphere()
+    write_exr(tmp_path / "h.exr", z)
+    ok(run_cli("make-shape", "normals", tmp_path / "h.exr", "--height-scale", "1",
+               "--out", tmp_path / "n.png"))
+    got = read_image(tmp_path / "n.png").pixels[..., :3] * 2 - 1
+    inner = (np.linalg.norm(n[..., :2], axis=2) < 0.25) & inside
+    assert np.degrees(np.arccos(np.clip(np.sum(got * n, 2), -1, 1)))[inner].mean() < 1.0
+    # Sprite Lamp's names: portrait_left.png … lit at 30° by the profiles' own convention
+    e = np.radians(30)
+    for side, l in {"left": (-np.cos(e), 0, np.sin(e)), "right": (np.cos(e), 0, np.sin(e)),
+                    "top": (0, np.cos(e), np.sin(e)), "bottom": (0, -np.cos(e), np.sin(e))}.items():
+        shot = np.clip(n @ np.array(l), 0, 1)
+        write_exr(tmp_path / f"portrait_{side}.exr", shot)
+    ok(run_cli("make-shape", "profiles", *[tmp_path / f"portrait_{s}.exr" for s in
+                                           ("left", "right", "top", "bottom")],
+               "--out", tmp_path / "p.exr", "-v"))
+    got = read_image(tmp_path / "p.exr").pixels[..., :3] * 2 - 1
+    assert np.degrees(np.arccos(np.clip(np.sum(got * n, 2), -1, 1)))[inside].mean() < 0.5
+    write_png(tmp_path / "photo.png", (n + 1) / 2, bits=16)
+    ok(run_cli("make-shape", "rg-photo", tmp_path / "photo.png", "--green", "directx",
+               "--out", tmp_path / "rg.png"))
+    rg = read_image(tmp_path / "rg.png").pixels[..., :3] * 2 - 1
+    assert np.abs(rg[..., 1] + n[..., 1]).max() < 1e-3              # DirectX: green down
+
+
+def test_inflate_makes_a_hemisphere_of_a_silhouette(tmp_path):
+    _, _, disc = sphere(128, 0.4, 0.4)
+    rgba = np.ones((128, 128, 4))
+    rgba[..., 3] = disc
+    write_png(tmp_path / "painting.png", rgba)
+    out = ok(run_cli("make-shape", "inflate", tmp_path / "painting.png", "--out",
+                     tmp_path / "h.png", "-v"))
+    assert "height_scale" in out
+    scale = float(out.split("height_scale ")[1].split(")")[0])
+    h = read_image(tmp_path / "h.png").pixels[..., 0] * scale
+    assert h.max() == pytest.approx(0.4, rel=0.02) and h[0, 0] == 0
+
+
+def test_export_maps_of_a_sample(tmp_path):
+    out = ok(run_cli("make-shape", "export-maps", "portrait", "--out", tmp_path / "maps"))
+    for name in ("normal.png", "height.exr", "height.png", "ambient_occlusion.png"):
+        assert (tmp_path / "maps" / name).exists(), out
+    ao = read_image(tmp_path / "maps" / "ambient_occlusion.png").pixels[..., 0]
+    assert 0 < ao.min() < 0.95 and ao.max() == 1.0
+
+
+@pytest.mark.parametrize("args,message", [
+    (["integrate", "missing.png", "--out", "h.exr"], "file not found"),
+    (["integrate", "{d}/n.png", "--out", "h.tif"], ".exr (float) or .png"),
+    (["integrate", "{d}/n.png", "--mask", "alpha", "--out", "h.exr"], "no alpha channel"),
+    (["integrate", "{d}/n.png", "--mask", "{d}/small.png", "--out", "h.exr"], "must match"),
+    (["inflate", "{d}/black.png", "--out", "h.exr"], "no figure to inflate"),
+    (["profiles", "{d}/n.png", "--out", "n.png"], "does not say a side"),
+    (["profiles", "--left", "{d}/n.png", "--out", "n.png"], "at least two"),
+    (["profiles", "--left", "{d}/n.png", "--right", "{d}/small.png", "--out", "n.png"],
+     "same size"),
+])
+def test_bad_input_is_one_line(tmp_path, args, message):
+    write_png(tmp_path / "n.png", np.full((20, 30, 3), 0.5))
+    write_png(tmp_path / "small.png", np.full((10, 10, 3), 0.5))
+    write_png(tmp_path / "black.png", np.zeros((10, 10, 3)))
+    res = run_cli("make-shape", *[a.format(d=tmp_path) for a in args], cwd=tmp_path)
+    assert res.returncode == 1 and "Traceback" not in res.stderr
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ") and message in lines[0], lines

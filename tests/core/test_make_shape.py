@@ -1,0 +1,275 @@
+"""Shape from the painting (issue 16): each method's exact cases and its extremes, bpy-free.
+
+Integration of a plane and a smooth bump, the residual of a field no height map has, masks
+that cut a figure from its background; inflation of a disc into a hemisphere; lighting
+profiles rendered by the core itself; the red/green photograph; NaN-free on empty, one-pixel,
+flat and non-square inputs.
+"""
+import numpy as np
+import pytest
+
+from dynpaint_addon import params
+from dynpaint_addon.core.inflate import PROFILES, inflate
+from dynpaint_addon.core.integrate import components, integrate
+from dynpaint_addon.core.laplace import Grid, poisson_neumann, solve
+from dynpaint_addon.core.lights import Light
+from dynpaint_addon.core.occlusion import ambient_occlusion
+from dynpaint_addon.core.photometric import (normals_from_profiles, normals_from_rg_photo,
+                                             profile_directions)
+from dynpaint_addon.core.pipeline import ImageData, render
+from dynpaint_addon.shape_maker import (encode_normals, figure_mask, normals_of_height,
+                                        sprite_lamp_side)
+
+
+def grid_xy(h, w):
+    """Pixel centres in image widths from the image's centre (y up)."""
+    y, x = (np.mgrid[0:h, 0:w] + 0.5) / w
+    return x - 0.5, y - h / w / 2
+
+
+def bump(h=96, w=128, top=0.08):
+    """A smooth Gaussian hill (image widths) and its §2 normals."""
+    x, y = grid_xy(h, w)
+    z = top * np.exp(-(x * x + y * y) / (2 * 0.12 ** 2))
+    return z, normals_of_height(z)
+
+
+def angle_deg(a, b):
+    return np.degrees(np.arccos(np.clip(np.sum(a * b, axis=-1), -1, 1)))
+
+
+def test_poisson_neumann_solves_the_grid_laplacian_exactly():
+    b = np.random.default_rng(0).normal(size=(9, 13))
+    b -= b.mean()
+    z = poisson_neumann(b)
+    full = Grid(np.ones((9, 12)), np.ones((8, 13)))
+    assert np.abs(full.apply(z) - b).max() < 1e-12
+
+
+def test_a_plane_integrates_exactly_with_no_residual():
+    h, w = 40, 60
+    n = np.zeros((h, w, 3))
+    n[..., 0], n[..., 1], n[..., 2] = -0.2, 0.1, 1.0
+    n /= np.linalg.norm(n, axis=2, keepdims=True)
+    r = integrate(n)
+    x, y = grid_xy(h, w)
+    expected = 0.2 * x - 0.1 * y
+    assert np.abs((r.height - r.height.mean()) - (expected - expected.mean())).max() < 1e-12
+    assert r.residual_share < 1e-12 and r.residual.max() < 1e-10
+
+
+def test_a_smooth_bump_comes_back_within_half_a_percent_of_its_relief():
+    z, n = bump()
+    r = integrate(n)
+    err = np.abs((r.height - r.height.min()) - (z - z.min()))
+    assert err.max() < 0.005 * np.ptp(z)
+    assert r.residual_share < 0.01
+
+
+def test_a_pure_curl_has_no_height_and_is_all_residual():
+    """g = (∂ψ/∂y, −∂ψ/∂x) has no divergence: the least-squares height is flat, the whole
+    field is residual (a painted, impossible normal map's case)."""
+    h, w = 64, 64
+    x, y = grid_xy(h, w)
+    psi = np.exp(-(x * x + y * y) / (2 * 0.1 ** 2))
+    dpsi_dy, dpsi_dx = np.gradient(psi, 1 / w)
+    p, q = dpsi_dy, -dpsi_dx                       # slopes ∂z/∂x, ∂z/∂y
+    n = np.dstack([-p, -q, np.ones_like(p)])
+    n /= np.linalg.norm(n, axis=2, keepdims=True)
+    r = integrate(n)
+    assert np.ptp(r.height) < 0.02 * np.abs(p).max() * 0.1    # flat next to the field's scale
+    assert r.residual_share > 0.95
+    # the bump plus the curl: the bump comes back, the curl is the residual
+    z, nb = bump(h, w)
+    gb = -nb[..., :2] / nb[..., 2:]
+    g = gb + np.dstack([p, q]) * 0.3
+    mixed = np.dstack([-g[..., 0], -g[..., 1], np.ones((h, w))])
+    mixed /= np.linalg.norm(mixed, axis=2, keepdims=True)
+    rm = integrate(mixed)
+    assert np.abs((rm.height - rm.height.min()) - (z - z.min())).max() < 0.02 * np.ptp(z)
+    curl_share = np.sqrt(np.sum((0.3 * np.dstack([p, q])) ** 2) / np.sum(g * g))
+    assert rm.residual_share == pytest.approx(curl_share, rel=0.05)
+
+
+def test_a_box_needs_its_mask_and_depth():
+    """A raised flat square: its normals are all (0, 0, 1), so nothing but the mask and the
+    depth can say it stands out; with them its top comes back exactly."""
+    h, w = 48, 64
+    n = np.zeros((h, w, 3))
+    n[..., 2] = 1
+    box = np.zeros((h, w), bool)
+    box[10:30, 20:44] = True
+    assert np.ptp(integrate(n).height) == 0
+    r = integrate(n, box, depth=0.1)
+    assert np.allclose(r.height[box], 0.1) and np.allclose(r.height[~box], 0)
+    assert r.parts == 2
+
+
+def test_each_part_of_a_mask_is_integrated_on_its_own():
+    """Two tilted plates on a flat ground: each plate is a plane (no residual), its border
+    stands `depth` above the ground on average."""
+    h, w = 50, 80
+    n = np.zeros((h, w, 3))
+    n[..., 2] = 1
+    mask = np.zeros((h, w), bool)
+    mask[5:25, 5:30] = True
+    mask[30:45, 40:75] = True
+    n[mask] = [-0.3, 0.0, 1.0]
+    n /= np.linalg.norm(n, axis=2, keepdims=True)
+    r = integrate(n, mask, depth=0.05)
+    assert r.parts == 3 and r.residual_share < 1e-6
+    rows = r.height[10, 5:30]
+    assert np.allclose(np.diff(rows), 0.3 / w, rtol=1e-6)          # slope 0.3 kept
+    assert np.allclose(r.height[~mask], r.height[0, 0])
+
+
+def test_components_counts_parts_joined_by_edges():
+    mask = np.zeros((6, 7), bool)
+    mask[1:3, 1:3] = True
+    mask[4, 5] = True
+    wx, wy = mask[:, 1:] == mask[:, :-1], mask[1:, :] == mask[:-1, :]
+    labels, count = components(wx, wy)
+    assert count == 3 and labels[1, 1] == labels[2, 2] != labels[4, 5]
+
+
+def test_a_disc_inflates_into_a_hemisphere():
+    size, radius = 256, 0.4
+    x, y = grid_xy(size, size)
+    r2 = x * x + y * y
+    disc = r2 < radius ** 2
+    result = inflate(disc)
+    true = np.sqrt(np.clip(radius ** 2 - r2, 0, None))
+    inner = r2 < (0.9 * radius) ** 2
+    assert abs(result.height.max() - radius) < 0.01 * radius
+    assert np.abs(result.height - true)[inner].max() < 0.01 * radius
+    assert np.all(result.height[~disc] == 0)
+
+
+@pytest.mark.parametrize("profile", PROFILES)
+def test_profiles_share_the_round_peak_and_stay_inside(profile):
+    x, y = grid_xy(64, 80)
+    mask = (np.abs(x) < 0.3) & (np.abs(y) < 0.2)
+    z = inflate(mask, profile).height
+    top = inflate(mask, "round").height.max()
+    assert z.max() == pytest.approx(top) and np.all(z[~mask] == 0) and np.all(z >= 0)
+    if profile == "flat":
+        assert np.mean(z[mask] > 0.99 * top) > 0.2          # a plateau
+    if profile == "soft":
+        assert np.mean(z[mask]) < np.mean(inflate(mask, "round").height[mask])
+
+
+def test_inflated_detail_follows_the_luminance():
+    x, y = grid_xy(64, 64)
+    disc = x * x + y * y < 0.35 ** 2
+    lum = (x > 0).astype(float)
+    plain = inflate(disc).height
+    embossed = inflate(disc, detail=0.02, luminance=lum, detail_blur=0.0).height
+    diff = embossed - plain
+    assert diff[disc & (x > 0.05)].mean() > diff[disc & (x < -0.05)].mean() + 0.015
+
+
+def core_profiles(n, sides, elevation):
+    """Each profile rendered by the numpy core: black dark image, white bright one, linear
+    mix, a sun from that side: the image is max(N·L, 0) (§4–§5)."""
+    h, w = n.shape[:2]
+    p = params.defaults()
+    p.diffuse.mix_space = "linear"
+    images = {"shape": ImageData(((n + 1) / 2).astype(np.float32), 32),
+              "dark": ImageData(np.zeros((h, w, 3), np.float32), 32),
+              "bright": ImageData(np.ones((h, w, 3), np.float32), 32)}
+    dirs = profile_directions(sides, elevation)
+    return {s: render(images, [Light("sun", tuple(d))], p, np.float64).rgba[..., 0]
+            for s, d in dirs.items()}
+
+
+def sphere_normals(size=96, radius=0.45):
+    x, y = grid_xy(size, size)
+    z = np.sqrt(np.clip(radius ** 2 - x * x - y * y, 0, None))
+    n = np.dstack([x, y, np.maximum(z, 0.3 * radius)])
+    return n / np.linalg.norm(n, axis=2, keepdims=True), x * x + y * y < (0.95 * radius) ** 2
+
+
+@pytest.mark.parametrize("sides,limit", [
+    (("left", "right", "top", "bottom", "front"), 0.01),
+    (("left", "right", "top", "bottom"), 0.05),     # steep pixels seen by two: completed
+    (("left", "right", "top"), 5.0),
+    (("left", "right"), 30.0)])                     # N.y's sign is unseen: a prior
+def test_profiles_rendered_by_the_core_give_back_its_normals(sides, limit):
+    n, inside = sphere_normals()
+    shots = core_profiles(n, sides, 35.0)
+    got = normals_from_profiles(shots, 35.0)
+    err = angle_deg(got, n)[inside]
+    assert np.all(np.isfinite(got)) and np.mean(err) < limit, np.mean(err)
+
+
+def test_the_red_green_photograph_is_a_normal_map():
+    n, _ = sphere_normals(32)
+    photo = (n + 1) / 2
+    assert np.abs(normals_from_rg_photo(photo) - n).max() < 1e-9
+    mirrored = photo.copy()
+    mirrored[..., 0] = 1 - mirrored[..., 0]
+    mirrored[..., 1] = 1 - mirrored[..., 1]
+    assert np.abs(normals_from_rg_photo(mirrored, "left", "bottom") - n).max() < 1e-9
+
+
+def test_sprite_lamp_names_say_the_side():
+    assert [sprite_lamp_side(p) for p in ("a/portrait_left.png", "Bob-Top.PNG",
+                                          "x_front.tif", "leftover.png")] == \
+        ["left", "top", "front", None]
+
+
+def test_export_helpers():
+    n = np.array([[[0.0, 0.6, 0.8]]])
+    assert encode_normals(n, "directx")[0, 0].tolist() == pytest.approx([0.5, 0.2, 0.9])
+    assert encode_normals(n)[0, 0].tolist() == pytest.approx([0.5, 0.8, 0.9])
+    pit = np.zeros((32, 32))
+    pit[12:20, 12:20] = -0.05
+    ao = ambient_occlusion(pit, radius=0.2)
+    assert ao[16, 16] < 0.75 and ao[0, 0] == 1.0      # walls 0.05 high, 4 px away
+
+
+def test_figure_mask_reads_alpha_else_a_painted_mask():
+    rgba = np.ones((4, 5, 4), np.float32)
+    rgba[..., 3] = 0
+    rgba[1:3, 1:3, 3] = 1
+    assert figure_mask(ImageData(rgba, 8)).sum() == 4
+    red = np.zeros((4, 5, 3), np.float32)
+    red[0, :, 0] = 1
+    assert figure_mask(ImageData(red, 8)).sum() == 5
+
+
+@pytest.mark.parametrize("h,w", [(1, 1), (1, 9), (7, 1), (5, 8), (33, 17)])
+def test_every_method_is_finite_on_tiny_flat_empty_and_one_pixel_inputs(h, w):
+    flat = np.zeros((h, w, 3))
+    flat[..., 2] = 1
+    empty = np.zeros((h, w), bool)
+    one = empty.copy()
+    one[h // 2, w // 2] = True
+    for mask in (None, empty, one, ~empty):
+        r = integrate(flat, mask)
+        assert np.all(np.isfinite(r.height)) and np.all(np.isfinite(r.residual))
+        assert np.ptp(r.height) == 0
+    for mask in (empty, one, ~empty):
+        for profile in PROFILES:
+            z = inflate(mask, profile, detail=0.01, luminance=np.zeros((h, w))).height
+            assert np.all(np.isfinite(z)) and np.all(z >= 0)
+    dark = {s: np.zeros((h, w)) for s in ("left", "right", "top", "bottom")}
+    assert np.all(np.isfinite(normals_from_profiles(dark)))
+    assert np.all(np.isfinite(normals_from_rg_photo(np.zeros((h, w, 3)))))
+    assert np.all(np.isfinite(ambient_occlusion(np.zeros((h, w)))))
+
+
+def test_the_multigrid_solver_handles_cut_and_held_pixels():
+    """A 1-D chain cut in two, one end held at 0: each part solved (consistent singular part
+    included)."""
+    rng = np.random.default_rng(1)
+    wx = np.ones((30, 39))
+    wx[:, 19] = 0                                     # cut between columns 19 and 20
+    wy = np.ones((29, 40))
+    d = np.zeros((30, 40))
+    d[:, 0] = 1                                       # the left part held at 0 beyond its edge
+    grid = Grid(wx, wy, d)
+    b = rng.normal(size=(30, 40))
+    b[:, 20:] -= b[:, 20:].mean()                     # the free right part: sources sum to 0
+    z, it, res = solve(grid, b, tol=1e-10)
+    assert res < 1e-10 and np.abs(grid.apply(z) - b).max() < 1e-8 and it < 40
