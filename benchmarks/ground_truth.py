@@ -1,5 +1,8 @@
 """The cos-θ bake against real 3D (issue 4): Blender renders the ground truth.
 
+(benchmarks/shape_from_painting.py renders its own scenes with these functions: Suzanne too,
+and the lighting profiles.)
+
 A scene of a sphere, a torus, boxes of different heights and a floating plate (an overhang) on a
 ground plane, seen from above by an orthographic camera looking down −Z (one image width = one
 scene unit, so heights are in image widths):
@@ -65,6 +68,11 @@ def build_scene(size, objects=OBJECTS):
         elif kind == "sphere":
             bpy.ops.mesh.primitive_uv_sphere_add(radius=dims, location=loc, segments=96,
                                                  ring_count=48)
+            bpy.ops.object.shade_smooth()
+        elif kind == "monkey":        # Suzanne, smooth, her face toward the camera (+z)
+            bpy.ops.mesh.primitive_monkey_add(size=dims, location=loc,
+                                              rotation=(-math.pi / 2, 0.0, 0.0))
+            bpy.context.object.modifiers.new("smooth", "SUBSURF").levels = 2
             bpy.ops.object.shade_smooth()
         elif kind == "torus":
             bpy.ops.mesh.primitive_torus_add(major_radius=dims[0], minor_radius=dims[1],

@@ -172,6 +172,10 @@ def add_parser(sub):
                        help="normal map convention: opengl (green = up, Blender) or directx "
                        "(green = down)")
 
+    def normal_map_out(m):
+        green_option(m)
+        m.add_argument("--out", required=True, help="normal map (.png 16-bit or .exr)")
+
     m = method("integrate", "normal map → height map by least squares (free edges)",
                cmd_integrate)
     m.add_argument("normal", metavar="NORMAL", help="normal map image")
@@ -194,8 +198,7 @@ def add_parser(sub):
                    help="relief of a white pixel (image widths; 1 for make-shape's EXRs)")
     m.add_argument("--preblur", type=float, default=0.0,
                    help="Gaussian blur before the slopes are taken (pixels; 1.5 for 8-bit maps)")
-    green_option(m)
-    m.add_argument("--out", required=True, help="normal map (.png 16-bit or .exr)")
+    normal_map_out(m)
 
     m = method("profiles", "lighting profiles (2–5 images lit from the sides) → normal map",
                cmd_profiles)
@@ -204,10 +207,9 @@ def add_parser(sub):
                    "_bottom, _front)")
     for side in SIDES:
         m.add_argument(f"--{side}", help=f"the image lit from the {side}")
-    m.add_argument("--elevation", type=float, default=30.0,
-                   help="the side lights' height above the painting (degrees, default 30)")
-    green_option(m)
-    m.add_argument("--out", required=True, help="normal map (.png 16-bit or .exr)")
+    m.add_argument("--elevation", type=float, default=45.0,
+                   help="the side lights' height above the painting (degrees, default 45)")
+    normal_map_out(m)
 
     m = method("rg-photo", "photograph lit red from one side, green from the top → normal map",
                cmd_rg_photo)
@@ -216,8 +218,7 @@ def add_parser(sub):
                    help="side the red light came from (default right)")
     m.add_argument("--green-from", choices=("top", "bottom"), default="top",
                    help="side the green light came from (default top)")
-    green_option(m)
-    m.add_argument("--out", required=True, help="normal map (.png 16-bit or .exr)")
+    normal_map_out(m)
 
     m = method("inflate", "silhouette → round height map (−Δh = 1 inside, h = 0 on its edge)",
                cmd_inflate)

@@ -14,10 +14,12 @@ import re
 import numpy as np
 
 from .core.colour import srgb_to_linear
+from .core.inflate import inflate
 from .core.inputs import mask_values
+from .core.integrate import integrate
 from .core.photometric import SIDES
-from .core.shape import (decode_normal_map, height_field_px, normals_from_height_px,
-                         preblurred_height)
+from .core.shape import (decode_normal_map, default_preblur_px, height_field_px,
+                         normals_from_height_px, preblurred_height)
 
 GREENS = ("opengl", "directx")
 
@@ -87,3 +89,72 @@ def same_size(images, what):
         listed = ", ".join(f"{name} {w}×{h}" for name, (w, h) in sizes.items())
         raise ShapeError(f"{what} must all be the same size: {listed}")
 
+
+
+METHODS = {
+    "inflate": "Inflate Silhouette: a round relief inside the painting's alpha",
+    "integrate": "Height from Normal Map: integrate the normal map (least squares)",
+    "normals": "Normal Map from Height: the height map's normals (§2)",
+}
+
+
+def _silhouette(images):
+    """The figure of a painting: the alpha of its shape, dark or bright image (the first that
+    has a transparent part) → (channel, alpha), or a ShapeError saying what to give."""
+    for channel in ("shape", "dark", "bright"):
+        img = images.get(channel)
+        alpha = img.alpha() if img is not None else None
+        if alpha is not None and np.nanmin(alpha) < 0.5 and np.nanmax(alpha) >= 0.5:
+            return channel, np.nan_to_num(alpha)
+    raise ShapeError("no silhouette to inflate: none of the shape, dark or bright images has a "
+                     "transparent background (alpha); paint one, or use make-shape inflate "
+                     "with a mask image")
+
+
+def make_shape(method, images, p, profile="round", height=1.0, detail=0.0, detail_blur=0.002,
+               depth=0.0, use_mask=True):
+    """A painting's new shape image (the add-on's Make Shape; docs/shape-from-painting.md).
+
+    images: {channel: ImageData}; p: its parameters. → (kind 'height' | 'normal', pixels (H, W,
+    4): heights in image widths (grey) or a normal map's colours, with the old shape image's
+    alpha (inflated: the silhouette's), else opaque; report lines).
+    """
+    shape = images.get("shape")
+    alpha = shape.alpha() if shape is not None else None
+    lines = []
+    if method == "inflate":
+        channel, alpha = _silhouette(images)
+        mask = alpha >= 0.5
+        painting = images.get("bright") or images.get("dark")
+        lum = linear_luminance(painting) if detail and painting is not None else None
+        if lum is not None and lum.shape != mask.shape:
+            raise ShapeError("the painting and its silhouette differ in size: resample one")
+        result = inflate(mask, profile, height, detail, lum, detail_blur)
+        kind, values = "height", result.height
+        lines.append(f"inflated the {channel} image's silhouette ({profile}), highest point "
+                     f"{values.max():.3g} image widths")
+    elif method == "integrate":
+        if shape is None or p.shape.kind != "normal":
+            raise ShapeError("Height from Normal Map needs a normal map as the shape image")
+        n = decode_normals(shape, p.shape.encoding, p.shape.flip_green, p.shape.strength)
+        mask = figure_mask(shape) if use_mask and shape.alpha() is not None else None
+        result = integrate(n, mask, depth)
+        kind, values = "height", result.height
+        lines.append(f"integrated the normal map: relief {values.max():.3g} image widths; "
+                     f"{100 * result.residual_share:.1f} % of it no height map can hold "
+                     f"(painted or impossible parts)")
+    elif method == "normals":
+        if shape is None or p.shape.kind != "height":
+            raise ShapeError("Normal Map from Height needs a height map as the shape image")
+        blur = p.shape.preblur if p.shape.preblur != "auto" else default_preblur_px(shape.bits)
+        kind = "normal"
+        values = encode_normals(normals_of_height(height_widths(shape, p.shape.height_scale,
+                                                                float(blur))))
+        lines.append("made the height map's normal map")
+    else:
+        raise ShapeError(f"unknown method {method!r} (expected one of {', '.join(METHODS)})")
+    h, w = values.shape[:2]
+    if alpha is None or alpha.shape != (h, w):
+        alpha = np.ones((h, w))
+    rgb = np.repeat(values[..., None], 3, axis=2) if values.ndim == 2 else values
+    return kind, np.concatenate([rgb, np.asarray(alpha)[..., None]], axis=2), lines

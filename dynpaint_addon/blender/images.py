@@ -130,3 +130,18 @@ def _store(settings, channel, image, key):
         item = settings.derived.add()
         item.channel = channel
     item.image, item.key = image, key
+
+
+def made_shape_image(name, rgba):
+    """A shape image numpy made (Make Shape) → a new float image packed into the .blend: undo
+    removes it with the rest of the step, and no file appears beside the artist's images
+    (Image › Save As keeps one)."""
+    h, w = rgba.shape[:2]
+    img = bpy.data.images.new(name, w, h, alpha=True, float_buffer=True, is_data=True)
+    img.colorspace_settings.name = "Non-Color"
+    img.alpha_mode = "CHANNEL_PACKED"
+    img.use_half_precision = False
+    img.pixels.foreach_set(np.ascontiguousarray(rgba, dtype=np.float32).ravel())
+    img.file_format = "OPEN_EXR"
+    img.pack()
+    return img

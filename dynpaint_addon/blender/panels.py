@@ -68,6 +68,7 @@ def _draw_images(layout, s):
         op.channel = channel
         if img is not None:
             row.operator("dynpaint.image_remove", text="", icon="X").channel = channel
+    layout.operator("dynpaint.make_shape", icon="MOD_SMOOTH")
 
 
 def _draw_lights(layout, context, mat):

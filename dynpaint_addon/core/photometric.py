@@ -18,9 +18,9 @@ N.x = 2R − 1, N.y = 2G − 1, N.z = √(1 − x² − y²), sides settable.
 
     >>> import numpy as np
     >>> n = np.array([[[0.3, -0.2, 0.933]]]) / np.linalg.norm([0.3, -0.2, 0.933])
-    >>> lights = profile_directions(("left", "right", "top", "bottom"), 30)
+    >>> lights = profile_directions(("left", "right", "top", "bottom"), 45)
     >>> shots = {k: np.clip(n @ l, 0, None) for k, l in lights.items()}
-    >>> np.round(normals_from_profiles(shots, 30), 3)[0, 0].tolist()
+    >>> np.round(normals_from_profiles(shots, 45), 3)[0, 0].tolist()
     [0.3, -0.2, 0.933]
 """
 import numpy as np
@@ -51,10 +51,11 @@ def _fill(values, known, sigma_px):
     return np.where(known, values, np.where(den > 1e-3, num / np.maximum(den, 1e-12), far))
 
 
-def _two_lit(shots, weight, lit, albedo):
+def _two_lit(shots, weight, lit, albedo, around):
     """b for pixels seen by exactly two profiles a, b: on the line of their two equations,
     b = b0 + t·(L_a × L_b), at the albedo |b| = ρ of the pixels around, on the side that keeps
-    the shadowed profiles in shadow (N·L ≤ 0 there)."""
+    the shadowed profiles in shadow (N·L ≤ 0 there) and, where both do, nearer the normals
+    `around` it."""
     order = np.argsort(-weight, axis=-1)
     la, lb = lit[order[..., 0]], lit[order[..., 1]]
     ia = np.take_along_axis(shots, order[..., :1], -1)[..., 0]
@@ -72,7 +73,7 @@ def _two_lit(shots, weight, lit, albedo):
     for sign in (1.0, -1.0):
         cand = b0 + sign * t * u
         cost = np.sum(np.where(shadowed, np.clip(cand @ lit.T, 0, None), 0), -1) \
-            - 1e-6 * cand[..., 2]                      # a tie: the one facing the viewer
+            - 0.05 * np.sum(cand * around, -1)             # a tie: the one like its neighbours
         if best is None:
             best, best_cost = cand, cost
         else:
@@ -81,7 +82,7 @@ def _two_lit(shots, weight, lit, albedo):
     return best
 
 
-def normals_from_profiles(profiles, elevation_deg=30.0, smoothness=0.05, iterations=30):
+def normals_from_profiles(profiles, elevation_deg=45.0, smoothness=0.05, iterations=30):
     """Unit normals (H, W, 3) from {side: (H, W) linear luminance} → y-up normal field.
 
     A pixel lit in three or more profiles: least squares. In exactly two (the rest in its
@@ -112,7 +113,9 @@ def normals_from_profiles(profiles, elevation_deg=30.0, smoothness=0.05, iterati
         two = seen == 2
         if two.any():
             albedo = _fill(np.linalg.norm(b, axis=-1), determined, 4.0)
-            b = np.where(two[..., None], _two_lit(shots, weight, lit, albedo), b)
+            unit = b / np.maximum(np.linalg.norm(b, axis=-1, keepdims=True), 1e-12)
+            around = np.stack([_fill(unit[..., i], determined, 4.0) for i in range(3)], -1)
+            b = np.where(two[..., None], _two_lit(shots, weight, lit, albedo, around), b)
         rest = seen < 2
     else:
         rest = np.ones(brightest.shape, bool)

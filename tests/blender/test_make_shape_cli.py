@@ -64,8 +64,8 @@ def test_normals_profiles_and_rg_photo_make_normal_maps(tmp_path):
     got = read_image(tmp_path / "n.png").pixels[..., :3] * 2 - 1
     inner = (np.linalg.norm(n[..., :2], axis=2) < 0.25) & inside
     assert np.degrees(np.arccos(np.clip(np.sum(got * n, 2), -1, 1)))[inner].mean() < 1.0
-    # Sprite Lamp's names: portrait_left.png … lit at 30° by the profiles' own convention
-    e = np.radians(30)
+    # Sprite Lamp's names: portrait_left.png … lit at 45°, the command's default
+    e = np.radians(45)
     for side, l in {"left": (-np.cos(e), 0, np.sin(e)), "right": (np.cos(e), 0, np.sin(e)),
                     "top": (0, np.cos(e), np.sin(e)), "bottom": (0, -np.cos(e), np.sin(e))}.items():
         shot = np.clip(n @ np.array(l), 0, 1)

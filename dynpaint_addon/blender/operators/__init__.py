@@ -5,10 +5,10 @@ classes in CLASSES.
 """
 import bpy
 
-from . import add, compositor, export, image_slots, painting, turntable
+from . import add, compositor, export, image_slots, painting, shape, turntable
 
 CLASSES = (*add.CLASSES, *turntable.CLASSES, *compositor.CLASSES, *painting.CLASSES,
-           *image_slots.CLASSES, *export.CLASSES)
+           *image_slots.CLASSES, *export.CLASSES, *shape.CLASSES)
 
 
 def menu_add(self, context):

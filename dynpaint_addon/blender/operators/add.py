@@ -14,7 +14,8 @@ from ...channel_names import IMAGE_EXTENSIONS, common_name, guess_channels
 from ...imageio import image_data_from_blender
 from ...recipe import RecipeError, load_recipe
 from ...samples import list_samples
-from ..images import load_image
+from ...shape_maker import make_shape
+from ..images import load_image, made_shape_image
 from ..scene import create_painting, unchanged_images_on_failure
 from .common import run_and_report
 
@@ -115,32 +116,52 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
 def proposed_channels(paths):
     """The channels Add proposes for picked image files → ({channel: path}, [not used])."""
     channels, rest = guess_channels(paths)
-    if not channels:        # no file named after a channel: they are the basics, in order
-        channels = dict(zip(("shape", "dark", "bright"), rest))
+    if not channels:        # no file named after a channel: they are the basics, in order;
+        # the painting alone is the bright image (its silhouette is inflated into a shape)
+        channels = dict(zip(("shape", "dark", "bright") if len(rest) > 1 else ("bright",),
+                            rest))
         rest = rest[len(channels):]
     return channels, rest
 
 
+def inflated_shape(channels, name, p):
+    """No shape image: inflate the painting's silhouette (its alpha) into one (Make Shape's
+    inflate, round) → (packed height image, report line); shape_maker.ShapeError (a
+    ValueError) without a silhouette."""
+    images = {c: image_data_from_blender(load_image(channels[c], c))
+              for c in ("dark", "bright") if c in channels}
+    kind, rgba, lines = make_shape("inflate", images, p)
+    p.shape.kind, p.shape.height_scale = kind, 1.0          # the image holds image widths
+    return made_shape_image(f"{name} height (inflate)", rgba), \
+        f"no shape image: {lines[0]} (Make Shape changes it)"
+
+
 def painting_from_images(context, channels, rest, shape_kind, size, location, rotation,
                          progress=None):
-    """A painting from image files assigned to channels → (plane, messages)."""
-    if "shape" not in channels or ("dark" not in channels and "bright" not in channels):
-        raise ValueError("pick at least a shape image (name it '…normal…' or '…height…') and "
-                         "a dark and/or bright image")
+    """A painting from image files assigned to channels → (plane, messages). Without a shape
+    image, the painting's silhouette is inflated into one."""
+    if "dark" not in channels and "bright" not in channels:
+        raise ValueError("pick at least a dark and/or bright image (and a shape image, "
+                         "'…normal…' or '…height…', unless the painting has a transparent "
+                         "background to inflate)")
     p = params.defaults()
-    shape = load_image(channels["shape"], "shape")
-    kind = shape_kind.lower() if shape_kind != "AUTO" else \
-        ("height" if looks_like_height(shape) else "normal")
-    p.shape.kind = kind
     name = common_name(channels.values()) or \
         os.path.splitext(os.path.basename(channels.get("dark") or channels["bright"]))[0]
+    notes = []
+    if "shape" in channels:
+        shape = load_image(channels["shape"], "shape")
+        p.shape.kind = shape_kind.lower() if shape_kind != "AUTO" else \
+            ("height" if looks_like_height(shape) else "normal")
+        notes.append(f"shape image read as a {p.shape.kind} map")
+    else:
+        shape, note = inflated_shape(channels, name, p)
+        notes.append(note)
     plane, _, messages = create_painting(context, {**channels, "shape": shape}, p, None,
                                          name=name, size=size, location=location,
                                          rotation=rotation, progress=progress)
     if rest:
         messages.append(f"not used: {', '.join(os.path.basename(r) for r in rest)}")
-    messages.append(f"shape image read as a {kind} map")
-    return plane, messages
+    return plane, messages + notes
 
 
 NOT_USED = "NONE"
@@ -177,6 +198,9 @@ class DYNPAINT_OT_add_images(bpy.types.Operator):
             row = col.row(align=True)
             row.label(text=item.name, icon="IMAGE_DATA")
             row.prop(item, "channel", text="")
+        if not any(i.channel == "shape" for i in self.choices):
+            layout.label(text="No shape image: the painting's silhouette (alpha) will be "
+                              "inflated into one", icon="INFO")
         layout.prop(self, "shape_kind")
         layout.prop(self, "size")
 

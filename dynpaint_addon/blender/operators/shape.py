@@ -1,0 +1,95 @@
+"""Make Shape: the painting's shape image made by numpy from what it has (issue 16,
+docs/shape-from-painting.md): its silhouette inflated, its normal map integrated into heights,
+or its height map's normals. The adjust-last-operation panel is the preview: change a setting
+and the painting is made again, one undo step."""
+import bpy
+from bpy.props import BoolProperty, EnumProperty, FloatProperty
+
+from ...core.inflate import PROFILES
+from ...imageio import image_data_from_blender
+from ...shape_maker import METHODS, make_shape
+from ..images import made_shape_image
+from ..settings import channel_images, settings_to_params
+from ..sync import batch, update
+from .common import PaintingOperator, active_painting, run_and_report
+
+PROFILE_HELP = {"round": "A disc becomes a hemisphere; any outline gets round cross-sections",
+                "soft": "Gentle at the rim, pointed in the middle",
+                "flat": "Rounded rims and a plateau (a coin, a cushion)"}
+
+
+class DYNPAINT_OT_make_shape(PaintingOperator, bpy.types.Operator):
+    """Make the painting's shape image from what it has: inflate its silhouette, integrate its
+    normal map into a height map, or take its height map's normals"""
+    bl_idname = "dynpaint.make_shape"
+    bl_label = "Make Shape"
+    bl_options = {"REGISTER", "UNDO"}
+
+    method: EnumProperty(name="Method", items=[(k, v.split(":")[0], v)
+                                               for k, v in METHODS.items()])
+    profile: EnumProperty(name="Profile", items=[(k, k.title(), PROFILE_HELP[k])
+                                                 for k in PROFILES])
+    height: FloatProperty(name="Height", default=1.0, min=0.01, max=10.0,
+                          description="Scale of the relief: 1 makes a disc's hemisphere as "
+                          "tall as its radius")
+    detail: FloatProperty(name="Detail", default=0.0, min=0.0, max=0.1, precision=3,
+                          description="Emboss the painting's luminance: image widths of relief "
+                          "per unit of luminance (0.005–0.02 is subtle)")
+    detail_blur: FloatProperty(name="Detail Blur", default=0.002, min=0.0, max=0.05,
+                               precision=4, description="Blur of the embossed luminance "
+                               "(image widths)")
+    use_mask: BoolProperty(name="Cut at the Alpha", default=True,
+                           description="Integrate the figure (the normal map's alpha) apart "
+                           "from its background")
+    depth: FloatProperty(name="Depth", default=0.0, min=-1.0, max=1.0, precision=3,
+                         description="How far the figure's rim stands above its background "
+                         "(image widths); a normal map cannot see this wall")
+
+    def invoke(self, context, event):
+        s = active_painting(context).dynamic_painting
+        self.method = "integrate" if s.shape.kind == "normal" else "inflate"
+        return context.window_manager.invoke_props_dialog(self, width=360)
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.prop(self, "method")
+        if self.method == "inflate":
+            for name in ("profile", "height", "detail", "detail_blur"):
+                layout.prop(self, name)
+        elif self.method == "integrate":
+            layout.prop(self, "use_mask")
+            row = layout.row()
+            row.active = self.use_mask
+            row.prop(self, "depth")
+
+    def execute(self, context):
+        mat = active_painting(context)
+        s = mat.dynamic_painting
+
+        def work(progress):
+            images = {c: image_data_from_blender(img) for c, img in channel_images(s).items()
+                      if c in ("shape", "dark", "bright")}
+            progress(0.2)
+            kind, rgba, lines = make_shape(self.method, images, settings_to_params(s),
+                                           self.profile, self.height, self.detail,
+                                           self.detail_blur, self.depth, self.use_mask)
+            progress(0.7)
+            img = made_shape_image(f"{mat.name} {'height' if kind == 'height' else 'normal'}"
+                                   f" ({self.method})", rgba)
+            with batch():
+                s.shape.kind = kind
+                if kind == "height":
+                    s.shape.height_scale = 1.0        # the image holds image widths
+                    s.shape.preblur_auto = True       # float: no pre-blur
+                else:
+                    s.shape.encoding, s.shape.strength, s.shape.flip_green = "rgb", 1.0, False
+                s.image_shape = img
+            update(mat, context.scene, rebake=True)
+            return [("INFO", f"{lines[0]}; the shape image is now {img.name} (packed in "
+                             f"the .blend)")]
+        return run_and_report(self, context, work, progress=True, failure="Make Shape: ",
+                              catch=(ValueError, MemoryError))    # ShapeError, ImageReadError
+
+
+CLASSES = (DYNPAINT_OT_make_shape,)

@@ -1,0 +1,95 @@
+"""Make Shape in the add-on (issue 16): a painting with no shape image gets its silhouette
+inflated; Make Shape integrates a normal map into heights; Cycles renders what the core
+renders with the new shape; undo brings the old shape back."""
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
+from dynpaint_addon.blender.settings import channel_images, settings_to_params  # noqa: E402
+from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
+from dynpaint_addon.imageio import image_data_from_blender, read_image, write_png  # noqa: E402
+
+from test_addon import render_cycles  # noqa: E402
+
+SIZE = 64
+
+
+def disc(size=SIZE, radius=0.35):
+    y, x = (np.mgrid[0:size, 0:size] + 0.5) / size - 0.5
+    return x, y, x * x + y * y < radius ** 2
+
+
+def core_of(mat, scene):
+    """The core's render from the images as Blender holds them (packed ones included)."""
+    s = mat.dynamic_painting
+    images = {c: read_image(bpy.path.abspath(img.filepath)) if img.filepath and not
+              img.packed_file else image_data_from_blender(img)
+              for c, img in channel_images(s).items()}
+    lights = [painting_frame_light(o, s.plane.matrix_world) for o in linked_lights(mat, scene)]
+    return core_render(images, lights, settings_to_params(s)).rgba
+
+
+def test_a_painting_with_no_shape_image_gets_its_silhouette_inflated(empty_scene, tmp_path):
+    x, y, inside = disc()
+    rgba = np.dstack([0.2 + 0.6 * (x + 0.5), np.full_like(x, 0.4), 0.8 - 0.5 * (y + 0.5),
+                      inside.astype(float)])
+    write_png(tmp_path / "portrait.png", rgba)
+    assert bpy.ops.dynpaint.add(directory=str(tmp_path),
+                                files=[{"name": "portrait.png"}]) == {"FINISHED"}
+    plane = bpy.context.object
+    mat = plane.active_material
+    s = mat.dynamic_painting
+    assert s.shape.kind == "height" and s.image_shape.packed_file is not None
+    height = image_data_from_blender(s.image_shape).pixels
+    assert height[..., 0].max() == pytest.approx(0.35, rel=0.03)          # a hemisphere
+    assert np.array_equal(height[..., 3] > 0.5, inside)                 # the silhouette kept
+    got = render_cycles(empty_scene, plane, str(tmp_path / "inflated.exr"))
+    want = core_of(mat, empty_scene)
+    assert np.abs(got - want)[1:-1, 1:-1].max() < 2e-3
+
+
+def test_make_shape_integrates_the_normal_map_and_undo_brings_it_back(empty_scene, tmp_path):
+    x, y, inside = disc()
+    ball = 0.6
+    z = np.sqrt(np.clip(ball ** 2 - x * x - y * y, 0, None))
+    n = np.where(inside[..., None], np.dstack([x, y, z]) / ball, [0.0, 0.0, 1.0])
+    write_png(tmp_path / "cap_normal.png", (n + 1) / 2, bits=16)
+    write_png(tmp_path / "cap_dark.png", np.full((SIZE, SIZE, 3), 0.1))
+    write_png(tmp_path / "cap_bright.png", np.full((SIZE, SIZE, 3), 0.9))
+    assert bpy.ops.dynpaint.add(directory=str(tmp_path), files=[
+        {"name": f"cap_{c}.png"} for c in ("normal", "dark", "bright")]) == {"FINISHED"}
+    plane = bpy.context.object
+    mat = plane.active_material
+    name, old = mat.name, mat.dynamic_painting.image_shape.name
+    bpy.ops.ed.undo_push(message="painting")
+    assert bpy.ops.dynpaint.make_shape(method="integrate") == {"FINISHED"}
+    bpy.ops.ed.undo_push(message="make shape")
+    s = mat.dynamic_painting
+    assert s.shape.kind == "height" and s.shape.height_scale == pytest.approx(1.0)
+    h = image_data_from_blender(s.image_shape).pixels[..., 0]
+    cap = np.where(inside, z - np.sqrt(ball ** 2 - 0.35 ** 2), 0)
+    assert np.abs((h - h[0, 0]) - cap).max() < 0.03 * cap.max()
+    got = render_cycles(empty_scene, plane, str(tmp_path / "integrated.exr"))
+    assert np.abs(got - core_of(mat, empty_scene))[1:-1, 1:-1].max() < 2e-3
+    made = s.image_shape.name
+    bpy.ops.ed.undo()
+    s = bpy.data.materials[name].dynamic_painting
+    assert s.shape.kind == "normal" and s.image_shape.name == old
+    assert made not in bpy.data.images
+
+
+def test_make_shape_reports_what_it_cannot_do(empty_scene, tmp_path):
+    write_png(tmp_path / "flat_height.png", np.full((16, 16), 0.5), bits=16)
+    write_png(tmp_path / "flat_dark.png", np.full((16, 16, 3), 0.2))
+    assert bpy.ops.dynpaint.add(directory=str(tmp_path), files=[
+        {"name": f"flat_{c}.png"} for c in ("height", "dark")]) == {"FINISHED"}
+    s = bpy.context.object.active_material.dynamic_painting
+    with pytest.raises(RuntimeError, match="no silhouette to inflate"):
+        bpy.ops.dynpaint.make_shape(method="inflate")
+    with pytest.raises(RuntimeError, match="needs a normal map"):
+        bpy.ops.dynpaint.make_shape(method="integrate")
+    assert s.shape.kind == "height"
+    assert bpy.ops.dynpaint.make_shape(method="normals") == {"FINISHED"}
+    assert s.shape.kind == "normal"

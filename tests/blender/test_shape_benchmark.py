@@ -1,0 +1,23 @@
+"""benchmarks/shape_from_painting.py runs and measures what it says (small sizes): the Cycles
+profiles of its scene give back its normals, integration and inflation meet their goals."""
+import os
+import sys
+import tempfile
+
+from conftest import REPO
+
+sys.path.insert(0, os.path.join(REPO, "benchmarks"))
+
+import shape_from_painting as sfp  # noqa: E402
+
+
+def test_profiles_rendered_by_cycles_give_back_the_normals():
+    rows = {count: mean for count, _, mean, _ in sfp.profile_errors(96, 45.0, tempfile.mkdtemp())}
+    assert rows[5] < 5.0 and rows[4] < 6.0 and rows[2] > rows[4]
+
+
+def test_integration_and_inflation_rows():
+    rows, seconds = sfp.smooth_height_errors(size=512)
+    assert all(err < sfp.GOALS["height_error"] for _, err, _ in rows) and seconds > 0
+    seconds, peak, inner, rms = sfp.hemisphere(size=256)
+    assert peak < 0.01 and inner < 0.01 and rms < 0.01
