@@ -103,7 +103,8 @@ def penrose():
     sun = Light("sun", (np.cos(np.radians(35)) * np.cos(np.radians(200)),
                         np.cos(np.radians(35)) * np.sin(np.radians(200)), np.sin(np.radians(35))))
     pics = [_shade({**PAINT, "shape": shape}, [sun], shadows__enabled=True,
-                   shadows__reach=reach)[0] for reach in (10.0, 0.05)]
+                   shadows__relief="along_ray", shadows__reach=reach)[0]
+            for reach in (10.0, 0.05)]
     return pics
 
 
@@ -171,7 +172,9 @@ the artist wants it.
 {stairs}
 
 A Penrose tribar drawn as flat facets (a normal map no height field produces), cos-θ shadows
-from a sun at 35°. Left: the relief rebuilt along each ray over the whole image (before): the
+from a sun at 35°, marched along each ray (`shadows.relief = "along_ray"`: the default
+integrated relief looks for the height field that best fits the normals, and an impossible
+figure has none). Left: the relief rebuilt along each ray over the whole image (before): the
 slopes of the facets rebuild heights that never come back down, and long dark smears cover the
 lower bar and the canvas. Right: the default reach of 0.05 image widths: every facet is lit as
 the plane it is, with short contact shadows at its edges. Measured (tests/core/test_shadow.py,

@@ -294,6 +294,7 @@ def make_impossible(folder, size):
     p.shape.kind = "normal"
     p.shadows.enabled = True
     p.shadows.offset = 0.004
+    p.shadows.relief = "along_ray"          # no height field fits these normals (§6 Relief)
     p.diffuse.t0, p.diffuse.t1 = 0.05, 0.9
     lights = [Light("sun", (0.62, 0.35, 0.70), (1.0, 0.93, 0.82), 1.0, "Key")]
     return Recipe(p, lights, {"shape": "normal.png", "dark": "dark.png", "bright": "bright.png"},

@@ -34,12 +34,18 @@ def bake_shape(mat, p, fresh=False):
     shape settings change, so per-frame and live bakes do not read and decode it each time;
     `fresh` decodes again (the image's pixels may have been edited)."""
     s = mat.dynamic_painting
-    key = (s.image_shape.name, repr(vars(p.shape)))
+    key = shape_key(s, p)
     hit = _SHAPES.get(mat.name)
     if fresh or hit is None or hit[0] != key:
         hit = (key, shape_normals(image_data_from_blender(s.image_shape), p, np.float32))
         _SHAPES[mat.name] = hit
     return hit[1]
+
+
+def shape_key(settings, p):
+    """What the decoded shape depends on: the image and the §2 settings, and for a normal
+    map the relief its shadows fall from (§6)."""
+    return settings.image_shape.name, repr(vars(p.shape)), p.shadows.relief
 
 
 def forget_cached_shapes():

@@ -24,6 +24,7 @@ from . import shading, warps
 from .colour import srgb_to_linear
 from .inputs import (finite_pixels, mask_channel, mask_note, mask_values, non_finite_message,
                      normal_map_notes, normal_map_problem, size_message)
+from .integrate import integrate
 from .lights import falloff, light_vectors
 from .sampling import gaussian_blur, pixel_centres, resample, sample_bilinear
 from .bake import bake as shadow_bake
@@ -98,8 +99,11 @@ def _premultiplied(img, dtype):
     return np.concatenate([rgb * a[..., None], a[..., None]], axis=2)
 
 
-def shape_normals(shape, p, dtype=np.float32):
-    """§2: decode the shape image → (normals, heights_px or None, slopes or None)."""
+def shape_normals(shape, p, dtype=np.float32, relief=True):
+    """§2: decode the shape image → (normals, heights_px or None, slopes or None).
+
+    A normal map gives its slopes, or with `shadows.relief` integrated (and `relief`: the
+    caller will march shadows) the heights its shadows fall from (§6 "Relief")."""
     if p.shape.kind == "height":
         sigma = p.shape.preblur
         if sigma == "auto":
@@ -108,7 +112,18 @@ def shape_normals(shape, p, dtype=np.float32):
         return normals_from_height_px(z_px, p.shape.z_min), z_px, None
     n = decode_normal_map(shape.rgb().astype(dtype), p.shape.flip_green, p.shape.z_min,
                           p.shape.encoding, p.shape.strength)
+    if relief and p.shadows.relief == "integrated":
+        return n, normal_map_relief_px(n, shape), None
     return n, None, slopes_from_normals(n)
+
+
+def normal_map_relief_px(n, shape):
+    """§6 "Relief": the height field a normal map's shadows fall from, in pixels: the
+    least-squares integral of its slopes (core/integrate.py), its figure (the shape image's
+    alpha) integrated apart from the background."""
+    alpha = shape.alpha()
+    mask = None if alpha is None else np.nan_to_num(alpha) >= 0.5
+    return (integrate(n, mask).height * n.shape[1]).astype(n.dtype)
 
 
 def shadow_term(n, z_px, slopes, light, p, cancel=None, progress=None):
@@ -131,7 +146,10 @@ def light_terms(n, z_px, slopes, lights, p, dtype=np.float32, rows=None, shadows
     r0, r1 = rows or (0, h)
     x, y = pixel_centres(h, w, dtype)
     x, y, nb = x[r0:r1], y[r0:r1], n[r0:r1]
-    zs = z_px[r0:r1] if z_px is not None else np.zeros((r1 - r0, w), dtype)
+    # P_S lies on the relief of a height map, on the canvas for a normal map (§0): a normal
+    # map's integrated relief only casts its shadows
+    zs = z_px[r0:r1] if z_px is not None and p.shape.kind == "height" else \
+        np.zeros((r1 - r0, w), dtype)
     raw, spec, strength = [], [], []
     for i, light in enumerate(lights):
         lvec, dist = light_vectors(light, x, y, zs, dtype, image_size=(h, w))
@@ -227,7 +245,7 @@ def render(images, lights, p, dtype=np.float32, cache=None, keep_passes=True):
 
     masks = mask_channels(imgs, p)
     warnings += mask_notes(masks, p)
-    n, z_px, slopes = shape_normals(imgs["shape"], p, dtype)
+    n, z_px, slopes = shape_normals(imgs["shape"], p, dtype, relief=p.shadows.enabled)
     shadows = [shadow_term(n, z_px, slopes, light, p) for light in lights] \
         if p.shadows.enabled else None
     ctx = _Shading(imgs, lights, p, dtype, cache, n, z_px, slopes, shadows, hs, ws, masks)

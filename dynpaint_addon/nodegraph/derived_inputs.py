@@ -4,6 +4,8 @@ A node tree (material, compositor group, OSL shader, web page) samples a few ima
 not the artist's own but made from them by numpy:
 
   height             the §2 pre-blurred height map (grey; alpha: the shape image's)
+  relief             a normal map's integrated relief in image widths (§6 "Relief"), for
+                     the OSL march
   silhouette         the alpha of the silhouette channel (§11) as a float image
   environment        E and B as the warped lookups read them (§8, §9): linear
   background         premultiplied RGBA, blurred for glossy / translucent looks (§11)
@@ -32,7 +34,8 @@ import numpy as np
 
 from .. import params
 from ..core.inputs import mask_values
-from ..core.pipeline import MASKS, PER_PIXEL_CHANNELS, finite_image, lookup_copy, mask_setting
+from ..core.pipeline import (MASKS, PER_PIXEL_CHANNELS, finite_image, lookup_copy, mask_setting,
+                             shape_normals)
 from ..core.shape import default_preblur_px, normal_vectors, preblurred_height, resolve_encoding
 
 
@@ -93,6 +96,10 @@ def derived_inputs(features, p, sources):
         sigma = float(default_preblur_px(src.bits) if sigma == "auto" else sigma)
         out.append(Derived("height", "shape", _key("height", src, p, sigma),
                            lambda d: grey_rgba(preblurred_height(d.grey(), sigma), _alpha(d))))
+    if "relief" in need:
+        src = sources["shape"]
+        out.append(Derived("relief", "shape", _key("relief", src, p),
+                           lambda d: grey_rgba(_relief_widths(d, p))))
     if "silhouette" in need:
         # A float copy of the alpha: EEVEE reads 8-bit alpha up to 1/255 off (254 → 255).
         channel = features.silhouette
@@ -110,6 +117,11 @@ def derived_inputs(features, p, sources):
                            _key("background_sharp", src, p, same),
                            lambda d: lookup_copy(d, 0.0, "extend"), same_as=same))
     return out
+
+
+def _relief_widths(data, p):
+    n, z_px, _ = shape_normals(data, p, np.float32)
+    return z_px / z_px.shape[1]
 
 
 def _as_it_is(data):

@@ -94,7 +94,15 @@ class _FeaturesMethods:
             need.add("background_sharp")
         if self.shadows:
             need |= {f"shadow_{i}" for i in range(len(self.lights))}
+        if self.marches_relief:
+            need.add("relief")
         return need
+
+    @property
+    def marches_relief(self):
+        """The OSL march reads a normal map's integrated relief (§6 "Relief")."""
+        return (self.shadows and self.shadow_source == "osl" and self.shape_kind == "normal"
+                and self.shadows_relief == "integrated")
 
 
 Features = dataclasses.make_dataclass(

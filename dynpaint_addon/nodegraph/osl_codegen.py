@@ -233,11 +233,13 @@ class Program:
     def march_call(self, normal, light, kind, uv):
         """The in-shader cos-θ term (shaders_osl/cos_theta.h) for one light."""
         f = self.features
-        relief = self.image("shape" if f.shape_kind == "normal" else "height")
+        along_ray = f.shape_kind == "normal" and not f.marches_relief    # slopes, else heights
+        relief = self.image("relief" if f.marches_relief else "shape" if along_ray else "height")
         args = [normal, light, str(int(kind == "point")), f"{uv}[0]", f"{uv}[1]",
-                f"{relief}_file", f"{relief}_srgb", str(int(f.shape_kind == "normal")),
+                f"{relief}_file", f"{relief}_srgb", str(int(along_ray)),
                 self.param("shape.flip_green"), self.param("shape.z_min"),
-                _num(f.size[0]), _num(f.size[1]), self.param("shape.height_scale"),
+                _num(f.size[0]), _num(f.size[1]),
+                "1.0" if f.marches_relief else self.param("shape.height_scale"),   # widths
                 self.param("shadows.offset"), self.param("shadows.steps"),
                 self.param("shadows.reach"), "relief_max",
                 "slope_max"]

@@ -86,8 +86,8 @@ def test_a_failing_bake_keeps_the_last_good_image(painting, monkeypatch):
     live = live_bake.LiveBake()
     item = painting.dynamic_painting.lights[0]
     before = shadow_pixels(item).copy()
-    key = (painting.dynamic_painting.image_shape.name,
-           repr(vars(settings_to_params(painting.dynamic_painting).shape)))
+    key = shadow_images.shape_key(painting.dynamic_painting,
+                                  settings_to_params(painting.dynamic_painting))
     monkeypatch.setitem(shadow_images._SHAPES, painting.name, (key, (np.full((2, 2, 3), np.nan), None, None)))
     from dynpaint_addon.blender.status import LAST_ERRORS
     LAST_ERRORS.clear()

@@ -46,15 +46,17 @@ def test_osl_renders_match_core(name, paths, tmp_path):
     assert err <= 1e-3, f"{name}: max |Δ| {err:.2e}"
 
 
-@pytest.mark.parametrize("shape, light", [
-    ("height.exr", Light("sun", (0.8, 0.3, 0.5))),
-    ("normal", Light("point", (-0.3, -0.2, 0.25))),
-    ("height16", Light("sun", (-0.4, -0.7, 0.35)))])
-def test_in_shader_march_matches_reference_bake(shape, light, paths, tmp_path):
+@pytest.mark.parametrize("shape, light, relief", [
+    ("height.exr", Light("sun", (0.8, 0.3, 0.5)), "integrated"),
+    ("normal", Light("point", (-0.3, -0.2, 0.25)), "along_ray"),
+    ("normal_alpha", Light("sun", (0.5, -0.4, 0.4)), "integrated"),    # §6 Relief, masked
+    ("height16", Light("sun", (-0.4, -0.7, 0.35)), "integrated")])
+def test_in_shader_march_matches_reference_bake(shape, light, relief, paths, tmp_path):
     """The OSL cos-θ term against numpy's reference quality (K = 1024, float64): ≤ 5e-3 mean."""
     recipe = make_recipe("shadows_height", paths)
     recipe.images["shape"] = paths[shape]
-    recipe.params.shape.kind = "normal" if shape == "normal" else "height"
+    recipe.params.shape.kind = "normal" if shape.startswith("normal") else "height"
+    recipe.params.shadows.relief = relief
     recipe.params.shadows.steps = 64
     recipe.lights = [light]
     recipe.params.shadows.source = "osl"
@@ -72,7 +74,8 @@ def test_in_shader_march_matches_reference_bake(shape, light, paths, tmp_path):
     ref = cos_theta_shadow(n, light, recipe.params.shadows.offset, 1024, heights_px=z, slopes=slopes,
                            reach=recipe.params.shadows.reach)
     assert np.abs(got - ref).mean() <= 5e-3
-    assert np.abs(got - ref).mean() <= 1e-3          # measured ≈3e-4
+    # measured ≈3e-4; 1.3e-3 on the figure's integrated relief (6e-4 from numpy's K = 64)
+    assert np.abs(got - ref).mean() <= (2e-3 if shape == "normal_alpha" else 1e-3)
 
 
 def test_generated_source_is_plain_text_and_complete():

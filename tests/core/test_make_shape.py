@@ -273,3 +273,28 @@ def test_the_multigrid_solver_handles_cut_and_held_pixels():
     b[:, 20:] -= b[:, 20:].mean()                     # the free right part: sources sum to 0
     z, it, res = solve(grid, b, tol=1e-10)
     assert res < 1e-10 and np.abs(grid.apply(z) - b).max() < 1e-8 and it < 40
+
+
+def test_normal_map_shadows_fall_from_the_integrated_relief():
+    """§6 Relief: by default a normal map's shadows are marched over its integrated height,
+    which on a real shape is the true one; the paper's along-the-ray rebuild is kept."""
+    from dynpaint_addon.core.pipeline import shape_normals
+    from dynpaint_addon.core.shadow import cos_theta_shadow
+    size = 96
+    x, y = grid_xy(size, size)
+    z = np.sqrt(np.clip(0.3 ** 2 - x * x - y * y, 0, None))          # a hemisphere
+    n = normals_of_height(z)
+    image = ImageData(((n + 1) / 2).astype(np.float32), 32)
+    p = params.defaults()
+    assert p.shadows.relief == "integrated"
+    sun = Light("sun", (np.cos(np.radians(30)), 0.0, np.sin(np.radians(30))))
+    n32, relief, slopes = shape_normals(image, p)
+    assert slopes is None and abs(relief.max() / size - 0.3) < 0.02
+    truth = cos_theta_shadow(n32, sun, 0.01, 256, heights_px=(z * size).astype(np.float32))
+    integrated = cos_theta_shadow(n32, sun, 0.01, 256, heights_px=relief)
+    p.shadows.relief = "along_ray"
+    _, none, slopes = shape_normals(image, p)
+    assert none is None
+    along = cos_theta_shadow(n32, sun, 0.01, 256, slopes=slopes, reach=p.shadows.reach)
+    err_int, err_ray = np.abs(integrated - truth).mean(), np.abs(along - truth).mean()
+    assert err_int < 0.01 and err_int < 0.5 * err_ray, (err_int, err_ray)

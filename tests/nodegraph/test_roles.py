@@ -137,10 +137,11 @@ def test_bake_parameters_are_exactly_those_that_change_the_bake():
     """The bake's key is made of the `bake` parameters: any other never changes its result,
     and each of them changes it (for some value, with one kind of shape image or the other)."""
     changes = {}
-    for kind in ("normal", "height"):
+    for kind, relief in (("normal", "integrated"), ("normal", "along_ray"), ("height", "")):
         imgs = images(kind)
         base = base_params(kind)
         base.shape.preblur = 1.0
+        base.shadows.relief = relief or base.shadows.relief      # reach: along the ray only
         before = bake(base, imgs)
         for prm in params.PARAMS:
             if prm.path == "shape.kind":
