@@ -76,7 +76,8 @@ def smooth_height_errors(size=1024):
     shapes = {"Gaussian hill": 0.1 * np.exp(-(x * x + y * y) / (2 * 0.12 ** 2)),
               "ball cap (r 0.6, cut at 0.35)":
                   np.where(x * x + y * y < 0.35 ** 2,
-                           np.sqrt(np.clip(0.36 - x * x - y * y, 0, None)) - np.sqrt(0.36 - 0.35 ** 2),
+                           np.sqrt(np.clip(0.36 - x * x - y * y, 0, None))
+                           - np.sqrt(0.36 - 0.35 ** 2),
                            0.0),
               "waves": 0.02 * np.sin(6 * np.pi * x) * np.cos(4 * np.pi * y)}
     rows, seconds = [], None
@@ -127,7 +128,8 @@ def border_depth(z, index):
     """The true height of the figures' rims above the ground beside them (what an artist
     would set as --depth): the median over figure pixels that touch the ground."""
     fig = index > 0
-    rim = fig & ~(np.roll(fig, 1, 0) & np.roll(fig, -1, 0) & np.roll(fig, 1, 1) & np.roll(fig, -1, 1))
+    inner = np.roll(fig, 1, 0) & np.roll(fig, -1, 0) & np.roll(fig, 1, 1) & np.roll(fig, -1, 1)
+    rim = fig & ~inner
     return float(np.median(z[rim])) if rim.any() else 0.0
 
 

@@ -188,7 +188,8 @@ def add_parser(sub):
                    help="rgb, rg (two-channel) or auto (as shape.encoding)")
     m.add_argument("--flip-green", action="store_true", help="DirectX normal map (green down)")
     m.add_argument("--strength", type=float, default=1.0,
-                   help="scale of each normal's tilt (0.5 for tilt-halving maps; as shape.strength)")
+                   help="scale of each normal's tilt (0.5 for tilt-halving maps; as "
+                   "shape.strength)")
     m.add_argument("--residual", help="also write the residual |g − ∇z| per pixel (.exr)")
     m.add_argument("--out", required=True, help="height map: .exr (image widths) or .png (16-bit)")
 

@@ -13,11 +13,13 @@ import re
 
 import numpy as np
 
+from .channel_names import IMAGE_EXTENSIONS
 from .core.colour import srgb_to_linear
 from .core.inflate import inflate
 from .core.inputs import mask_values
 from .core.integrate import integrate
-from .core.photometric import SIDES
+from .core.photometric import SIDES, normals_from_profiles, normals_from_rg_photo
+from .core.sampling import resample
 from .core.shape import (decode_normal_map, default_preblur_px, height_field_px,
                          normals_from_height_px, preblurred_height)
 
@@ -82,6 +84,23 @@ def sprite_lamp_side(path):
     return match.group(1) if match else None
 
 
+def sprite_lamp_siblings(path):
+    """{side: path} of the profiles beside `path` named like it in Sprite Lamp's convention
+    (portrait_left.png → portrait_right.png, portrait_top.jpg, …), `path` included."""
+    side = sprite_lamp_side(path)
+    if side is None:
+        return {}
+    folder, name = os.path.split(path)
+    stem = os.path.splitext(name)[0][:-len(side)]
+    found = {}
+    for other in sorted(os.listdir(folder or ".")):
+        base, ext = os.path.splitext(other)
+        if base.lower().startswith(stem.lower()) and base[len(stem):].lower() in SIDES \
+                and ext.lower() in IMAGE_EXTENSIONS:
+            found.setdefault(base[len(stem):].lower(), os.path.join(folder, other))
+    return found
+
+
 def same_size(images, what):
     """Refuse images of different sizes (they must show the same subject pixel for pixel)."""
     sizes = {name: img.size for name, img in images.items()}
@@ -95,6 +114,8 @@ METHODS = {
     "inflate": "Inflate Silhouette: a round relief inside the painting's alpha",
     "integrate": "Height from Normal Map: integrate the normal map (least squares)",
     "normals": "Normal Map from Height: the height map's normals (§2)",
+    "profiles": "Normal Map from Lighting Profiles: 2–5 pictures lit from the sides",
+    "rg_photo": "Normal Map from a Red/Green Photo: red light from a side, green from the top",
 }
 
 
@@ -111,13 +132,22 @@ def _silhouette(images):
                      "with a mask image")
 
 
+def _at_size(pixels, size):
+    """Pixels (H, W[, C]) resampled to a painting's (W, H) when they differ."""
+    w, h = size
+    return pixels if pixels.shape[:2] == (h, w) else resample(pixels, h, w)
+
+
 def make_shape(method, images, p, profile="round", height=1.0, detail=0.0, detail_blur=0.002,
-               depth=0.0, use_mask=True):
+               depth=0.0, use_mask=True, profiles=None, elevation=45.0, photo=None,
+               red_from="right", green_from="top"):
     """A painting's new shape image (the add-on's Make Shape; docs/shape-from-painting.md).
 
-    images: {channel: ImageData}; p: its parameters. → (kind 'height' | 'normal', pixels (H, W,
-    4): heights in image widths (grey) or a normal map's colours, with the old shape image's
-    alpha (inflated: the silhouette's), else opaque; report lines).
+    images: {channel: ImageData}; p: its parameters; profiles: {side: ImageData} and photo:
+    ImageData for the methods that read pictures of their own (resampled to the painting's
+    size). → (kind 'height' | 'normal', pixels (H, W, 4): heights in image widths (grey) or a
+    normal map's colours, with the old shape image's alpha (inflated: the silhouette's), else
+    opaque; report lines).
     """
     shape = images.get("shape")
     alpha = shape.alpha() if shape is not None else None
@@ -151,6 +181,24 @@ def make_shape(method, images, p, profile="round", height=1.0, detail=0.0, detai
         values = encode_normals(normals_of_height(height_widths(shape, p.shape.height_scale,
                                                                 float(blur))))
         lines.append("made the height map's normal map")
+    elif method in ("profiles", "rg_photo"):
+        size = (shape or images.get("bright") or images.get("dark")).size
+        kind = "normal"
+        if method == "profiles":
+            given = {side: img for side, img in (profiles or {}).items() if img is not None}
+            if len(given) < 2:
+                raise ShapeError("Lighting Profiles: give at least two pictures (left, right, "
+                                 "top, bottom, front)")
+            n = normals_from_profiles({side: _at_size(linear_luminance(img), size)
+                                       for side, img in given.items()}, elevation)
+            lines.append(f"solved {len(given)} lighting profiles ({', '.join(given)})")
+        else:
+            if photo is None:
+                raise ShapeError("Red/Green Photo: give the photograph")
+            n = normals_from_rg_photo(_at_size(np.asarray(photo.rgb(), np.float64), size),
+                                      red_from, green_from)
+            lines.append("decoded the red/green photograph")
+        values = encode_normals(n)
     else:
         raise ShapeError(f"unknown method {method!r} (expected one of {', '.join(METHODS)})")
     h, w = values.shape[:2]

@@ -29,6 +29,7 @@ from .sampling import gaussian_blur
 
 SIDES = ("left", "right", "top", "bottom", "front")
 DARK = 0.015        # a profile this dark (× the pixel's brightest) is taken as shadowed
+SHADOW_MARGIN = 0.05  # … or this much darker than the other profiles predict (4+ profiles)
 
 
 def profile_directions(sides, elevation_deg):
@@ -49,6 +50,37 @@ def _fill(values, known, sigma_px):
     den = gaussian_blur(known.astype(np.float64), sigma_px)
     far = float(np.median(values[known]))
     return np.where(known, values, np.where(den > 1e-3, num / np.maximum(den, 1e-12), far))
+
+
+def _solve(weight, shots, lit):
+    """Per pixel least squares b of the weighted profiles, and whether three of them that are
+    not in one plane decide it."""
+    a = np.einsum("hwk,ki,kj->hwij", weight, lit, lit)
+    b = np.einsum("hwij,hwj->hwi", np.linalg.inv(a + 1e-9 * np.eye(3)),
+                  np.einsum("hwk,ki->hwi", weight * shots, lit))
+    return b, ((weight > 0.5).sum(-1) >= 3) & (np.linalg.det(a) > 1e-3)
+
+
+def _drop_shadowed(shots, weight, lit, brightest, margin=SHADOW_MARGIN):
+    """Where four or more profiles see a pixel, the one far darker than the others predict
+    (a cast or soft shadow: painted shadows are seldom black) is dropped: leave each out in
+    turn, keep the leave-one-out that explains the pixel, drop the profile it predicts
+    brighter than shown by more than `margin` × the pixel's brightest."""
+    seen = (weight > 0.5).sum(-1)
+    deficits = []
+    for k in range(lit.shape[0]):
+        others = weight.copy()
+        others[..., k] = 0
+        b, ok = _solve(others, shots, lit)
+        deficits.append(np.where(ok & (weight[..., k] > 0.5), b @ lit[k] - shots[..., k], -np.inf))
+    deficits = np.stack(deficits, -1)
+    worst = deficits.argmax(-1)
+    drop = (seen >= 4) & (np.take_along_axis(deficits, worst[..., None], -1)[..., 0]
+                          > margin * brightest)
+    kept = np.take_along_axis(weight, worst[..., None], -1)
+    out = weight.copy()
+    np.put_along_axis(out, worst[..., None], np.where(drop[..., None], 0.0, kept), -1)
+    return out
 
 
 def _two_lit(shots, weight, lit, albedo, around):
@@ -102,6 +134,8 @@ def normals_from_profiles(profiles, elevation_deg=45.0, smoothness=0.05, iterati
     # shadowed profiles weigh 0 below DARK × the pixel's brightest, 1 above twice that
     u = np.clip((shots / np.maximum(brightest, 1e-12)[..., None] - DARK) / DARK, 0, 1)
     weight = np.where(brightest[..., None] > 0, u * u * (3 - 2 * u), 0)
+    for _ in range(len(sides) - 3):           # soft shadows: darker than the others predict
+        weight = _drop_shadowed(shots, weight, lit, brightest)
     seen = (weight > 0.5).sum(-1)
     a = np.einsum("hwk,ki,kj->hwij", weight, lit, lit)
     rhs = np.einsum("hwk,ki->hwi", weight * shots, lit)

@@ -123,7 +123,7 @@ def normal_map_relief_px(n, shape):
     alpha) integrated apart from the background."""
     alpha = shape.alpha()
     mask = None if alpha is None else np.nan_to_num(alpha) >= 0.5
-    return (integrate(n, mask).height * n.shape[1]).astype(n.dtype)
+    return (integrate(n, mask, precise=False).height * n.shape[1]).astype(n.dtype)
 
 
 def shadow_term(n, z_px, slopes, light, p, cancel=None, progress=None):

@@ -9,7 +9,8 @@ bpy = pytest.importorskip("bpy")
 from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
 from dynpaint_addon.blender.settings import channel_images, settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
-from dynpaint_addon.imageio import image_data_from_blender, read_image, write_png  # noqa: E402
+from dynpaint_addon.imageio import (image_data_from_blender, read_image, write_exr,  # noqa: E402
+                                    write_png)
 
 from test_addon import render_cycles  # noqa: E402
 
@@ -93,3 +94,30 @@ def test_make_shape_reports_what_it_cannot_do(empty_scene, tmp_path):
     assert s.shape.kind == "height"
     assert bpy.ops.dynpaint.make_shape(method="normals") == {"FINISHED"}
     assert s.shape.kind == "normal"
+
+
+def test_make_shape_from_lighting_profiles_and_a_red_green_photo(empty_scene, tmp_path):
+    """Sprite Lamp's names: the left profile is given, the others beside it are found; the
+    red/green photograph decodes to the same normals."""
+    x, y, inside = disc()
+    z = np.sqrt(np.clip(0.6 ** 2 - x * x - y * y, 0, None))
+    n = np.dstack([x, y, z]) / 0.6
+    write_png(tmp_path / "ball_dark.png", np.full((SIZE, SIZE, 3), 0.1))
+    write_png(tmp_path / "ball_bright.png", np.full((SIZE, SIZE, 3), 0.9))
+    write_png(tmp_path / "ball_height.png", np.full((SIZE, SIZE), 0.5), bits=16)
+    e = np.radians(45)
+    for side, light in {"left": (-np.cos(e), 0, np.sin(e)), "right": (np.cos(e), 0, np.sin(e)),
+                        "top": (0, np.cos(e), np.sin(e)),
+                        "bottom": (0, -np.cos(e), np.sin(e))}.items():
+        write_exr(tmp_path / f"lit_{side}.exr", np.clip(n @ np.array(light), 0, None))
+    write_png(tmp_path / "photo.png", (n + 1) / 2, bits=16)
+    assert bpy.ops.dynpaint.add(directory=str(tmp_path), files=[
+        {"name": f"ball_{c}.png"} for c in ("height", "dark", "bright")]) == {"FINISHED"}
+    s = bpy.context.object.active_material.dynamic_painting
+    for method, kw in (("profiles", {"profile_left": str(tmp_path / "lit_left.exr")}),
+                       ("rg_photo", {"photo": str(tmp_path / "photo.png")})):
+        assert bpy.ops.dynpaint.make_shape(method=method, **kw) == {"FINISHED"}
+        assert s.shape.kind == "normal"
+        got = image_data_from_blender(s.image_shape).pixels[..., :3] * 2 - 1
+        angle = np.degrees(np.arccos(np.clip(np.sum(got * n, -1), -1, 1)))
+        assert angle.mean() < 0.5, (method, angle.mean())

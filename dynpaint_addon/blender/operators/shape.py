@@ -1,13 +1,15 @@
 """Make Shape: the painting's shape image made by numpy from what it has (issue 16,
 docs/shape-from-painting.md): its silhouette inflated, its normal map integrated into heights,
-or its height map's normals. The adjust-last-operation panel is the preview: change a setting
-and the painting is made again, one undo step."""
+its height map's normals, or a normal map from lighting profiles or a red/green photograph.
+The adjust-last-operation panel is the preview: change a setting and the painting is made
+again, one undo step."""
 import bpy
-from bpy.props import BoolProperty, EnumProperty, FloatProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
 
 from ...core.inflate import PROFILES
-from ...imageio import image_data_from_blender
-from ...shape_maker import METHODS, make_shape
+from ...core.photometric import SIDES
+from ...imageio import image_data_from_blender, read_image
+from ...shape_maker import METHODS, make_shape, sprite_lamp_siblings
 from ..images import made_shape_image
 from ..settings import channel_images, settings_to_params
 from ..sync import batch, update
@@ -44,6 +46,26 @@ class DYNPAINT_OT_make_shape(PaintingOperator, bpy.types.Operator):
     depth: FloatProperty(name="Depth", default=0.0, min=-1.0, max=1.0, precision=3,
                          description="How far the figure's rim stands above its background "
                          "(image widths); a normal map cannot see this wall")
+    profile_left: StringProperty(name="Left", subtype="FILE_PATH",
+                                 description="The picture lit from the left (Sprite Lamp's "
+                                 "name_left.png: the other sides beside it are found)")
+    profile_right: StringProperty(name="Right", subtype="FILE_PATH",
+                                  description="The picture lit from the right")
+    profile_top: StringProperty(name="Top", subtype="FILE_PATH",
+                                description="The picture lit from the top")
+    profile_bottom: StringProperty(name="Bottom", subtype="FILE_PATH",
+                                   description="The picture lit from the bottom")
+    profile_front: StringProperty(name="Front", subtype="FILE_PATH",
+                                  description="The picture lit from the front (optional)")
+    elevation: FloatProperty(name="Side Lights' Elevation", default=45.0, min=1.0, max=89.0,
+                             description="How high the side lights were above the painting "
+                             "(degrees)")
+    photo: StringProperty(name="Photograph", subtype="FILE_PATH",
+                          description="A photograph lit by a red light from one side and a "
+                          "green light from the top")
+    red_from: EnumProperty(name="Red From", items=[("right", "Right", ""), ("left", "Left", "")])
+    green_from: EnumProperty(name="Green From", items=[("top", "Top", ""),
+                                                       ("bottom", "Bottom", "")])
 
     def invoke(self, context, event):
         s = active_painting(context).dynamic_painting
@@ -62,6 +84,22 @@ class DYNPAINT_OT_make_shape(PaintingOperator, bpy.types.Operator):
             row = layout.row()
             row.active = self.use_mask
             row.prop(self, "depth")
+        elif self.method == "profiles":
+            for side in SIDES:
+                layout.prop(self, f"profile_{side}")
+            layout.prop(self, "elevation")
+        elif self.method == "rg_photo":
+            for name in ("photo", "red_from", "green_from"):
+                layout.prop(self, name)
+
+    def profile_paths(self):
+        """{side: path} given, completed by Sprite Lamp names beside the first one."""
+        given = {side: bpy.path.abspath(getattr(self, f"profile_{side}")) for side in SIDES
+                 if getattr(self, f"profile_{side}")}
+        for path in list(given.values())[:1]:
+            for side, found in sprite_lamp_siblings(path).items():
+                given.setdefault(side, found)
+        return given
 
     def execute(self, context):
         mat = active_painting(context)
@@ -70,10 +108,15 @@ class DYNPAINT_OT_make_shape(PaintingOperator, bpy.types.Operator):
         def work(progress):
             images = {c: image_data_from_blender(img) for c, img in channel_images(s).items()
                       if c in ("shape", "dark", "bright")}
+            profiles = {side: read_image(path) for side, path in self.profile_paths().items()} \
+                if self.method == "profiles" else None
+            photo = read_image(bpy.path.abspath(self.photo)) \
+                if self.method == "rg_photo" and self.photo else None
             progress(0.2)
-            kind, rgba, lines = make_shape(self.method, images, settings_to_params(s),
-                                           self.profile, self.height, self.detail,
-                                           self.detail_blur, self.depth, self.use_mask)
+            kind, rgba, lines = make_shape(
+                self.method, images, settings_to_params(s), self.profile, self.height,
+                self.detail, self.detail_blur, self.depth, self.use_mask, profiles,
+                self.elevation, photo, self.red_from, self.green_from)
             progress(0.7)
             img = made_shape_image(f"{mat.name} {'height' if kind == 'height' else 'normal'}"
                                    f" ({self.method})", rgba)
