@@ -229,7 +229,7 @@ The portrait under a low sun, from its height map (left, the truth), then as a n
 its shadows from the integrated relief (middle, the default) and rebuilt along each ray (right,
 the paper's way). Mean colour difference from the truth: {err_integrated:.4f} integrated,
 {err_along:.4f} along the ray. Against 3D renders (shape-numbers.md) the integrated relief's
-cast shadows overlap the truth 0.84–0.90× as well as a true height map's, along the ray 0.35×.
+cast shadows overlap the truth 0.84–0.89× as well as a true height map's, along the ray 0.33×.
 Set `relief = "along_ray"` for impossible figures (the Penrose sample does).
 
 ## Lighting profiles

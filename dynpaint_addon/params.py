@@ -150,8 +150,8 @@ PARAMS = (
       "(custom quality)", unit="× the shape image", min=0.05, max=1.0, spec="§13", bake=True),
     P("shadows", "relief", "enum", "integrated", "What a normal map's shadows fall from: "
       "integrated, the height field that best fits its normals (least squares, the figure cut "
-      "at the shape image's alpha; real shapes' shadows: measured against 3D, 0.84–0.90× a "
-      "true height map's cast-shadow overlap, along_ray 0.35×), or "
+      "at the shape image's alpha; real shapes' shadows: measured against 3D, 0.84–0.89× a "
+      "true height map's cast-shadow overlap, along_ray 0.33×), or "
       "along_ray, its slopes rebuilt along each shadow ray (the paper's way: impossible "
       "figures, whose normals fit no height field)", choices=("integrated", "along_ray"),
       spec="§6", label="Normal-Map Relief", structural=True, derives=("relief",), bake=True,
