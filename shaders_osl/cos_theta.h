@@ -56,19 +56,20 @@ float dp_cos_theta(vector N, vector light, int is_point, float u, float v,
     float scale = height_scale * W;                          // H (0..1) → pixels
     float x = u * W, y = v * H;
     float zs = normal_map ? 0.0 : dp_relief_px(relief, x, y, W, H, scale);
+    float d = max(0.0, offset) * W;
+    float x0 = x - d * N[0], y0 = y - d * N[1], z0 = zs - d * N[2];
     vector L;
     vector pl = vector(light[0] * W + W / 2.0, light[1] * W + H / 2.0, light[2] * W);
-    if (is_point) {
-        vector to = pl - vector(x, y, zs);
-        float dist = length(to);
+    float dist = 0.0;
+    if (is_point) {                       // §6 Which ray: from P0 to the light, ending there
+        vector to = pl - vector(x0, y0, z0);
+        dist = length(to);
         L = dist > 0.0 ? to / dist : vector(0.0, 0.0, 1.0);
     } else {
         if (light[2] <= 0.0) return 0.0;                     // below the horizon
         L = normalize(light);
     }
     float ndl = dot(N, L);
-    float d = max(0.0, offset) * W;
-    float x0 = x - d * N[0], y0 = y - d * N[1], z0 = zs - d * N[2];
     float delta, ell_top, h_rec = 0.0;
     float inf = 1e30;
     if (!normal_map) {
@@ -85,7 +86,7 @@ float dp_cos_theta(vector N, vector light, int is_point, float u, float v,
     float ell_light = inf;
     int stopped = 0;
     if (is_point) {
-        ell_light = max(dot(pl - vector(x0, y0, z0), L), 0.0);
+        ell_light = dist;
         stopped = ell_light <= ell;
         ell = min(ell, ell_light);
     }

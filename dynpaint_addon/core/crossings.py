@@ -45,8 +45,7 @@ TRACE_PIXELS = 1 << 21          # rays whose starts are held at once (_SunGrid.t
 SUN_BLOCKS, SUN_BLOCK_ROWS = 8, 160   # _SunGrid's blocks of rows: at most 8, ≥ 160 rows
 NEVER = 1e30                      # table padding: beyond any G, finite so blends stay finite
 GUESS_STEPS, GUESS_LEAP = 3, 64
-POINT_RHO_MIN, POINT_RATIO = 0.5, 0.1
-POINT_APEX_NZ = 1.0
+POINT_RHO_MIN = 0.5
 POINT_ARC = 2.0   # row spacing (px) at ρ_max of full-circle grids (most rays are nearer F)
 
 
@@ -363,7 +362,7 @@ class _SunGrid:
 def point_cos_theta(normals, light, offset, *, heights_px):
     """t = d / max(r, d) (H, W) for a point light over a height map, by crossings along the
     rows of a polar grid around the light's foot (_PointGrid): each ray is aimed from P0 at
-    the light, then corrected to the reference's direction (see _PointGrid)."""
+    the light, §6's ray (see _PointGrid)."""
     return _bake(_PointGrid(light, normals.shape[0], normals.shape[1], offset), normals, offset,
                  heights_px, None)
 
@@ -381,20 +380,14 @@ class _PointGrid:
 
     A ray aimed from P0 at the light P_L runs along a row, and with G(ρ) = (H − z_L)/ρ it is
     inside the relief exactly where G > c = (z0 − z_L)/ρ0 (the line from P0 to P_L has
-    height z_L + (z0 − z_L)·ρ/ρ0), so the search of the suns applies unchanged. The
-    reference's ray from P0 runs along L(P_S), parallel to P_S → P_L, which misses the
-    light by up to d·|N.xy|: not a row of any grid shared by all rays. The aimed ray differs
-    most in its first segment, by the ratio of the tangent plane's rates N·L: the length is
-    scaled by it (clamped to ±POINT_RATIO), which brings lit pixels to the reference's
-    cos θ (measured: 5e-3 → 3e-4 mean) and leaves cast shadows shifted by up to
-    d·|N.xy| — good for draft and preview; final marches.
+    height z_L + (z0 − z_L)·ρ/ρ0), so the search of the suns applies unchanged. It is §6's
+    ray ("Which ray", amended 2026-11-23: the paper's segment from P'_S to P_L), the one the
+    reference march follows too.
     """
 
     def __init__(self, light, h, w, offset):
         self.h, self.w = h, w
         self.fx, self.fy, self.zl = (float(v) for v in light.position_px(h, w))
-        self.z_light = self.zl
-        self.zl -= float(offset) * w * POINT_APEX_NZ
         margin = float(offset) * w + 2                 # ray starts lie within d of the box
         xs, ys = (0.5 - margin, w - 0.5 + margin), (0.5 - margin, h - 0.5 + margin)
         cx, cy = [(a + b) / 2 for a, b in (xs, ys)]
@@ -450,12 +443,8 @@ class _PointGrid:
         rho0 = np.hypot(dx, dy)
         dist = np.sqrt(rho0 * rho0 + dz * dz)                    # P0 → P_L
         safe = np.maximum(rho0, f32(1e-6))
-        # the aimed ray's and the reference's N·L (L at P_S)
-        ndl_a = (nx * dx + ny * dy + nz * dz) / np.maximum(dist, f32(1e-6))
-        sx, sy, sz = f32(self.fx) - x, f32(self.fy) - y, f32(self.z_light) - zs
-        ndl_s = (nx * sx + ny * sy + nz * sz) / np.maximum(np.sqrt(sx * sx + sy * sy + sz * sz),
-                                                           f32(1e-6))
-        fall_d = (ndl_a / nz) * dist / safe      # δ's fall per px of u on the tangent plane
+        ndl = (nx * dx + ny * dy + nz * dz) / np.maximum(dist, f32(1e-6))     # N·L0
+        fall_d = (ndl / nz) * dist / safe        # δ's fall per px of u on the tangent plane
         fu = (f32(self.rho_max) - rho0).ravel()
         fv = ((np.arctan2(-dy, -dx) - f32(self.phi0)) / f32(self.dphi)).ravel()
         fv = np.where(fv < 0, fv + f32(2 * np.pi / self.dphi), fv)
@@ -467,7 +456,7 @@ class _PointGrid:
         box = exit_distance(x0, y0, dx / safe, dy / safe, h, w)
         to_light = box >= rho0                                    # no box exit before it
         u_end = fu + np.minimum(box, rho0).ravel()
-        total, inside_end, gap, first = _inside_length(search, row0, wv, fu, c, g_start,
+        total, inside_end, gap, _ = _inside_length(search, row0, wv, fu, c, g_start,
                                                        u_end, (fall_d / safe).ravel())
         rho_end = np.maximum(rho0.ravel() - (u_end - fu), 0)
         fall_d, rho0, nz = fall_d.ravel(), rho0.ravel(), nz.ravel()
@@ -481,13 +470,10 @@ class _PointGrid:
             alone = np.minimum(alone, rho0)
         march = (inside_box(x0, y0, h, w) & (rho0.reshape(x0.shape) >= 1)).ravel()
         with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.clip(np.where(ndl_s > 0, ndl_a / ndl_s, 1), 1 - POINT_RATIO,
-                            1 + POINT_RATIO).ravel()
-            # the first segment to the reference's direction (tangent-plane rates)
-            r_h = np.where(march, total - first + first * ratio + tail, alone * ratio)
+            r_h = np.where(march, total + tail, alone)
             r = r_h * (dist.ravel() / np.maximum(rho0, f32(1e-6)))
             t = d / np.maximum(r, d)
-        t = np.where(np.isfinite(t), t, np.where(rho0 < 1e-6, np.maximum(ndl_s.ravel(), 0), 0))
+        t = np.where(np.isfinite(t), t, np.where(rho0 < 1e-6, np.maximum(ndl.ravel(), 0), 0))
         return np.clip(t, 0, 1).reshape(r1 - r0, w)
 
 

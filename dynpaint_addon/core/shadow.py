@@ -179,14 +179,15 @@ def _ray_setup(c, r0, r1):
     x, y = x[r0:r1], y[r0:r1]
     n = c.normals[r0:r1]
     zs = c.zs[r0:r1] if c.zs is not None else np.zeros((r1 - r0, w), c.dtype)
-    lvec, light_dist = light_vectors(light, x, y, zs, c.dtype, image_size=(h, w))
-    lx, ly, lz = lvec[..., 0], lvec[..., 1], lvec[..., 2]
     nx, ny, nz = n[..., 0], n[..., 1], n[..., 2]
-    ndl = nx * lx + ny * ly + nz * lz
     # P0 = P_S − d·N_S
     x0 = x - d * nx
     y0 = y - d * ny
     z0 = zs - d * nz
+    # §6 Which ray: a sun's direction; for a point light the segment from P0 to the light
+    lvec, light_dist = light_vectors(light, x0, y0, z0, c.dtype, image_size=(h, w))
+    lx, ly, lz = lvec[..., 0], lvec[..., 1], lvec[..., 2]
+    ndl = nx * lx + ny * ly + nz * lz
     h_rec = None
     if c.zs is not None:
         # δ0 from the relief where it is known; on the tangent plane of P_S (d/N.z) where P0
@@ -206,9 +207,7 @@ def _ray_setup(c, r0, r1):
             ell_top = np.where(climb > 0, delta / climb, np.inf)
     ell = np.minimum(exit_distance(x0, y0, lx, ly, h, w), ell_top)
     if light_dist is not None:
-        # The ray reaches the light's closest approach at s = (P_L − P0)·L.
-        p_l = light.position_px(h, w).astype(c.dtype)
-        ell_light = np.maximum((p_l[0] - x0) * lx + (p_l[1] - y0) * ly + (p_l[2] - z0) * lz, 0)
+        ell_light = light_dist                  # the aimed ray ends at the light
         stopped_by_light = ell_light <= ell
         ell = np.minimum(ell, ell_light)
     else:
