@@ -194,10 +194,9 @@ def main(argv=None):
               "tables, binary descents) at draft, preview and final (final from 512 px up), "
               "at the level's own resolution (draft ⅛, preview ¼; ¼ and 0.4 for normal maps; "
               "never below 96/192 px): K does not apply there. Point lights over height maps "
-              "bake by aimed crossings on a polar grid around the light's foot at draft (⅛) and "
-              "preview (¼): each ray is aimed at the light (apex d below it) and its first "
-              "segment corrected to the reference's N·L, not the reference's ray exactly, so "
-              "final marches (K = 64; why: limits.md, benchmarks/point_light_study.py). "
+              "bake by crossings on a polar grid around the light's foot at draft (⅛) and "
+              "preview (¼): each ray runs from P0 to the light, §6's ray, the reference's too "
+              "since 2026-11-24; final still marches (K = 64; limits.md). "
               "Normal maps under point lights march at every level. "
               f"Every time (baseline and levels) is the best of {RUNS} runs: timings on this "
               "shared 2-core machine vary by ±10–25 % between runs.", "",
