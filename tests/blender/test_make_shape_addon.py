@@ -121,3 +121,12 @@ def test_make_shape_from_lighting_profiles_and_a_red_green_photo(empty_scene, tm
         got = image_data_from_blender(s.image_shape).pixels[..., :3] * 2 - 1
         angle = np.degrees(np.arccos(np.clip(np.sum(got * n, -1), -1, 1)))
         assert angle.mean() < 0.5, (method, angle.mean())
+
+
+def test_a_lone_opaque_painting_is_refused_with_what_to_do_and_nothing_is_made(empty_scene,
+                                                                              tmp_path):
+    write_png(tmp_path / "opaque.png", np.full((SIZE, SIZE, 3), 0.5))
+    objects, images = set(bpy.data.objects), set(bpy.data.images)
+    with pytest.raises(RuntimeError, match="no silhouette to inflate"):
+        bpy.ops.dynpaint.add(directory=str(tmp_path), files=[{"name": "opaque.png"}])
+    assert set(bpy.data.objects) == objects and set(bpy.data.images) == images

@@ -122,3 +122,28 @@ def test_bad_input_is_one_line(tmp_path, args, message):
     assert res.returncode == 1 and "Traceback" not in res.stderr
     lines = res.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: ") and message in lines[0], lines
+
+
+@pytest.mark.parametrize("bits", [8, 16])
+def test_every_method_on_non_square_8_and_16_bit_files_writes_finite_maps(tmp_path, bits):
+    """Each command on a 37×23 picture stored at 8 or 16 bits: finite output, right size."""
+    h, w = 23, 37
+    y, x = (np.mgrid[0:h, 0:w] + 0.5) / w - [[[0.3]], [[0.5]]]
+    n = np.dstack([x, y, np.full_like(x, 0.6)])
+    n /= np.linalg.norm(n, axis=2, keepdims=True)
+    rgba = np.dstack([(n + 1) / 2, (x * x + y * y < 0.09).astype(float)])
+    write_png(tmp_path / "n.png", rgba, bits=bits)
+    write_png(tmp_path / "h.png", np.clip(0.5 - x * x - y * y, 0, 1), bits=bits)
+    for side, light in {"left": (-1, 0, 1), "right": (1, 0, 1), "top": (0, 1, 1)}.items():
+        write_png(tmp_path / f"p_{side}.png", np.clip(n @ (np.array(light) / np.sqrt(2)), 0, 1),
+                  bits=bits)
+    runs = {"integrate.exr": ["integrate", tmp_path / "n.png", "--mask", "alpha"],
+            "normals.png": ["normals", tmp_path / "h.png", "--height-scale", "0.1"],
+            "profiles.png": ["profiles", *[tmp_path / f"p_{s}.png" for s in ("left", "right",
+                                                                             "top")]],
+            "rg.png": ["rg-photo", tmp_path / "n.png"],
+            "inflate.exr": ["inflate", tmp_path / "n.png", "--detail", "0.01"]}
+    for out, args in runs.items():
+        ok(run_cli("make-shape", *args, "--out", tmp_path / out))
+        px = read_image(tmp_path / out).pixels
+        assert px.shape[:2] == (h, w) and np.all(np.isfinite(px)), out
