@@ -177,8 +177,9 @@ dependency), works on any image size, and writes files the add-on and the other 
 directly. Heights are in **image widths**: an EXR written here bakes at its true scale with
 `--height-scale 1` (`bake-shadow`) or *Height* 1 in the add-on. In Blender: the painting's
 *Images* panel › **Make Shape** (inflate the silhouette, a height map from the normal map, a
-normal map from the height map; change the options in the *Adjust Last Operation* panel to see
-the painting made again, one undo step), and *Add › Dynamic Painting › From Images* with no
+normal map from the height map, from lighting profiles — pick one, the others named like it
+are found — or from a red/green photo; change the options in the *Adjust Last Operation* panel
+to see the painting made again, one undo step; the new image is packed in the .blend), and *Add › Dynamic Painting › From Images* with no
 shape image inflates the painting's silhouette.
 
 | you have | method | command |
