@@ -89,19 +89,20 @@ PARAMS = (
       "height map (grey, lighter = nearer the viewer)", choices=("normal", "height"), spec="§2",
       structural=True, derives=("shape", "height"), bake=True),
     P("shape", "flip_green", bool, False, "Normal maps whose green channel means 'lit from below' "
-      "(DirectX style)", spec="§2", label="Flip Green (DirectX)", bake=True,
+      "(DirectX style)", spec="§2", label="Flip Green (DirectX)", derives=("relief",), bake=True,
       shown_if=("shape.kind", "normal")),
     P("shape", "encoding", "enum", "auto", "How a normal map stores its normals: rgb (x, y, z in "
       "red, green, blue) or rg (x and y only, z = √(1 − x² − y²), blue ignored: the two-channel "
       "maps of many engines and tools); auto reads a map whose blue is 0 everywhere as rg",
-      choices=ENCODINGS, spec="§2", derives=("shape",), bake=True,
+      choices=ENCODINGS, spec="§2", derives=("shape", "relief"), bake=True,
       shown_if=("shape.kind", "normal")),
     P("shape", "strength", float, 1.0, "Scales each normal's tilt angle: 0.5 halves every tilt, "
       "exactly what maps made for a decoder that halves them (normalize((0,0,1) + N), some web "
       "relighting tools) need; 1 = as painted", min=0.0, max=2.0, spec="§2",
-      derives=("shape",), bake=True, shown_if=("shape.kind", "normal")),
+      derives=("shape", "relief"), bake=True, shown_if=("shape.kind", "normal")),
     P("shape", "z_min", float, 0.05, "Smallest allowed N.z: steeper normals are tilted back up so "
-      "slopes stay finite", min=0.001, max=1.0, spec="§2", label="Minimum N.z", bake=True),
+      "slopes stay finite", min=0.001, max=1.0, spec="§2", label="Minimum N.z",
+      derives=("relief",), bake=True),
     P("shape", "height_scale", float, 0.05, "Relief height of a white height-map pixel",
       unit="image widths", min=0.0, max=10.0, spec="§2", label="Height", bake=True,
       shown_if=("shape.kind", "height")),

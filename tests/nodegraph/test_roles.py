@@ -105,12 +105,14 @@ def made(p, imgs):
     return {d.channel: (d.key, arrays[d.channel]) for d in plan}
 
 
-@pytest.mark.parametrize("kind", ["normal", "height"])
-def test_derived_images_depend_on_exactly_their_declared_parameters(kind):
+@pytest.mark.parametrize("kind, source", [("normal", "baked"), ("height", "baked"),
+                                          ("normal", "osl")])     # osl: the relief image
+def test_derived_images_depend_on_exactly_their_declared_parameters(kind, source):
     """A parameter not naming a derived image in `derives` never changes it (else the image
     would go stale: its key would not see the change); one naming it changes its key."""
     imgs = images(kind)
     base = base_params(kind)
+    base.shadows.source = source
     before = made(base, imgs)
     for prm in params.PARAMS:
         value = getattr(getattr(base, prm.section), prm.key)
