@@ -56,7 +56,7 @@ def cmd_integrate(args):
     if args.mask == "alpha":
         if img.alpha() is None:
             raise ShapeError(f"--mask alpha: {args.normal} has no alpha channel")
-        mask = figure_mask(img)
+        mask = figure_mask(img, "alpha")
     elif args.mask != "none":
         mimg = read_image(args.mask)
         if mimg.size != img.size:

@@ -167,7 +167,7 @@ def make_shape(method, images, p, profile="round", height=1.0, detail=0.0, detai
         if shape is None or p.shape.kind != "normal":
             raise ShapeError("Height from Normal Map needs a normal map as the shape image")
         n = decode_normals(shape, p.shape.encoding, p.shape.flip_green, p.shape.strength)
-        mask = figure_mask(shape) if use_mask and shape.alpha() is not None else None
+        mask = figure_mask(shape, "alpha") if use_mask else None    # no alpha: all figure
         result = integrate(n, mask, depth)
         kind, values = "height", result.height
         lines.append(f"integrated the normal map: relief {values.max():.3g} image widths; "

@@ -312,3 +312,16 @@ def test_a_soft_shadow_in_one_of_four_profiles_is_left_out():
     err = angle_deg(normals_from_profiles(shots, 45.0), n)
     where = inside & shadow & lit_by_all        # three others left to decide alone
     assert where.sum() > 100 and err[where].mean() < 0.1, err[where].mean()
+
+
+def test_an_opaque_alpha_cuts_nothing_when_integrating():
+    """The figure of a normal map is its alpha ≥ ½, the rule the shadow relief uses: an
+    alpha opaque everywhere cuts nothing (it was read as the map's luminance instead)."""
+    from dynpaint_addon.shape_maker import make_shape
+    _, n = bump(48, 64)
+    rgba = np.concatenate([(n + 1) / 2, np.ones(n.shape[:2] + (1,))], -1)
+    p = params.defaults()
+    _, cut, _ = make_shape("integrate", {"shape": ImageData(rgba.astype(np.float32), 32)}, p)
+    _, plain, _ = make_shape("integrate", {"shape": ImageData(rgba[..., :3].astype(np.float32),
+                                                                32)}, p)
+    assert np.allclose(cut[..., 0], plain[..., 0], atol=1e-9)
