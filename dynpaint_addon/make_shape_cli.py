@@ -20,7 +20,7 @@ from .shape_maker import (GREENS, ShapeError, decode_normals, encode_normals, fi
                           sprite_lamp_side)
 
 
-def _write_height(path, z, verbose):
+def _write_height(path, z):
     """Heights in image widths: EXR as they are (bake-shadow --height-scale 1 reads them at
     their true scale), PNG as 16-bit 0..1 of the highest point (its height_scale printed)."""
     ext = os.path.splitext(path)[1].lower()
@@ -70,7 +70,7 @@ def cmd_integrate(args):
         print(f"residual (the part no height map has): RMS {result.residual_rms:.4g} "
               f"(slope units), {100 * result.residual_share:.2f} % of the field; "
               f"{result.parts} part(s)")
-    _write_height(args.out, result.height, args.verbose)
+    _write_height(args.out, result.height)
     if args.residual:
         write_exr(args.residual, result.residual.astype(np.float32))
         print(f"wrote {args.residual} (|g − ∇z| per pixel, slope units)")
@@ -127,7 +127,7 @@ def cmd_inflate(args):
                      linear_luminance(read_image(args.detail_image) if args.detail_image
                                       else img) if args.detail else None, args.detail_blur)
     _timed(args, "inflate", started)
-    _write_height(args.out, result.height, args.verbose)
+    _write_height(args.out, result.height)
 
 
 def cmd_export_maps(args):
@@ -141,8 +141,8 @@ def cmd_export_maps(args):
     out = {name: os.path.join(args.out, name) for name in
            ("normal.png", "height.exr", "height.png", "ambient_occlusion.png", "specular.png")}
     _write_normals(out["normal.png"], n, args.green)
-    _write_height(out["height.exr"], height, False)
-    _write_height(out["height.png"], height, False)
+    _write_height(out["height.exr"], height)
+    _write_height(out["height.png"], height)
     write_png(out["ambient_occlusion.png"], ambient_occlusion(height), bits=16)
     print(f"wrote {out['ambient_occlusion.png']}")
     if "gloss" in images or p.specular.enabled:

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .laplace import Grid, poisson_neumann, solve
+from .laplace import Grid, edge_sums, poisson_neumann, solve
 
 
 @dataclass
@@ -140,13 +140,8 @@ def integrate(normals, mask=None, depth=0.0, precise=True):
         z = _place_parts(z, mask, labels, count, depth)
     rx = ((z[:, 1:] - z[:, :-1]) - gx) * w * wx      # back to slope units
     ry = ((z[1:, :] - z[:-1, :]) - gy) * w * wy
-    sq, k = np.zeros((h, w)), np.zeros((h, w))
-    for r2, e, sl_a, sl_b in ((rx * rx, wx, np.s_[:, :-1], np.s_[:, 1:]),
-                              (ry * ry, wy, np.s_[:-1, :], np.s_[1:, :])):
-        sq[sl_a] += r2
-        sq[sl_b] += r2
-        k[sl_a] += e
-        k[sl_b] += e
+    sq = edge_sums(rx * rx, ry * ry, np.zeros((h, w)))       # over each pixel's equations
+    k = edge_sums(wx, wy, np.zeros((h, w)))
     equations = wx.sum() + wy.sum()
     total = np.sum(rx * rx) + np.sum(ry * ry)
     field = np.sum((gx * w * wx) ** 2) + np.sum((gy * w * wy) ** 2)

@@ -56,6 +56,16 @@ def poisson_neumann(b):
     return _idct(_idct(coeff, 0), 1)
 
 
+def edge_sums(ex, ey, out):
+    """Add each edge's value to both pixels it joins (ex (H, W−1) between (i, j) and
+    (i, j + 1), ey (H−1, W) between (i, j) and (i + 1, j)) into `out` (H, W) → out."""
+    out[:, :-1] += ex
+    out[:, 1:] += ex
+    out[:-1, :] += ey
+    out[1:, :] += ey
+    return out
+
+
 class Grid:
     """The operator A z = Σ_edges w_e (z_a − z_b) + d·z: −L over the kept edges (weights wx
     between (i, j) and (i, j + 1), wy between (i, j) and (i + 1, j)) plus a Dirichlet term d
@@ -70,12 +80,7 @@ class Grid:
         self.shape = (h, w)
         self.dirichlet = np.zeros((h, w), dtype) if dirichlet is None else \
             np.asarray(dirichlet, dtype)
-        diag = self.dirichlet.copy()
-        diag[:, :-1] += self.wx
-        diag[:, 1:] += self.wx
-        diag[:-1, :] += self.wy
-        diag[1:, :] += self.wy
-        self.diag = diag
+        self.diag = diag = edge_sums(self.wx, self.wy, self.dirichlet.copy())
         self.free = diag > 0
         self.inv_diag = np.where(self.free, 1 / np.where(self.free, diag, 1), 0).astype(dtype)
 

@@ -101,17 +101,12 @@ def _two_lit(shots, weight, lit, albedo, around):
     u /= np.linalg.norm(u, axis=-1, keepdims=True)
     t = np.sqrt(np.clip(albedo ** 2 - (b0 * b0).sum(-1), 0, None))[..., None]
     shadowed = weight < 0.5
-    best, best_cost = None, None
-    for sign in (1.0, -1.0):
-        cand = b0 + sign * t * u
-        cost = np.sum(np.where(shadowed, np.clip(cand @ lit.T, 0, None), 0), -1) \
+
+    def cost(cand):
+        return np.sum(np.where(shadowed, np.clip(cand @ lit.T, 0, None), 0), -1) \
             - 0.05 * np.sum(cand * around, -1)             # a tie: the one like its neighbours
-        if best is None:
-            best, best_cost = cand, cost
-        else:
-            pick = cost < best_cost
-            best = np.where(pick[..., None], cand, best)
-    return best
+    plus, minus = b0 + t * u, b0 - t * u
+    return np.where((cost(minus) < cost(plus))[..., None], minus, plus)
 
 
 def normals_from_profiles(profiles, elevation_deg=45.0, smoothness=0.05, iterations=30):
@@ -137,10 +132,7 @@ def normals_from_profiles(profiles, elevation_deg=45.0, smoothness=0.05, iterati
     for _ in range(len(sides) - 3):           # soft shadows: darker than the others predict
         weight = _drop_shadowed(shots, weight, lit, brightest)
     seen = (weight > 0.5).sum(-1)
-    a = np.einsum("hwk,ki,kj->hwij", weight, lit, lit)
-    rhs = np.einsum("hwk,ki->hwi", weight * shots, lit)
-    b = np.einsum("hwij,hwj->hwi", np.linalg.inv(a + 1e-9 * np.eye(3)), rhs)
-    determined = (seen >= 3) & (np.linalg.det(a) > 1e-3)   # three lights not in one plane
+    b, determined = _solve(weight, shots, lit)
     rank3 = np.linalg.matrix_rank(lit) == 3
     b = np.where(determined[..., None], b, 0)
     if rank3:
