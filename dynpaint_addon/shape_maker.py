@@ -119,6 +119,20 @@ METHODS = {
 }
 
 
+# How the painting reads a shape image make_shape made (§2): heights in image widths, float
+# (no pre-blur); normal maps in the standard RGB convention.
+SHAPE_READS = {"height": {"kind": "height", "height_scale": 1.0, "preblur": "auto"},
+               "normal": {"kind": "normal", "encoding": "rgb", "strength": 1.0,
+                          "flip_green": False}}
+
+
+def read_as_made(p, kind):
+    """Set p's §2 shape settings to read a made shape image of `kind` (SHAPE_READS)."""
+    for key, value in SHAPE_READS[kind].items():
+        setattr(p.shape, key, value)
+    return p
+
+
 def _silhouette(images):
     """The figure of a painting: the alpha of its shape, dark or bright image (the first that
     has a transparent part) → (channel, alpha), or a ShapeError saying what to give."""

@@ -22,9 +22,9 @@ def settings_to_params(settings):
     return p
 
 
-def params_to_settings(p, settings):
-    """Write a params namespace into the settings (recipe import)."""
-    for param in params.PARAMS:
+def params_to_settings(p, settings, sections=params.SECTIONS):
+    """Write a params namespace (those of its sections) into the settings (recipe import)."""
+    for param in (prm for prm in params.PARAMS if prm.section in sections):
         group = getattr(settings, param.section)
         value = getattr(getattr(p, param.section), param.key)
         if param.kind == "auto_float":

@@ -14,7 +14,7 @@ from ...channel_names import IMAGE_EXTENSIONS, common_name, guess_channels
 from ...imageio import image_data_from_blender
 from ...recipe import RecipeError, load_recipe
 from ...samples import list_samples
-from ...shape_maker import make_shape
+from ...shape_maker import make_shape, read_as_made
 from ..images import load_image, made_shape_image
 from ..scene import create_painting, unchanged_images_on_failure
 from .common import run_and_report
@@ -131,7 +131,7 @@ def inflated_shape(channels, name, p):
     images = {c: image_data_from_blender(load_image(channels[c], c))
               for c in ("dark", "bright") if c in channels}
     kind, rgba, lines = make_shape("inflate", images, p)
-    p.shape.kind, p.shape.height_scale = kind, 1.0          # the image holds image widths
+    read_as_made(p, kind)
     return made_shape_image(f"{name} height (inflate)", rgba), \
         f"no shape image: {lines[0]} (Make Shape changes it)"
 

@@ -9,9 +9,9 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
 from ...core.inflate import PROFILES
 from ...core.photometric import SIDES
 from ...imageio import image_data_from_blender, read_image
-from ...shape_maker import METHODS, make_shape, sprite_lamp_siblings
+from ...shape_maker import METHODS, make_shape, read_as_made, sprite_lamp_siblings
 from ..images import made_shape_image
-from ..settings import channel_images, settings_to_params
+from ..settings import channel_images, params_to_settings, settings_to_params
 from ..sync import batch, update
 from .common import PaintingOperator, active_painting, run_and_report
 
@@ -113,20 +113,16 @@ class DYNPAINT_OT_make_shape(PaintingOperator, bpy.types.Operator):
             photo = read_image(bpy.path.abspath(self.photo)) \
                 if self.method == "rg_photo" and self.photo else None
             progress(0.2)
+            p = settings_to_params(s)
             kind, rgba, lines = make_shape(
-                self.method, images, settings_to_params(s), self.profile, self.height,
+                self.method, images, p, self.profile, self.height,
                 self.detail, self.detail_blur, self.depth, self.use_mask, profiles,
                 self.elevation, photo, self.red_from, self.green_from)
             progress(0.7)
             img = made_shape_image(f"{mat.name} {'height' if kind == 'height' else 'normal'}"
                                    f" ({self.method})", rgba)
             with batch():
-                s.shape.kind = kind
-                if kind == "height":
-                    s.shape.height_scale = 1.0        # the image holds image widths
-                    s.shape.preblur_auto = True       # float: no pre-blur
-                else:
-                    s.shape.encoding, s.shape.strength, s.shape.flip_green = "rgb", 1.0, False
+                params_to_settings(read_as_made(p, kind), s, sections=("shape",))
                 s.image_shape = img
             update(mat, context.scene, rebake=True)
             return [("INFO", f"{lines[0]}; the shape image is now {img.name} (packed in "
