@@ -13,7 +13,7 @@ from .core.photometric import SIDES, normals_from_profiles, normals_from_rg_phot
 from .core.pipeline import shape_normals
 from .core.shape import ENCODINGS
 from .imageio import read_image, write_exr, write_png
-from .recipe import load_images, load_recipe
+from .recipe import load_recipe
 from .samples import recipe_path
 from .shape_maker import (GREENS, ShapeError, decode_normals, encode_normals, figure_mask,
                           height_widths, linear_luminance, normals_of_height, same_size,
@@ -132,7 +132,8 @@ def cmd_inflate(args):
 
 def cmd_export_maps(args):
     recipe = load_recipe(recipe_path(args.recipe))
-    images = load_images(recipe)
+    images = {c: read_image(path) for c, path in recipe.images.items()   # only what it exports
+              if c in ("shape", "gloss")}
     p = recipe.params
     n, z_px, _ = shape_normals(images["shape"], p, np.float64)
     w = n.shape[1]
