@@ -163,8 +163,9 @@ def light_terms(n, z_px, slopes, lights, p, dtype=np.float32, rows=None, shadows
             spec.append(shading.specular_term(nb, lvec, p.specular.s0, p.specular.s1,
                                               p.specular.curve))
         k = dtype(light.strength)
-        strength.append(k if dist is None else k * falloff(dist / dtype(w), p.falloff.mode,
-                                                           p.falloff.radius))
+        fades = dist is not None and p.falloff.mode != "none"    # else one number per light
+        strength.append(k * falloff(dist / dtype(w), p.falloff.mode, p.falloff.radius)
+                        if fades else k)
     return raw, spec, strength
 
 
