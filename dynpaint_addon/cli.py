@@ -17,6 +17,7 @@ from .core.pipeline import PER_PIXEL_CHANNELS, ImageData, render, shape_normals
 from .core.sampling import resample
 from .core.bake import QUALITY, bake, quality_settings
 from .core.shadow import ShadowStats
+from .export_web_cli import ExportError, add_parser as add_export_web_parser
 from .imageio import ImageReadError, read_image, write_exr, write_png
 from .make_shape_cli import add_parser as add_make_shape_parser
 from .recipe import RecipeError, load_images, load_recipe
@@ -323,6 +324,7 @@ def build_parser():
     pa = sub.add_parser("params", help="list every recipe parameter with its unit, range, default")
     pa.set_defaults(func=cmd_params)
     add_make_shape_parser(sub)
+    add_export_web_parser(sub)
     return ap
 
 
@@ -330,7 +332,7 @@ def main(argv=None):
     args = build_parser().parse_args(argv)
     try:
         args.func(args)
-    except (CommandError, RecipeError, ImageReadError, ShapeError) as exc:
+    except (CommandError, RecipeError, ImageReadError, ShapeError, ExportError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
     except (ValueError, OSError, MemoryError) as exc:

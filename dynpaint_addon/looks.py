@@ -1,6 +1,7 @@
 """Ready-made looks: named sets of parameter values (params.py paths), applied in one go by
 the add-on's Look menu (no bpy). `transparency.amount_auto` is the Blender property that
 switches the auto value off."""
+import copy
 
 LOOKS = {
     "CLASSIC": ("Classic", "Dark image in shadow, bright in full light (t0 = 0, t1 = 1)",
@@ -18,3 +19,14 @@ LOOKS = {
                {"transparency.amount_auto": False, "transparency.amount": 1.0,
                 "fresnel.mode": "art", "fresnel.kappa": 1.0, "reflection.distance": 0.05}),
 }
+
+
+def with_look(p, key):
+    """A copy of the parameters `p` (a params namespace) with look `key` applied; the Blender
+    switch `transparency.amount_auto` is implied by the amount the look sets."""
+    p = copy.deepcopy(p)
+    for path, value in LOOKS[key][2].items():
+        section, name = path.split(".")
+        if name != "amount_auto":
+            setattr(getattr(p, section), name, value)
+    return p

@@ -2,6 +2,7 @@
 
     name = "Dome"
     description = "One line for menus"   # optional
+    credits = "Painted by …, 2026"        # optional: shown by the exported web page
     [images]                  # paths relative to this file
     shape = "height.png"
     dark = "dark.png"
@@ -43,6 +44,7 @@ class Recipe:
     name: str = ""
     path: str = ""
     description: str = ""   # one line for menus and tooltips
+    credits: str = ""       # who made it: shown under the title of an exported web page
 
 
 def _suggest(key, options):
@@ -126,7 +128,7 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True):
     """Validate a recipe dict (as read from TOML) → Recipe. Image paths resolve from base_dir."""
     where = f"{source}: "
     values = params.defaults()
-    text = {"name": "", "description": ""}
+    text = {"name": "", "description": "", "credits": ""}
     images, lights = {}, []
     for key, value in data.items():
         if key in text:
@@ -161,14 +163,15 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True):
                     raise RecipeError(f"{where}{key}.{k}: unknown key{_suggest(k, keys)}")
                 setattr(section, k, _check_value(param, v, f"{where}{key}.{k}"))
         else:
-            options = ("name", "description", "images", "lights") + params.SECTIONS
+            options = (*text, "images", "lights") + params.SECTIONS
             raise RecipeError(f"{where}{key}: unknown key{_suggest(key, options)}")
     for ch in params.REQUIRED_CHANNELS:
         if ch not in images:
             raise RecipeError(f"{where}images.{ch}: missing (a painting needs a shape image)")
     if "dark" not in images and "bright" not in images:
         raise RecipeError(f"{where}images.dark: missing (a painting needs a dark or a bright image)")
-    return Recipe(values, lights, images, text["name"], description=text["description"])
+    return Recipe(values, lights, images, text["name"], description=text["description"],
+                  credits=text["credits"])
 
 
 def load_recipe(path):
@@ -209,6 +212,8 @@ def recipe_to_toml(recipe, base_dir, only_changed=True):
         lines.append(f"name = {_toml_value(recipe.name)}")
     if recipe.description:
         lines.append(f"description = {_toml_value(recipe.description)}")
+    if recipe.credits:
+        lines.append(f"credits = {_toml_value(recipe.credits)}")
     lines += ["", "[images]"]
     for ch, full in recipe.images.items():
         rel = os.path.relpath(full, base_dir).replace(os.sep, "/")

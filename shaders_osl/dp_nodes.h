@@ -8,6 +8,7 @@ vector dp_vdiv(vector a, vector b)
     return vector(dp_div(a[0], b[0]), dp_div(a[1], b[1]), dp_div(a[2], b[2]));
 }
 float dp_sqrt(float a) { return a > 0.0 ? sqrt(a) : 0.0; }
+float dp_abs(float a) { return fabs(a); }
 float dp_sign(float a) { return a > 0.0 ? 1.0 : (a < 0.0 ? -1.0 : 0.0); }
 float dp_pow(float a, float b)
 {

@@ -6,12 +6,15 @@ runs Blender: the add-on, renders, the command line's image files). Tests under
 tests/blender are marked `blender`, so `pytest -m "not blender"` runs the rest in seconds.
 With DYNPAINT_NO_BPY=1 importing bpy fails, which proves that they need no Blender.
 """
+import base64
 import os
 import subprocess
 import sys
 
 import numpy as np
 import pytest
+
+from dynpaint_addon.web.chromium import Chromium, find_chromium
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BLENDER_TESTS = os.path.join(REPO, "tests", "blender")
@@ -68,3 +71,32 @@ def empty_scene():
 @pytest.fixture
 def rng():
     return np.random.default_rng(1234)
+
+
+@pytest.fixture(scope="session")
+def browser():
+    """One headless Chromium for the session (dynpaint_addon/web/chromium.py). The README's
+    test command installs it where it runs as root; DYNPAINT_SKIP_BROWSER=1 skips these tests
+    on a machine without one (say so when you report a run)."""
+    if os.environ.get("DYNPAINT_SKIP_BROWSER"):
+        pytest.skip("DYNPAINT_SKIP_BROWSER is set: web page tests skipped")
+    if find_chromium() is None:
+        pytest.fail("no Chromium: install Debian's `chromium` (scripts/bootstrap.sh does as "
+                    "root), set DYNPAINT_CHROMIUM=/path/to/chrome, or DYNPAINT_SKIP_BROWSER=1")
+    with Chromium() as b:
+        yield b
+
+
+def open_page(browser, path, width=900, height=700, scale=1.0, query=""):
+    """Open an exported page and wait until it has drawn → Page (fails on the page's error)."""
+    page = browser.open("file://" + os.path.abspath(path) + query, width, height, scale)
+    page.evaluate("window.dynamicPainting.ready")
+    error = page.evaluate("window.dynamicPainting.error")
+    assert error is None, error
+    return page
+
+
+def page_pixels(page, width, height):
+    """The page's premultiplied linear RGBA at the painting's size, y up (a float framebuffer)."""
+    raw = base64.b64decode(page.evaluate("window.dynamicPainting.renderFloat()"))
+    return np.frombuffer(raw, np.float32).reshape(height, width, 4)

@@ -1,0 +1,66 @@
+"""`python -m dynpaint_addon export-web`: a recipe as one self-contained web page (issue 17).
+
+The page (web/page.py) draws the painting with WebGL2 from a shader generated from the graph
+description; the viewer drags the light. Problems end as one `error: …` line (cli.main).
+"""
+import os
+import time
+
+from . import params
+from .recipe import load_images, load_recipe
+from .samples import recipe_path
+from .web.page import TURNTABLE_SECONDS, page_data, write_page
+
+STEPS = params.BY_PATH["shadows.steps"]
+
+
+class ExportError(ValueError):
+    """A user-facing problem with export-web's options."""
+
+
+def cmd_export_web(args):
+    if not args.out.lower().endswith((".html", ".htm")):
+        raise ExportError(f"--out {args.out}: a web page is an .html file")
+    if args.max_size is not None and args.max_size < 16:
+        raise ExportError(f"--max-size {args.max_size}: at least 16 pixels")
+    if args.steps is not None and not STEPS.min <= args.steps <= STEPS.max:
+        raise ExportError(f"--steps {args.steps}: K must be in {STEPS.min}..{STEPS.max}")
+    if args.turntable_seconds <= 0:
+        raise ExportError(f"--turntable-seconds {args.turntable_seconds}: must be positive")
+    start = time.perf_counter()
+    recipe = load_recipe(recipe_path(args.recipe))
+    data, warnings = page_data(
+        load_images(recipe), recipe.lights, recipe.params,
+        title=recipe.name if args.title is None else args.title,
+        credits=recipe.credits if args.credits is None else args.credits,
+        steps=args.steps, max_size=args.max_size, turntable_seconds=args.turntable_seconds)
+    size = write_page(args.out, data)
+    seconds = time.perf_counter() - start
+    inputs = sum(os.path.getsize(p) for p in set(recipe.images.values()))
+    for warning in warnings:
+        print(f"warning: {warning}")
+    print(f"export-web: wrote {args.out} ({size / 1e6:.2f} MB, {size / inputs:.2f}× its input "
+          f"images; {data['width']}×{data['height']}, {len(data['lights'])} light(s)"
+          f"{', shadows K = %d' % data['steps'] if data['shadows'] else ''}) in {seconds:.1f} s")
+
+
+def add_parser(sub):
+    """Register `export-web` on the command line's subparsers."""
+    w = sub.add_parser("export-web", help="export a recipe as a self-contained web page (.html)",
+                       description="Write one offline .html file (images inside, no network) "
+                       "where viewers drag the light over the painting (WebGL2). Open "
+                       "PAINTING.html?embed for the painting alone at its own size.")
+    w.add_argument("recipe", help="painting.toml, or a sample's name (portrait, glass, impossible)")
+    w.add_argument("--out", required=True, help="the web page (.html)")
+    w.add_argument("--max-size", type=int, metavar="PX",
+                   help="longest side of the painting in the page, in pixels (default: the "
+                   "shape image's size; smaller pages load faster)")
+    w.add_argument("--steps", type=int, metavar="K",
+                   help="march steps per pixel of the in-page shadows (default: the recipe's "
+                   "shadows.steps, 64; fewer draw faster)")
+    w.add_argument("--title", help="title shown above the painting (default: the recipe's name)")
+    w.add_argument("--credits", help="credits shown under the title (default: the recipe's)")
+    w.add_argument("--turntable-seconds", type=float, default=TURNTABLE_SECONDS,
+                   help=f"seconds per turn of the light when the page plays "
+                   f"(default {TURNTABLE_SECONDS:g})")
+    w.set_defaults(func=cmd_export_web)

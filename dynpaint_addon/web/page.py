@@ -1,0 +1,257 @@
+"""A dynamic painting as one self-contained web page (issue 17): the data and the .html file.
+
+The page is the pipeline's fourth backend: the fragment shader is generated from the graph
+description (nodegraph/glsl_codegen.py) for the painting's features, its images are the ones
+the shader samples (the painting's own and those derived by nodegraph/derived_inputs.py, the
+same preparation every backend shares), its uniforms are the parameters and lights. The
+viewer (viewer.html, viewer.js, viewer.css beside this file) draws it with WebGL2 and lets the
+viewer move the light. Everything is inlined: the file opens offline, with no network and no
+external script.
+
+Images are stored losslessly in the precision they have: 8-bit and 16-bit files as their
+integer codes, half floats as halves, float data (heights, a normal map's relief) as float32;
+each one delta-coded along its rows, split into byte planes and deflated (the browser's
+DecompressionStream inflates it), then base64 text.
+
+No bpy: the command line and the add-on both call `page_data` and `write_page`.
+"""
+import base64
+import copy
+import html
+import json
+import os
+import zlib
+
+import numpy as np
+
+from .. import params
+from ..core.pipeline import ImageData, pixel_role, shape_normals
+from ..core.sampling import resample
+from ..looks import LOOKS, with_look
+from ..core.shape import slopes_from_normals
+from ..nodegraph import glsl_codegen
+from ..nodegraph.derived_inputs import Source, derived_inputs, make_derived
+from ..nodegraph.features import Features
+from ..nodegraph.pipeline_graph import describe
+from ..nodegraph.text_codegen import param_name
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+COLOUR_CHANNELS = {c for c, (_, kind) in params.CHANNELS.items() if kind == "colour"}
+TURNTABLE_SECONDS = 8.0          # one turn of the light when the page plays its turntable
+
+
+def param_uniforms(p):
+    """Every numeric parameter's uniform and value (the page's dp.param nodes read them):
+    {'p_diffuse_t0': 0.0, 'p_reflection_offset_x': 0.0, …}; 'auto' is 1 (features resolve
+    it) and a switch 0 or 1."""
+    out = {}
+    for prm in params.PARAMS:
+        if prm.kind == "enum":
+            continue
+        value = getattr(getattr(p, prm.section), prm.key)
+        for index in prm.components:
+            v = value if index is None else value[index]
+            out[param_name(prm.path, index)] = 1.0 if v == "auto" else float(v)
+    return out
+
+
+def page_features(images, lights, p):
+    """The Features the page's shader is built for: those of the painting, with the cos-θ
+    term marched in the shader (the OSL march's choice of relief, §6)."""
+    p = copy.deepcopy(p)
+    p.shadows.source = "osl"
+    return Features.from_params(p, images.keys(), [lt.kind for lt in lights],
+                                images["shape"].size,
+                                {c for c, img in images.items() if img.has_alpha},
+                                {c: img.size for c, img in images.items()}), p
+
+
+def shrink(img, max_size):
+    """`img` (ImageData) with its longer side at most `max_size` pixels (box-averaged by a
+    whole factor, then resampled), or `img` itself."""
+    w, h = img.size
+    if not max_size or max(w, h) <= max_size:
+        return img
+    scale = max_size / max(w, h)
+    px = img.pixels.astype(np.float32)
+    k = int(1 / scale)
+    if k > 1:
+        px = px[:px.shape[0] // k * k, :px.shape[1] // k * k]
+        px = px.reshape(px.shape[0] // k, k, px.shape[1] // k, k, -1).mean(axis=(1, 3))
+    out = resample(px, max(1, round(h * scale)), max(1, round(w * scale)))
+    return ImageData(out.astype(np.float32), img.bits, img.name)
+
+
+def encode_pixels(px, kind):
+    """(H, W, C) pixels → {'format', 'channels', 'width', 'height', 'data'}: integer codes
+    ('u8', 'u16', from values in 0..1) or floats ('f16', 'f32'), row 0 at the bottom, each
+    row delta-coded, split into byte planes, deflated, base64."""
+    h, w, c = px.shape
+    if kind == "u8":
+        codes = np.round(np.clip(px, 0, 1) * 255).astype(np.uint8)
+    elif kind == "u16":
+        codes = np.round(np.clip(px, 0, 1) * 65535).astype("<u2")
+    elif kind == "f16":
+        codes = px.astype("<f2").view("<u2")
+    else:
+        codes = px.astype("<f4").view("<u4")
+    deltas = codes.copy()
+    deltas[:, 1:] -= codes[:, :-1]                       # wraps: undone exactly by a sum
+    planes = deltas.reshape(-1).view(np.uint8).reshape(-1, codes.itemsize).T
+    data = zlib.compress(np.ascontiguousarray(planes).tobytes(), 6)
+    return {"format": kind, "channels": c, "width": w, "height": h,
+            "data": base64.b64encode(data).decode("ascii")}
+
+
+def _kind_of(img, exact_half):
+    if img.bits == 8:
+        return "u8"
+    if img.bits == 16:
+        return "u16"
+    return "f16" if exact_half else "f32"
+
+
+def _is_half(px):
+    finite = np.isfinite(px)
+    return bool(np.all(finite) and np.abs(px).max(initial=0) < 65504
+                and np.array_equal(px.astype(np.float16).astype(px.dtype), px))
+
+
+def page_textures(features, p, images, cache=None):
+    """The images the shader samples → ({channel: encoded texture or {'same_as': channel}},
+    warnings). Derived images (nodegraph/derived_inputs.py) replace their sources; colour ones
+    (E, B) are halves (≤ 2.4e-4 off in 0..1), data ones (heights, relief) float32.
+    cache: {derived key, or the channel of an image used as it is: texture}, shared by the calls for one painting's looks."""
+    cache = {} if cache is None else cache
+    need = {c for c in features.image_channels() if not c.startswith("shadow_")}
+    plan = [d for d in derived_inputs(features, p, {c: Source(c, img.bits)
+                                                    for c, img in images.items()})
+            if d.channel in need]
+    todo = [d for d in plan if d.key not in cache]
+    made, warnings = make_derived(todo, images.__getitem__, lambda c: pixel_role(c, p))
+    by_channel = {d.channel: d for d in plan}
+    out = {}
+    for channel in sorted(need):
+        item = by_channel.get(channel)
+        if item is not None and item.same_as:
+            out[channel] = {"same_as": item.same_as}
+            continue
+        key = item.key if item is not None else ("as it is", channel)
+        if key in cache:
+            out[channel] = cache[key]
+            continue
+        rgba = made.get(channel) if item is not None else None
+        if rgba is not None:
+            colour = item.source in COLOUR_CHANNELS
+            exact = _is_half(rgba)
+            tex = encode_pixels(rgba, "f16" if colour or exact else "f32")
+            tex["srgb"] = 0
+        else:
+            img = images[item.source if item is not None else channel]
+            px = img.pixels
+            tex = encode_pixels(px, _kind_of(img, img.bits == 32 and _is_half(px)))
+            tex["srgb"] = int(channel in COLOUR_CHANNELS and img.bits < 32)
+        out[channel] = cache[key] = tex
+    return out, warnings
+
+
+def _light_entry(light):
+    return {"kind": light.kind, "vector": list(light.vector), "colour": list(light.colour),
+            "strength": light.strength, "name": light.name or light.kind.title()}
+
+
+def march_bounds(images, p, cache=None):
+    """The march's global bounds (cos_theta.glsl): the highest relief in image widths and the
+    steepest slope of a normal map, from the core's own decode of the shape (§2, §6).
+    cache: {what the decode reads: bounds}, shared by the calls for one painting's looks."""
+    key = repr((sorted(vars(p.shape).items()), p.shadows.relief))
+    if cache is not None and key in cache:
+        return cache[key]
+    n, z_px, slopes = shape_normals(images["shape"], p, np.float32)
+    relief = float(z_px.max()) / images["shape"].size[0] if z_px is not None else 0.0
+    sl = slopes if slopes is not None else slopes_from_normals(n)
+    bounds = {"relief_max": relief, "slope_max": float(np.hypot(sl[..., 0], sl[..., 1]).max())}
+    if cache is not None:
+        cache[key] = bounds
+    return bounds
+
+
+def _variant(images, lights, p, steps, cache):
+    """One way to show the painting: (features, shader source, uniforms, textures, warnings)."""
+    features, p_page = page_features(images, lights, p)
+    if steps is not None:
+        p_page.shadows.steps = int(steps)
+    source, program = glsl_codegen.generate(describe(features), features)
+    textures, warnings = page_textures(features, p_page, images, cache.setdefault("images", {}))
+    uniforms = {name: value for name, value in param_uniforms(p_page).items()
+                if name in program.uniforms}
+    if features.shadows:
+        uniforms.update(march_bounds(images, p_page, cache.setdefault("bounds", {})))
+    return features, source, uniforms, textures, warnings
+
+
+def page_data(images, lights, p, title="", credits="", steps=None, max_size=None,
+              animation=None, turntable_seconds=TURNTABLE_SECONDS):
+    """Everything the viewer needs, as JSON-ready data.
+
+    images: {channel: ImageData}; lights: [core Light]; p: the parameters. steps: the march's
+    K (default the recipe's shadows.steps). max_size: the longest side of the painting in the
+    page (images shrink to it). animation: {'fps', 'frames': [[light vectors per light]…]} of
+    keyframed lights, played instead of the turntable; turntable_seconds: one turn of the
+    key light when the page plays without one.
+
+    Looks: the painting as exported, then each ready-made look (looks.py) that shows it
+    differently; looks of other features get a shader of their own, and a look that would
+    need an image prepared otherwise than the others is left out.
+    """
+    images = {c: shrink(img, max_size) for c, img in images.items()}
+    cache = {}
+    features, source, uniforms, textures, warnings = _variant(images, lights, p, steps, cache)
+    shaders, feature_keys = [source], [features]
+    looks = [{"name": "As exported", "description": "The painting's own settings",
+              "shader": 0, "uniforms": uniforms}]
+    for key, (label, description, _) in LOOKS.items():
+        f, src, u, tex, _ = _variant(images, lights, with_look(p, key), steps, cache)
+        if any(c in textures and textures[c] != t for c, t in tex.items()):
+            continue
+        if f not in feature_keys:
+            feature_keys.append(f)
+            shaders.append(src)
+        look = {"name": label, "description": description,
+                "shader": feature_keys.index(f), "uniforms": u}
+        if all(look["shader"] != other["shader"] or look["uniforms"] != other["uniforms"]
+               for other in looks):
+            textures.update(tex)
+            looks.append(look)
+    w, h = images["shape"].size
+    return {
+        "title": title, "credits": credits, "width": w, "height": h,
+        "shaders": shaders, "looks": looks, "textures": textures,
+        "lights": [_light_entry(lt) for lt in lights], "shadows": bool(features.shadows),
+        "steps": int(uniforms.get("p_shadows_steps", steps or p.shadows.steps)),
+        "turntable_seconds": float(turntable_seconds), "animation": animation,
+    }, warnings
+
+
+def _asset(name):
+    with open(os.path.join(HERE, name), encoding="utf-8") as fh:
+        return fh.read()
+
+
+def render_html(data):
+    """The page's text: viewer.html with its style, script and data inlined."""
+    payload = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
+    title = html.escape(data["title"] or "Dynamic painting")
+    return (_asset("viewer.html").replace("{{title}}", title)
+            .replace("{{style}}", _asset("viewer.css"))
+            .replace("{{script}}", _asset("viewer.js"))
+            .replace("{{data}}", payload))
+
+
+def write_page(path, data):
+    """Write the page → its size in bytes."""
+    text = render_html(data)
+    os.makedirs(os.path.dirname(os.path.abspath(path)) or ".", exist_ok=True)
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write(text)
+    return len(text.encode("utf-8"))

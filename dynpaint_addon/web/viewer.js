@@ -1,0 +1,439 @@
+// The viewer of an exported dynamic painting (issue 17): WebGL2 draws the fragment shader that
+// dynpaint_addon/nodegraph/glsl_codegen.py generated from the pipeline's graph; this script
+// only loads the images, sets the uniforms and moves the lights. The page's data (#dp-data)
+// comes from dynpaint_addon/web/page.py. No network, no library.
+"use strict";
+
+(function () {
+  const DATA = JSON.parse(document.getElementById("dp-data").textContent);
+  const EMBED = new URLSearchParams(location.search).has("embed");
+  const canvas = document.getElementById("painting");
+  const message = document.getElementById("message");
+  const BACKDROP = [0.0116, 0.0116, 0.0116];          // #1b1b1b, linear
+
+  // -- the lights: each has a place (x, y, h) in image widths from the painting's centre ------
+  // A point light sits at its place; a sun shines from the direction of its place, as if it
+  // were there: dragging puts the light over the pointer, the height lifts it.
+  function placeOf(light) {
+    const [x, y, z] = light.vector;
+    if (light.kind === "point") return [x, y, z];
+    const n = Math.hypot(x, y, z) || 1;
+    return [x / n, y / n, z / n];
+  }
+  const lights = DATA.lights.map((lt) => ({ ...lt, on: true, place: placeOf(lt) }));
+  const state = { key: 0, playing: false, phase: 0, frame: 0, look: 0, dirty: true };
+
+  function lightVector(lt) {
+    const [x, y, h] = lt.place;
+    if (lt.kind === "point") return [x, y, h];
+    const n = Math.hypot(x, y, h) || 1;
+    return [x / n, y / n, h / n];
+  }
+
+  // -- WebGL2 ------------------------------------------------------------------------------
+  const gl = canvas.getContext("webgl2", { antialias: false, premultipliedAlpha: false,
+                                           preserveDrawingBuffer: true });
+  function fail(text) {
+    message.textContent = text;
+    message.hidden = false;
+    document.body.dataset.state = "failed";
+    api.error = text;
+  }
+  const api = { ready: null, error: null, frames: 0, state, lights };
+  window.dynamicPainting = api;
+
+  const VERTEX = "#version 300 es\nvoid main() {\n" +
+    "  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n" +
+    "  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);\n}\n";
+
+  function compile(kind, source) {
+    const sh = gl.createShader(kind);
+    gl.shaderSource(sh, source);
+    gl.compileShader(sh);
+    if (!gl.getShaderParameter(sh, gl.COMPILE_STATUS)) {
+      throw new Error("the painting's shader did not compile: " + gl.getShaderInfoLog(sh));
+    }
+    return sh;
+  }
+
+  function program(source) {
+    const prog = gl.createProgram();
+    gl.attachShader(prog, compile(gl.VERTEX_SHADER, VERTEX));
+    gl.attachShader(prog, compile(gl.FRAGMENT_SHADER, source));
+    gl.linkProgram(prog);
+    if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) {
+      throw new Error("the painting's shader did not link: " + gl.getProgramInfoLog(prog));
+    }
+    return prog;
+  }
+
+  // -- images: base64 → inflate → byte planes → row deltas → RGBA texture --------------------
+  async function inflate(b64) {
+    const text = atob(b64);
+    const bytes = new Uint8Array(text.length);
+    for (let i = 0; i < text.length; i++) bytes[i] = text.charCodeAt(i);
+    const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream("deflate"));
+    return new Uint8Array(await new Response(stream).arrayBuffer());
+  }
+
+  const SIZES = { u8: 1, u16: 2, f16: 2, f32: 4 };
+  const ARRAYS = { 1: Uint8Array, 2: Uint16Array, 4: Uint32Array };
+
+  function codesOf(tex, planes) {
+    const size = SIZES[tex.format], n = tex.width * tex.height * tex.channels;
+    const bytes = new Uint8Array(n * size);
+    for (let k = 0; k < size; k++) {
+      for (let i = 0, j = k * n; i < n; i++, j++) bytes[i * size + k] = planes[j];
+    }
+    const codes = new ARRAYS[size](bytes.buffer);
+    const row = tex.width * tex.channels, c = tex.channels;
+    for (let r = 0; r < tex.height; r++) {          // undo the row deltas (wrapping sums)
+      for (let i = r * row + c, end = (r + 1) * row; i < end; i++) codes[i] += codes[i - c];
+    }
+    return codes;
+  }
+
+  function rgbaOf(tex, codes) {
+    // grey → (g, g, g), grey + alpha → (g, g, g, a), missing alpha → 1 (core's ImageData)
+    const n = tex.width * tex.height, c = tex.channels;
+    const u16 = tex.format === "u16", f32 = tex.format === "f32";
+    const out = u16 || f32 ? new Float32Array(n * 4) : new ARRAYS[SIZES[tex.format]](n * 4);
+    const src = f32 ? new Float32Array(codes.buffer) : codes;
+    const one = { u8: 255, u16: 1, f16: 0x3c00, f32: 1 }[tex.format];
+    const scale = u16 ? 1 / 65535 : 1;
+    for (let i = 0; i < n; i++) {
+      const s = i * c, d = i * 4;
+      const r = src[s] * scale;
+      const g = c >= 3 ? src[s + 1] * scale : r, b = c >= 3 ? src[s + 2] * scale : r;
+      out[d] = r; out[d + 1] = g; out[d + 2] = b;
+      out[d + 3] = c === 2 || c === 4 ? src[s + c - 1] * scale : one;
+    }
+    return out;
+  }
+
+  async function texture(tex) {
+    const rgba = rgbaOf(tex, codesOf(tex, await inflate(tex.data)));
+    const t = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D, t);
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+    const [internal, type] = tex.format === "u8" ? [gl.RGBA8, gl.UNSIGNED_BYTE]
+      : tex.format === "f16" ? [gl.RGBA16F, gl.HALF_FLOAT] : [gl.RGBA32F, gl.FLOAT];
+    gl.texImage2D(gl.TEXTURE_2D, 0, internal, tex.width, tex.height, 0, gl.RGBA, type, rgba);
+    for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, gl.NEAREST], [gl.TEXTURE_MAG_FILTER, gl.NEAREST],
+                          [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]]) {
+      gl.texParameteri(gl.TEXTURE_2D, k, v);
+    }
+    return t;
+  }
+
+  // -- drawing -------------------------------------------------------------------------------
+  let prog = null;
+  const programs = [], textures = {}, units = {};
+
+  // The program of the current look (compiled the first time it is shown).
+  function useLook() {
+    const index = DATA.looks[state.look].shader;
+    programs[index] = programs[index] || program(DATA.shaders[index]);
+    prog = programs[index];
+    gl.useProgram(prog);
+  }
+
+  function setUniforms(rect, display) {
+    const loc = (name) => gl.getUniformLocation(prog, name);
+    for (const [name, value] of Object.entries(DATA.looks[state.look].uniforms)) {
+      gl.uniform1f(loc(name), name === "p_shadows_steps" ? state.steps : value);
+    }
+    for (const [channel, unit] of Object.entries(units)) {
+      gl.activeTexture(gl.TEXTURE0 + unit);
+      gl.bindTexture(gl.TEXTURE_2D, textures[channel]);
+      gl.uniform1i(loc("tex_" + channel), unit);
+      const tex = DATA.textures[channel];
+      gl.uniform1i(loc("srgb_" + channel), (DATA.textures[tex.same_as] || tex).srgb);
+    }
+    lights.forEach((lt, i) => {
+      gl.uniform3fv(loc(`light${i + 1}_vector`), lightVector(lt));
+      const k = lt.on ? lt.strength : 0;
+      gl.uniform3fv(loc(`light${i + 1}_weight`), lt.colour.map((c) => c * k));
+    });
+    gl.uniform4f(loc("dp_rect"), ...rect);
+    gl.uniform1i(loc("dp_display"), display);
+    gl.uniform3fv(loc("dp_backdrop"), BACKDROP);
+  }
+
+  function draw() {
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.viewport(0, 0, canvas.width, canvas.height);
+    useLook();
+    setUniforms([0, 0, canvas.width, canvas.height], 1);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    api.frames++;
+    state.dirty = false;
+  }
+
+  // The painting's premultiplied linear RGBA at its own size, read from a float framebuffer
+  // (for tests: compare with the numpy core) → base64 of little-endian float32, row 0 at the
+  // bottom, like the core's arrays.
+  api.renderFloat = function () {
+    const w = DATA.width, h = DATA.height;
+    if (!gl.getExtension("EXT_color_buffer_float")) throw new Error("no float framebuffer");
+    const fb = gl.createFramebuffer(), rb = gl.createRenderbuffer();
+    gl.bindRenderbuffer(gl.RENDERBUFFER, rb);
+    gl.renderbufferStorage(gl.RENDERBUFFER, gl.RGBA32F, w, h);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
+    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.RENDERBUFFER, rb);
+    gl.viewport(0, 0, w, h);
+    useLook();
+    setUniforms([0, 0, w, h], 0);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    const px = new Float32Array(w * h * 4);
+    gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT, px);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.deleteFramebuffer(fb);
+    gl.deleteRenderbuffer(rb);
+    state.dirty = true;
+    const bytes = new Uint8Array(px.buffer);
+    let text = "";
+    for (let i = 0; i < bytes.length; i += 0x8000) {
+      text += String.fromCharCode.apply(null, bytes.subarray(i, i + 0x8000));
+    }
+    return btoa(text);
+  };
+
+  // Milliseconds per frame over `n` frames drawn at the canvas's size (each waits for the
+  // GPU by reading one pixel back).
+  api.frameTime = function (n) {
+    const one = new Uint8Array(4);
+    draw();
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
+    const start = performance.now();
+    for (let i = 0; i < n; i++) {
+      draw();
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
+    }
+    return (performance.now() - start) / n;
+  };
+
+  // -- layout: the canvas fits the stage (or, embedded, shows one image pixel per CSS pixel) --
+  function layout() {
+    const dpr = window.devicePixelRatio || 1;
+    let cssW = DATA.width, cssH = DATA.height;
+    if (!EMBED) {
+      const stage = document.getElementById("stage").getBoundingClientRect();
+      const fit = Math.min(stage.width / DATA.width, stage.height / DATA.height);
+      if (fit > 0 && isFinite(fit)) { cssW = DATA.width * fit; cssH = DATA.height * fit; }
+    }
+    canvas.style.width = cssW + "px";
+    canvas.style.height = cssH + "px";
+    canvas.width = Math.max(1, Math.round(cssW * dpr));
+    canvas.height = Math.max(1, Math.round(cssH * dpr));
+    state.dirty = true;
+  }
+
+  // -- interaction ---------------------------------------------------------------------------
+  const heightInput = document.getElementById("height");
+  const heightValue = document.getElementById("height-value");
+  const playButton = document.getElementById("play");
+
+  function keyLight() { return lights[state.key]; }
+
+  function showHeight() {
+    const lt = keyLight();
+    if (!lt) return;
+    const h = lt.place[2];
+    heightInput.value = h;
+    const elevation = Math.atan2(h, Math.hypot(lt.place[0], lt.place[1])) * 180 / Math.PI;
+    heightValue.textContent = `${h.toFixed(2)} widths (${elevation.toFixed(0)}°)`;
+  }
+
+  function moved() { state.dirty = true; showHeight(); }
+
+  function placeAt(clientX, clientY) {
+    const lt = keyLight();
+    if (!lt) return;
+    const r = canvas.getBoundingClientRect();
+    const x = (clientX - r.left) / r.width - 0.5;             // image widths from the centre
+    const y = (0.5 - (clientY - r.top) / r.height) * DATA.height / DATA.width;
+    lt.place = [x, y, lt.place[2]];
+    moved();
+  }
+
+  function setHeight(h) {
+    const lt = keyLight();
+    if (!lt) return;
+    lt.place = [lt.place[0], lt.place[1], Math.min(2, Math.max(0.02, h))];
+    moved();
+  }
+
+  let dragging = null;
+  canvas.addEventListener("pointerdown", (e) => {
+    dragging = e.pointerId;
+    canvas.setPointerCapture(e.pointerId);
+    setPlaying(false);
+    placeAt(e.clientX, e.clientY);
+    e.preventDefault();
+  });
+  canvas.addEventListener("pointermove", (e) => {
+    if (dragging === e.pointerId) placeAt(e.clientX, e.clientY);
+  });
+  for (const end of ["pointerup", "pointercancel"]) {
+    canvas.addEventListener(end, (e) => { if (dragging === e.pointerId) dragging = null; });
+  }
+  canvas.addEventListener("wheel", (e) => {
+    e.preventDefault();
+    const lt = keyLight();
+    if (lt) setHeight(lt.place[2] * Math.exp(-e.deltaY * 0.001));
+  }, { passive: false });
+  heightInput.addEventListener("input", () => setHeight(parseFloat(heightInput.value)));
+
+  function reset() {
+    lights.forEach((lt) => { lt.place = placeOf(lt); lt.on = true; });
+    document.querySelectorAll("#lights input[type=checkbox]").forEach((box) => { box.checked = true; });
+    state.phase = 0;
+    state.frame = 0;
+    setPlaying(false);
+    moved();
+  }
+  document.getElementById("reset").addEventListener("click", reset);
+
+  function setPlaying(on) {
+    state.playing = on && lights.length > 0;
+    playButton.textContent = state.playing ? "Pause" : "Play";
+    playButton.setAttribute("aria-pressed", String(state.playing));
+    state.last = null;
+  }
+  playButton.addEventListener("click", () => setPlaying(!state.playing));
+
+  function nudge(dx, dy) {
+    const lt = keyLight();
+    if (!lt) return;
+    lt.place = [lt.place[0] + dx, lt.place[1] + dy, lt.place[2]];
+    moved();
+  }
+  function onKey(e) {
+    if (e.target.tagName === "INPUT" && e.target.type === "range") return;
+    const step = e.shiftKey ? 0.1 : 0.02;
+    const keys = {
+      ArrowLeft: () => nudge(-step, 0), ArrowRight: () => nudge(step, 0),
+      ArrowUp: () => nudge(0, step), ArrowDown: () => nudge(0, -step),
+      PageUp: () => setHeight(keyLight().place[2] * 1.1),
+      PageDown: () => setHeight(keyLight().place[2] / 1.1),
+      " ": () => setPlaying(!state.playing), r: reset, R: reset, Home: reset,
+    };
+    if (keys[e.key] && (e.target === canvas || e.target === document.body || e.key === " " && e.target.tagName !== "BUTTON")) {
+      if (!keyLight() && e.key !== "r") return;
+      keys[e.key]();
+      e.preventDefault();
+    }
+  }
+  window.addEventListener("keydown", onKey);
+
+  function buildControls() {
+    const box = document.getElementById("lights");
+    lights.forEach((lt, i) => {
+      const label = document.createElement("label");
+      label.className = "light";
+      const on = document.createElement("input");
+      on.type = "checkbox";
+      on.checked = true;
+      on.title = `Switch ${lt.name} on or off`;
+      on.addEventListener("change", () => { lt.on = on.checked; state.dirty = true; });
+      const key = document.createElement("input");
+      key.type = "radio";
+      key.name = "key";
+      key.checked = i === 0;
+      key.title = `Drag moves ${lt.name}`;
+      key.setAttribute("aria-label", `Drag moves ${lt.name}`);
+      key.addEventListener("change", () => { state.key = i; showHeight(); });
+      const swatch = document.createElement("span");
+      swatch.className = "swatch";
+      const c = lt.colour.map((v) => Math.round(255 * Math.min(1, Math.pow(Math.max(v, 0), 1 / 2.2))));
+      swatch.style.background = `rgb(${c.join(",")})`;
+      label.append(on, swatch, `${lt.name} (${lt.kind})`, key);
+      box.append(label);
+    });
+    if (!lights.length) {
+      box.append("none (the painting shows its dark image)");
+      heightInput.disabled = playButton.disabled = true;
+    }
+    const select = document.getElementById("look");
+    DATA.looks.forEach((look, i) => {
+      const option = new Option(look.name, String(i));
+      option.title = look.description;
+      select.append(option);
+    });
+    select.addEventListener("change", () => { state.look = parseInt(select.value, 10); state.dirty = true; });
+    document.getElementById("look-row").hidden = DATA.looks.length < 2;
+    document.getElementById("title").textContent = DATA.title || "Dynamic painting";
+    document.getElementById("credits").textContent = DATA.credits || "";
+    showHeight();
+  }
+
+  // -- animation: the recipe's keyframed lights, else a turn of the key light ----------------
+  function advance(now) {
+    if (!state.playing) return;
+    const dt = state.last == null ? 0 : (now - state.last) / 1000;
+    state.last = now;
+    const anim = DATA.animation;
+    if (anim && anim.frames && anim.frames.length) {
+      state.frame = (state.frame + dt * anim.fps) % anim.frames.length;
+      anim.frames[Math.floor(state.frame)].forEach((v, i) => {
+        if (lights[i]) lights[i].place = placeOf({ kind: lights[i].kind, vector: v });
+      });
+    } else {
+      const lt = keyLight();
+      const turn = 2 * Math.PI * dt / DATA.turntable_seconds;
+      const [x, y, h] = lt.place, c = Math.cos(turn), s = Math.sin(turn);
+      lt.place = [c * x - s * y, s * x + c * y, h];
+      state.phase = (state.phase + turn) % (2 * Math.PI);
+    }
+    moved();
+  }
+
+  function loop(now) {
+    advance(now);
+    if (state.dirty && prog) draw();
+    requestAnimationFrame(loop);
+  }
+
+  async function start() {
+    if (EMBED) document.documentElement.classList.add("embed");
+    buildControls();
+    if (!gl) {
+      fail("This painting needs WebGL2, which this browser does not offer (or has switched " +
+           "off). Try a current Firefox, Chrome, Edge or Safari, with hardware acceleration on.");
+      return;
+    }
+    if (typeof DecompressionStream === "undefined") {
+      fail("This browser is too old to unpack the painting's images (no DecompressionStream): " +
+           "try a current Firefox, Chrome, Edge or Safari.");
+      return;
+    }
+    state.steps = DATA.steps;
+    try {
+      useLook();
+      const names = Object.keys(DATA.textures).filter((c) => !DATA.textures[c].same_as);
+      const made = await Promise.all(names.map((c) => texture(DATA.textures[c])));
+      names.forEach((c, i) => { textures[c] = made[i]; });
+      let unit = 0;
+      for (const [c, tex] of Object.entries(DATA.textures)) {
+        if (tex.same_as) textures[c] = textures[tex.same_as];
+        units[c] = unit++;
+      }
+    } catch (err) {
+      fail(String(err.message || err));
+      return;
+    }
+    canvas.addEventListener("webglcontextlost", (e) => {
+      e.preventDefault();
+      fail("The graphics card dropped this page's drawing (WebGL context lost): reload the page.");
+    });
+    layout();
+    new ResizeObserver(layout).observe(document.getElementById("stage"));
+    window.addEventListener("resize", layout);
+    draw();
+    document.body.dataset.state = "ready";
+    requestAnimationFrame(loop);
+  }
+
+  api.ready = start().catch((err) => fail(String(err.message || err)));
+})();
