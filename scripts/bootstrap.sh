@@ -1,8 +1,25 @@
 #!/usr/bin/env bash
 # Create .venv/ at the repo root (Python 3.11 + requirements-dev.txt) unless it is already
-# there and current. Safe to run every time: a stamp file records what was installed.
+# there and current, and make sure a Chromium is there for the web page's tests (installed
+# with apt-get where this runs as root, as CI does). Safe to run every time: a stamp file
+# records what was installed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+# The exported web page is tested in a real browser: Debian's `chromium`, headless, with its
+# software WebGL2. Without root, say what to do instead (README.md, "Tests").
+if ! command -v chromium >/dev/null 2>&1 && ! command -v chromium-browser >/dev/null 2>&1 \
+    && ! command -v google-chrome >/dev/null 2>&1 && [ -z "${DYNPAINT_CHROMIUM:-}" ]; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+    echo "bootstrap: installing chromium (apt-get) for the web page tests" >&2
+    DEBIAN_FRONTEND=noninteractive apt-get update -qq >/dev/null
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null
+  else
+    echo "bootstrap: no Chromium found and not root: install chromium (or Chrome) yourself," \
+         "set DYNPAINT_CHROMIUM=/path/to/chrome, or DYNPAINT_SKIP_BROWSER=1 to skip the web" \
+         "page tests (README.md, Tests)" >&2
+  fi
+fi
 stamp=.venv/.requirements-installed
 if [ -x .venv/bin/python ] && [ -f "$stamp" ] && cmp -s requirements-dev.txt "$stamp"; then
   exit 0

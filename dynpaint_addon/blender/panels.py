@@ -115,6 +115,7 @@ def _make_panels(space, region, context_name, category, prefix):
         row.operator("dynpaint.face_camera", icon="CAMERA_DATA")
         row.operator("dynpaint.rebuild", icon="FILE_REFRESH")
         row.operator("dynpaint.export_recipe", text="", icon="EXPORT")
+        row.operator("dynpaint.export_web", text="", icon="URL")
         layout.operator("dynpaint.add_compositor_group", text="Add Compositor Group",
                         icon="NODETREE")
         if s.shadows.enabled and s.shadows_stale:

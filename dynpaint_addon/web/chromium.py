@@ -19,8 +19,8 @@ import subprocess
 import tempfile
 
 NAMES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable", "chrome")
-FLAGS = ("--headless", "--remote-debugging-pipe", "--use-angle=swiftshader",
-         "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist", "--no-first-run",
+SOFTWARE_GL = ("--use-angle=swiftshader", "--enable-unsafe-swiftshader")
+FLAGS = ("--headless", "--remote-debugging-pipe", "--ignore-gpu-blocklist", "--no-first-run",
          "--no-default-browser-check", "--disable-extensions", "--mute-audio",
          "--allow-file-access-from-files", "--disable-background-timer-throttling",
          "--disable-renderer-backgrounding", "--disable-backgrounding-occluded-windows")
@@ -39,9 +39,10 @@ def find_chromium():
 
 
 class Chromium:
-    """One headless browser process; `open` gives a Page (a tab attached over the pipe)."""
+    """One headless browser process; `open` gives a Page (a tab attached over the pipe).
+    gpu: let it use the machine's GPU (else SwiftShader, the same pixels on every machine)."""
 
-    def __init__(self, executable=None, extra_flags=()):
+    def __init__(self, executable=None, extra_flags=(), gpu=False):
         exe = executable or find_chromium()
         if exe is None:
             raise BrowserError("no Chromium found: install Debian's `chromium` package or set "
@@ -55,7 +56,8 @@ class Chromium:
             os.dup2(high[0], 3)
             os.dup2(high[1], 4)
 
-        flags = [*FLAGS, *extra_flags] + (["--no-sandbox"] if os.geteuid() == 0 else [])
+        flags = [*FLAGS, *(() if gpu else SOFTWARE_GL), *extra_flags]
+        flags += ["--no-sandbox"] if os.geteuid() == 0 else []
         self.proc = subprocess.Popen(
             [exe, *flags, f"--user-data-dir={self.profile}", "about:blank"],
             stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,

@@ -27,6 +27,9 @@ def test_built_zip_excludes_dev_files(tmp_path):
     names = zipfile.ZipFile(glob.glob(str(tmp_path / "*.zip"))[0]).namelist()
     assert "blender_manifest.toml" in names and "__init__.py" in names
     assert "dynpaint_addon/core/shadow.py" in names
+    for asset in ("viewer.html", "viewer.js", "viewer.css", "dp_nodes.glsl", "cos_theta.glsl",
+                  "dp_main.glsl"):                            # the web page's, read at export
+        assert f"dynpaint_addon/web/{asset}" in names
     for sample in ("portrait", "glass", "impossible"):      # samples ship, their generator not
         assert f"sample_scenes/{sample}/painting.toml" in names
         assert f"sample_scenes/{sample}/thumbnail.png" in names
@@ -147,7 +150,8 @@ def test_core_never_imports_bpy():
             "import numpy as np\n"
             "from dynpaint_addon.core import pipeline, shadow, shape, warps, fresnel, shading\n"
             "from dynpaint_addon import params, recipe, cli\n"
-            "from dynpaint_addon.nodegraph import graph, pipeline_graph\n"
+            "from dynpaint_addon.nodegraph import graph, pipeline_graph, glsl_codegen\n"
+            "from dynpaint_addon.web import page\n"
             "pipeline_graph.describe(pipeline_graph.Features())\n"
             "from dynpaint_addon.testpainting import builtin_images, builtin_recipe\n"
             "r = builtin_recipe(); out = pipeline.render(builtin_images(16), r.lights, r.params)\n"
@@ -156,7 +160,9 @@ def test_core_never_imports_bpy():
                          env={**os.environ, "PYTHONPATH": REPO})
     assert res.returncode == 0 and "(16, 16, 4)" in res.stdout, res.stderr
     described = [os.path.join(REPO, "dynpaint_addon", "nodegraph", f)
-                 for f in ("graph.py", "pipeline_graph.py")]
+                 for f in ("graph.py", "pipeline_graph.py", "text_codegen.py", "glsl_codegen.py",
+                           "osl_codegen.py")]
+    described += glob.glob(os.path.join(REPO, "dynpaint_addon", "web", "*.py"))
     for path in glob.glob(os.path.join(REPO, "dynpaint_addon", "core", "*.py")) + described:
         assert not re.search(r"^\s*(import|from)\s+bpy", open(path).read(), re.M), path
 

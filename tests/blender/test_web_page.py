@@ -49,6 +49,18 @@ def test_page_matches_core(name, paths, browser, tmp_path):
     assert err <= 5e-4, f"{name}: max |Δ| {err:.2e} (measured ≤ 2.4e-4)"
 
 
+def test_images_are_stored_in_their_own_precision(paths):
+    """8-bit and 16-bit files as their integer codes, float files as floats (halves when
+    they are halves); decoded texel for texel they are the values the core reads."""
+    recipe = make_recipe("refraction_eta_two", paths)      # 16-bit normals, 8-bit colours, EXR
+    data, _ = page_data(load_images(recipe), recipe.lights, recipe.params)
+    tex = data["textures"]
+    assert (tex["shape"]["format"], tex["dark"]["format"], tex["bright"]["format"]) == \
+        ("u16", "u8", "u8")
+    assert tex["dark"]["srgb"] == 1 and tex["shape"]["srgb"] == 0
+    assert tex["background"]["format"] == "f16" and tex["background"]["srgb"] == 0
+
+
 @pytest.mark.parametrize("steps", [16, 64])
 @pytest.mark.parametrize("name", SHADOWS)
 def test_in_page_march_matches_core_march_at_same_k(name, steps, paths, browser, tmp_path):

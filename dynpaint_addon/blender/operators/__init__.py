@@ -5,10 +5,10 @@ classes in CLASSES.
 """
 import bpy
 
-from . import add, compositor, export, image_slots, painting, shape, turntable
+from . import add, compositor, export, image_slots, painting, shape, turntable, web
 
 CLASSES = (*add.CLASSES, *turntable.CLASSES, *compositor.CLASSES, *painting.CLASSES,
-           *image_slots.CLASSES, *export.CLASSES, *shape.CLASSES)
+           *image_slots.CLASSES, *export.CLASSES, *shape.CLASSES, *web.CLASSES)
 
 
 def menu_add(self, context):
@@ -28,6 +28,7 @@ def menu_import(self, context):
 def menu_export(self, context):
     self.layout.operator(export.DYNPAINT_OT_export_recipe.bl_idname,
                          text="Dynamic Painting Recipe (.toml)")
+    self.layout.operator(web.DYNPAINT_OT_export_web.bl_idname, text="Dynamic Painting (.html)")
 
 
 def menu_compositor(self, context):

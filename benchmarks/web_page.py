@@ -1,0 +1,125 @@
+"""The web page (issue 17): frame time in a browser, size of the exported file, export time.
+
+Frame time: the built-in test painting (its height map, a sun and a point light, shadows on)
+exported at each size and K, drawn by headless Chromium at one image pixel per screen pixel
+(`?embed`, device pixel ratio 1), each frame waited for by reading a pixel back; the baseline
+in the same run is the same page with shadows off (K = 0: no march). Without --gpu the
+browser renders with SwiftShader, its software WebGL2: a floor, not the goal (≥ 60 frames per
+second at 1024², K = 64, on a GPU). Sizes: every sample's page against its input images
+(goal ≤ 3×). Export: `export-web`'s own work (recipe to written file), best of 3.
+
+    .venv/bin/python benchmarks/web_page.py --sizes 512 1024 --out docs/web-numbers.md
+"""
+import argparse
+import copy
+import os
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+from report import publish  # noqa: E402
+
+from dynpaint_addon.recipe import load_images, load_recipe  # noqa: E402
+from dynpaint_addon.samples import list_samples, recipe_path  # noqa: E402
+from dynpaint_addon.testpainting import builtin_images, builtin_recipe  # noqa: E402
+from dynpaint_addon.web.chromium import Chromium  # noqa: E402
+from dynpaint_addon.web.page import page_data, write_page  # noqa: E402
+
+FPS_GOAL = 60
+SIZE_GOAL = 3.0
+RUNS = 3
+
+
+def renderer(page):
+    return page.evaluate("""(() => { const gl = document.createElement('canvas')
+        .getContext('webgl2'); const info = gl && gl.getExtension('WEBGL_debug_renderer_info');
+        return info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : 'unknown'; })()""")
+
+
+def frame_ms(browser, folder, size, steps, frames):
+    """ms per frame of the test painting at size², K = steps (0: shadows off)."""
+    recipe = builtin_recipe()
+    p = copy.deepcopy(recipe.params)
+    p.shadows.enabled = steps > 0
+    data, _ = page_data(builtin_images(size), recipe.lights, p, steps=max(steps, 1))
+    path = os.path.join(folder, f"frame_{size}_{steps}.html")
+    write_page(path, data)
+    page = browser.open("file://" + path + "?embed", size + 40, size + 40)
+    page.evaluate("window.dynamicPainting.ready")
+    error = page.evaluate("window.dynamicPainting.error")
+    if error:
+        raise RuntimeError(error)
+    return min(page.evaluate(f"window.dynamicPainting.frameTime({frames})")
+               for _ in range(RUNS)), page
+
+
+def export_numbers(name, folder):
+    """(best export seconds, page bytes, input bytes) of a sample."""
+    best, size = float("inf"), 0
+    for _ in range(RUNS):
+        start = time.perf_counter()
+        recipe = load_recipe(recipe_path(name))
+        data, _ = page_data(load_images(recipe), recipe.lights, recipe.params,
+                            title=recipe.name)
+        size = write_page(os.path.join(folder, f"{name}.html"), data)
+        best = min(best, time.perf_counter() - start)
+    inputs = sum(os.path.getsize(p) for p in set(recipe.images.values()))
+    return best, size, inputs
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--sizes", type=int, nargs="+", default=[512, 1024],
+                    help="painting sizes in pixels (square)")
+    ap.add_argument("--steps", type=int, nargs="+", default=[16, 64], help="march steps K")
+    ap.add_argument("--frames", type=int, default=3, help="frames per timing (best of 3)")
+    ap.add_argument("--gpu", action="store_true",
+                    help="let Chromium use the GPU (default: SwiftShader, software)")
+    ap.add_argument("--out", help="also write the Markdown page here")
+    args = ap.parse_args(argv)
+    flags = ("--use-angle=default", "--enable-gpu", "--ignore-gpu-blocklist") if args.gpu else ()
+    lines = ["# The web page: frame time, file size, export time (issue 17)", "",
+             f"`.venv/bin/python benchmarks/web_page.py --sizes {' '.join(map(str, args.sizes))}"
+             f"{' --gpu' if args.gpu else ''}`: "]
+    with tempfile.TemporaryDirectory() as folder, Chromium(gpu=args.gpu,
+                                                           extra_flags=flags) as browser:
+        rows, who = [], ""
+        for size in args.sizes:
+            base, page = frame_ms(browser, folder, size, 0, args.frames)
+            who = who or renderer(page)
+            rows.append(f"| {size}² | off (baseline) | {base:.1f} | {1000 / base:.1f} | – |")
+            for k in args.steps:
+                ms, _ = frame_ms(browser, folder, size, k, args.frames)
+                goal = (f"≥ {FPS_GOAL} fps on a GPU: " + ("met" if 1000 / ms >= FPS_GOAL
+                                                            else "not met")
+                        if args.gpu else "GPU goal: not measured here") \
+                    if size == 1024 and k == 64 else "–"
+                rows.append(f"| {size}² | K = {k} | {ms:.1f} ({ms / base:.1f}× baseline) | "
+                            f"{1000 / ms:.2f} | {goal} |")
+        lines[-1] += (f"the built-in test painting (height map, a sun and a point light, both "
+                      f"casting shadows), drawn at one image pixel per screen pixel by headless "
+                      f"Chromium on **{who}**; each time the best of {RUNS} × {args.frames} "
+                      f"frames, each frame waited for. The baseline is the same page without "
+                      f"shadows.")
+        lines += ["", "## Frame time", "", "| painting | shadows | ms per frame | frames per "
+                  "second | goal |", "|---|---|---|---|---|", *rows, ""]
+        lines += ["## Exported file and export time", "",
+                  f"Each sample exported with its recipe's settings (`export-web SAMPLE`), best "
+                  f"of {RUNS}; the page holds every image the shader samples (derived ones "
+                  f"too: pre-blurred heights in float32, environments as halves) and one shader "
+                  f"per look that needs other features.", "",
+                  "| sample | page MB | input images MB | ratio | goal | export s |",
+                  "|---|---|---|---|---|---|"]
+        for name in (sample.id for sample in list_samples()):
+            seconds, size, inputs = export_numbers(name, folder)
+            ratio = size / inputs
+            lines.append(f"| {name} | {size / 1e6:.2f} | {inputs / 1e6:.2f} | {ratio:.2f}× | "
+                         f"≤ {SIZE_GOAL:g}×: {'met' if ratio <= SIZE_GOAL else 'not met'} | "
+                         f"{seconds:.2f} |")
+    publish(lines, args.out)
+
+
+if __name__ == "__main__":
+    main()

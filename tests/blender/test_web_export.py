@@ -1,0 +1,110 @@
+"""Exporting the web page (issue 17): from the command line and from the add-on (its current
+settings, lights and their animation), opened in headless Chromium and compared with the core."""
+import json
+import math
+import os
+import re
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from dynpaint_addon.blender.lights import painting_lights  # noqa: E402
+from dynpaint_addon.blender.operators import menu_export  # noqa: E402
+from dynpaint_addon.blender.settings import channel_images, settings_to_params  # noqa: E402
+from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
+from dynpaint_addon.imageio import read_image  # noqa: E402
+from dynpaint_addon.recipe import load_recipe  # noqa: E402
+from dynpaint_addon.samples import recipe_path  # noqa: E402
+
+from conftest import open_page, page_pixels, run_cli  # noqa: E402
+from parity_recipes import write_images  # noqa: E402
+
+
+def page_json(path):
+    text = open(path, encoding="utf-8").read()
+    return text, json.loads(re.search(r'id="dp-data">(.*?)</script>', text, re.S).group(1))
+
+
+def test_cli_exports_a_sample_as_one_offline_file(tmp_path, browser):
+    out = tmp_path / "portrait.html"
+    r = run_cli("export-web", "portrait", "--out", out, "--credits", "Suzanne, Blender Foundation")
+    assert r.returncode == 0, r.stderr
+    assert "export-web: wrote" in r.stdout and "input images" in r.stdout
+    text, data = page_json(out)
+    # self-contained: no network, no external script or style
+    assert not re.search(r"(src|href)\s*=|https?://|@import|fetch\(", text.split('id="dp-data"')[0])
+    recipe = load_recipe(recipe_path("portrait"))
+    inputs = sum(os.path.getsize(p) for p in recipe.images.values())
+    assert os.path.getsize(out) <= 3 * inputs                    # the issue's size goal
+    assert data["title"] == recipe.name and data["credits"] == "Suzanne, Blender Foundation"
+    assert data["shadows"] and data["steps"] == 64
+    # float data stay float: the pre-blurred heights the shader differentiates
+    assert data["textures"]["height"]["format"] == "f32"
+    page = open_page(browser, out)
+    assert page.evaluate("document.title") == recipe.name
+
+
+def test_cli_max_size_and_steps(tmp_path):
+    out = tmp_path / "small.html"
+    r = run_cli("export-web", "glass", "--out", out, "--max-size", "128", "--steps", "8")
+    assert r.returncode == 0, r.stderr
+    _, data = page_json(out)
+    assert max(data["width"], data["height"]) == 128 and data["steps"] == 8
+    assert data["width"] / data["height"] == pytest.approx(384 / 512, rel=0.02)
+
+
+@pytest.mark.parametrize("args, says", [
+    (["portrait", "--out", "x.png"], "an .html file"),
+    (["portrait", "--out", "x.html", "--steps", "-1"], "--steps -1"),
+    (["portrait", "--out", "x.html", "--max-size", "4"], "--max-size 4"),
+    (["nowhere.toml", "--out", "x.html"], "nowhere.toml"),
+    (["portrait", "--out", "x.html", "--turntable-seconds", "0"], "--turntable-seconds"),
+])
+def test_cli_bad_options_get_one_line(args, says, tmp_path):
+    r = run_cli("export-web", *args, cwd=tmp_path)
+    assert r.returncode == 1 and "Traceback" not in r.stderr
+    assert r.stderr.startswith("error: ") and says in r.stderr and r.stderr.count("\n") == 1
+    assert not (tmp_path / "x.html").exists()
+
+
+def test_addon_exports_current_settings_lights_and_animation(empty_scene, tmp_path, browser):
+    folder = str(tmp_path / "images")
+    write_images(folder)
+    bpy.ops.dynpaint.add(directory=folder, files=[{"name": n} for n in
+                                                  ("normal.png", "dark.png", "bright.png")])
+    plane = bpy.context.object
+    mat = plane.active_material
+    s = mat.dynamic_painting
+    s.diffuse.t0, s.specular.enabled = -0.3, True
+    scene = bpy.context.scene
+    assert bpy.ops.dynpaint.add_light_turntable(light="NEW_POINT", frame_start=1, frame_end=12,
+                                                radius=0.8, elevation=0.6, start_angle=0.0,
+                                                set_output=False) == {"FINISHED"}
+    scene.frame_set(4)
+    out = str(tmp_path / "page" / "painting.html")
+    assert bpy.ops.dynpaint.export_web(filepath=out, credits="Test") == {"FINISHED"}
+    assert scene.frame_current == 4                       # the frame is put back
+    _, data = page_json(out)
+    assert data["title"] == mat.name and data["credits"] == "Test"
+    anim = data["animation"]
+    assert anim and len(anim["frames"]) == 12 and anim["fps"] == scene.render.fps
+    kinds = [lt["kind"] for lt in data["lights"]]
+    point = kinds.index("point")
+    radius = [math.hypot(*f[point][:2]) for f in anim["frames"]]
+    assert max(radius) - min(radius) < 1e-4 and len({tuple(f[point]) for f in anim["frames"]}) == 12
+    # the page shows what the core computes for the scene's settings and lights (frame 4)
+    images = {c: read_image(bpy.path.abspath(img.filepath)) for c, img in channel_images(s).items()}
+    want = core_render(images, painting_lights(mat, scene), settings_to_params(s)).rgba
+    got = page_pixels(open_page(browser, out), data["width"], data["height"])
+    assert np.abs(got - want)[1:-1, 1:-1].max() <= 2e-3
+
+
+def test_addon_export_is_offered_in_the_file_menu(empty_scene):
+    assert menu_export in bpy.types.TOPBAR_MT_file_export.draw._draw_funcs
+    offered = []
+    layout = SimpleNamespace(operator=lambda idname, **kw: offered.append(idname))
+    menu_export(SimpleNamespace(layout=layout), bpy.context)
+    assert "dynpaint.export_web" in offered
