@@ -21,7 +21,8 @@
     return [x / n, y / n, z / n];
   }
   const lights = DATA.lights.map((lt) => ({ ...lt, on: true, place: placeOf(lt) }));
-  const state = { key: 0, playing: false, phase: 0, frame: 0, look: 0, dirty: true };
+  const state = { key: 0, playing: false, phase: 0, frame: 0, look: 0, dirty: true,
+                  drawScale: 1, fullFrameMs: 0, measure: true, lastInput: -1e9 };
 
   function lightVector(lt) {
     const [x, y, h] = lt.place;
@@ -160,14 +161,59 @@
     gl.uniform3fv(loc("dp_backdrop"), BACKDROP);
   }
 
-  function draw() {
-    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
-    gl.viewport(0, 0, canvas.width, canvas.height);
+  // A full frame at the canvas's size; or, while the light moves and full frames are slower
+  // than FRAME_BUDGET_MS (shadows on a slow GPU, software WebGL), a draft at a fraction
+  // `scale` of the pixels, stretched onto the canvas: the light keeps up with the hand, and
+  // the full frame follows as soon as it stops.
+  const FRAME_BUDGET_MS = 33;
+  let draft = null;                    // {fb, rb, w, h}
+
+  function draw(scale = 1) {
     useLook();
-    setUniforms([0, 0, canvas.width, canvas.height], 1);
-    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    if (scale >= 1) {
+      gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+      gl.viewport(0, 0, canvas.width, canvas.height);
+      setUniforms([0, 0, canvas.width, canvas.height], 1);
+      gl.drawArrays(gl.TRIANGLES, 0, 3);
+    } else {
+      const w = Math.max(1, Math.round(canvas.width * scale));
+      const h = Math.max(1, Math.round(canvas.height * scale));
+      if (!draft || draft.w !== w || draft.h !== h) {
+        if (draft) { gl.deleteFramebuffer(draft.fb); gl.deleteRenderbuffer(draft.rb); }
+        draft = { fb: gl.createFramebuffer(), rb: gl.createRenderbuffer(), w, h };
+        gl.bindRenderbuffer(gl.RENDERBUFFER, draft.rb);
+        gl.renderbufferStorage(gl.RENDERBUFFER, gl.RGBA8, w, h);
+        gl.bindFramebuffer(gl.FRAMEBUFFER, draft.fb);
+        gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.RENDERBUFFER, draft.rb);
+      }
+      gl.bindFramebuffer(gl.FRAMEBUFFER, draft.fb);
+      gl.viewport(0, 0, w, h);
+      setUniforms([0, 0, w, h], 1);
+      gl.drawArrays(gl.TRIANGLES, 0, 3);
+      gl.bindFramebuffer(gl.READ_FRAMEBUFFER, draft.fb);
+      gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, null);
+      gl.blitFramebuffer(0, 0, w, h, 0, 0, canvas.width, canvas.height, gl.COLOR_BUFFER_BIT,
+                         gl.LINEAR);
+      gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    }
     api.frames++;
+    state.drawScale = scale;
     state.dirty = false;
+  }
+
+  // How long a full frame takes here (ms, waited for by reading one pixel back): measured
+  // once per canvas size and look.
+  function measureFullFrame() {
+    const one = new Uint8Array(4);
+    const start = performance.now();
+    draw(1);
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
+    state.fullFrameMs = performance.now() - start;
+  }
+
+  function draftScale() {
+    const ms = state.fullFrameMs || 0;
+    return ms <= FRAME_BUDGET_MS ? 1 : Math.max(0.25, Math.sqrt(FRAME_BUDGET_MS / ms));
   }
 
   // The painting's premultiplied linear RGBA at its own size, read from a float framebuffer
@@ -199,18 +245,20 @@
     return btoa(text);
   };
 
-  // Milliseconds per frame over `n` frames drawn at the canvas's size (each waits for the
-  // GPU by reading one pixel back).
-  api.frameTime = function (n) {
+  // Milliseconds per frame over `n` frames drawn at the canvas's size, or as the drafts
+  // drawn while the light moves (`scale`: draftScale()'s choice when "draft"); each frame
+  // waits for the GPU by reading one pixel back.
+  api.frameTime = function (n, scale = 1) {
     const one = new Uint8Array(4);
-    draw();
+    const s = scale === "draft" ? draftScale() : scale;
+    draw(s);
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
     const start = performance.now();
     for (let i = 0; i < n; i++) {
-      draw();
+      draw(s);
       gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
     }
-    return (performance.now() - start) / n;
+    return { ms: (performance.now() - start) / n, scale: s };
   };
 
   // -- layout: the canvas fits the stage (or, embedded, shows one image pixel per CSS pixel) --
@@ -227,6 +275,7 @@
     canvas.width = Math.max(1, Math.round(cssW * dpr));
     canvas.height = Math.max(1, Math.round(cssH * dpr));
     state.dirty = true;
+    state.measure = true;
   }
 
   // -- interaction ---------------------------------------------------------------------------
@@ -245,7 +294,11 @@
     heightValue.textContent = `${h.toFixed(2)} widths (${elevation.toFixed(0)}°)`;
   }
 
-  function moved() { state.dirty = true; showHeight(); }
+  function moved() {
+    state.dirty = true;
+    state.lastInput = performance.now();
+    showHeight();
+  }
 
   function placeAt(clientX, clientY) {
     const lt = keyLight();
@@ -361,7 +414,10 @@
       option.title = look.description;
       select.append(option);
     });
-    select.addEventListener("change", () => { state.look = parseInt(select.value, 10); state.dirty = true; });
+    select.addEventListener("change", () => {
+      state.look = parseInt(select.value, 10);
+      state.dirty = state.measure = true;
+    });
     document.getElementById("look-row").hidden = DATA.looks.length < 2;
     document.getElementById("title").textContent = DATA.title || "Dynamic painting";
     document.getElementById("credits").textContent = DATA.credits || "";
@@ -391,7 +447,15 @@
 
   function loop(now) {
     advance(now);
-    if (state.dirty && prog) draw();
+    const moving = dragging !== null || state.playing || now - state.lastInput < 250;
+    if (prog && state.measure) {
+      state.measure = false;
+      measureFullFrame();
+    } else if (prog && state.dirty) {
+      draw(moving ? draftScale() : 1);
+    } else if (prog && !moving && state.drawScale < 1) {
+      draw(1);                                   // the light stopped: the full frame
+    }
     requestAnimationFrame(loop);
   }
 

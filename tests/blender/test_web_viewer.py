@@ -11,6 +11,7 @@ import pytest
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.pipeline import render as core_render
 from dynpaint_addon.recipe import load_images
+from dynpaint_addon.testpainting import builtin_images, builtin_recipe
 from dynpaint_addon.web.chromium import Chromium
 from dynpaint_addon.web.page import page_data, write_page
 
@@ -214,3 +215,22 @@ def test_a_browser_without_webgl2_gets_a_clear_message(painting):
         text = page.evaluate("document.getElementById('message').textContent")
         assert "WebGL2" in text and not page.evaluate("document.getElementById('message').hidden")
         assert page.evaluate("document.body.dataset.state") == "failed"
+
+
+def test_slow_frames_draw_drafts_while_the_light_moves(tmp_path, browser):
+    """Where a full frame is slower than 33 ms (here: software WebGL, shadows at K = 64), the
+    page draws at a fraction of the pixels while the light moves and the full frame once it
+    stops, so the light keeps up with the hand."""
+    recipe = builtin_recipe()
+    data, _ = page_data(builtin_images(256), recipe.lights, recipe.params, steps=64)
+    write_page(tmp_path / "slow.html", data)
+    page = open_page(browser, tmp_path / "slow.html", 700, 600)
+    page.wait_for("window.dynamicPainting.state.fullFrameMs > 0")
+    full_ms = page.evaluate("window.dynamicPainting.state.fullFrameMs")
+    page.mouse("pressed", *at(page, 0.3, 0.3))
+    page.mouse("moved", *at(page, 0.4, 0.3))
+    page.wait_for("window.dynamicPainting.state.drawScale < 1", 10)
+    scale = page.evaluate("window.dynamicPainting.state.drawScale")
+    assert full_ms > 33 and scale == pytest.approx(max(0.25, math.sqrt(33 / full_ms)))
+    page.mouse("released", *at(page, 0.4, 0.3))
+    page.wait_for("window.dynamicPainting.state.drawScale === 1", 20)
