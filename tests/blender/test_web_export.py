@@ -4,6 +4,8 @@ import json
 import math
 import os
 import re
+import subprocess
+import sys
 from types import SimpleNamespace
 
 import numpy as np
@@ -19,7 +21,7 @@ from dynpaint_addon.imageio import read_image  # noqa: E402
 from dynpaint_addon.recipe import load_recipe  # noqa: E402
 from dynpaint_addon.samples import recipe_path  # noqa: E402
 
-from conftest import open_page, page_pixels, run_cli  # noqa: E402
+from conftest import REPO, open_page, page_pixels, run_cli  # noqa: E402
 from parity_recipes import write_images  # noqa: E402
 
 
@@ -108,3 +110,18 @@ def test_addon_export_is_offered_in_the_file_menu(empty_scene):
     layout = SimpleNamespace(operator=lambda idname, **kw: offered.append(idname))
     menu_export(SimpleNamespace(layout=layout), bpy.context)
     assert "dynpaint.export_web" in offered
+
+
+def test_benchmark_reports_every_figure_with_its_goal(tmp_path):
+    out = tmp_path / "web-numbers.md"
+    r = subprocess.run([sys.executable, os.path.join(REPO, "benchmarks", "web_page.py"),
+                        "--sizes", "64", "--steps", "4", "--frames", "1", "--out", str(out)],
+                       capture_output=True, text=True, timeout=600,
+                       env={**os.environ, "PYTHONPATH": REPO})
+    assert r.returncode == 0, r.stderr
+    text = out.read_text()
+    assert "| 64² | off (baseline) |" in text and "| 64² | K = 4 |" in text
+    assert "SwiftShader" in text                     # says what drew the frames
+    rows = [ln for ln in text.splitlines() if ln.startswith(("| glass", "| portrait",
+                                                             "| impossible"))]
+    assert len(rows) == 3 and all("≤ 3×: met" in ln for ln in rows)
