@@ -2,22 +2,24 @@
 // of dynpaint_addon/core/shadow.py (the reference; read its comments for the why). Exact per
 // pixel and per frame, for any light, at render time: no bake.
 //
+// Shared by the OSL shader (Cycles) and the web page's fragment shader (WebGL2), in the words
+// of dp_nodes.h; each language defines DP_IMAGE (an image: a file name, a sampler) and
+// dp_image_at (an image at a UV, linear, edges extended), and the generated shader
+// DP_NORMAL_DECODE(color, flip, zmin, normal) (the §2 decode of its graph).
+//
 // Units are pixels inside, like the core. The relief is the pre-blurred height image (height
-// maps, × h·W) or is rebuilt along the ray from the normal map's implied slope −N.xy/N.z
-// (normal maps, which may be non-conservative). DP_NORMAL_DECODE(color, flip, zmin, normal)
-// is defined by the generated shader (the §2 decode of its graph).
+// maps, × h·W), a normal map's integrated relief (image widths), or is rebuilt along the ray
+// from the normal map's implied slope −N.xy/N.z (normal maps, which may be non-conservative).
 
-float dp_relief_px(string file, float x, float y, float W, float H, float scale)
+float dp_relief_px(DP_IMAGE relief, float x, float y, float W, float H, float scale)
 {
-    float a;
-    vector c = dp_tex(file, 0, vector(x / W, y / H, 0.0), "clamp", "linear", a);
+    vector c = dp_image_at(relief, 0, x / W, y / H);
     return c[0] * scale;
 }
 
-vector dp_slope(string file, int srgb, float x, float y, float W, float H, float flip, float zmin)
+vector dp_slope(DP_IMAGE relief, int srgb, float x, float y, float W, float H, float flip, float zmin)
 {
-    float a;
-    vector c = dp_tex(file, srgb, vector(x / W, y / H, 0.0), "clamp", "linear", a);
+    vector c = dp_image_at(relief, srgb, x / W, y / H);
     vector n = vector(0.0, 0.0, 1.0);
     DP_NORMAL_DECODE(c, flip, zmin, n);
     return vector(-n[0] / n[2], -n[1] / n[2], 0.0);
@@ -25,13 +27,13 @@ vector dp_slope(string file, int srgb, float x, float y, float W, float H, float
 
 int dp_inside_box(float x, float y, float W, float H)
 {
-    return x >= 0.5 && x <= W - 0.5 && y >= 0.5 && y <= H - 0.5;
+    return (x >= 0.5 && x <= W - 0.5 && y >= 0.5 && y <= H - 0.5) ? 1 : 0;
 }
 
 // Distance along (lx, ly) until the ray leaves the box of pixel centres (0 outside it).
 float dp_exit_distance(float x0, float y0, float lx, float ly, float W, float H)
 {
-    if (!dp_inside_box(x0, y0, W, H)) return 0.0;
+    if (dp_inside_box(x0, y0, W, H) == 0) return 0.0;
     float big = 1e30;
     float tx = lx > 0.0 ? (W - 0.5 - x0) / lx : (lx < 0.0 ? (0.5 - x0) / lx : big);
     float ty = ly > 0.0 ? (H - 0.5 - y0) / ly : (ly < 0.0 ? (0.5 - y0) / ly : big);
@@ -49,32 +51,32 @@ float dp_occupancy(float d0, float d1)
 // the painting's centre), in the painting frame. relief_max: highest relief (image widths);
 // slope_max: steepest implied slope of a normal map.
 float dp_cos_theta(vector N, vector light, int is_point, float u, float v,
-                   string relief, int relief_srgb, int normal_map, float flip, float zmin,
+                   DP_IMAGE relief, int relief_srgb, int normal_map, float flip, float zmin,
                    float W, float H, float height_scale, float offset, float steps,
                    float reach, float relief_max, float slope_max)
 {
     float scale = height_scale * W;                          // H (0..1) → pixels
     float x = u * W, y = v * H;
-    float zs = normal_map ? 0.0 : dp_relief_px(relief, x, y, W, H, scale);
+    float zs = normal_map != 0 ? 0.0 : dp_relief_px(relief, x, y, W, H, scale);
     float d = max(0.0, offset) * W;
     float x0 = x - d * N[0], y0 = y - d * N[1], z0 = zs - d * N[2];
-    vector L;
+    vector L = vector(0.0, 0.0, 1.0);
     vector pl = vector(light[0] * W + W / 2.0, light[1] * W + H / 2.0, light[2] * W);
     float dist = 0.0;
-    if (is_point) {                       // §6 Which ray: from P0 to the light, ending there
+    if (is_point != 0) {                  // §6 Which ray: from P0 to the light, ending there
         vector to = pl - vector(x0, y0, z0);
         dist = length(to);
-        L = dist > 0.0 ? to / dist : vector(0.0, 0.0, 1.0);
+        if (dist > 0.0) L = to / dist;
     } else {
         if (light[2] <= 0.0) return 0.0;                     // below the horizon
         L = normalize(light);
     }
     float ndl = dot(N, L);
-    float delta, ell_top, h_rec = 0.0;
+    float delta = 0.0, ell_top = 0.0, h_rec = 0.0;
     float inf = 1e30;
-    if (!normal_map) {
-        delta = dp_inside_box(x0, y0, W, H) ? dp_relief_px(relief, x0, y0, W, H, scale) - z0
-                                            : d / N[2];
+    if (normal_map == 0) {
+        delta = dp_inside_box(x0, y0, W, H) != 0 ? dp_relief_px(relief, x0, y0, W, H, scale) - z0
+                                                 : d / N[2];
         ell_top = L[2] > 0.0 ? (relief_max * W - z0) / L[2] : inf;
     } else {
         h_rec = d * (N[0] * N[0] + N[1] * N[1]) / N[2];
@@ -85,26 +87,26 @@ float dp_cos_theta(vector N, vector light, int is_point, float u, float v,
     float ell = min(dp_exit_distance(x0, y0, L[0], L[1], W, H), ell_top);
     float ell_light = inf;
     int stopped = 0;
-    if (is_point) {
+    if (is_point != 0) {
         ell_light = dist;
-        stopped = ell_light <= ell;
+        stopped = ell_light <= ell ? 1 : 0;
         ell = min(ell, ell_light);
     }
     // §6 Reach (normal maps): the rebuilt relief is felt up to reach, then the tangent plane
-    float reach_px = normal_map ? max(reach, 0.0) * W : inf;
-    int by_reach = ell > reach_px;
-    if (by_reach) { ell = reach_px; stopped = 0; }
+    float reach_px = normal_map != 0 ? max(reach, 0.0) * W : inf;
+    int by_reach = ell > reach_px ? 1 : 0;
+    if (by_reach != 0) { ell = reach_px; stopped = 0; }
     if (!(ell < inf)) ell = 0.0;
-    int k_max = (int)max(steps, 0.0);
-    int k_eff = k_max > 0 ? min(k_max, max(1, (int)ceil(4.0 * ell))) : 0;
+    int k_max = int(max(steps, 0.0));
+    int k_eff = k_max > 0 ? min(k_max, max(1, int(ceil(4.0 * ell)))) : 0;
     float inside = 0.0;
     if (k_eff > 0 && ell > 0.0) {
-        float a = ell / k_eff;
+        float a = ell / float(k_eff);
         float ax = a * L[0], ay = a * L[1], az = a * L[2];
         for (int k = 1; k <= k_eff; k++) {
-            float px = x0 + k * ax, py = y0 + k * ay;
-            float here;
-            if (!normal_map) {
+            float px = x0 + float(k) * ax, py = y0 + float(k) * ay;
+            float here = 0.0;
+            if (normal_map == 0) {
                 here = dp_relief_px(relief, px, py, W, H, scale);
             } else {
                 vector g = dp_slope(relief, relief_srgb, px - 0.5 * ax, py - 0.5 * ay, W, H,
@@ -112,7 +114,7 @@ float dp_cos_theta(vector N, vector light, int is_point, float u, float v,
                 h_rec += g[0] * ax + g[1] * ay;
                 here = h_rec;
             }
-            float nd = here - (z0 + k * az);
+            float nd = here - (z0 + float(k) * az);
             inside += dp_occupancy(delta, nd) * a;
             delta = nd;
         }
@@ -121,13 +123,13 @@ float dp_cos_theta(vector N, vector light, int is_point, float u, float v,
     float rate = ndl / N[2];
     float tail = rate > 0.0 ? delta / rate : inf;
     if (!(delta > 0.0)) tail = 0.0;
-    if (by_reach) tail = ndl > 0.0 ? max(d / ndl - ell, 0.0) : inf;
-    if (is_point) tail = min(tail, ell_light - ell);
-    if (stopped) tail = 0.0;
+    if (by_reach != 0) tail = ndl > 0.0 ? max(d / ndl - ell, 0.0) : inf;
+    if (is_point != 0) tail = min(tail, ell_light - ell);
+    if (stopped != 0) tail = 0.0;
     float r = inside + tail;
-    float t;
+    float t = 0.0;
     if (d > 0.0) t = d / max(r, d);
     else t = r > 1e-3 ? 0.0 : max(ndl, 0.0);
-    if (!(t == t)) t = 0.0;                                  // NaN
+    if (isnan(t)) t = 0.0;
     return clamp(t, 0.0, 1.0);
 }

@@ -3,15 +3,23 @@
 Both shading languages are C-like, so every ordinary node (Math, Vector Math, Map Range, Mix,
 Separate/Combine XYZ) becomes the same statement in both, with Blender's node semantics
 kept by small helper functions named `dp_…` (division by zero gives 0, Map Range at
-From Min = From Max gives To Min, …) that each language defines in its helper file
-(shaders_osl/dp_nodes.h, dynpaint_addon/web/dp_nodes.glsl). Every sub-graph becomes a function
-with output parameters. A language differs in two words (its vector type, its output
-qualifier) and in the backend-specific pseudo nodes (dp.uv, dp.sample,
+From Min = From Max gives To Min, …). Those helpers and the in-shader cos-θ march are written
+once for both languages (shaders_osl/dp_nodes.h, shaders_osl/cos_theta.h: `read_shared`);
+GLSL reads them through a prelude of #defines (dynpaint_addon/web/dp_words.glsl). Every
+sub-graph becomes a function with output parameters. A language differs in two words (its
+vector type, its output qualifier), in its image lookups (shaders_osl/dp_tex.h,
+dynpaint_addon/web/dp_tex.glsl) and in the backend-specific pseudo nodes (dp.uv, dp.sample,
 dp.param, dp.light, dp.output), which each backend's Emitter subclass writes.
 
 No bpy here: the text can be generated and inspected anywhere.
 """
+import os
+
 from .graph import FLOAT, VECTOR, Ref
+
+# The shader sources: those both languages share, and OSL's own (shaders_osl/README.md).
+SHADER_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
+    os.path.abspath(__file__)))), "shaders_osl")
 
 MATH = {
     "ADD": "({0} + {1})", "SUBTRACT": "({0} - {1})", "MULTIPLY": "({0} * {1})",
@@ -47,6 +55,12 @@ def param_name(path, index=None):
     component `index`: 'diffuse.t0' → 'p_diffuse_t0', ('reflection.offset', 1) →
     'p_reflection_offset_y'."""
     return "p_" + ident(path) + ("" if index is None else "_" + "xy"[index])
+
+
+def read_shared(name):
+    """The text of a shader source in shaders_osl/ (dp_nodes.h, cos_theta.h, dp_tex.h)."""
+    with open(os.path.join(SHADER_DIR, name), encoding="utf-8") as fh:
+        return fh.read()
 
 
 def indent(lines):
@@ -184,10 +198,15 @@ class Program:
             self.functions[sub.name] = (name, src)
         return self.functions[sub.name][0]
 
-    def function_named(self, prefix):
-        """The generated name of the sub-graph whose name starts with `prefix`, or None."""
-        return next((fn for key, (fn, _) in self.functions.items() if key.startswith(prefix)),
-                    None)
+    def march_source(self):
+        """The shared in-shader march (shaders_osl/cos_theta.h), after the graph's functions,
+        with the graph's §2 normal decode as its DP_NORMAL_DECODE (a height map's march never
+        decodes one)."""
+        decode = next((fn for key, (fn, _) in self.functions.items()
+                       if key.startswith("DP Normal Map")), None)
+        macro = f"{decode}(c, flip, zmin, n)" if decode else "n = vector(0, 0, 1)"
+        return (f"#define DP_NORMAL_DECODE(c, flip, zmin, n) {macro}\n"
+                + read_shared("cos_theta.h") + "\n")
 
     def march_relief(self):
         """What the in-shader cos-θ march (§6) reads → (relief channel, along_ray, height

@@ -27,9 +27,11 @@ def test_built_zip_excludes_dev_files(tmp_path):
     names = zipfile.ZipFile(glob.glob(str(tmp_path / "*.zip"))[0]).namelist()
     assert "blender_manifest.toml" in names and "__init__.py" in names
     assert "dynpaint_addon/core/shadow.py" in names
-    for asset in ("viewer.html", "viewer.js", "viewer.css", "dp_nodes.glsl", "cos_theta.glsl",
+    for asset in ("viewer.html", "viewer.js", "viewer.css", "dp_words.glsl", "dp_tex.glsl",
                   "dp_main.glsl"):                            # the web page's, read at export
         assert f"dynpaint_addon/web/{asset}" in names
+    for shared in ("dp_nodes.h", "cos_theta.h", "dp_tex.h"):    # the OSL shader's and the page's
+        assert f"shaders_osl/{shared}" in names
     for sample in ("portrait", "glass", "impossible"):      # samples ship, their generator not
         assert f"sample_scenes/{sample}/painting.toml" in names
         assert f"sample_scenes/{sample}/thumbnail.png" in names

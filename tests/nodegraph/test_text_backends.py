@@ -10,7 +10,7 @@ import pytest
 from dynpaint_addon import params
 from dynpaint_addon.nodegraph import glsl_codegen, osl_codegen
 from dynpaint_addon.nodegraph.pipeline_graph import Features, describe
-from dynpaint_addon.nodegraph.text_codegen import param_name
+from dynpaint_addon.nodegraph.text_codegen import param_name, read_shared
 from dynpaint_addon.web.page import param_uniforms
 
 FULL = Features(size=(40, 30), channels=frozenset(params.CHANNELS), lights=("sun", "point"),
@@ -26,12 +26,23 @@ def helpers(text):
     return set(re.findall(r"^\w+\s+(dp_\w+)\s*\(", text, re.M))
 
 
-def test_both_languages_define_the_same_node_helpers():
-    osl = helpers(osl_codegen._read("dp_nodes.h"))
-    glsl = helpers(glsl_codegen.read("dp_nodes.glsl"))
-    assert {"dp_div", "dp_pow", "dp_map_range", "dp_abs", "dp_tex"} <= osl
-    assert osl <= glsl, f"missing in GLSL: {osl - glsl}"
-    assert helpers(osl_codegen._read("cos_theta.h")) == helpers(glsl_codegen.read("cos_theta.glsl"))
+def test_shared_shader_sources_use_only_words_both_languages_read():
+    """dp_nodes.h and cos_theta.h are written once for OSL and GLSL: no word of one language
+    only (GLSL's prelude #defines `vector`, `fabs`, `output`, DP_IMAGE), no C cast, no int
+    used as a truth value; both generated shaders hold them verbatim."""
+    f = FULL
+    osl = osl_codegen.generate(describe(f), f, march=True)
+    glsl, _ = glsl_codegen.generate(describe(f), f)
+    for name in ("dp_nodes.h", "cos_theta.h"):
+        text = read_shared(name)
+        code = re.sub(r"//.*", "", text)
+        for word in ("vec2", "vec3", "texture(", "string", "color", "bool", "true", "false",
+                     "const ", "(int)", "(float)", "point("):
+            assert word not in code, (name, word)
+        assert not re.search(r"if \((!?)(is_point|normal_map|stopped|by_reach|clamp_)\)", code)
+        assert text in osl and text in glsl
+    assert helpers(read_shared("dp_tex.h")) == helpers(glsl_codegen.read("dp_tex.glsl")) - {
+        "dp_wrap", "dp_texel"}
 
 
 @pytest.mark.parametrize("case", CASES)
@@ -62,5 +73,5 @@ def test_osl_and_glsl_are_one_body_in_two_languages():
     def calls(text):
         return sorted(re.findall(r"\b(DP_\w+)\(", text))
     assert calls(osl) == calls(glsl)
-    generated = glsl.split("// Features")[1]
-    assert "vector(" not in generated and "output " not in generated
+    body = glsl.split("void main()")[1]
+    assert "vector(" not in body and "output " not in body
