@@ -14,9 +14,9 @@ import numpy as np
 import bpy
 
 from .. import params
-from ..core.shape import slopes_from_normals
 from ..imageio import write_exr
 from ..nodegraph import osl_codegen
+from ..nodegraph.derived_inputs import march_bounds
 from ..nodegraph.pipeline_graph import describe
 from ..nodegraph.shader_backend import (SETTINGS, ShaderBackend, drive_location, drive_property,
                                         drive_sun_direction, light_strength_expression)
@@ -127,12 +127,9 @@ def _drive_vector(script, sock, obj, kind):
 
 
 def _set_relief_bounds(mat, script, features):
-    """The march's global bounds: highest relief (height maps) or steepest slope (normal
-    maps), from the numpy copy the material also uses."""
-    n, z_px, slopes = bake_shape(mat, settings_to_params(mat.dynamic_painting))
-    if "relief_max" in script.inputs:
-        script.inputs["relief_max"].default_value = float(z_px.max()) / features.size[0] \
-            if z_px is not None else 0.0
-    if "slope_max" in script.inputs:
-        sl = slopes if slopes is not None else slopes_from_normals(n)
-        script.inputs["slope_max"].default_value = float(np.hypot(sl[..., 0], sl[..., 1]).max())
+    """The march's global bounds (derived_inputs.march_bounds), from the numpy copy of the
+    shape the material also uses."""
+    bounds = march_bounds(*bake_shape(mat, settings_to_params(mat.dynamic_painting)))
+    for name, value in bounds.items():
+        if name in script.inputs:
+            script.inputs[name].default_value = value

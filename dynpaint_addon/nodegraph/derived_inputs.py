@@ -36,7 +36,8 @@ from .. import params
 from ..core.inputs import mask_values
 from ..core.pipeline import (MASKS, PER_PIXEL_CHANNELS, finite_image, lookup_copy, mask_setting,
                              shape_normals)
-from ..core.shape import default_preblur_px, normal_vectors, preblurred_height, resolve_encoding
+from ..core.shape import (default_preblur_px, normal_vectors, preblurred_height, resolve_encoding,
+                          slopes_from_normals)
 
 
 @dataclass(frozen=True)
@@ -117,6 +118,16 @@ def derived_inputs(features, p, sources):
                            _key("background_sharp", src, p, same),
                            lambda d: lookup_copy(d, 0.0, "extend"), same_as=same))
     return out
+
+
+def march_bounds(n, z_px, slopes):
+    """The in-shader march's global bounds (shaders_osl/cos_theta.h, §6), from the core's
+    decode of the shape (core.pipeline.shape_normals): the highest relief in image widths (0
+    without heights) and the steepest implied slope of the normals → {'relief_max',
+    'slope_max'}."""
+    relief = float(z_px.max()) / z_px.shape[1] if z_px is not None else 0.0
+    sl = slopes if slopes is not None else slopes_from_normals(n)
+    return {"relief_max": relief, "slope_max": float(np.hypot(sl[..., 0], sl[..., 1]).max())}
 
 
 def _relief_widths(data, p):

@@ -86,8 +86,8 @@ class OslProgram(Program):
         args = [normal, light, str(int(kind == "point")), f"{uv}[0]", f"{uv}[1]",
                 f"{relief}_file", f"{relief}_srgb", str(int(along_ray)),
                 self.param("shape.flip_green"), self.param("shape.z_min"),
-                num(f.size[0]), num(f.size[1]), scale, self.param("shadows.offset"), self.param("shadows.steps"),
-                self.param("shadows.reach"), "relief_max",
+                num(f.size[0]), num(f.size[1]), scale, self.param("shadows.offset"),
+                self.param("shadows.steps"), self.param("shadows.reach"), "relief_max",
                 "slope_max"]
         self.params.setdefault("relief_max", "float relief_max = 0.0")
         self.params.setdefault("slope_max", "float slope_max = 0.0")

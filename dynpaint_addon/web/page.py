@@ -28,9 +28,8 @@ from .. import params
 from ..core.pipeline import ImageData, pixel_role, shape_normals
 from ..core.sampling import resample
 from ..looks import LOOKS, with_look
-from ..core.shape import slopes_from_normals
 from ..nodegraph import glsl_codegen
-from ..nodegraph.derived_inputs import Source, derived_inputs, make_derived
+from ..nodegraph.derived_inputs import Source, derived_inputs, make_derived, march_bounds
 from ..nodegraph.features import Features
 from ..nodegraph.pipeline_graph import describe
 from ..nodegraph.text_codegen import param_name
@@ -103,12 +102,15 @@ def encode_pixels(px, kind):
             "data": base64.b64encode(data).decode("ascii")}
 
 
-def _kind_of(img, exact_half):
+def _kind_of(img):
+    """How an input image is stored: its integer codes (8-bit, 16-bit files, and float
+    buffers that hold 16-bit codes, as Blender reads 16-bit data files), halves, or floats."""
     if img.bits == 8:
         return "u8"
-    if img.bits == 16:
+    px = img.pixels
+    if img.bits == 16 or np.array_equal(np.round(px * 65535) / np.float32(65535), px):
         return "u16"
-    return "f16" if exact_half else "f32"
+    return "f16" if _is_half(px) else "f32"
 
 
 def _is_half(px):
@@ -121,7 +123,8 @@ def page_textures(features, p, images, cache=None):
     """The images the shader samples → ({channel: encoded texture or {'same_as': channel}},
     warnings). Derived images (nodegraph/derived_inputs.py) replace their sources; colour ones
     (E, B) are halves (≤ 2.4e-4 off in 0..1), data ones (heights, relief) float32.
-    cache: {derived key, or the channel of an image used as it is: texture}, shared by the calls for one painting's looks."""
+    cache: {derived key, or the channel of an image used as it is: texture}, shared by the
+    calls for one painting's looks."""
     cache = {} if cache is None else cache
     need = {c for c in features.image_channels() if not c.startswith("shadow_")}
     plan = [d for d in derived_inputs(features, p, {c: Source(c, img.bits)
@@ -148,8 +151,7 @@ def page_textures(features, p, images, cache=None):
             tex["srgb"] = 0
         else:
             img = images[item.source if item is not None else channel]
-            px = img.pixels
-            tex = encode_pixels(px, _kind_of(img, img.bits == 32 and _is_half(px)))
+            tex = encode_pixels(img.pixels, _kind_of(img))
             tex["srgb"] = int(channel in COLOUR_CHANNELS and img.bits < 32)
         out[channel] = cache[key] = tex
     return out, warnings
@@ -160,20 +162,13 @@ def _light_entry(light):
             "strength": light.strength, "name": light.name or light.kind.title()}
 
 
-def march_bounds(images, p, cache=None):
-    """The march's global bounds (cos_theta.glsl): the highest relief in image widths and the
-    steepest slope of a normal map, from the core's own decode of the shape (§2, §6).
-    cache: {what the decode reads: bounds}, shared by the calls for one painting's looks."""
+def _march_bounds(images, p, cache):
+    """derived_inputs.march_bounds of the shape as the core decodes it (§2, §6); cache:
+    {what the decode reads: bounds}, shared by the calls for one painting's looks."""
     key = repr((sorted(vars(p.shape).items()), p.shadows.relief))
-    if cache is not None and key in cache:
-        return cache[key]
-    n, z_px, slopes = shape_normals(images["shape"], p, np.float32)
-    relief = float(z_px.max()) / images["shape"].size[0] if z_px is not None else 0.0
-    sl = slopes if slopes is not None else slopes_from_normals(n)
-    bounds = {"relief_max": relief, "slope_max": float(np.hypot(sl[..., 0], sl[..., 1]).max())}
-    if cache is not None:
-        cache[key] = bounds
-    return bounds
+    if key not in cache:
+        cache[key] = march_bounds(*shape_normals(images["shape"], p, np.float32))
+    return cache[key]
 
 
 def _variant(images, lights, p, steps, cache):
@@ -186,7 +181,7 @@ def _variant(images, lights, p, steps, cache):
     uniforms = {name: value for name, value in param_uniforms(p_page).items()
                 if name in program.uniforms}
     if features.shadows:
-        uniforms.update(march_bounds(images, p_page, cache.setdefault("bounds", {})))
+        uniforms.update(_march_bounds(images, p_page, cache.setdefault("bounds", {})))
     return features, source, uniforms, textures, warnings
 
 
