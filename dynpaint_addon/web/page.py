@@ -104,11 +104,12 @@ def encode_pixels(px, kind):
 
 def _kind_of(img):
     """How an input image is stored: its integer codes (8-bit, 16-bit files, and float
-    buffers that hold 16-bit codes, as Blender reads 16-bit data files), halves, or floats."""
+    buffers that hold 16-bit codes to float32 rounding, as Blender reads 16-bit data files),
+    halves, or floats."""
     if img.bits == 8:
         return "u8"
     px = img.pixels
-    if img.bits == 16 or np.array_equal(np.round(px * 65535) / np.float32(65535), px):
+    if img.bits == 16 or np.abs(np.round(px * 65535) / 65535 - px).max(initial=0) <= 2e-7:
         return "u16"
     return "f16" if _is_half(px) else "f32"
 

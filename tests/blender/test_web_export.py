@@ -91,6 +91,8 @@ def test_addon_exports_current_settings_lights_and_animation(empty_scene, tmp_pa
     assert scene.frame_current == 4                       # the frame is put back
     _, data = page_json(out)
     assert data["title"] == mat.name and data["credits"] == "Test"
+    # Blender hands the 16-bit normal map over as floats: stored as its 16-bit codes again
+    assert data["textures"]["shape"]["format"] == "u16"
     anim = data["animation"]
     assert anim and len(anim["frames"]) == 12 and anim["fps"] == scene.render.fps
     kinds = [lt["kind"] for lt in data["lights"]]
