@@ -362,8 +362,8 @@
     lt.place = [lt.place[0] + dx, lt.place[1] + dy, lt.place[2]];
     moved();
   }
+  // Keys act on the painting unless a control has the focus (its own keys win there).
   function onKey(e) {
-    if (e.target.tagName === "INPUT" && e.target.type === "range") return;
     const step = e.shiftKey ? 0.1 : 0.02;
     const keys = {
       ArrowLeft: () => nudge(-step, 0), ArrowRight: () => nudge(step, 0),
@@ -372,11 +372,11 @@
       PageDown: () => setHeight(keyLight().place[2] / 1.1),
       " ": () => setPlaying(!state.playing), r: reset, R: reset, Home: reset,
     };
-    if (keys[e.key] && (e.target === canvas || e.target === document.body || e.key === " " && e.target.tagName !== "BUTTON")) {
-      if (!keyLight() && e.key !== "r") return;
-      keys[e.key]();
-      e.preventDefault();
-    }
+    const inControl = ["INPUT", "SELECT", "BUTTON", "TEXTAREA"].includes(e.target.tagName);
+    if (!keys[e.key] || inControl || e.ctrlKey || e.metaKey || e.altKey) return;
+    if (!keyLight() && keys[e.key] !== reset) return;
+    keys[e.key]();
+    e.preventDefault();
   }
   window.addEventListener("keydown", onKey);
 
