@@ -1,8 +1,11 @@
 """The live cos-θ bake (issue 4): current shadows while an artist drags a light.
 
-When a linked light (or the plane) moves interactively, its painting bakes at *preview*
-quality at once, then at the painting's own quality once the light has been still for
-DEBOUNCE_S. Bakes run in a worker thread on numpy arrays prepared on the main thread (the
+When a linked light (or the plane) moves interactively, its painting bakes at a live level at
+once, then at the painting's own quality once the light has been still for DEBOUNCE_S. The
+live level is *preview* while its bakes keep within LIVE_BUDGET_MS (light change → updated
+image: a frame of a 30 fps viewport for suns, 50 ms with a point light, issue 18), *draft*
+where they do not (large paintings, slow machines), and back to preview when draft bakes are
+well inside the budget. Bakes run in a worker thread on numpy arrays prepared on the main thread (the
 worker never touches Blender data); a timer on the main thread writes finished images. A newer
 request supersedes a bake in flight (its march stops at the next step: BakeCancelled) instead
 of queueing behind it, so the UI never waits and never shows a stale light.
@@ -25,7 +28,9 @@ from .shadow_images import bake_shape, light_bakes, write_shadow
 from .status import report
 
 DEBOUNCE_S = 0.3
-TIMER_S = 0.05
+TIMER_S = 0.01          # polls a queue while a bake is due: cheap, and a small part of the budget
+LIVE_BUDGET_MS = {"sun": 33.0, "point": 50.0}
+LIVE_LEVELS = ("preview", "draft")       # finer first; each about half the time of the one before
 
 
 def rendering():
@@ -42,6 +47,7 @@ class LiveBake:
         self.latencies = []         # (quality, ms from request to updated image)
         self.superseded = 0
         self.wanted = {}            # material name → the final bake keys of the newest request
+        self.levels = {}            # material name → its live level (LIVE_LEVELS)
 
     # -- main thread --------------------------------------------------------------------
     def ensure(self, mat, scene, depsgraph=None):
@@ -52,8 +58,10 @@ class LiveBake:
         if self.wanted.get(mat.name) != keys:
             self.request(mat, scene, depsgraph)
 
-    def request(self, mat, scene, depsgraph=None, quality="preview"):
-        """Start a bake of `mat`'s lights where they are now; supersedes one in flight."""
+    def request(self, mat, scene, depsgraph=None, quality=None):
+        """Start a bake of `mat`'s lights where they are now, at `quality` (default: the
+        painting's live level); supersedes one in flight."""
+        quality = quality or self.levels.get(mat.name, LIVE_LEVELS[0])
         p = settings_to_params(mat.dynamic_painting)
         bakes = [b for b in light_bakes(mat, depsgraph, p) if b[0].shadow is not None]
         self.wanted[mat.name] = [key for _, _, key in bakes]
@@ -69,8 +77,9 @@ class LiveBake:
         self.generation[name] = gen
         if quality != "final":
             self.still_since[name] = time.perf_counter()
+        budget = max((LIVE_BUDGET_MS[light.kind] for light in lights), default=0.0)
         job = (name, gen, quality, [i.object.name for i in items], lights, keys, shape, p,
-               time.perf_counter())
+               budget, time.perf_counter())
         thread = threading.Thread(target=self._run, args=job, daemon=True)
         self.threads = [t for t in self.threads if t.is_alive()] + [thread]
         thread.start()
@@ -83,7 +92,8 @@ class LiveBake:
         applied = 0
         while True:
             try:
-                name, gen, quality, names, keys, results, t_request = self.results.get_nowait()
+                name, gen, quality, names, keys, results, budget, t_request = \
+                    self.results.get_nowait()
             except queue.Empty:
                 return applied
             mat = bpy.data.materials.get(name)
@@ -93,9 +103,21 @@ class LiveBake:
                 if item.object is not None and item.object.name in names:
                     k = names.index(item.object.name)
                     write_shadow(mat, item, results[k], keys[k])
-            self.latencies.append((quality, (time.perf_counter() - t_request) * 1000))
+            ms = (time.perf_counter() - t_request) * 1000
+            self.latencies.append((quality, ms))
             del self.latencies[:-50]
+            if quality in LIVE_LEVELS:
+                self._adapt(name, quality, ms, budget)
             applied += 1
+
+    def _adapt(self, name, quality, ms, budget):
+        """After a live bake: the next coarser level when this one missed the budget, the
+        next finer one when this one took under a third of it (the finer takes ~2×)."""
+        i = LIVE_LEVELS.index(quality)
+        if ms > budget and i + 1 < len(LIVE_LEVELS):
+            self.levels[name] = LIVE_LEVELS[i + 1]
+        elif ms < budget / 3 and i > 0:
+            self.levels[name] = LIVE_LEVELS[i - 1]
 
     def tick(self, now=None):
         """Apply results; start the final bake of paintings whose lights have been still."""
@@ -116,7 +138,7 @@ class LiveBake:
         return self.apply()
 
     # -- worker thread ------------------------------------------------------------------
-    def _run(self, name, gen, quality, names, lights, keys, shape, p, t_request):
+    def _run(self, name, gen, quality, names, lights, keys, shape, p, budget, t_request):
         n, z, slopes = shape
         cancel = lambda: self.generation.get(name) != gen   # noqa: E731
         try:
@@ -128,7 +150,7 @@ class LiveBake:
             report(name, f"live bake failed, the last good shadows are kept: {exc}")
             return
         self.results.put((name, gen, quality, names, keys, [np.asarray(r) for r in results],
-                          t_request))
+                          budget, t_request))
 
 
 LIVE = LiveBake()

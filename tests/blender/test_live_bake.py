@@ -96,3 +96,30 @@ def test_a_failing_bake_keeps_the_last_good_image(painting, monkeypatch):
     assert np.array_equal(shadow_pixels(item), before)
     assert LAST_ERRORS and "last good shadows are kept" in LAST_ERRORS[-1][1]
     LAST_ERRORS.clear()
+
+
+def test_live_level_keeps_within_the_budget(painting, monkeypatch):
+    """A live bake slower than its budget (issue 18: light change → image ≤ 33 ms for suns)
+    makes the next one draft; a draft well inside it brings preview back."""
+    live = live_bake.LiveBake()
+    sun = painting.dynamic_painting.lights[0].object
+    sun.rotation_mode = "XYZ"
+    item = painting.dynamic_painting.lights[0]
+
+    def move(angle):
+        sun.rotation_euler = (0.8, 0.2, angle)
+        bpy.context.view_layer.update()
+        live.request(painting, bpy.context.scene)
+        live.wait()
+    monkeypatch.setitem(live_bake.LIVE_BUDGET_MS, "sun", 1e-6)       # nothing can keep up
+    move(0.5)
+    move(0.9)
+    assert [q for q, _ in live.latencies] == ["preview", "draft"]
+    assert np.abs(shadow_pixels(item) - expected(painting, "draft")).max() < 1e-6
+    move(1.3)                                      # draft is the coarsest: it stays
+    assert live.latencies[-1][0] == "draft"
+    monkeypatch.setitem(live_bake.LIVE_BUDGET_MS, "sun", 1e9)        # anything keeps up
+    move(1.7)
+    move(2.1)
+    assert [q for q, _ in live.latencies[-2:]] == ["draft", "preview"]
+    assert np.abs(shadow_pixels(item) - expected(painting, "preview")).max() < 1e-6
