@@ -16,7 +16,7 @@ from conftest import open_page, page_pixels
 from parity_recipes import RECIPES, make_recipe, write_images
 
 SHADOWS = [n for n, (_, over, _) in RECIPES.items() if over.get("shadows.enabled")]
-NO_SHADOWS = [n for n in RECIPES if n not in SHADOWS]
+NO_SHADOWS = [n for n in RECIPES if n not in SHADOWS] + ["pruned", "full_with_defaults"]  # §12
 BORDER = 1    # the height gradient is one-sided there in numpy, extended in every node backend
 
 
