@@ -20,7 +20,7 @@ own march, §6): a page has no bake.
 import os
 
 from .graph import FLOAT, VECTOR
-from .text_codegen import Emitter, Program, indent, num, param_name, read_shared
+from .text_codegen import Emitter, Program, indent, param_name, read_shared
 
 WEB_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "web")
 WRAPS = {"REPEAT": 0, "EXTEND": 1, "MIRROR": 2}
@@ -87,18 +87,10 @@ class GlslProgram(Program):
         return (self.uniform(f"light{i + 1}_vector", "vec3"),
                 self.uniform(f"light{i + 1}_weight", "vec3"))
 
-    def march_call(self, normal, light, kind, uv):
-        """The in-shader cos-θ term (shaders_osl/cos_theta.h) for one light."""
-        f = self.features
-        channel, along_ray, scale = self.march_relief()
-        tex, srgb = self.image(channel)
-        args = [normal, light, str(int(kind == "point")), f"{uv}.x", f"{uv}.y",
-                tex, srgb, str(int(along_ray)),
-                self.param("shape.flip_green"), self.param("shape.z_min"),
-                num(f.size[0]), num(f.size[1]), scale, self.param("shadows.offset"),
-                self.param("shadows.steps"), self.param("shadows.reach"),
-                self.uniform("relief_max"), self.uniform("slope_max")]
-        return f"dp_cos_theta({', '.join(args)})"
+    image_arguments = image
+
+    def bound(self, name):
+        return self.uniform(name)
 
 
 def generate(graph, features):

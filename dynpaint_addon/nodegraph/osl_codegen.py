@@ -10,7 +10,7 @@ like the material's sockets). The cos-θ term can come from a baked image or fro
 No bpy here: the text can be generated and inspected anywhere.
 """
 from .graph import FLOAT, VECTOR
-from .text_codegen import Emitter, Program, ident, indent, num, param_name, read_shared
+from .text_codegen import Emitter, Program, ident, indent, param_name, read_shared
 
 WRAPS = {"REPEAT": "periodic", "EXTEND": "clamp", "MIRROR": "mirror"}
 INTERPS = {"Linear": "linear", "Closest": "closest"}
@@ -78,20 +78,13 @@ class OslProgram(Program):
         self.params.setdefault(name + "_srgb", f"int {name}_srgb = 0")
         return name
 
-    def march_call(self, normal, light, kind, uv):
-        """The in-shader cos-θ term (shaders_osl/cos_theta.h) for one light."""
-        f = self.features
-        channel, along_ray, scale = self.march_relief()
-        relief = self.image(channel)
-        args = [normal, light, str(int(kind == "point")), f"{uv}[0]", f"{uv}[1]",
-                f"{relief}_file", f"{relief}_srgb", str(int(along_ray)),
-                self.param("shape.flip_green"), self.param("shape.z_min"),
-                num(f.size[0]), num(f.size[1]), scale, self.param("shadows.offset"),
-                self.param("shadows.steps"), self.param("shadows.reach"), "relief_max",
-                "slope_max"]
-        self.params.setdefault("relief_max", "float relief_max = 0.0")
-        self.params.setdefault("slope_max", "float slope_max = 0.0")
-        return f"dp_cos_theta({', '.join(args)})"
+    def image_arguments(self, channel):
+        name = self.image(channel)
+        return f"{name}_file", f"{name}_srgb"
+
+    def bound(self, name):
+        self.params.setdefault(name, f"float {name} = 0.0")
+        return name
 
     def light(self, i, kind):
         n = i + 1
