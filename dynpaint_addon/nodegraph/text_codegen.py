@@ -225,22 +225,3 @@ class Program:
                 self.param("shadows.steps"), self.param("shadows.reach"),
                 self.bound("relief_max"), self.bound("slope_max")]
         return f"dp_cos_theta({', '.join(args)})"
-
-    def march_source(self):
-        """The shared in-shader march (shaders_osl/cos_theta.h), after the graph's functions,
-        with the graph's §2 normal decode as its DP_NORMAL_DECODE (a height map's march never
-        decodes one)."""
-        decode = next((fn for key, (fn, _) in self.functions.items()
-                       if key.startswith("DP Normal Map")), None)
-        macro = f"{decode}(c, flip, zmin, n)" if decode else "n = vector(0, 0, 1)"
-        return (f"#define DP_NORMAL_DECODE(c, flip, zmin, n) {macro}\n"
-                + read_shared("cos_theta.h") + "\n")
-
-    def march_relief(self):
-        """What the in-shader cos-θ march (§6) reads → (relief channel, along_ray, height
-        scale): a normal map's integrated relief (§6 "Relief", image widths), the normal map
-        itself rebuilt along the ray from its slopes, or the pre-blurred height map."""
-        f = self.features
-        along_ray = f.shape_kind == "normal" and not f.marches_relief
-        relief = "relief" if f.marches_relief else "shape" if along_ray else "height"
-        return relief, along_ray, "1.0" if f.marches_relief else self.param("shape.height_scale")
