@@ -28,7 +28,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import bpy  # noqa: E402
 
-from report import publish  # noqa: E402
+from report import command_line, publish  # noqa: E402
 
 from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
@@ -261,7 +261,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     pic = os.path.join(args.images, "ground-truth-15deg.png") if args.images else None
     overall, rows, names = evaluate(OBJECTS, args.size, args.offset, args.steps, pic)
-    command = " ".join(["python benchmarks/ground_truth.py"] + (argv or sys.argv[1:]))
+    command = command_line(__file__, argv)
     lines = ["# The cos-θ bake against 3D ground truth (issue 4)", "",
              f"`{command}` — a {args.size}² orthographic view of the scene in "
              f"`benchmarks/ground_truth.py` (sphere, torus, three boxes, a floating plate on a "

@@ -1,5 +1,13 @@
 """Shared by the benchmarks: print the Markdown page and write it where asked."""
 import os
+import sys
+
+
+def command_line(script, argv=None):
+    """How the benchmark `script` (its __file__) was run, for its report's first line:
+    'python benchmarks/ground_truth.py --size 256'."""
+    return " ".join([f"python benchmarks/{os.path.basename(script)}"]
+                    + list(argv or sys.argv[1:]))
 
 
 def publish(lines, path=None):

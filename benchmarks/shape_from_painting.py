@@ -26,7 +26,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import ground_truth as gt  # noqa: E402  (imports bpy)
 import shadow_quality as sq  # noqa: E402
-from report import publish  # noqa: E402
+from report import command_line, publish  # noqa: E402
 
 from dynpaint_addon.core.inflate import inflate  # noqa: E402
 from dynpaint_addon.core.integrate import integrate  # noqa: E402
@@ -173,7 +173,7 @@ def main(argv=None):
     ap.add_argument("--out", help="Markdown report")
     args = ap.parse_args(argv)
     folder = tempfile.mkdtemp()
-    command = " ".join(["python benchmarks/shape_from_painting.py"] + (argv or sys.argv[1:]))
+    command = command_line(__file__, argv)
     lines = ["# Shape from the painting, measured (issue 16)", "",
              f"`{command}` on this machine; 3D truth from Cycles ({args.size}², hard suns at "
              f"{', '.join(f'{e}°/{a}°' for e, a in gt.SUNS)} elevation/azimuth, white diffuse, "

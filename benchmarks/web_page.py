@@ -25,7 +25,7 @@ from report import publish  # noqa: E402
 
 from dynpaint_addon import blender  # noqa: E402
 
-from dynpaint_addon.recipe import load_images, load_recipe  # noqa: E402
+from dynpaint_addon.recipe import image_bytes, load_images, load_recipe  # noqa: E402
 from dynpaint_addon.samples import list_samples, recipe_path  # noqa: E402
 from dynpaint_addon.testpainting import builtin_images, builtin_recipe  # noqa: E402
 from dynpaint_addon.web.chromium import Chromium  # noqa: E402
@@ -73,8 +73,7 @@ def export_numbers(name, folder):
                             title=recipe.name)
         size = write_page(os.path.join(folder, f"{name}.html"), data)
         best = min(best, time.perf_counter() - start)
-    inputs = sum(os.path.getsize(p) for p in set(recipe.images.values()))
-    return best, size, inputs
+    return best, size, image_bytes(recipe)
 
 
 def addon_export_seconds(name, folder):

@@ -25,9 +25,7 @@ WINDOW = (960, 720)
 
 
 def canvas_point(page, fx, fy):
-    left, top, w, h = page.evaluate("(() => { const r = document.getElementById('painting')"
-                                    ".getBoundingClientRect(); return [r.left, r.top, r.width,"
-                                    " r.height]; })()")
+    left, top, w, h = page.box("painting")
     return left + fx * w, top + fy * h
 
 

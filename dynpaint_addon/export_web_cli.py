@@ -3,11 +3,10 @@
 The page (web/page.py) draws the painting with WebGL2 from a shader generated from the graph
 description; the viewer drags the light. Problems end as one `error: …` line (cli.main).
 """
-import os
 import time
 
 from . import params
-from .recipe import load_images, load_recipe
+from .recipe import image_bytes, load_images, load_recipe
 from .samples import recipe_path
 from .web.page import TURNTABLE_SECONDS, page_data, write_page
 
@@ -36,7 +35,7 @@ def cmd_export_web(args):
         steps=args.steps, max_size=args.max_size, turntable_seconds=args.turntable_seconds)
     size = write_page(args.out, data)
     seconds = time.perf_counter() - start
-    inputs = sum(os.path.getsize(p) for p in set(recipe.images.values()))
+    inputs = image_bytes(recipe)
     for warning in warnings:
         print(f"warning: {warning}")
     print(f"export-web: wrote {args.out} ({size / 1e6:.2f} MB, {size / inputs:.2f}× its input "

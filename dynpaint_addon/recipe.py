@@ -234,6 +234,11 @@ def recipe_to_toml(recipe, base_dir, only_changed=True):
     return "\n".join(lines) + "\n"
 
 
+def image_bytes(recipe):
+    """The size in bytes of the recipe's image files (a file named twice counted once)."""
+    return sum(os.path.getsize(p) for p in set(recipe.images.values()))
+
+
 def load_images(recipe):
     """Read every image the recipe names → {channel: ImageData}."""
     return {ch: read_image(path) for ch, path in recipe.images.items()}

@@ -162,6 +162,12 @@ class Page:
         if not ok:
             raise BrowserError(f"timed out waiting for {condition}")
 
+    def box(self, element_id):
+        """[left, top, width, height] of the element `element_id`, in CSS pixels."""
+        return self.evaluate(f"(() => {{ const r = document.getElementById('{element_id}')"
+                             ".getBoundingClientRect(); return [r.left, r.top, r.width, "
+                             "r.height]; })()")
+
     def screenshot(self, path):
         """Save what the tab shows as a PNG."""
         data = self.send("Page.captureScreenshot", {"format": "png"})["data"]

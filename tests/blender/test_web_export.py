@@ -18,7 +18,7 @@ from dynpaint_addon.blender.operators import menu_export  # noqa: E402
 from dynpaint_addon.blender.settings import channel_images, settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.imageio import read_image  # noqa: E402
-from dynpaint_addon.recipe import load_recipe  # noqa: E402
+from dynpaint_addon.recipe import image_bytes, load_recipe  # noqa: E402
 from dynpaint_addon.samples import recipe_path  # noqa: E402
 
 from conftest import REPO, open_page, page_pixels, run_cli  # noqa: E402
@@ -39,8 +39,7 @@ def test_cli_exports_a_sample_as_one_offline_file(tmp_path, browser):
     # self-contained: no network, no external script or style
     assert not re.search(r"(src|href)\s*=|https?://|@import|fetch\(", text.split('id="dp-data"')[0])
     recipe = load_recipe(recipe_path("portrait"))
-    inputs = sum(os.path.getsize(p) for p in recipe.images.values())
-    assert os.path.getsize(out) <= 3 * inputs                    # the size goal
+    assert os.path.getsize(out) <= 3 * image_bytes(recipe)      # the size goal
     assert data["title"] == recipe.name and data["credits"] == "Suzanne, Blender Foundation"
     assert data["shadows"] and data["steps"] == 64
     # float data stay float: the pre-blurred heights the shader differentiates

@@ -40,8 +40,7 @@ def places(page):
 
 
 def canvas_box(page):
-    return page.evaluate("(() => { const r = document.getElementById('painting')"
-                         ".getBoundingClientRect(); return [r.left, r.top, r.width, r.height]; })()")
+    return page.box("painting")
 
 
 def at(page, fx, fy):

@@ -9,7 +9,7 @@ from bpy_extras.io_utils import ExportHelper
 
 from ... import params
 from ...imageio import ImageReadError, image_data_from_blender
-from ...web.page import TURNTABLE_SECONDS, page_data, write_page
+from ...web.page import page_data, write_page
 from ..lights import painting_lights
 from ..settings import channel_images, settings_to_params
 from .common import PaintingOperator, active_painting, run_and_report
@@ -45,8 +45,7 @@ def painting_page(mat, scene, title, credits="", steps=None, max_size=None, anim
     images = {c: image_data_from_blender(img) for c, img in channel_images(s).items()}
     anim = light_animation(mat, scene, progress) if animation else None
     return page_data(images, painting_lights(mat, scene), settings_to_params(s), title=title,
-                     credits=credits, steps=steps, max_size=max_size, animation=anim,
-                     turntable_seconds=TURNTABLE_SECONDS)
+                     credits=credits, steps=steps, max_size=max_size, animation=anim)
 
 
 class DYNPAINT_OT_export_web(PaintingOperator, bpy.types.Operator, ExportHelper):
@@ -62,7 +61,7 @@ class DYNPAINT_OT_export_web(PaintingOperator, bpy.types.Operator, ExportHelper)
     max_size: IntProperty(name="Max Size", default=0, min=0, max=16384, subtype="PIXEL",
                           description="Longest side of the painting in the page, in pixels "
                           "(0: the shape image's size; smaller pages load faster)")
-    steps: IntProperty(name="Shadow Steps", default=64, min=1, max=STEPS.max,
+    steps: IntProperty(name="Shadow Steps", default=STEPS.default, min=1, max=STEPS.max,
                        description="K: march steps per pixel of the shadows the page computes "
                        "as the light moves (fewer draw faster on slow devices)")
     animation: BoolProperty(name="Light Animation", default=True,
