@@ -17,7 +17,7 @@ from .shadow import BakeCancelled, cos_theta_shadow
 # Crossings (crossings.py) are more accurate per sample than a K-step march, so where they
 # apply they run at a resolution of their own: suns at draft and preview (sun_scale; normal
 # maps, whose rebuilt heights integrate slopes, need a little more) and at final (full
-# resolution); point lights over height maps at draft and preview (point_scale). Never below
+# resolution); point lights over height maps likewise (point_scale). Never below
 # crossings_min_px on the short side: small paintings keep their detail (and are cheap).
 # K does not apply there; custom K and the reference always march. Measured at 1024², tall
 # relief: docs/shadow-quality.md.
@@ -45,9 +45,8 @@ def quality_settings(quality, steps=64, scale=1.0):
 
 def _crossings_plan(light, quality, fast_level, h, w, size, normal_map, offset):
     """((H, W) to bake at, function) where crossings (crossings.py) bake this light at this
-    level, else None: suns at draft, preview and final (at sun_scale where the level has
-    one), point lights over height maps at draft and preview (at point_scale), when their
-    tables fit in memory."""
+    level, else None: suns at sun_scale, point lights over height maps at point_scale (draft,
+    preview and final), when their tables fit in memory."""
     q = QUALITY.get(quality, {})
 
     def scaled(key):
@@ -59,7 +58,7 @@ def _crossings_plan(light, quality, fast_level, h, w, size, normal_map, offset):
     if light.kind == "sun" and fast_level:
         sh, sw = scaled("sun_scale_normal" if normal_map else "sun_scale")
         return ((sh, sw), crossings.sun_cos_theta) if crossings.fits(sh, sw) else None
-    if light.kind == "point" and fast_level and not normal_map and "point_scale" in q:
+    if light.kind == "point" and fast_level and not normal_map:
         sh, sw = scaled("point_scale")
         if crossings.point_grid_bytes(light, sh, sw, offset) <= crossings.MAX_TABLE_BYTES:
             return (sh, sw), lambda n, lt, off, heights_px, slopes, reach: \
@@ -80,8 +79,8 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
     slopes = None if slopes is None else slopes.astype(dtype, copy=False)
     hs, ws = max(1, round(h * scale)), max(1, round(w * scale))
     march = cos_theta_shadow
-    # Exact crossings smear one-pixel walls a little (a resampled grid): below ~512 px the
-    # K = 64 march is more accurate and cheap anyway, so 'final' marches there.
+    # Crossings smear one-pixel walls a little (a resampled grid): below ~512 px the K = 64
+    # march is more accurate and cheap anyway, so 'final' marches there.
     fast_level = quality in ("draft", "preview") or (quality == "final"
                                                       and min(hs, ws) >= FAST_FINAL_MIN_PX)
     plan = _crossings_plan(light, quality, fast_level and occupancy == "linear", h, w,

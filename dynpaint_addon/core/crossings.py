@@ -8,8 +8,7 @@ out of the relief are searched along its row:
   direction (u toward the light, v across). A ray rises by m = L.z/|L.xy| per pixel of u, so
   with G(u) = H(u) − m·u it is inside the relief exactly where G > c = z0 − m·u0.
 - Point lights over height maps (_PointGrid): a polar grid around the light's foot; the ray
-  is aimed at the light, G = (H − z_L)/ρ, c = (z0 − z_L)/ρ0. Not the reference's ray exactly
-  (see the class): draft and preview only.
+  is aimed at the light (§6 "Which ray"), G = (H − z_L)/ρ, c = (z0 − z_L)/ρ0.
 
 Per row, sparse tables of the maximum and minimum of G over power-of-two windows find the
 next up- or down-crossing of c by a binary descent; the inside length is the sum of the
@@ -23,8 +22,10 @@ row's slope). Where a ray is still inside when it leaves the box of pixel centre
 of shadow.py (tangent plane of P_S) finishes it, as in the reference; a flat plane gives
 cos θ exactly, up to the border.
 
-Measured (benchmarks/shadow_quality.py, 1024², relief 0.5 image widths, d = 0.01): suns,
-mean |Δt| 1.4e-4–5e-4 against the K = 1024 float64 reference (the K = 64 march: 1e-3–2e-2).
+Both grids are stored in blocks of rows, each as wide as its rows' rays can read
+(_BlockGrid). Measured (benchmarks/shadow_quality.py, 1024², relief 0.5 image widths,
+d = 0.01): mean |Δt| 1.4e-4–5e-4 against the K = 1024 float64 reference for suns and point
+lights (the K = 64 march: 1e-3–2e-2).
 Everything is in pixels; the result is t = d / max(r, d) like shadow.cos_theta_shadow.
 """
 import functools
@@ -42,11 +43,13 @@ MAX_TABLE_BYTES = 1.5 * 2**30   # larger grids fall back to the march
 THREADS = max(1, min(4, os.cpu_count() or 1))
 RAY_BAND_PIXELS = 1 << 17       # rays searched together (see _bake)
 TRACE_PIXELS = 1 << 21          # rays whose starts are held at once (_SunGrid.trace)
-SUN_BLOCKS, SUN_BLOCK_ROWS = 8, 160   # _SunGrid's blocks of rows: at most 8, ≥ 160 rows
+SUN_BLOCKS, BLOCK_ROWS = 8, 160   # _SunGrid's blocks of rows: at most 8; any grid's ≥ 160 rows
 NEVER = 1e30                      # table padding: beyond any G, finite so blends stay finite
 GUESS_STEPS, GUESS_LEAP = 3, 64
 POINT_RHO_MIN = 0.5
 POINT_ARC = 2.0   # row spacing (px) at ρ_max of full-circle grids (most rays are nearer F)
+POINT_STEP = 0.7  # column spacing (px of ρ) of polar grids: finer than pixels (_PointGrid)
+POINT_BLOCKS = 16   # _PointGrid's blocks of rows: each trimmed to the box seen from F
 
 
 def _levels(width):
@@ -150,10 +153,10 @@ def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None, reach
 
 def _bake(grid, normals, offset, heights_px, slopes):
     """t (H, W) by the grid's crossing search. numpy releases the GIL on large arrays: the
-    grid, the tables and the rays each run in THREADS parts side by side."""
+    blocks' profiles and tables, the rays' starts and their searches each run side by side."""
     with ThreadPoolExecutor(THREADS) as pool:
-        search, z = grid.search(pool, heights_px, slopes)
-        return grid.trace(pool, search, z, normals, offset, heights_px)
+        searches = grid.search(pool, heights_px, slopes)
+        return grid.trace(pool, searches, normals, offset, heights_px)
 
 
 def _by_bands(pool, h, w, fn):
@@ -163,25 +166,93 @@ def _by_bands(pool, h, w, fn):
     return list(pool.map(lambda r0: fn(r0, min(h, r0 + rows)), range(0, h, rows)))
 
 
-def _search(g, pool=None, rho_max=None):
-    """The profile G's tables (_Search); side by side if given a pool."""
-    if pool is None:
-        gmin = _tables(g, np.minimum, -NEVER)
-        return _Search(gmin[0], _tables(g, np.maximum, NEVER), gmin, _suffix_max(g),
-                       g.shape[1], rho_max)
-    futures = [pool.submit(_tables, g, np.maximum, NEVER),
-               pool.submit(_tables, g, np.minimum, -NEVER), pool.submit(_suffix_max, g)]
-    gmax, gmin, suffix = (f.result() for f in futures)
-    return _Search(gmin[0], gmax, gmin, suffix, g.shape[1], rho_max)
+def _search(g, rho_max=None):
+    """The profile G's tables (_Search)."""
+    gmin = _tables(g, np.minimum, -NEVER)
+    return _Search(gmin[0], _tables(g, np.maximum, NEVER), gmin, _suffix_max(g), g.shape[1],
+                   rho_max)
 
 
-class _SunGrid:
+class _BlockGrid:
+    """What both grids share: rows of rays' paths stored in blocks of rows (one row shared
+    between neighbours, so a ray's two rows are in one block), each only as wide as the
+    columns its rows' rays can read; a block's profile and tables are built on their own,
+    and each ray is searched in its block.
+
+    A subclass sets rows and width, calls _split with each row's column range, and writes
+    _profile (G of a block), starts (the rays of some pixel rows), _search_block (their
+    inside lengths) and finish (t from them).
+    """
+
+    def _split(self, lo, hi, max_blocks):
+        """Blocks (a, n, c0, c1) of rows a … a + n − 1 and columns c0 … c1 − 1, covering
+        each row's columns lo … hi (empty rows: lo > hi)."""
+        blocks = max(1, min(max_blocks, self.rows // BLOCK_ROWS))   # small: fewer calls
+        self.step = max(1, -(-(self.rows - 1) // blocks))
+        self.blocks = []
+        for a in range(0, self.rows - 1, self.step):
+            n = min(self.step + 1, self.rows - a)
+            lo_a, hi_a = lo[a:a + n], hi[a:a + n]
+            full = lo_a <= hi_a
+            first = lo_a[full].min() if full.any() else self.width - 2
+            last = hi_a[full].max() if full.any() else 0
+            c0 = int(np.clip(np.floor(first), 0, self.width - 2))
+            c1 = int(np.clip(np.ceil(last) + 1, c0 + 2, self.width))
+            self.blocks.append((a, n, c0, c1))
+
+    def table_bytes(self):
+        """The memory the blocks' profiles and tables take."""
+        return sum((2 * _levels(c1 - c0) + 2) * n * (c1 - c0 + 1) * 4
+                   for _, n, c0, c1 in self.blocks)
+
+    def search(self, pool, heights_px, slopes):
+        """Per block: (its _Search, the rebuilt heights z of a normal map or None)."""
+        inputs = self._inputs(heights_px, slopes)
+        return list(pool.map(lambda spec: self._profile(spec, *inputs), self.blocks))
+
+    def trace(self, pool, searches, normals, offset, heights_px):
+        """t, in chunks of up to TRACE_PIXELS rays (bounded memory on huge images): the rays'
+        starts in bands of pixel rows, then the search in each block for the rays whose rows
+        are in it, side by side."""
+        h, w = normals.shape[:2]
+        rows = max(1, TRACE_PIXELS // w)
+        return np.concatenate([self._trace_rows(pool, searches, normals, offset, heights_px,
+                                                r0, min(h, r0 + rows))
+                               for r0 in range(0, h, rows)])
+
+    def _trace_rows(self, pool, searches, normals, offset, heights_px, r0, r1):
+        w = normals.shape[1]
+        bands = _by_bands(pool, r1 - r0, w, lambda a, b: self.starts(
+            normals, offset, heights_px, r0 + a, r0 + b))
+        ray = {k: None if bands[0][k] is None else np.concatenate([b[k] for b in bands])
+               for k in bands[0]}
+        r_h = ray["alone"]            # rays not searched: the tail from δ0 alone
+        block = np.minimum(ray["row0"] // self.step, len(self.blocks) - 1).astype(np.int16)
+        block[~ray["searched"]] = -1
+
+        def search_block(b):
+            sel = np.flatnonzero(block == b)
+            if sel.size:
+                r_h[sel] = self._search_block(b, searches[b], ray, sel)
+        list(pool.map(search_block, range(len(self.blocks))))
+        t = self.finish(ray, r_h, float(offset) * w)
+        return np.clip(np.where(np.isfinite(t), t, 0), 0, 1).reshape(r1 - r0, w).astype(
+            normals.dtype, copy=False)
+
+    def _block_rays(self, b, ray, sel):
+        """Rays `sel` in block b's coordinates: (rows from its first, u from its first
+        column, u_end there)."""
+        a, _, c0, _ = self.blocks[b]
+        return (ray["row0"][sel] - a, np.clip(ray["fu"][sel] - c0, 0, None),
+                ray["u_end"][sel] - c0)
+
+
+class _SunGrid(_BlockGrid):
     """The light-aligned grid covering the box of pixel centres: column u runs toward the
     light (horizontally), row v across; one grid step is one pixel.
 
-    Stored in blocks of rows (up to SUN_BLOCKS; one row shared between neighbours, so a
-    ray's two rows are in one block), each only as wide as the box's footprint on its rows
-    (+ 3 px): a rotated image's bounding grid is up to twice its area, 8 blocks ≈ 1.3×.
+    Up to SUN_BLOCKS blocks: a rotated image's bounding grid is up to twice its area, 8
+    blocks ≈ 1.3×.
     """
 
     def __init__(self, lvec, h, w, reach_px=np.inf):
@@ -198,17 +269,7 @@ class _SunGrid:
         self.umin, self.vmin = np.floor(us.min()) - 1, np.floor(vs.min()) - 1
         self.width = int(np.ceil(us.max() - self.umin)) + 2
         self.rows = int(np.ceil(vs.max() - self.vmin)) + 2
-        # blocks: rows a … a + n − 1, columns c0 … c1 − 1 (the footprint of their rows)
-        blocks = max(1, min(SUN_BLOCKS, self.rows // SUN_BLOCK_ROWS))   # small: fewer calls
-        step = max(1, -(-(self.rows - 1) // blocks))
-        lo, hi = self._footprint(np.arange(self.rows))
-        self.blocks = []
-        for a in range(0, self.rows - 1, step):
-            n = min(step + 1, self.rows - a)
-            c0 = int(np.clip(np.floor(lo[a:a + n].min()), 0, self.width - 2))
-            c1 = int(np.clip(np.ceil(hi[a:a + n].max()) + 1, c0 + 2, self.width))
-            self.blocks.append((a, n, c0, c1))
-        self.step = step
+        self._split(*self._footprint(np.arange(self.rows)), SUN_BLOCKS)
 
     def _footprint(self, rows):
         """Column range (lo, hi) of each grid row inside the box of pixel centres grown by
@@ -231,29 +292,30 @@ class _SunGrid:
         hi = np.where(np.isfinite(hi), hi - self.umin, self.width - 1)
         return lo, hi
 
-    def search(self, pool, heights_px, slopes):
-        """Per block: the profile G = H − m·u (float32), its tables (_Search) and the rebuilt
-        heights z (normal maps), built side by side."""
+    def _inputs(self, heights_px, slopes):
         f32 = np.float32
         hz = None if heights_px is None else heights_px.astype(f32, copy=False)
         # slope along u at each grid point (lookups are linear: one image of it)
         sz = None if slopes is None else \
             (slopes[..., 0] * self.ex + slopes[..., 1] * self.ey).astype(f32)
+        return hz, sz
 
-        def block(spec):
-            a, n, c0, c1 = spec
-            gu = self.umin + np.arange(c0, c1)
-            v = (self.vmin + np.arange(a, a + n))[:, None]
-            gx = (self.cx + gu * self.ex).astype(f32)[None, :] - (v * self.ey).astype(f32)
-            gy = (self.cy + gu * self.ey).astype(f32)[None, :] + (v * self.ex).astype(f32)
-            if hz is not None:
-                return _search(_lookup(hz, gx, gy) - (self.m * gu).astype(f32)), None
-            # the running integral (trapezoids) of the slope is the height along the row
-            su = _lookup(sz, gx, gy).astype(np.float64)
-            z = np.zeros(su.shape)
-            np.cumsum((su[:, 1:] + su[:, :-1]) / 2, axis=1, out=z[:, 1:])
-            return _search((z - self.m * gu[None, :]).astype(f32)), z
-        return list(pool.map(block, self.blocks)), None
+    def _profile(self, spec, hz, sz):
+        """A block's profile G = H − m·u (float32) and tables, and the rebuilt heights z
+        (normal maps)."""
+        f32 = np.float32
+        a, n, c0, c1 = spec
+        gu = self.umin + np.arange(c0, c1)
+        v = (self.vmin + np.arange(a, a + n))[:, None]
+        gx = (self.cx + gu * self.ex).astype(f32)[None, :] - (v * self.ey).astype(f32)
+        gy = (self.cy + gu * self.ey).astype(f32)[None, :] + (v * self.ex).astype(f32)
+        if hz is not None:
+            return _search(_lookup(hz, gx, gy) - (self.m * gu).astype(f32)), None
+        # the running integral (trapezoids) of the slope is the height along the row
+        su = _lookup(sz, gx, gy).astype(np.float64)
+        z = np.zeros(su.shape)
+        np.cumsum((su[:, 1:] + su[:, :-1]) / 2, axis=1, out=z[:, 1:])
+        return _search((z - self.m * gu[None, :]).astype(f32)), z
 
     def starts(self, normals, offset, heights_px, r0, r1):
         """The rays of pixel rows r0 … r1 − 1 in grid coordinates (flat arrays)."""
@@ -287,54 +349,22 @@ class _SunGrid:
             # normal maps start on the tangent plane of P_S: H(P0) = d|N.xy|²/N.z, δ0 = d/N.z
             h0 = (f32(d) * (nx * nx + ny * ny) / nz).ravel()
             delta0 = f32(d) / nz
+        fall = (ndl / nz).ravel() / f32(lxy)       # δ's fall per px of u (tangent plane)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            # P0 outside the box: no search, the tail from the tangent plane of P_S (δ0 = d/N.z)
+            alone = np.where(fall > 0, (f32(d) / nz.ravel()) / fall, np.inf).astype(f32)
         return dict(fu=fu, row0=row0, wv=np.clip(fv - row0, f32(0), f32(1)),
                     c=(z0.astype(np.float64) - m * u0.astype(np.float64)).ravel(),
                     u_end=fu + np.minimum(to_edge, f32(min(self.reach_u, 1e30))),
-                    by_reach=to_edge > self.reach_u,
-                    inbox0=inbox0.ravel(), delta0=delta0.ravel(), h0=h0, nz=nz.ravel(),
-                    fall=(ndl / nz).ravel() / f32(lxy))   # δ's fall per px of u (tangent plane)
-
-    def trace(self, pool, searches, _, normals, offset, heights_px):
-        """t, in chunks of up to TRACE_PIXELS rays (bounded memory on huge images): the rays'
-        starts in bands of pixel rows, then the search in each block for the rays whose rows
-        are in it, side by side."""
-        h, w = normals.shape[:2]
-        rows = max(1, TRACE_PIXELS // w)
-        return np.concatenate([self._trace_rows(pool, searches, normals, offset, heights_px,
-                                                r0, min(h, r0 + rows))
-                               for r0 in range(0, h, rows)])
-
-    def _trace_rows(self, pool, searches, normals, offset, heights_px, r0, r1):
-        f32 = np.float32
-        w = normals.shape[1]
-        d = float(offset) * w
-        bands = _by_bands(pool, r1 - r0, w, lambda a, b: self.starts(
-            normals, offset, heights_px, r0 + a, r0 + b))
-        ray = {k: None if bands[0][k] is None else np.concatenate([b[k] for b in bands])
-               for k in bands[0]}
-        fall, inbox0 = ray["fall"], ray["inbox0"]
-        # P0 outside the box: no march, the tail from the tangent plane of P_S (δ0 = d/N.z)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            r_h = np.where(fall > 0, (f32(d) / ray["nz"]) / fall, np.inf).astype(f32)
-        block = np.minimum(ray["row0"] // self.step, len(self.blocks) - 1).astype(np.int16)
-        block[~inbox0] = -1
-
-        def search_block(b):
-            sel = np.flatnonzero(block == b)
-            if sel.size:
-                r_h[sel] = self._search_block(b, searches[b], ray, sel)
-        list(pool.map(search_block, range(len(self.blocks))))
-        r = (r_h / self.lxy).reshape(r1 - r0, w)               # along the 3D ray
-        t = d / np.maximum(r, d)
-        return np.clip(np.where(np.isfinite(t), t, 0), 0, 1).astype(normals.dtype, copy=False)
+                    by_reach=to_edge > self.reach_u, searched=inbox0.ravel(),
+                    delta0=delta0.ravel(), h0=h0, fall=fall, alone=alone)
 
     def _search_block(self, b, block_search, ray, sel):
         """The inside length (px of u) of rays `sel`, all in block b, with the tail."""
         f32 = np.float32
         search, z = block_search
-        a, _, c0, _ = self.blocks[b]
-        rb, wv, fall = ray["row0"][sel] - a, ray["wv"][sel], ray["fall"][sel]
-        fub, cb = np.clip(ray["fu"][sel] - c0, 0, None), ray["c"][sel]
+        rb, fub, ueb = self._block_rays(b, ray, sel)
+        wv, fall, cb = ray["wv"][sel], ray["fall"][sel], ray["c"][sel]
         if z is not None:
             # the row's running integral, shifted so that it reads H(P0) at the start
             width = z.shape[1]
@@ -349,7 +379,7 @@ class _SunGrid:
             cb = cb - ray["h0"][sel] + s0 * (1 - wv) + s1 * wv
         total, inside_end, gap, _ = _inside_length(
             search, rb, wv, fub.astype(f32), cb.astype(f32),
-            (cb + ray["delta0"][sel]).astype(f32), (ray["u_end"][sel] - c0).astype(f32), fall)
+            (cb + ray["delta0"][sel]).astype(f32), ueb.astype(f32), fall)
         # still inside where the box ends: the tail along the tangent plane of P_S (§6);
         # stopped by the reach: the rest of the ray against that plane itself
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -357,6 +387,10 @@ class _SunGrid:
             plane = np.where(fall > 0, np.maximum(ray["delta0"][sel] / fall - self.reach_u, 0),
                              np.inf)
         return total + np.where(ray["by_reach"][sel], plane, tail)
+
+    def finish(self, ray, r_h, d):
+        r = r_h / self.lxy                                      # along the 3D ray
+        return d / np.maximum(r, d)
 
 
 def point_cos_theta(normals, light, offset, *, heights_px):
@@ -369,20 +403,21 @@ def point_cos_theta(normals, light, offset, *, heights_px):
 
 def point_grid_bytes(light, h, w, offset):
     """The memory the tables of point_cos_theta's polar grid take."""
-    grid = _PointGrid(light, h, w, offset)
-    levels = _levels(grid.width)
-    return (2 * levels + 2) * grid.rows * (grid.width + 1) * 4
+    return _PointGrid(light, h, w, offset).table_bytes()
 
 
-class _PointGrid:
+class _PointGrid(_BlockGrid):
     """A polar grid around the foot F of a point light: row v = angle φ about F, column u =
-    ρ_max − ρ (toward the light), one pixel apart at ρ_max in both directions.
+    (ρ_max − ρ) / POINT_STEP (toward the light); rows POINT_ARC px apart at ρ_max.
 
     A ray aimed from P0 at the light P_L runs along a row, and with G(ρ) = (H − z_L)/ρ it is
     inside the relief exactly where G > c = (z0 − z_L)/ρ0 (the line from P0 to P_L has
     height z_L + (z0 − z_L)·ρ/ρ0), so the search of the suns applies unchanged. It is §6's
     ray ("Which ray", amended 2026-11-23: the paper's segment from P'_S to P_L), the one the
-    reference march follows too.
+    reference march follows too. Columns are closer than the suns' because rays near the
+    light are steep: the profile's chords between columns cut a wall's top corner, and the
+    3D length missed is the horizontal one times dist/ρ0. Each block keeps only the columns
+    its angles' rays can start from (the box seen from F): half a full-circle grid.
     """
 
     def __init__(self, light, h, w, offset):
@@ -400,36 +435,47 @@ class _PointGrid:
         else:
             base = np.arctan2(cy - self.fy, cx - self.fx)
             rel = np.angle(np.exp(1j * (np.arctan2(corners[:, 1], corners[:, 0]) - base)))
-            self.dphi = 1 / self.rho_max
+            self.dphi = 1 / self.rho_max                 # one pixel apart at ρ_max, as suns
             self.phi0 = base + rel.min() - 2 * self.dphi
             self.rows = int(np.ceil((rel.max() - rel.min()) / self.dphi)) + 5
         # rays end where they leave the box, so the grid stops at its nearest point to F
         near = np.hypot(max(xs[0] - self.fx, 0, self.fx - xs[1]),
                         max(ys[0] - self.fy, 0, self.fy - ys[1]))
-        self.width = int(np.ceil(self.rho_max - max(near - 2, 0))) + 2
-        self.rho = self.rho_max - np.arange(self.width)          # ρ of each column
+        self.width = int(np.ceil((self.rho_max - max(near - 2, 0)) / POINT_STEP)) + 2
+        far = self._farthest(self.phi0 + self.dphi * np.arange(self.rows), xs, ys)
+        self._split((self.rho_max - far - 3) / POINT_STEP, np.full(self.rows, self.width - 1.0),
+                    POINT_BLOCKS)
 
-    def search(self, pool, heights_px, slopes):
+    def _farthest(self, phi, xs, ys):
+        """ρ where a line from F at angle φ leaves the box xs × ys (−∞ where it misses it):
+        the slab test, ρ ≥ 0 inside both slabs."""
+        lo, hi = np.zeros(phi.shape), np.full(phi.shape, np.inf)
+        for e, f, (a, b) in ((np.cos(phi), self.fx, xs), (np.sin(phi), self.fy, ys)):
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ta, tb = (a - f) / e, (b - f) / e
+            along = np.abs(e) > 1e-12          # else parallel to the slab: in it or never
+            lo = np.where(along, np.maximum(lo, np.minimum(ta, tb)), lo if a <= f <= b else np.inf)
+            hi = np.where(along, np.minimum(hi, np.maximum(ta, tb)), hi)
+        return np.where(hi >= lo, hi, -np.inf)
+
+    def _inputs(self, heights_px, slopes):
+        return (heights_px.astype(np.float32, copy=False),)
+
+    def _profile(self, spec, hz):
+        """A block's profile G = (H − z_L)/ρ and its tables; the search reads ρ (in
+        columns) as its rho_max − u, u counted from the block's first column."""
         f32 = np.float32
-        hz = heights_px.astype(f32, copy=False)
-        rho = np.maximum(self.rho, POINT_RHO_MIN)
-        inv = (1 / rho).astype(f32)[None, :]
-        parts = [p for p in np.array_split(np.arange(self.rows), THREADS) if p.size]
+        a, n, c0, c1 = spec
+        rho = self.rho_max - POINT_STEP * np.arange(c0, c1)
+        phi = self.phi0 + self.dphi * np.arange(a, a + n)
+        gx = (self.fx + np.cos(phi)[:, None] * rho[None, :]).astype(f32)
+        gy = (self.fy + np.sin(phi)[:, None] * rho[None, :]).astype(f32)
+        inv = (1 / np.maximum(rho, POINT_RHO_MIN)).astype(f32)[None, :]
+        return _search((_lookup(hz, gx, gy) - f32(self.zl)) * inv,
+                       self.rho_max / POINT_STEP - c0), None
 
-        def sample(part):
-            phi = self.phi0 + part * self.dphi
-            gx = (self.fx + np.cos(phi)[:, None] * self.rho[None, :]).astype(f32)
-            gy = (self.fy + np.sin(phi)[:, None] * self.rho[None, :]).astype(f32)
-            return (_lookup(hz, gx, gy) - f32(self.zl)) * inv
-        return _search(np.concatenate(list(pool.map(sample, parts))), pool, self.rho_max), None
-
-    def trace(self, pool, search, z, normals, offset, heights_px):
-        h, w = normals.shape[:2]
-        return np.concatenate(_by_bands(pool, h, w, lambda r0, r1: self.rays(
-            search, normals, offset, heights_px, r0, r1)))
-
-    def rays(self, search, normals, offset, heights_px, r0, r1):
-        """t for pixel rows r0 … r1 − 1 (see the class)."""
+    def starts(self, normals, offset, heights_px, r0, r1):
+        """The rays of pixel rows r0 … r1 − 1 in grid coordinates (flat arrays)."""
         h, w = self.h, self.w
         d = float(offset) * w
         f32 = np.float32
@@ -444,37 +490,47 @@ class _PointGrid:
         dist = np.sqrt(rho0 * rho0 + dz * dz)                    # P0 → P_L
         safe = np.maximum(rho0, f32(1e-6))
         ndl = (nx * dx + ny * dy + nz * dz) / np.maximum(dist, f32(1e-6))     # N·L0
-        fall_d = (ndl / nz) * dist / safe        # δ's fall per px of u on the tangent plane
-        fu = (f32(self.rho_max) - rho0).ravel()
-        fv = ((np.arctan2(-dy, -dx) - f32(self.phi0)) / f32(self.dphi)).ravel()
+        fall_d = (ndl / nz) * dist / safe        # δ's fall per px of ρ on the tangent plane
+        step = f32(POINT_STEP)
+        fu = (f32(self.rho_max) - rho0) / step
+        fv = (np.arctan2(-dy, -dx) - f32(self.phi0)) / f32(self.dphi)
         fv = np.where(fv < 0, fv + f32(2 * np.pi / self.dphi), fv)
         row0 = np.clip(np.floor(fv).astype(np.int64), 0, self.rows - 2)
-        wv = np.clip(fv - row0, f32(0), f32(1))
-        c = (-dz / safe).ravel()
+        c = -dz / safe
         delta0 = _lookup(heights_px.astype(f32, copy=False), x0, y0) - z0
-        g_start = c + (delta0 / safe).ravel()
         box = exit_distance(x0, y0, dx / safe, dy / safe, h, w)
-        to_light = box >= rho0                                    # no box exit before it
-        u_end = fu + np.minimum(box, rho0).ravel()
-        total, inside_end, gap, _ = _inside_length(search, row0, wv, fu, c, g_start,
-                                                       u_end, (fall_d / safe).ravel())
-        rho_end = np.maximum(rho0.ravel() - (u_end - fu), 0)
-        fall_d, rho0, nz = fall_d.ravel(), rho0.ravel(), nz.ravel()
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            # still inside where it leaves the box: the tangent-plane tail, never past the
-            # light; P0 outside the box or under the light: that tail from δ0 = d/N.z
+            # P0 outside the box or under the light: the tangent-plane tail from δ0 = d/N.z
+            alone = np.minimum(np.where(fall_d > 0, (f32(d) / nz) / fall_d, np.inf), rho0)
+        flat = {"fu": fu, "row0": row0, "wv": np.clip(fv - row0, f32(0), f32(1)), "c": c,
+                "g_start": c + delta0 / safe, "u_end": fu + np.minimum(box, rho0) / step,
+                "fall_d": fall_d, "to_light": box >= rho0, "rho0": rho0, "alone": alone,
+                "searched": inside_box(x0, y0, h, w) & (rho0 >= 1), "ndl": ndl,
+                "slant": dist / safe}
+        return {k: v.ravel() for k, v in flat.items()}
+
+    def _search_block(self, b, block_search, ray, sel):
+        """The inside length (px of ρ) of rays `sel`, all in block b, with the tail."""
+        rb, fub, ueb = self._block_rays(b, ray, sel)
+        fall_d, step = ray["fall_d"][sel], np.float32(POINT_STEP)
+        total, inside_end, gap, _ = _inside_length(
+            block_search[0], rb, ray["wv"][sel], fub, ray["c"][sel], ray["g_start"][sel], ueb,
+            fall_d / np.maximum(ray["rho0"][sel], np.float32(1e-6)) * step)
+        total, gap = total * step, gap * step        # columns → px (δ/ρ in columns, too)
+        rho_end = np.maximum(ray["rho0"][sel] - (ueb - fub) * step, 0)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            # still inside where it leaves the box: the tangent-plane tail, never past the light
             tail = np.where(fall_d > 0, gap / fall_d, np.inf)
-            tail = np.where(inside_end & (gap > 0) & ~to_light.ravel(),
+            tail = np.where(inside_end & (gap > 0) & ~ray["to_light"][sel],
                             np.minimum(tail, rho_end), 0)
-            alone = np.where(fall_d > 0, (f32(d) / nz) / fall_d, np.inf)
-            alone = np.minimum(alone, rho0)
-        march = (inside_box(x0, y0, h, w) & (rho0.reshape(x0.shape) >= 1)).ravel()
-        with np.errstate(divide="ignore", invalid="ignore"):
-            r_h = np.where(march, total + tail, alone)
-            r = r_h * (dist.ravel() / np.maximum(rho0, f32(1e-6)))
-            t = d / np.maximum(r, d)
-        t = np.where(np.isfinite(t), t, np.where(rho0 < 1e-6, np.maximum(ndl.ravel(), 0), 0))
-        return np.clip(t, 0, 1).reshape(r1 - r0, w)
+        return total + tail
+
+    def finish(self, ray, r_h, d):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            t = d / np.maximum(r_h * ray["slant"], d)               # along the 3D ray
+        # under the light itself: N·L (the limit d → 0 of a flat neighbourhood)
+        return np.where(np.isfinite(t), t,
+                        np.where(ray["rho0"] < 1e-6, np.maximum(ray["ndl"], 0), 0))
 
 
 def _lookup(img, x, y):

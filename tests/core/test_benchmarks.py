@@ -10,7 +10,6 @@ from conftest import REPO
 sys.path.insert(0, os.path.join(REPO, "benchmarks"))
 
 import overhead_lights  # noqa: E402
-import point_light_study  # noqa: E402
 import shadow_quality  # noqa: E402
 
 
@@ -22,19 +21,17 @@ def one_run(monkeypatch):
 def test_shadow_quality_rows(one_run):
     rows = shadow_quality.measure(64)
     assert len(rows) == 4 * len(shadow_quality.CASES)
-    for label, level, sec, ratio, err, settings in rows:
+    for label, level, sec, ratio, err, settings, worst, goal in rows:
         assert sec > 0 and np.isfinite(ratio) and 0 <= err < 0.05, (label, level, err)
+        assert worst >= ratio
         if level == "baseline":
             assert ratio == 1.0 and settings == "K = 64 march at 64×64"
+        # a goal beside every preview and final row, met or not
+        assert (goal != "") == (level in ("preview", "final")), (label, level, goal)
+        assert goal.endswith(": met") or goal.endswith(": not met") or goal == ""
     # final stays close to the reference even at 64² (where it marches, K = 64, below 512 px)
     finals = [r for r in rows if r[1] == "final"]
     assert all(r[4] < 3e-3 for r in finals)
-
-
-def test_point_light_study_prints(one_run, capsys):
-    point_light_study.study(64, 0.5)
-    out = capsys.readouterr().out
-    assert "K = 64 march" in out and "aimed crossings" in out and "flat pixels" in out
 
 
 def test_overhead_lights_prints_a_ratio_per_case(one_run, capsys):

@@ -328,7 +328,10 @@ def test_point_crossings_follow_the_reference(pos):
     assert np.abs(t - ref).mean() < 6e-3
 
 
-def test_point_lights_use_crossings_at_draft_and_preview_only():
+def test_point_lights_use_crossings_at_every_level_from_512_px(monkeypatch):
+    """Draft, preview and final bake point lights over height maps by crossings (final from
+    FAST_FINAL_MIN_PX up: below it the K = 64 march is more accurate and cheap), each level
+    closer to the reference than the one before; normal maps along the ray still march."""
     from dynpaint_addon.testpainting import builtin_images
     z = height_field_px(builtin_images(256)["shape"].grey(), 0.25)
     n = normals_from_height_px(z)
@@ -342,9 +345,27 @@ def test_point_lights_use_crossings_at_draft_and_preview_only():
         assert stats.method == method, quality
         errs.append(np.abs(t - ref).mean())
     assert errs[0] > errs[1] > errs[2] and errs[1] < 0.02, errs
+    monkeypatch.setattr(bake_module, "FAST_FINAL_MIN_PX", 256)
+    stats = ShadowStats()
+    t = bake(n, light, 0.01, "final", heights_px=z, stats=stats)
+    assert stats.method == "aimed crossings" and stats.size == (256, 256)
+    # measured 1.6e-3 at 256² (the grid's columns 0.7 px apart; 5.9e-4 at 512², 3.9e-4 at
+    # 1024² with relief 0.5: docs/shadow-quality.md)
+    assert np.abs(t - ref).mean() < min(errs[1] / 2, 3e-3)
     stats = ShadowStats()          # normal maps: the rebuilt height is per ray, not per grid
     bake(n, light, 0.01, "preview", slopes=slopes_from_normals(n), stats=stats)
     assert stats.method == "march"
+
+
+def test_point_grid_blocks_keep_only_the_columns_rays_read():
+    """Each block of a polar grid is as wide as the box seen from the light's foot over its
+    angles: about half the full circle's cells for a foot inside the image."""
+    grid = crossings._PointGrid(Light("point", (0.3, -0.2, 0.6)), 1024, 1024, 0.01)
+    cells = sum(n * (c1 - c0) for _, n, c0, c1 in grid.blocks)
+    assert len(grid.blocks) == crossings.POINT_BLOCKS
+    assert 0.4 < cells / (grid.rows * grid.width) < 0.65
+    assert grid.table_bytes() == crossings.point_grid_bytes(
+        Light("point", (0.3, -0.2, 0.6)), 1024, 1024, 0.01)
 
 
 def test_point_crossings_fall_back_to_the_march_when_the_grid_is_too_big(monkeypatch):
@@ -358,22 +379,30 @@ def test_point_crossings_fall_back_to_the_march_when_the_grid_is_too_big(monkeyp
     assert stats.method == "march" and np.all(np.isfinite(t))
 
 
-@pytest.mark.parametrize("kind", ["height", "normal"])
-def test_sun_crossings_do_not_depend_on_blocks_chunks_or_threads(kind, monkeypatch):
+@pytest.mark.parametrize("kind", ["sun, height", "sun, normal", "point, height"])
+def test_crossings_do_not_depend_on_blocks_chunks_or_threads(kind, monkeypatch):
     """The grid's blocks, the chunks of rays and the threads only split the work: the same
     result, up to float32 rounding of positions counted from each block's first column."""
     from dynpaint_addon.testpainting import builtin_images
     z = height_field_px(builtin_images(160)["shape"].grey().astype(np.float32), 0.3)
     n = normals_from_height_px(z)
-    kw = {"heights_px": z} if kind == "height" else {"slopes": slopes_from_normals(n)}
-    light = Light("sun", (0.5, -0.7, 0.5))
-    one = crossings.sun_cos_theta(n, light, 0.01, **kw)
-    monkeypatch.setattr(crossings, "SUN_BLOCK_ROWS", 16)
+    kw = {"heights_px": z} if kind.endswith("height") else {"slopes": slopes_from_normals(n)}
+    if kind.startswith("sun"):
+        light = Light("sun", (0.5, -0.7, 0.5))
+        fn = crossings.sun_cos_theta
+    else:
+        light = Light("point", (0.3, -0.2, 0.6))
+        fn = crossings.point_cos_theta
+    one = fn(n, light, 0.01, **kw)
+    assert len(crossings._SunGrid(np.array(unit((0.5, -0.7, 0.5))), 160, 160).blocks) == 1
+    monkeypatch.setattr(crossings, "BLOCK_ROWS", 16)
     monkeypatch.setattr(crossings, "TRACE_PIXELS", 3000)
     monkeypatch.setattr(crossings, "RAY_BAND_PIXELS", 500)
     monkeypatch.setattr(crossings, "THREADS", 3)
-    assert len(crossings._SunGrid(np.array(unit(light.vector)), 160, 160).blocks) == 8
-    np.testing.assert_allclose(crossings.sun_cos_theta(n, light, 0.01, **kw), one, atol=1e-5)
+    assert len(crossings._SunGrid(np.array(unit((0.5, -0.7, 0.5))), 160, 160).blocks) == 8
+    assert len(crossings._PointGrid(Light("point", (0.3, -0.2, 0.6)), 160, 160, 0.01).blocks) \
+        == crossings.POINT_BLOCKS
+    np.testing.assert_allclose(fn(n, light, 0.01, **kw), one, atol=1e-5)
 
 
 # -- a sun straight above (issue 15, point 6) ------------------------------------------------
