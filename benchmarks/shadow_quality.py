@@ -49,6 +49,7 @@ CASES = [("height map, sun 15°", "height", sun(15, 30)),
          ("height map, low point light", "height", Light("point", (-0.1, 0.15, 0.25))),
          ("height map, point light beside", "height", Light("point", (0.9, 0.6, 0.4))),
          ("normal map, sun 35°", "normal", sun(35, 150)),
+         ("normal map, point light", "normal", Light("point", (0.3, -0.2, 0.6))),
          ("normal map (relief integrated), point light", "integrated",
           Light("point", (0.3, -0.2, 0.6)))]
 # (final ≤ × baseline, final mean ≤) per kind of light (issue 4 for suns, issue 18 for points);
@@ -234,12 +235,12 @@ def main(argv=None):
     lines += ["", "Suns bake by exact crossings (core/crossings.py: a light-aligned grid, sparse "
               "tables, binary descents) at draft, preview and final (final from 512 px up), "
               "at the level's own resolution (draft ⅛, preview ¼; ¼ and 0.4 for normal maps; "
-              "never below 96/192 px): K does not apply there. Point lights over height maps "
-              "(and over a normal map's integrated relief, the default) bake by crossings on a "
-              "polar grid around the light's foot at the same levels, final included (columns "
-              "0.7 px apart): each ray runs from P0 to the light, §6's ray. A normal map's "
-              "relief rebuilt along the ray (`shadows.relief = along_ray`) under a point light "
-              "still marches at every level (limits.md). "
+              "never below 96/192 px): K does not apply there. Point lights bake by crossings "
+              "on a polar grid around the light's foot at the same levels and resolutions "
+              "(columns 1 px apart, 0.7 px at final): each ray runs from P0 to the light, §6's "
+              "ray. Normal maps: relief rebuilt along each ray (the K = 1024 reference "
+              "likewise; no reach), or integrated once (`shadows.relief = integrated`, the "
+              "default: then the reference marches that relief). "
               f"Every time (baseline and levels) is the best of {RUNS} runs, the worst in "
               "brackets: timings on this shared 2-core machine vary by ±10–25 % between runs.",
               "", "Goals: final ≤ 0.1× baseline for suns (issue 4), ≤ 0.2× for point lights "

@@ -6,6 +6,8 @@ names a resolution, K and a precision; this module picks the method that reaches
 fastest, runs it at its resolution and resamples the result to the shape image's size. The
 reference (K = 1024, float64) always marches.
 """
+import functools
+
 import numpy as np
 
 from . import crossings
@@ -15,19 +17,20 @@ from .shadow import BakeCancelled, cos_theta_shadow
 # §13 quality levels of the bake: K, the resolution the march runs at (the result is upsampled
 # bilinearly) and the precision. 'custom' takes K and the resolution from the parameters.
 # Crossings (crossings.py) are more accurate per sample than a K-step march, so where they
-# apply they run at a resolution of their own: suns at draft and preview (sun_scale; normal
-# maps, whose rebuilt heights integrate slopes, need a little more) and at final (full
-# resolution); point lights over height maps likewise (point_scale). Never below
+# apply they run at a resolution of their own, for suns and point lights alike: draft and
+# preview at crossings_scale (normal maps, whose rebuilt heights integrate slopes, need a
+# little more: crossings_scale_normal), final at full resolution; point lights' polar grids
+# have columns point_step px apart (crossings.POINT_STEP at final). Never below
 # crossings_min_px on the short side: small paintings keep their detail (and are cheap).
 # K does not apply there; custom K and the reference always march. Measured at 1024², tall
 # relief: docs/shadow-quality.md.
 QUALITY = {
     "draft": {"steps": 16, "scale": 0.25, "dtype": "float32",
-              "sun_scale": 0.125, "sun_scale_normal": 0.25, "point_scale": 0.125,
-              "crossings_min_px": 96},
+              "crossings_scale": 0.125, "crossings_scale_normal": 0.25, "crossings_min_px": 96,
+              "point_step": 1.0},
     "preview": {"steps": 32, "scale": 0.5, "dtype": "float32",
-                "sun_scale": 0.25, "sun_scale_normal": 0.4, "point_scale": 0.25,
-                "crossings_min_px": 192},
+                "crossings_scale": 0.25, "crossings_scale_normal": 0.4, "crossings_min_px": 192,
+                "point_step": 1.0},
     "final": {"steps": 64, "scale": 1.0, "dtype": "float32"},
     "reference": {"steps": 1024, "scale": 1.0, "dtype": "float64"},
 }
@@ -43,26 +46,21 @@ def quality_settings(quality, steps=64, scale=1.0):
     return q["steps"], q["scale"], np.dtype(q["dtype"]).type
 
 
-def _crossings_plan(light, quality, fast_level, h, w, size, normal_map, offset):
+def _crossings_plan(light, quality, fast_level, h, w, normal_map, offset):
     """((H, W) to bake at, function) where crossings (crossings.py) bake this light at this
-    level, else None: suns at sun_scale, point lights over height maps at point_scale (draft,
-    preview and final), when their tables fit in memory."""
-    q = QUALITY.get(quality, {})
-
-    def scaled(key):
-        f = q.get(key)
-        if f is None:
-            return size
-        f = min(1.0, max(f, q.get("crossings_min_px", 0) / max(1, min(h, w))))
-        return max(1, round(h * f)), max(1, round(w * f))
-    if light.kind == "sun" and fast_level:
-        sh, sw = scaled("sun_scale_normal" if normal_map else "sun_scale")
+    level, else None: suns and point lights at the level's crossings scale (full size at
+    final), when their tables fit in memory."""
+    if not fast_level or light.kind not in ("sun", "point"):
+        return None
+    q = QUALITY[quality]
+    f = q.get("crossings_scale_normal" if normal_map else "crossings_scale", 1.0)
+    f = min(1.0, max(f, q.get("crossings_min_px", 0) / max(1, min(h, w))))
+    sh, sw = max(1, round(h * f)), max(1, round(w * f))
+    if light.kind == "sun":
         return ((sh, sw), crossings.sun_cos_theta) if crossings.fits(sh, sw) else None
-    if light.kind == "point" and fast_level and not normal_map:
-        sh, sw = scaled("point_scale")
-        if crossings.point_grid_bytes(light, sh, sw, offset) <= crossings.MAX_TABLE_BYTES:
-            return (sh, sw), lambda n, lt, off, heights_px, slopes, reach: \
-                crossings.point_cos_theta(n, lt, off, heights_px=heights_px)
+    step = q.get("point_step", crossings.POINT_STEP)
+    if crossings.point_grid_bytes(light, sh, sw, offset, step) <= crossings.MAX_TABLE_BYTES:
+        return (sh, sw), functools.partial(crossings.point_cos_theta, step=step)
     return None
 
 
@@ -84,7 +82,7 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
     fast_level = quality in ("draft", "preview") or (quality == "final"
                                                       and min(hs, ws) >= FAST_FINAL_MIN_PX)
     plan = _crossings_plan(light, quality, fast_level and occupancy == "linear", h, w,
-                           (hs, ws), slopes is not None, offset)
+                           slopes is not None, offset)
     if plan is not None:
         (hs, ws), fast = plan
         if stats is not None:

@@ -46,9 +46,9 @@ TRACE_PIXELS = 1 << 21          # rays whose starts are held at once (_SunGrid.t
 SUN_BLOCKS, BLOCK_ROWS = 8, 160   # _SunGrid's blocks of rows: at most 8; any grid's ≥ 160 rows
 NEVER = 1e30                      # table padding: beyond any G, finite so blends stay finite
 GUESS_STEPS, GUESS_LEAP = 3, 64
-POINT_RHO_MIN = 0.5
+POINT_RHO_MIN = 1e-3   # ρ (px) below which G = (H − z_L)/ρ divides by this: only a column at F
 POINT_ARC = 2.0   # row spacing (px) at ρ_max of full-circle grids (most rays are nearer F)
-POINT_STEP = 0.7  # column spacing (px of ρ) of polar grids: finer than pixels (_PointGrid)
+POINT_STEP = 0.7  # column spacing (px of ρ) of polar grids at final: finer than pixels
 POINT_BLOCKS = 16   # _PointGrid's blocks of rows: each trimmed to the box seen from F
 
 
@@ -97,12 +97,13 @@ def _range_min(tables, rows, lo, hi):
     k = _floor_log2(stride)[hi - lo]
     flat = tables.reshape(-1)
     level = k * (nrows * stride)
-    return np.minimum(rows.at(flat, level + lo), rows.at(flat, level + hi + 1 - (1 << k)))
+    low = np.minimum(rows.at(flat, level + lo), rows.at(flat, level + hi + 1 - (1 << k)))
+    return rows.bend_bound(low, lo, hi, upper=False)
 
 
-def _descend(tables, rows, start, c, skip_if):
+def _descend(tables, rows, start, c, skip_if, upper):
     """First column j ≥ start where the blended profile (1 − w)·row0 + w·row1 does not
-    satisfy skip_if(·, c); `width` if none.
+    satisfy skip_if(·, c); `width` if none. upper: the tables hold maxima (else minima).
 
     A window is skipped when the same blend of the two rows' window extremes satisfies
     skip_if: a bound of the blended profile's own extreme (blend of maxima ≥ maximum of the
@@ -113,7 +114,8 @@ def _descend(tables, rows, start, c, skip_if):
     """
     pos = start.copy()
     for k in range(tables.shape[0] - 1, -1, -1):
-        skip = skip_if(rows.at(tables[k].reshape(-1), pos), c)
+        window = rows.at(tables[k].reshape(-1), pos)
+        skip = skip_if(rows.bend_bound(window, pos, pos + ((1 << k) - 1), upper), c)
         # (a shift, not `where=`: numpy's masked loops are slow on scattered masks)
         pos += skip.view(np.uint8).astype(np.int64) << k
     return pos
@@ -367,17 +369,8 @@ class _SunGrid(_BlockGrid):
         wv, fall, cb = ray["wv"][sel], ray["fall"][sel], ray["c"][sel]
         if z is not None:
             # the row's running integral, shifted so that it reads H(P0) at the start
-            width = z.shape[1]
-            k = np.clip(np.floor(fub).astype(np.int64), 0, width - 2)
-            zf = z.reshape(-1)
-
-            def at(row, kk):
-                return zf[row * width + kk]
-            f = np.clip(fub - k, 0, 1)
-            s0 = at(rb, k) + (at(rb, k + 1) - at(rb, k)) * f
-            s1 = at(rb + 1, k) + (at(rb + 1, k + 1) - at(rb + 1, k)) * f
-            cb = cb - ray["h0"][sel] + s0 * (1 - wv) + s1 * wv
-        total, inside_end, gap, _ = _inside_length(
+            cb = cb - ray["h0"][sel] + _row_value(z, rb, wv, fub)
+        total, inside_end, gap = _inside_length(
             search, rb, wv, fub.astype(f32), cb.astype(f32),
             (cb + ray["delta0"][sel]).astype(f32), ueb.astype(f32), fall)
         # still inside where the box ends: the tail along the tangent plane of P_S (§6);
@@ -393,35 +386,47 @@ class _SunGrid(_BlockGrid):
         return d / np.maximum(r, d)
 
 
-def point_cos_theta(normals, light, offset, *, heights_px):
-    """t = d / max(r, d) (H, W) for a point light over a height map, by crossings along the
-    rows of a polar grid around the light's foot (_PointGrid): each ray is aimed from P0 at
-    the light, §6's ray (see _PointGrid)."""
-    return _bake(_PointGrid(light, normals.shape[0], normals.shape[1], offset), normals, offset,
-                 heights_px, None)
+def point_cos_theta(normals, light, offset, *, heights_px=None, slopes=None, reach=np.inf,
+                    step=POINT_STEP):
+    """t = d / max(r, d) (H, W) for a point light, by crossings along the rows of a polar
+    grid around the light's foot (_PointGrid): each ray is aimed from P0 at the light, §6's
+    ray. heights_px, or slopes and reach as sun_cos_theta; step: the grid's column spacing
+    (px; coarser is faster, and less exact near walls)."""
+    h, w = normals.shape[:2]
+    reach_px = max(0.0, float(reach)) * w if slopes is not None else np.inf
+    return _bake(_PointGrid(light, h, w, offset, reach_px, step), normals, offset, heights_px,
+                 slopes)
 
 
-def point_grid_bytes(light, h, w, offset):
+def point_grid_bytes(light, h, w, offset, step=POINT_STEP):
     """The memory the tables of point_cos_theta's polar grid take."""
-    return _PointGrid(light, h, w, offset).table_bytes()
+    return _PointGrid(light, h, w, offset, step=step).table_bytes()
 
 
 class _PointGrid(_BlockGrid):
     """A polar grid around the foot F of a point light: row v = angle φ about F, column u =
-    (ρ_max − ρ) / POINT_STEP (toward the light); rows POINT_ARC px apart at ρ_max.
+    (ρ_max − ρ) / col_step (toward the light); rows POINT_ARC px apart at ρ_max.
 
     A ray aimed from P0 at the light P_L runs along a row, and with G(ρ) = (H − z_L)/ρ it is
     inside the relief exactly where G > c = (z0 − z_L)/ρ0 (the line from P0 to P_L has
     height z_L + (z0 − z_L)·ρ/ρ0), so the search of the suns applies unchanged. It is §6's
     ray ("Which ray", amended 2026-11-23: the paper's segment from P'_S to P_L), the one the
-    reference march follows too. Columns are closer than the suns' because rays near the
+    reference march follows too.
+
+    Normal maps: the height rebuilt along a row is the running integral of its slope (as
+    for suns), but a ray's relief is that shifted by its own b (so that it reads H(P0) at
+    P0), and a shift is no constant in G = (H − z_L)/ρ: each ray searches G − b/ρ, which
+    _Rows bounds over a window from the window's ends. Felt up to the reach, then P_S's
+    tangent plane, as the reference.
+
+    Columns are closer than the suns' because rays near the
     light are steep: the profile's chords between columns cut a wall's top corner, and the
     3D length missed is the horizontal one times dist/ρ0. Each block keeps only the columns
     its angles' rays can start from (the box seen from F): half a full-circle grid.
     """
 
-    def __init__(self, light, h, w, offset):
-        self.h, self.w = h, w
+    def __init__(self, light, h, w, offset, reach_px=np.inf, step=POINT_STEP):
+        self.h, self.w, self.reach_px, self.col_step = h, w, reach_px, step
         self.fx, self.fy, self.zl = (float(v) for v in light.position_px(h, w))
         margin = float(offset) * w + 2                 # ray starts lie within d of the box
         xs, ys = (0.5 - margin, w - 0.5 + margin), (0.5 - margin, h - 0.5 + margin)
@@ -441,9 +446,9 @@ class _PointGrid(_BlockGrid):
         # rays end where they leave the box, so the grid stops at its nearest point to F
         near = np.hypot(max(xs[0] - self.fx, 0, self.fx - xs[1]),
                         max(ys[0] - self.fy, 0, self.fy - ys[1]))
-        self.width = int(np.ceil((self.rho_max - max(near - 2, 0)) / POINT_STEP)) + 2
+        self.width = int(np.ceil((self.rho_max - max(near - 2, 0)) / step)) + 2
         far = self._farthest(self.phi0 + self.dphi * np.arange(self.rows), xs, ys)
-        self._split((self.rho_max - far - 3) / POINT_STEP, np.full(self.rows, self.width - 1.0),
+        self._split((self.rho_max - far - 3) / step, np.full(self.rows, self.width - 1.0),
                     POINT_BLOCKS)
 
     def _farthest(self, phi, xs, ys):
@@ -459,20 +464,33 @@ class _PointGrid(_BlockGrid):
         return np.where(hi >= lo, hi, -np.inf)
 
     def _inputs(self, heights_px, slopes):
-        return (heights_px.astype(np.float32, copy=False),)
+        if heights_px is not None:
+            return heights_px.astype(np.float32, copy=False), None
+        return None, [np.ascontiguousarray(slopes[..., i], np.float32) for i in (0, 1)]
 
-    def _profile(self, spec, hz):
-        """A block's profile G = (H − z_L)/ρ and its tables; the search reads ρ (in
-        columns) as its rho_max − u, u counted from the block's first column."""
+    def _profile(self, spec, hz, sxy):
+        """A block's profile G = (H − z_L)/ρ and its tables, and the rebuilt heights z
+        (normal maps); the search reads ρ (in columns) as its rho_max − u, u counted from
+        the block's first column."""
         f32 = np.float32
         a, n, c0, c1 = spec
-        rho = self.rho_max - POINT_STEP * np.arange(c0, c1)
+        rho = self.rho_max - self.col_step * np.arange(c0, c1)
         phi = self.phi0 + self.dphi * np.arange(a, a + n)
-        gx = (self.fx + np.cos(phi)[:, None] * rho[None, :]).astype(f32)
-        gy = (self.fy + np.sin(phi)[:, None] * rho[None, :]).astype(f32)
-        inv = (1 / np.maximum(rho, POINT_RHO_MIN)).astype(f32)[None, :]
-        return _search((_lookup(hz, gx, gy) - f32(self.zl)) * inv,
-                       self.rho_max / POINT_STEP - c0), None
+        cos, sin = np.cos(phi)[:, None], np.sin(phi)[:, None]
+        gx = (self.fx + cos * rho[None, :]).astype(f32)
+        gy = (self.fy + sin * rho[None, :]).astype(f32)
+        inv = (1 / np.maximum(rho, POINT_RHO_MIN)).astype(f32)
+        rho_cols = self.rho_max / self.col_step - c0
+        if hz is not None:
+            return _search((_lookup(hz, gx, gy) - f32(self.zl)) * inv[None, :], rho_cols), None
+        # toward F the slope along the row is −(s·(cos φ, sin φ)); its running integral
+        # (trapezoids, col_step px a column) is the height along the row
+        su = -(_lookup(sxy[0], gx, gy) * cos + _lookup(sxy[1], gx, gy) * sin)
+        z = np.zeros(su.shape)
+        np.cumsum((su[:, 1:] + su[:, :-1]) * (self.col_step / 2), axis=1, out=z[:, 1:])
+        search = _search(((z - self.zl) * inv[None, :]).astype(f32), rho_cols)
+        search.q = np.append(inv, inv[-1])
+        return search, z
 
     def starts(self, normals, offset, heights_px, r0, r1):
         """The rays of pixel rows r0 … r1 − 1 in grid coordinates (flat arrays)."""
@@ -483,7 +501,7 @@ class _PointGrid(_BlockGrid):
         nx, ny, nz = n[..., 0], n[..., 1], n[..., 2]
         x, y = pixel_centres(h, w, f32)
         x, y = x[r0:r1], y[r0:r1]
-        zs = heights_px[r0:r1].astype(f32, copy=False)
+        zs = heights_px[r0:r1].astype(f32, copy=False) if heights_px is not None else f32(0)
         x0, y0, z0 = x - f32(d) * nx, y - f32(d) * ny, zs - f32(d) * nz
         dx, dy, dz = f32(self.fx) - x0, f32(self.fy) - y0, f32(self.zl) - z0
         rho0 = np.hypot(dx, dy)
@@ -491,19 +509,28 @@ class _PointGrid(_BlockGrid):
         safe = np.maximum(rho0, f32(1e-6))
         ndl = (nx * dx + ny * dy + nz * dz) / np.maximum(dist, f32(1e-6))     # N·L0
         fall_d = (ndl / nz) * dist / safe        # δ's fall per px of ρ on the tangent plane
-        step = f32(POINT_STEP)
+        step = f32(self.col_step)
         fu = (f32(self.rho_max) - rho0) / step
-        fv = (np.arctan2(-dy, -dx) - f32(self.phi0)) / f32(self.dphi)
-        fv = np.where(fv < 0, fv + f32(2 * np.pi / self.dphi), fv)
+        # the angle from φ0, in [0, 2π): φ0 may lie below −π (a foot right of the image)
+        fv = np.mod(np.arctan2(-dy, -dx) - f32(self.phi0), f32(2 * np.pi)) / f32(self.dphi)
         row0 = np.clip(np.floor(fv).astype(np.int64), 0, self.rows - 2)
         c = -dz / safe
-        delta0 = _lookup(heights_px.astype(f32, copy=False), x0, y0) - z0
+        if heights_px is not None:
+            # the reference's δ0: the exact bilinear relief above P0
+            delta0 = _lookup(heights_px.astype(f32, copy=False), x0, y0) - z0
+            h0 = np.zeros_like(delta0)
+        else:
+            # normal maps start on the tangent plane of P_S: H(P0) = d|N.xy|²/N.z, δ0 = d/N.z
+            delta0, h0 = f32(d) / nz, f32(d) * (nx * nx + ny * ny) / nz
         box = exit_distance(x0, y0, dx / safe, dy / safe, h, w)
+        reach_h = f32(min(self.reach_px, 1e30)) * safe / np.maximum(dist, f32(1e-6))
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             # P0 outside the box or under the light: the tangent-plane tail from δ0 = d/N.z
             alone = np.minimum(np.where(fall_d > 0, (f32(d) / nz) / fall_d, np.inf), rho0)
         flat = {"fu": fu, "row0": row0, "wv": np.clip(fv - row0, f32(0), f32(1)), "c": c,
-                "g_start": c + delta0 / safe, "u_end": fu + np.minimum(box, rho0) / step,
+                "delta0": delta0, "h0": h0, "g_start": c + delta0 / safe,
+                "u_end": fu + np.minimum(np.minimum(box, rho0), reach_h) / step,
+                "reach_h": reach_h, "by_reach": np.minimum(box, rho0) > reach_h,
                 "fall_d": fall_d, "to_light": box >= rho0, "rho0": rho0, "alone": alone,
                 "searched": inside_box(x0, y0, h, w) & (rho0 >= 1), "ndl": ndl,
                 "slant": dist / safe}
@@ -511,19 +538,30 @@ class _PointGrid(_BlockGrid):
 
     def _search_block(self, b, block_search, ray, sel):
         """The inside length (px of ρ) of rays `sel`, all in block b, with the tail."""
+        search, z = block_search
         rb, fub, ueb = self._block_rays(b, ray, sel)
-        fall_d, step = ray["fall_d"][sel], np.float32(POINT_STEP)
-        total, inside_end, gap, _ = _inside_length(
-            block_search[0], rb, ray["wv"][sel], fub, ray["c"][sel], ray["g_start"][sel], ueb,
-            fall_d / np.maximum(ray["rho0"][sel], np.float32(1e-6)) * step)
+        wv, fall_d, step = ray["wv"][sel], ray["fall_d"][sel], np.float32(self.col_step)
+        # normal maps: each ray's relief is its rows' rebuilt heights shifted by
+        # b = z(P0) − H(P0), so that it reads H(P0) at the start (the class)
+        bend = None if z is None else \
+            (_row_value(z, rb, wv, fub) - ray["h0"][sel]).astype(np.float32)
+        rho0 = ray["rho0"][sel]
+        total, inside_end, gap = _inside_length(
+            search, rb, wv, fub, ray["c"][sel], ray["g_start"][sel], ueb,
+            fall_d / np.maximum(rho0, np.float32(1e-6)) * step, bend)
         total, gap = total * step, gap * step        # columns → px (δ/ρ in columns, too)
-        rho_end = np.maximum(ray["rho0"][sel] - (ueb - fub) * step, 0)
+        rho_end = np.maximum(rho0 - (ueb - fub) * step, 0)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             # still inside where it leaves the box: the tangent-plane tail, never past the light
             tail = np.where(fall_d > 0, gap / fall_d, np.inf)
             tail = np.where(inside_end & (gap > 0) & ~ray["to_light"][sel],
                             np.minimum(tail, rho_end), 0)
-        return total + tail
+            # stopped by the reach: the rest of the ray against that plane, not past the light
+            reach_h = ray["reach_h"][sel]
+            plane = np.where(fall_d > 0, np.maximum(ray["delta0"][sel] / fall_d - reach_h, 0),
+                             np.inf)
+            plane = np.minimum(plane, np.maximum(rho0 - reach_h, 0))
+        return total + np.where(ray["by_reach"][sel], plane, tail)
 
     def finish(self, ray, r_h, d):
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -531,6 +569,20 @@ class _PointGrid(_BlockGrid):
         # under the light itself: N·L (the limit d → 0 of a flat neighbourhood)
         return np.where(np.isfinite(t), t,
                         np.where(ray["rho0"] < 1e-6, np.maximum(ray["ndl"], 0), 0))
+
+
+def _row_value(z, rb, wv, fu):
+    """The rebuilt heights z (rows, width) at each ray's start: linear along its two rows
+    rb, rb + 1 at column fu, blended by wv."""
+    width = z.shape[1]
+    k = np.clip(np.floor(fu).astype(np.int64), 0, width - 2)
+    f = np.clip(fu - k, 0, 1)
+    zf = z.reshape(-1)
+
+    def along(row):
+        i = row * width + k
+        return zf[i] + (zf[i + 1] - zf[i]) * f
+    return along(rb) * (1 - wv) + along(rb + 1) * wv
 
 
 def _lookup(img, x, y):
@@ -550,20 +602,43 @@ class _Search:
     suffix: np.ndarray
     width: int
     rho_max: float = None     # polar grids: G − c is δ/ρ, ρ = rho_max − u (see _crossing)
+    q: np.ndarray = None      # polar grids of normal maps: 1/ρ (px) per column (see _Rows)
 
 
 class _Rows:
     """Gathers at column k from the blend (1 − w)·row0 + w·row1 of each ray's two grid rows
-    (in a (rows, width + 1) layout, or one level of the tables)."""
+    (in a (rows, width + 1) layout, or one level of the tables).
 
-    def __init__(self, row0, w, stride):
+    A bend b per ray (polar grids of normal maps, _PointGrid) makes each ray's profile
+    G(k) − b·q(k), q = 1/ρ: its relief is the row's rebuilt height shifted by b, and a shift
+    divided by ρ is no shift of G (g; bend_bound bounds it over a window)."""
+
+    def __init__(self, row0, w, stride, bend=None, q=None):
         self.b0 = row0.astype(np.int64) * stride
-        self.w, self.stride = w, stride
+        self.w, self.stride, self.bend, self.q = w, stride, bend, q
 
     def sub(self, sel):
         out = _Rows.__new__(_Rows)
-        out.b0, out.w, out.stride = self.b0[sel], self.w[sel], self.stride
+        out.b0, out.w, out.stride, out.q = self.b0[sel], self.w[sel], self.stride, self.q
+        out.bend = None if self.bend is None else self.bend[sel]
         return out
+
+    def g(self, search, k):
+        """The ray's profile at column k."""
+        v = self.at(search.g.reshape(-1), k)
+        if self.bend is not None:
+            v -= self.bend * self.q[np.clip(k, 0, self.q.size - 1)]
+        return v
+
+    def bend_bound(self, v, lo, hi, upper):
+        """v, a bound of G over columns lo … hi, made a bound of G − b·q (q grows with k)."""
+        if self.bend is None:
+            return v
+        last = self.q.size - 1
+        q_lo, q_hi = self.q[np.clip(lo, 0, last)], self.q[np.clip(hi, 0, last)]
+        # −b·q is largest at q_lo where b ≥ 0, at q_hi where b < 0 (and the other way round)
+        pick = (self.bend >= 0) == upper
+        return v - self.bend * np.where(pick, q_lo, q_hi)
 
     def at(self, flat, k):
         i = self.b0 + k
@@ -582,7 +657,7 @@ def _crossing(search, rows, pos, col, j, g_here, g_j, cc):
     on a polar grid (G = (H − z)/ρ is curved in ρ; δ is linear wherever H is)."""
     first = j == col
     x0 = np.where(first, pos, j - 1.0)
-    d0 = np.where(first, g_here, rows.at(search.g.reshape(-1), np.maximum(j - 1, 0))) - cc
+    d0 = np.where(first, g_here, rows.g(search, np.maximum(j - 1, 0))) - cc
     d1 = g_j - cc
     if search.rho_max is not None:
         d0, d1 = d0 * (search.rho_max - x0), d1 * (search.rho_max - j)
@@ -597,16 +672,15 @@ def _exit_guess(search, rows, pos, col, g_here, cc, fall):
     ray is still inside there, and proved: G(j) ≤ c, and a lower bound of G over
     col … j − 1 above c (the descent's own answer, without the descent)."""
     width = search.width
-    gflat = search.g.reshape(-1)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         est = pos + (g_here - cc) / fall
     sel = (g_here > cc) & (fall > 0) & (est < width - 1)
     jg = np.clip(np.ceil(np.where(sel, est, pos)).astype(np.int64), col, width - 1)
-    g_j = np.zeros(pos.size, gflat.dtype)
+    g_j = np.zeros(pos.size, search.g.dtype)
     ok = np.zeros(pos.size, bool)
     p = np.flatnonzero(sel)                   # rays whose candidate is still to check
     for step in range(GUESS_STEPS):
-        gp = rows.sub(p).at(gflat, jg[p])
+        gp = rows.sub(p).g(search, jg[p])
         g_j[p] = gp
         below = gp <= cc[p]
         hit = p[below]
@@ -619,7 +693,7 @@ def _exit_guess(search, rows, pos, col, g_here, cc, fall):
         p = p[~below]
         if p.size == 0 or step == GUESS_STEPS - 1:
             break
-        g0 = rows.sub(p).at(gflat, jg[p] - 1)
+        g0 = rows.sub(p).g(search, jg[p] - 1)
         drop = g0 - g_j[p]
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             ahead = np.where(drop > 0, (g_j[p] - cc[p]) / drop, 1)
@@ -629,14 +703,14 @@ def _exit_guess(search, rows, pos, col, g_here, cc, fall):
     return ok, jg, g_j
 
 
-def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall):
-    """(length, inside at the end, δ at the end (0 where not inside), first segment): the
-    length (px of u) of each ray inside the relief, along the profile blended from the two
-    grid rows around it, until u_end (it leaves the box of pixel centres, or reaches a point
-    light); whether it is still inside there, and how deep (for the caller's tail); on polar
-    grids the length up to its first exit (else None). g_start: G at the ray's start (from
-    the exact δ0 of the reference, so the start is inside exactly when it is there); fall:
-    how fast G − c falls per px of u on the tangent plane of P_S (the first exit's guess).
+def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall, bend=None):
+    """(length, inside at the end, δ at the end (0 where not inside)): the length (px of u)
+    of each ray inside the relief, along the profile blended from the two grid rows around
+    it, until u_end (it leaves the box of pixel centres, reaches a point light or its reach);
+    whether it is still inside there, and how deep (for the caller's tail). g_start: G at
+    the ray's start (from the exact δ0 of the reference, so the start is inside exactly when
+    it is there); fall: how fast G − c falls per px of u on the tangent plane of P_S (the
+    first exit's guess); bend: per ray, on polar grids of normal maps (_Rows).
 
     Fast lane first: every ray starts inside (d/N.z under the surface) and most leave where
     the tangent plane of P_S says (a guess proved exactly, _exit_guess); with nothing higher
@@ -645,7 +719,6 @@ def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall):
     rays are compacted as they finish.
     """
     width, stride = search.width, search.g.shape[1]
-    gflat = search.g.reshape(-1)
     sflat = search.suffix.reshape(-1)
     n = fu.size
     total = np.zeros(n, np.float32)
@@ -656,18 +729,16 @@ def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall):
     g_here = g_start[idx]
     inside = g_here > c[idx]
     # the fast lane
-    rows, cc, ue = _Rows(r0[idx], wv[idx], stride), c[idx], u_end[idx]
+    def rays(i):
+        return _Rows(r0[i], wv[i], stride, None if bend is None else bend[i], search.q)
+    rows, cc, ue = rays(idx), c[idx], u_end[idx]
     ok, jg, g_j = _exit_guess(search, rows, pos, col, g_here, cc, fall[idx])
     f = np.flatnonzero(ok)
     rf = rows.sub(f)
     cross = _crossing(search, rf, pos[f], col[f], jg[f], g_here[f], g_j[f], cc[f])
     ends = cross >= ue[f]
     total[idx[f]] = np.minimum(cross, ue[f]) - pos[f]
-    first = None
-    if search.rho_max is not None:     # the first segment (from the start to the first exit)
-        first = total.copy()
-        first[idx[~ok]] = np.nan
-    lit = ~ends & (rf.at(sflat, jg[f]) <= cc[f])
+    lit = ~ends & (rf.bend_bound(rf.at(sflat, jg[f]), jg[f], width - 1, True) <= cc[f])
     inside_end[idx[f[ends | lit]]] = True
     inside_end[idx[f[lit]]] = False
     pos[f], col[f], g_here[f], inside[f] = cross, jg[f], cc[f], False
@@ -680,9 +751,9 @@ def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall):
     for _ in range(2 * MAX_CROSSINGS):
         if idx.size == 0:
             break
-        rows, cc, ue = _Rows(r0[idx], wv[idx], stride), c[idx], u_end[idx]
+        rows, cc, ue = rays(idx), c[idx], u_end[idx]
         # outside rays with nothing higher ahead are done (a blended suffix maximum bounds it)
-        done = ~inside & (rows.at(sflat, col) <= cc)
+        done = ~inside & (rows.bend_bound(rows.at(sflat, col), col, width - 1, True) <= cc)
         j = col.copy()
         todo = ~done
         for _ in range(8):               # descend again where a loose bound stopped early
@@ -696,22 +767,19 @@ def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall):
                 m = np.flatnonzero(ins == flag)
                 if m.size:
                     s_ = sel[m]
-                    jj[m] = _descend(table, rows.sub(s_), j[s_], cc[s_], test)
+                    jj[m] = _descend(table, rows.sub(s_), j[s_], cc[s_], test, not flag)
             j[sel] = jj
-            gj = rows.sub(sel).at(gflat, np.minimum(jj, width - 1))
+            gj = rows.sub(sel).g(search, np.minimum(jj, width - 1))
             wrong = (jj < width) & np.where(ins, gj > cc[sel], gj <= cc[sel])
             todo = np.zeros_like(todo)
             todo[sel[wrong]] = True
             j[sel[wrong]] += 1
         jc = np.minimum(j, width - 1)
-        cross = _crossing(search, rows, pos, col, jc, g_here, rows.at(gflat, jc), cc)
+        cross = _crossing(search, rows, pos, col, jc, g_here, rows.g(search, jc), cc)
         cross = np.where((j < width) & ~done, cross, np.inf)
         ends = cross >= ue
         seg = np.where(inside, np.minimum(cross, ue) - pos, 0.0)
         total[idx] += seg
-        if first is not None:
-            new = inside & np.isnan(first[idx])
-            first[idx[new]] = seg[new]
         fin = ends | done
         inside_end[idx[fin]] = inside[fin]
         keep = ~fin
@@ -721,13 +789,11 @@ def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall):
     end = np.flatnonzero(inside_end)
     ue = np.minimum(u_end[end], width - 1.0)
     k = np.clip(np.floor(ue).astype(np.int64), 0, width - 2)
-    there = _Rows(r0[end], wv[end], stride)
+    there = rays(end)
     ce = c[end]
-    d0, d1 = there.at(gflat, k) - ce, there.at(gflat, k + 1) - ce
+    d0, d1 = there.g(search, k) - ce, there.g(search, k + 1) - ce
     if search.rho_max is not None:                 # δ = ρ·(G − c) on a polar grid
         d0, d1 = d0 * (search.rho_max - k), d1 * (search.rho_max - k - 1)
     depth = np.zeros(n, d0.dtype)
     depth[end] = d0 + (d1 - d0) * np.clip(ue - k, 0, 1)
-    if first is not None:
-        first = np.where(np.isnan(first), total, first)
-    return total, inside_end, depth, first
+    return total, inside_end, depth
