@@ -58,9 +58,10 @@ def _crossings_plan(light, quality, fast_level, h, w, normal_map, offset):
     sh, sw = max(1, round(h * f)), max(1, round(w * f))
     if light.kind == "sun":
         return ((sh, sw), crossings.sun_cos_theta) if crossings.fits(sh, sw) else None
-    step = q.get("point_step", crossings.POINT_STEP)
-    if crossings.point_grid_bytes(light, sh, sw, offset, step) <= crossings.MAX_TABLE_BYTES:
-        return (sh, sw), functools.partial(crossings.point_cos_theta, step=step)
+    # a large painting's final grid may not fit at POINT_STEP: columns 1 px apart then
+    for step in dict.fromkeys((q.get("point_step", crossings.POINT_STEP), 1.0)):
+        if crossings.point_grid_bytes(light, sh, sw, offset, step) <= crossings.MAX_TABLE_BYTES:
+            return (sh, sw), functools.partial(crossings.point_cos_theta, step=step)
     return None
 
 

@@ -43,13 +43,15 @@ MAX_TABLE_BYTES = 1.5 * 2**30   # larger grids fall back to the march
 THREADS = max(1, min(4, os.cpu_count() or 1))
 RAY_BAND_PIXELS = 1 << 17       # rays searched together (see _bake)
 TRACE_PIXELS = 1 << 21          # rays whose starts are held at once (_SunGrid.trace)
-SUN_BLOCKS, BLOCK_ROWS = 8, 160   # _SunGrid's blocks of rows: at most 8; any grid's ≥ 160 rows
+SUN_BLOCKS, SUN_BLOCK_ROWS = 8, 160   # _SunGrid's blocks of rows: at most 8, ≥ 160 rows
 NEVER = 1e30                      # table padding: beyond any G, finite so blends stay finite
 GUESS_STEPS, GUESS_LEAP = 3, 64
 POINT_RHO_MIN = 1e-3   # ρ (px) below which G = (H − z_L)/ρ divides by this: only a column at F
 POINT_ARC = 2.0   # row spacing (px) at ρ_max of full-circle grids (most rays are nearer F)
 POINT_STEP = 0.7  # column spacing (px of ρ) of polar grids at final: finer than pixels
-POINT_BLOCKS = 16   # _PointGrid's blocks of rows: each trimmed to the box seen from F
+# _PointGrid's blocks of rows, each trimmed to the box seen from F: at most 16, one per 2**18
+# cells of the untrimmed grid, at least one per thread (small grids: per-call costs dominate)
+POINT_BLOCKS, POINT_BLOCK_CELLS = 16, 1 << 18
 
 
 def _levels(width):
@@ -186,10 +188,10 @@ class _BlockGrid:
     inside lengths) and finish (t from them).
     """
 
-    def _split(self, lo, hi, max_blocks):
-        """Blocks (a, n, c0, c1) of rows a … a + n − 1 and columns c0 … c1 − 1, covering
-        each row's columns lo … hi (empty rows: lo > hi)."""
-        blocks = max(1, min(max_blocks, self.rows // BLOCK_ROWS))   # small: fewer calls
+    def _split(self, lo, hi, blocks):
+        """`blocks` blocks (a, n, c0, c1) of rows a … a + n − 1 and columns c0 … c1 − 1,
+        covering each row's columns lo … hi (empty rows: lo > hi)."""
+        blocks = max(1, min(blocks, self.rows // 2))
         self.step = max(1, -(-(self.rows - 1) // blocks))
         self.blocks = []
         for a in range(0, self.rows - 1, self.step):
@@ -271,7 +273,9 @@ class _SunGrid(_BlockGrid):
         self.umin, self.vmin = np.floor(us.min()) - 1, np.floor(vs.min()) - 1
         self.width = int(np.ceil(us.max() - self.umin)) + 2
         self.rows = int(np.ceil(vs.max() - self.vmin)) + 2
-        self._split(*self._footprint(np.arange(self.rows)), SUN_BLOCKS)
+        # small grids: fewer blocks, fewer calls
+        self._split(*self._footprint(np.arange(self.rows)),
+                    min(SUN_BLOCKS, self.rows // SUN_BLOCK_ROWS))
 
     def _footprint(self, rows):
         """Column range (lo, hi) of each grid row inside the box of pixel centres grown by
@@ -449,7 +453,7 @@ class _PointGrid(_BlockGrid):
         self.width = int(np.ceil((self.rho_max - max(near - 2, 0)) / step)) + 2
         far = self._farthest(self.phi0 + self.dphi * np.arange(self.rows), xs, ys)
         self._split((self.rho_max - far - 3) / step, np.full(self.rows, self.width - 1.0),
-                    POINT_BLOCKS)
+                    max(THREADS, min(POINT_BLOCKS, self.rows * self.width // POINT_BLOCK_CELLS)))
 
     def _farthest(self, phi, xs, ys):
         """ρ where a line from F at angle φ leaves the box xs × ys (−∞ where it misses it):

@@ -416,6 +416,30 @@ def test_point_grid_blocks_keep_only_the_columns_rays_read():
         Light("point", (0.3, -0.2, 0.6)), 1024, 1024, 0.01)
 
 
+def test_point_final_takes_columns_1_px_apart_where_its_grid_would_not_fit(monkeypatch):
+    """A final grid too big at POINT_STEP is built 1 px apart (about 1.4× fewer cells)
+    before the bake gives up crossings for the march."""
+    n, z = flat_normals(512, 512), np.zeros((512, 512), np.float32)
+    z[200:260, 200:260] = 40.0
+    light = Light("point", (0.3, 0.1, 0.4))
+    fine = crossings.point_grid_bytes(light, 512, 512, 0.01)
+    coarse = crossings.point_grid_bytes(light, 512, 512, 0.01, 1.0)
+    assert coarse < fine / 1.3
+    steps, point_cos_theta = [], crossings.point_cos_theta
+
+    def recorded(*args, step, **kw):
+        steps.append(step)
+        return point_cos_theta(*args, step=step, **kw)
+    monkeypatch.setattr(crossings, "point_cos_theta", recorded)
+    monkeypatch.setattr(crossings, "MAX_TABLE_BYTES", (fine + coarse) / 2)
+    stats = ShadowStats()
+    t = bake(n, light, 0.01, "final", heights_px=z, stats=stats)
+    assert stats.method == "aimed crossings" and steps == [1.0]
+    monkeypatch.setattr(crossings, "MAX_TABLE_BYTES", 0)
+    ref = bake(n, light, 0.01, "final", heights_px=z)
+    assert np.abs(t - ref).mean() < 2e-3
+
+
 def test_point_crossings_fall_back_to_the_march_when_the_grid_is_too_big(monkeypatch):
     n = flat_normals(64, 64)
     z = np.zeros((64, 64), np.float32)
@@ -444,7 +468,8 @@ def test_crossings_do_not_depend_on_blocks_chunks_or_threads(kind, monkeypatch):
         fn = crossings.point_cos_theta
     one = fn(n, light, 0.01, **kw)
     assert len(crossings._SunGrid(np.array(unit((0.5, -0.7, 0.5))), 160, 160).blocks) == 1
-    monkeypatch.setattr(crossings, "BLOCK_ROWS", 16)
+    monkeypatch.setattr(crossings, "SUN_BLOCK_ROWS", 16)
+    monkeypatch.setattr(crossings, "POINT_BLOCK_CELLS", 1000)
     monkeypatch.setattr(crossings, "TRACE_PIXELS", 3000)
     monkeypatch.setattr(crossings, "RAY_BAND_PIXELS", 500)
     monkeypatch.setattr(crossings, "THREADS", 3)
