@@ -192,10 +192,10 @@ class _BlockGrid:
         """`blocks` blocks (a, n, c0, c1) of rows a … a + n − 1 and columns c0 … c1 − 1,
         covering each row's columns lo … hi (empty rows: lo > hi)."""
         blocks = max(1, min(blocks, self.rows // 2))
-        self.step = max(1, -(-(self.rows - 1) // blocks))
+        self.block_rows = max(1, -(-(self.rows - 1) // blocks))
         self.blocks = []
-        for a in range(0, self.rows - 1, self.step):
-            n = min(self.step + 1, self.rows - a)
+        for a in range(0, self.rows - 1, self.block_rows):
+            n = min(self.block_rows + 1, self.rows - a)
             lo_a, hi_a = lo[a:a + n], hi[a:a + n]
             full = lo_a <= hi_a
             first = lo_a[full].min() if full.any() else self.width - 2
@@ -231,7 +231,8 @@ class _BlockGrid:
         ray = {k: None if bands[0][k] is None else np.concatenate([b[k] for b in bands])
                for k in bands[0]}
         r_h = ray["alone"]            # rays not searched: the tail from δ0 alone
-        block = np.minimum(ray["row0"] // self.step, len(self.blocks) - 1).astype(np.int16)
+        block = np.minimum(ray["row0"] // self.block_rows, len(self.blocks) - 1)
+        block = block.astype(np.int16)
         block[~ray["searched"]] = -1
 
         def search_block(b):
@@ -423,10 +424,10 @@ class _PointGrid(_BlockGrid):
     _Rows bounds over a window from the window's ends. Felt up to the reach, then P_S's
     tangent plane, as the reference.
 
-    Columns are closer than the suns' because rays near the
-    light are steep: the profile's chords between columns cut a wall's top corner, and the
-    3D length missed is the horizontal one times dist/ρ0. Each block keeps only the columns
-    its angles' rays can start from (the box seen from F): half a full-circle grid.
+    Columns are closer than the suns' (POINT_STEP at final) because rays near the light are
+    steep: the profile's chords between columns cut a wall's top corner, and the 3D length
+    missed is the horizontal one times dist/ρ0. Each block keeps only the columns its
+    angles' rays can start from (the box seen from F): half a full-circle grid.
     """
 
     def __init__(self, light, h, w, offset, reach_px=np.inf, step=POINT_STEP):
