@@ -397,6 +397,9 @@ def point_cos_theta(normals, light, offset, *, heights_px=None, slopes=None, rea
     grid around the light's foot (_PointGrid): each ray is aimed from P0 at the light, §6's
     ray. heights_px, or slopes and reach as sun_cos_theta; step: the grid's column spacing
     (px; coarser is faster, and less exact near walls)."""
+    if offset <= 0:             # the d → 0 limit: hard visibility, marched (as suns)
+        return cos_theta_shadow(normals, light, offset, 64, heights_px=heights_px, slopes=slopes,
+                                reach=reach)
     h, w = normals.shape[:2]
     reach_px = max(0.0, float(reach)) * w if slopes is not None else np.inf
     return _bake(_PointGrid(light, h, w, offset, reach_px, step), normals, offset, heights_px,

@@ -127,6 +127,22 @@ def test_d_to_zero_is_n_dot_l_times_hard_visibility():
     assert np.median(np.abs(t_small - t0)[lit]) < 1e-6
 
 
+@pytest.mark.parametrize("quality", ["preview", "final"])
+def test_d_zero_is_the_hard_limit_at_every_level(quality, monkeypatch):
+    """d = 0 at a level that bakes by crossings: the limit of the march (max(N·L, 0) × hard
+    visibility), for suns and point lights, height maps and normal maps — not zero (a point
+    light's crossings once gave 0 everywhere: d / max(r, d) with d = 0)."""
+    from dynpaint_addon.core import bake as bake_levels
+    monkeypatch.setattr(bake_levels, "FAST_FINAL_MIN_PX", 32)
+    n, z = _bumpy(64)
+    for light in (Light("sun", (1, 0.2, 0.35)), Light("point", (0.3, -0.2, 0.6))):
+        for kw in ({"heights_px": z}, {"slopes": slopes_from_normals(n), "reach": 0.05}):
+            t = bake_levels.bake(n, light, 0.0, quality, **kw)
+            if quality == "final":
+                np.testing.assert_array_equal(t, cos_theta_shadow(n, light, 0.0, 64, **kw))
+            assert np.mean(t > 0.1) > 0.5, (light.kind, list(kw))
+
+
 def test_point_light_inside_the_relief_caps_the_segment():
     """§6: a point light inside the relief: the segment stops at the light; t stays in [0, 1]."""
     n, z = _bumpy(64)
