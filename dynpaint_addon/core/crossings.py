@@ -44,6 +44,7 @@ THREADS = max(1, min(4, os.cpu_count() or 1))
 RAY_BAND_PIXELS = 1 << 17       # rays searched together (see _bake)
 TRACE_PIXELS = 1 << 21          # rays whose starts are held at once (_SunGrid.trace)
 SUN_BLOCKS, SUN_BLOCK_ROWS = 8, 160   # _SunGrid's blocks of rows: at most 8, ≥ 160 rows
+TABLE_LEVELS = 9                  # windows of up to 256 columns (_levels)
 NEVER = 1e30                      # table padding: beyond any G, finite so blends stay finite
 GUESS_STEPS, GUESS_LEAP = 3, 64
 POINT_RHO_MIN = 1e-3   # ρ (px) below which G = (H − z_L)/ρ divides by this: only a column at F
@@ -56,8 +57,11 @@ POINT_BLOCKS, POINT_BLOCK_CELLS = 16, 1 << 18
 
 def _levels(width):
     """Table levels of a row `width` columns long: windows of 2**k ≤ width (a wider window
-    would cross the row's end from every column: all sentinels, never read)."""
-    return max(1, int(width).bit_length())
+    would cross the row's end from every column: all sentinels, never read), at most
+    TABLE_LEVELS: wider windows almost never skip (measured, sun 35° at 1024²: 0 % at 1024
+    columns, 0.2 % at 512, 13 % at 256), and a descent that stops short of its answer is
+    resumed by its caller."""
+    return max(1, min(TABLE_LEVELS, int(width).bit_length()))
 
 
 def _tables(g, op, sentinel):
@@ -94,12 +98,14 @@ def _suffix_max(g):
 
 def _range_min(tables, rows, lo, hi):
     """A lower bound of min over columns lo … hi (hi ≥ lo) of each ray's blended profile,
-    from two overlapping windows of one level: O(1) per ray."""
-    _, nrows, stride = tables.shape
-    k = _floor_log2(stride)[hi - lo]
+    from two overlapping windows of one level: O(1) per ray; −∞ (nothing proved) where the
+    range is longer than two windows of the top level."""
+    levels, nrows, stride = tables.shape
+    k = np.minimum(_floor_log2(stride)[hi - lo], levels - 1)
     flat = tables.reshape(-1)
     level = k * (nrows * stride)
     low = np.minimum(rows.at(flat, level + lo), rows.at(flat, level + hi + 1 - (1 << k)))
+    low = np.where(hi - lo + 1 > (2 << (levels - 1)), -np.inf, low)
     return rows.bend_bound(low, lo, hi, upper=False)
 
 
@@ -764,7 +770,8 @@ def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall, bend=None):
         done = ~inside & (rows.bend_bound(rows.at(sflat, col), col, width - 1, True) <= cc)
         j = col.copy()
         todo = ~done
-        for _ in range(8):               # descend again where a loose bound stopped early
+        # descend again where a loose bound, or the top level's reach, stopped one early
+        for _ in range(8 + (width >> (search.gmin.shape[0] - 1))):
             sel = np.flatnonzero(todo)
             if sel.size == 0:
                 break

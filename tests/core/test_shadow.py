@@ -470,8 +470,9 @@ def test_point_crossings_fall_back_to_the_march_when_the_grid_is_too_big(monkeyp
 @pytest.mark.parametrize("kind", ["sun, height", "sun, normal", "point, height",
                                   "point, normal"])
 def test_crossings_do_not_depend_on_blocks_chunks_or_threads(kind, monkeypatch):
-    """The grid's blocks, the chunks of rays and the threads only split the work: the same
-    result, up to float32 rounding of positions counted from each block's first column."""
+    """The grid's blocks, the chunks of rays, the threads and the tables' top level (a
+    descent that stops at its reach is resumed) only split the work: the same result, up to
+    float32 rounding of positions counted from each block's first column."""
     from dynpaint_addon.testpainting import builtin_images
     z = height_field_px(builtin_images(160)["shape"].grey().astype(np.float32), 0.3)
     n = normals_from_height_px(z)
@@ -489,10 +490,26 @@ def test_crossings_do_not_depend_on_blocks_chunks_or_threads(kind, monkeypatch):
     monkeypatch.setattr(crossings, "TRACE_PIXELS", 3000)
     monkeypatch.setattr(crossings, "RAY_BAND_PIXELS", 500)
     monkeypatch.setattr(crossings, "THREADS", 3)
+    monkeypatch.setattr(crossings, "TABLE_LEVELS", 3)
     assert len(crossings._SunGrid(np.array(unit((0.5, -0.7, 0.5))), 160, 160).blocks) == 8
     assert len(crossings._PointGrid(Light("point", (0.3, -0.2, 0.6)), 160, 160, 0.01).blocks) \
         == crossings.POINT_BLOCKS
     np.testing.assert_allclose(fn(n, light, 0.01, **kw), one, atol=1e-5)
+
+
+@pytest.mark.parametrize("levels", [1, 4])
+def test_descents_capped_by_the_tables_top_level_are_resumed(levels, monkeypatch):
+    """Tables stop at TABLE_LEVELS: a descent then advances at most 2**levels − 1 columns and
+    its caller resumes it until it finds the crossing, however far (a low sun's long shadows;
+    with a fixed number of resumptions this failed: t off by up to 0.87)."""
+    from dynpaint_addon.testpainting import builtin_images
+    z = height_field_px(builtin_images(256)["shape"].grey().astype(np.float32), 0.5)
+    n = normals_from_height_px(z)
+    light = Light("sun", (np.cos(0.26) * np.cos(0.5), np.cos(0.26) * np.sin(0.5), np.sin(0.26)))
+    full = crossings.sun_cos_theta(n, light, 0.01, heights_px=z)
+    monkeypatch.setattr(crossings, "TABLE_LEVELS", levels)
+    np.testing.assert_allclose(crossings.sun_cos_theta(n, light, 0.01, heights_px=z), full,
+                               atol=1e-6)
 
 
 # -- a sun straight above (issue 15, point 6) ------------------------------------------------
