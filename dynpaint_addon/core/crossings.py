@@ -532,7 +532,7 @@ class _PointGrid(_BlockGrid):
         if heights_px is not None:
             # the reference's δ0: the exact bilinear relief above P0
             delta0 = _lookup(heights_px.astype(f32, copy=False), x0, y0) - z0
-            h0 = np.zeros_like(delta0)
+            h0 = None                      # (read by normal maps' bend only)
         else:
             # normal maps start on the tangent plane of P_S: H(P0) = d|N.xy|²/N.z, δ0 = d/N.z
             delta0, h0 = f32(d) / nz, f32(d) * (nx * nx + ny * ny) / nz
@@ -548,7 +548,7 @@ class _PointGrid(_BlockGrid):
                 "fall_d": fall_d, "to_light": box >= rho0, "rho0": rho0, "alone": alone,
                 "searched": inside_box(x0, y0, h, w) & (rho0 >= 1), "ndl": ndl,
                 "slant": dist / safe}
-        return {k: v.ravel() for k, v in flat.items()}
+        return {k: None if v is None else v.ravel() for k, v in flat.items()}
 
     def _search_block(self, b, block_search, ray, sel):
         """The inside length (px of ρ) of rays `sel`, all in block b, with the tail."""
