@@ -83,15 +83,19 @@ def _tables(g, op, sentinel):
 
 
 @functools.lru_cache(maxsize=8)
-def _floor_log2(width):
-    """floor(log2(n + 1)) for n = 0 … width − 1: the window level of a range of n + 1 columns."""
-    return np.floor(np.log2(np.arange(1, width + 1))).astype(np.int64)
+def _windows(width, levels):
+    """Per range of n + 1 columns (n = 0 … width − 1): the level k of the two overlapping
+    windows that cover it (floor(log2(n + 1)), at most the top level), the second window's
+    start from the first's (n + 1 − 2**k), and whether two top windows are too short."""
+    n = np.arange(width)
+    k = np.minimum(np.floor(np.log2(n + 1)).astype(np.int64), levels - 1)
+    return k, n + 1 - (1 << k), n + 1 > (2 << (levels - 1))
 
 
 def _suffix_max(g):
     """max of G from each column onward, per row (padded like the tables)."""
     out = np.empty((g.shape[0], g.shape[1] + 1), g.dtype)
-    out[:, :-1] = np.maximum.accumulate(g[:, ::-1], axis=1)[:, ::-1]
+    np.maximum.accumulate(g[:, ::-1], axis=1, out=out[:, -2::-1])
     out[:, -1] = -NEVER
     return out
 
@@ -101,32 +105,53 @@ def _range_min(tables, rows, lo, hi):
     from two overlapping windows of one level: O(1) per ray; −∞ (nothing proved) where the
     range is longer than two windows of the top level."""
     levels, nrows, stride = tables.shape
-    k = np.minimum(_floor_log2(stride)[hi - lo], levels - 1)
+    k, back, too_long = _windows(stride, levels)
+    span = hi - lo
+    first = np.take(k, span)
+    first *= nrows * stride           # the level's plane in the flat tables
+    first += lo
+    second = np.take(back, span)
+    second += first
     flat = tables.reshape(-1)
-    level = k * (nrows * stride)
-    low = np.minimum(rows.at(flat, level + lo), rows.at(flat, level + hi + 1 - (1 << k)))
-    low = np.where(hi - lo + 1 > (2 << (levels - 1)), -np.inf, low)
+    low = np.minimum(rows.at(flat, first), rows.at(flat, second))
+    np.copyto(low, -np.inf, where=np.take(too_long, span))
     return rows.bend_bound(low, lo, hi, upper=False)
 
 
-def _descend(tables, rows, start, c, skip_if, upper):
-    """First column j ≥ start where the blended profile (1 − w)·row0 + w·row1 does not
-    satisfy skip_if(·, c); `width` if none. upper: the tables hold maxima (else minima).
+def _descend(tables, rows, start, c, upper):
+    """First column j ≥ start where the blended profile (1 − w)·row0 + w·row1 is not beyond c:
+    above it (upper, tables of maxima: the next entry) or below or at it (tables of minima:
+    the next exit); `width` if none.
 
-    A window is skipped when the same blend of the two rows' window extremes satisfies
-    skip_if: a bound of the blended profile's own extreme (blend of maxima ≥ maximum of the
-    blend), so a skip is always right; the last level (single columns) is exact. When a
-    bound was too loose to skip, the column found may still satisfy skip_if: the caller
-    checks it and descends again from the next column. Windows past the row's end hold a
-    sentinel that is never skipped, so j ≤ width always.
+    A window is skipped when the same blend of the two rows' window extremes is still on the
+    skipped side: a bound of the blended profile's own extreme (blend of maxima ≥ maximum of
+    the blend), so a skip is always right; the last level (single columns) is exact. When a
+    bound was too loose to skip, the column found may still be on the skipped side: the
+    caller checks it and descends again from the next column. Windows past the row's end hold
+    a sentinel that is never skipped, so j ≤ width always.
     """
-    pos = start.copy()
-    for k in range(tables.shape[0] - 1, -1, -1):
-        window = rows.at(tables[k].reshape(-1), pos)
-        skip = skip_if(rows.bend_bound(window, pos, pos + ((1 << k) - 1), upper), c)
-        # (a shift, not `where=`: numpy's masked loops are slow on scattered masks)
-        pos += skip.view(np.uint8).astype(np.int64) << k
-    return pos
+    levels, _, stride = tables.shape
+    skip_if = np.less_equal if upper else np.greater
+    i = rows.b0 + start                      # flat index of row0 at the window's start
+    a, b = np.empty(i.size, tables.dtype), np.empty(i.size, tables.dtype)
+    skip, step = np.empty(i.size, bool), np.empty(i.size, np.int64)
+    for k in range(levels - 1, -1, -1):
+        flat = tables[k].reshape(-1)
+        # (buffers and no bounds checks: this loop is the bake's hottest)
+        np.take(flat, i, out=a, mode="clip")
+        np.take(flat[stride:], i, out=b, mode="clip")     # row1, one row further
+        b -= a
+        b *= rows.w
+        b += a
+        bound = b
+        if rows.bend is not None:
+            pos = i - rows.b0
+            bound = rows.bend_bound(b, pos, pos + ((1 << k) - 1), upper)
+        skip_if(bound, c, out=skip)
+        # (a product, not `where=`: numpy's masked loops are slow on scattered masks)
+        np.multiply(skip, 1 << k, out=step)
+        i += step
+    return i - rows.b0
 
 
 def fits(h, w):
@@ -232,10 +257,17 @@ class _BlockGrid:
 
     def _trace_rows(self, pool, searches, normals, offset, heights_px, r0, r1):
         w = normals.shape[1]
-        bands = _by_bands(pool, r1 - r0, w, lambda a, b: self.starts(
-            normals, offset, heights_px, r0 + a, r0 + b))
-        ray = {k: None if bands[0][k] is None else np.concatenate([b[k] for b in bands])
-               for k in bands[0]}
+        ray = {}
+
+        def start(a, b):
+            # each band writes its part of the chunk's arrays (no serial concatenation after;
+            # setdefault is atomic, the first band to finish allocates)
+            for key, part in self.starts(normals, offset, heights_px, r0 + a, r0 + b).items():
+                chunk = ray.setdefault(key, None if part is None else
+                                       np.empty((r1 - r0) * w, part.dtype))
+                if part is not None:
+                    chunk[a * w:b * w] = part
+        _by_bands(pool, r1 - r0, w, start)
         r_h = ray["alone"]            # rays not searched: the tail from δ0 alone
         block = np.minimum(ray["row0"] // self.block_rows, len(self.blocks) - 1)
         block = block.astype(np.int16)
@@ -657,8 +689,7 @@ class _Rows:
     def at(self, flat, k):
         i = self.b0 + k
         a = np.take(flat, i)
-        i += self.stride
-        b = np.take(flat, i)          # a + (b − a)·w, in place
+        b = np.take(flat[self.stride:], i)      # row1; a + (b − a)·w, in place
         b -= a
         b *= self.w
         b += a
@@ -760,8 +791,6 @@ def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall, bend=None):
     keep[f[ends | lit]] = False
     idx, pos, col, inside, g_here = idx[keep], pos[keep], col[keep], inside[keep], g_here[keep]
 
-    exit_if = lambda v, cc: v > cc       # noqa: E731  (inside: skip while all is above c)
-    entry_if = lambda v, cc: v <= cc     # noqa: E731  (outside: skip while all is below c)
     for _ in range(2 * MAX_CROSSINGS):
         if idx.size == 0:
             break
@@ -769,6 +798,7 @@ def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall, bend=None):
         # outside rays with nothing higher ahead are done (a blended suffix maximum bounds it)
         done = ~inside & (rows.bend_bound(rows.at(sflat, col), col, width - 1, True) <= cc)
         j = col.copy()
+        g_j = np.zeros(idx.size, search.g.dtype)    # G at min(j, width − 1), once checked
         todo = ~done
         # descend again where a loose bound, or the top level's reach, stopped one early
         for _ in range(8 + (width >> (search.gmin.shape[0] - 1))):
@@ -777,20 +807,20 @@ def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall, bend=None):
                 break
             jj = np.empty(sel.size, np.int64)
             ins = inside[sel]
-            for flag, table, test in ((True, search.gmin, exit_if),
-                                      (False, search.gmax, entry_if)):
+            # inside: the next exit (minima); outside: the next entry (maxima)
+            for flag, table in ((True, search.gmin), (False, search.gmax)):
                 m = np.flatnonzero(ins == flag)
                 if m.size:
                     s_ = sel[m]
-                    jj[m] = _descend(table, rows.sub(s_), j[s_], cc[s_], test, not flag)
+                    jj[m] = _descend(table, rows.sub(s_), j[s_], cc[s_], not flag)
             j[sel] = jj
-            gj = rows.sub(sel).g(search, np.minimum(jj, width - 1))
+            gj = g_j[sel] = rows.sub(sel).g(search, np.minimum(jj, width - 1))
             wrong = (jj < width) & np.where(ins, gj > cc[sel], gj <= cc[sel])
             todo = np.zeros_like(todo)
             todo[sel[wrong]] = True
             j[sel[wrong]] += 1
         jc = np.minimum(j, width - 1)
-        cross = _crossing(search, rows, pos, col, jc, g_here, rows.g(search, jc), cc)
+        cross = _crossing(search, rows, pos, col, jc, g_here, g_j, cc)
         cross = np.where((j < width) & ~done, cross, np.inf)
         ends = cross >= ue
         seg = np.where(inside, np.minimum(cross, ue) - pos, 0.0)
