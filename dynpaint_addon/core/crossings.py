@@ -201,11 +201,30 @@ def _by_bands(pool, h, w, fn):
     return list(pool.map(lambda r0: fn(r0, min(h, r0 + rows)), range(0, h, rows)))
 
 
-def _search(g, rho_max=None):
+def _search(g, rho_max=None, q=None):
     """The profile G's tables (_Search)."""
     gmin = _tables(g, np.minimum, -NEVER)
     return _Search(gmin[0], _tables(g, np.maximum, NEVER), gmin, _suffix_max(g), g.shape[1],
-                   rho_max)
+                   rho_max, q)
+
+
+def _start_points(normals, d, heights_px, r0, r1):
+    """Both grids' ray starts for pixel rows r0 … r1 − 1 (float32, 2D): N, P0 = P_S − d·N
+    (§6) and its depth δ0 under the relief, the reference's: the exact bilinear relief above
+    P0 for height maps; on the tangent plane of P_S for normal maps, which also need H(P0)
+    there, h0 = d|N.xy|²/N.z (δ0 = d/N.z); h0 is None for height maps."""
+    f32 = np.float32
+    h, w = normals.shape[:2]
+    n = normals[r0:r1].astype(f32, copy=False)
+    nx, ny, nz = n[..., 0], n[..., 1], n[..., 2]
+    x, y = pixel_centres(h, w, f32)
+    zs = heights_px[r0:r1].astype(f32, copy=False) if heights_px is not None else f32(0)
+    x0, y0, z0 = x[r0:r1] - f32(d) * nx, y[r0:r1] - f32(d) * ny, zs - f32(d) * nz
+    if heights_px is not None:
+        delta0, h0 = _lookup(heights_px.astype(f32, copy=False), x0, y0) - z0, None
+    else:
+        delta0, h0 = f32(d) / nz, f32(d) * (nx * nx + ny * ny) / nz
+    return nx, ny, nz, x0, y0, z0, delta0, h0
 
 
 class _BlockGrid:
@@ -368,14 +387,9 @@ class _SunGrid(_BlockGrid):
         d = float(offset) * w
         # float32 (positions < 2·10³ px keep 1e-4 px); the level c of each ray in float64
         f32 = np.float32
-        n = normals[r0:r1].astype(f32, copy=False)
-        nx, ny, nz = n[..., 0], n[..., 1], n[..., 2]
+        nx, ny, nz, x0, y0, z0, delta0, h0 = _start_points(normals, d, heights_px, r0, r1)
         ndl = (nx * f32(ex) + ny * f32(ey)) * f32(lxy) + nz * f32(m * lxy)
-        x, y = pixel_centres(h, w, f32)
-        x, y = x[r0:r1], y[r0:r1]
-        zs = heights_px[r0:r1].astype(f32, copy=False) if heights_px is not None else f32(0)
-        # ray starts P0 = P_S − d·N, in grid coordinates
-        x0, y0, z0 = x - f32(d) * nx, y - f32(d) * ny, zs - f32(d) * nz
+        # ray starts in grid coordinates
         xc, yc = x0 - f32(self.cx), y0 - f32(self.cy)
         u0 = xc * f32(ex) + yc * f32(ey)
         fu = (u0 - f32(self.umin)).ravel()
@@ -386,14 +400,6 @@ class _SunGrid(_BlockGrid):
         to_y = ((f32(h - 0.5) - y0) if ey > 0 else (f32(0.5) - y0)) / f32(ey) if ey else np.inf
         row0 = np.clip(np.floor(fv).astype(np.int32), 0, self.rows - 2)
         to_edge = np.where(inbox0, np.maximum(np.minimum(to_x, to_y), 0), 0).ravel()
-        if heights_px is not None:
-            # the reference's δ0: the exact bilinear relief above P0, where P0 is in the box
-            delta0 = _lookup(heights_px.astype(np.float32, copy=False), x0, y0) - z0
-            h0 = None
-        else:
-            # normal maps start on the tangent plane of P_S: H(P0) = d|N.xy|²/N.z, δ0 = d/N.z
-            h0 = (f32(d) * (nx * nx + ny * ny) / nz).ravel()
-            delta0 = f32(d) / nz
         fall = (ndl / nz).ravel() / f32(lxy)       # δ's fall per px of u (tangent plane)
         with np.errstate(divide="ignore", invalid="ignore"):
             # P0 outside the box: no search, the tail from the tangent plane of P_S (δ0 = d/N.z)
@@ -402,7 +408,8 @@ class _SunGrid(_BlockGrid):
                     c=(z0.astype(np.float64) - m * u0.astype(np.float64)).ravel(),
                     u_end=fu + np.minimum(to_edge, f32(min(self.reach_u, 1e30))),
                     by_reach=to_edge > self.reach_u, searched=inbox0.ravel(),
-                    delta0=delta0.ravel(), h0=h0, fall=fall, alone=alone)
+                    delta0=delta0.ravel(), h0=None if h0 is None else h0.ravel(), fall=fall,
+                    alone=alone)
 
     def _search_block(self, b, block_search, ray, sel):
         """The inside length (px of u) of rays `sel`, all in block b, with the tail."""
@@ -534,21 +541,15 @@ class _PointGrid(_BlockGrid):
         su = -(_lookup(sxy[0], gx, gy) * cos + _lookup(sxy[1], gx, gy) * sin)
         z = np.zeros(su.shape)
         np.cumsum((su[:, 1:] + su[:, :-1]) * (self.col_step / 2), axis=1, out=z[:, 1:])
-        search = _search(((z - self.zl) * inv[None, :]).astype(f32), rho_cols)
-        search.q = np.append(inv, inv[-1])
-        return search, z
+        return _search(((z - self.zl) * inv[None, :]).astype(f32), rho_cols,
+                       np.append(inv, inv[-1])), z
 
     def starts(self, normals, offset, heights_px, r0, r1):
         """The rays of pixel rows r0 … r1 − 1 in grid coordinates (flat arrays)."""
         h, w = self.h, self.w
         d = float(offset) * w
         f32 = np.float32
-        n = normals[r0:r1].astype(f32, copy=False)
-        nx, ny, nz = n[..., 0], n[..., 1], n[..., 2]
-        x, y = pixel_centres(h, w, f32)
-        x, y = x[r0:r1], y[r0:r1]
-        zs = heights_px[r0:r1].astype(f32, copy=False) if heights_px is not None else f32(0)
-        x0, y0, z0 = x - f32(d) * nx, y - f32(d) * ny, zs - f32(d) * nz
+        nx, ny, nz, x0, y0, z0, delta0, h0 = _start_points(normals, d, heights_px, r0, r1)
         dx, dy, dz = f32(self.fx) - x0, f32(self.fy) - y0, f32(self.zl) - z0
         rho0 = np.hypot(dx, dy)
         dist = np.sqrt(rho0 * rho0 + dz * dz)                    # P0 → P_L
@@ -561,13 +562,6 @@ class _PointGrid(_BlockGrid):
         fv = np.mod(np.arctan2(-dy, -dx) - f32(self.phi0), f32(2 * np.pi)) / f32(self.dphi)
         row0 = np.clip(np.floor(fv).astype(np.int64), 0, self.rows - 2)
         c = -dz / safe
-        if heights_px is not None:
-            # the reference's δ0: the exact bilinear relief above P0
-            delta0 = _lookup(heights_px.astype(f32, copy=False), x0, y0) - z0
-            h0 = None                      # (read by normal maps' bend only)
-        else:
-            # normal maps start on the tangent plane of P_S: H(P0) = d|N.xy|²/N.z, δ0 = d/N.z
-            delta0, h0 = f32(d) / nz, f32(d) * (nx * nx + ny * ny) / nz
         box = exit_distance(x0, y0, dx / safe, dy / safe, h, w)
         reach_h = f32(min(self.reach_px, 1e30)) * safe / np.maximum(dist, f32(1e-6))
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
