@@ -8,6 +8,7 @@ same run. Also: the live bake's latency from a light change to the updated image
 peak memory of a final bake at 4096². Writes a Markdown page and an SVG chart.
 
     .venv/bin/python benchmarks/shadow_quality.py --size 1024 --out docs/shadow-quality.md
+    .venv/bin/python benchmarks/shadow_quality.py --cases sun     # the suns' timings only
 """
 import argparse
 import math
@@ -85,31 +86,45 @@ def timed(fn):
     return out, time.perf_counter() - t
 
 
-def measure(size):
-    rows = []
-    for label, kind, light in CASES:
+def measure(size, cases=CASES, repeat=1):
+    """(rows of the first run, {label: final × baseline in each of `repeat` runs}): each
+    case's reference is computed once, then the baseline and the levels are timed in each
+    run."""
+    rows, spread = [], {}
+    for label, kind, light in cases:
         n64, z64, s64 = shape(size, kind, np.float64)
         ref = cos_theta_shadow(n64, light, OFFSET, 1024, heights_px=z64, slopes=s64)
         n, z, s = shape(size, kind, np.float32)
-        # the best of a few runs, for the baseline as for the levels (this machine's timings
-        # vary by ±10–25 % from run to run)
-        runs = [timed(lambda: cos_theta_shadow(n, light, OFFSET, 64, heights_px=z, slopes=s))
-                for _ in range(RUNS)]
-        base, base_s = runs[0][0], min(r[1] for r in runs)
-        rows.append((label, "baseline", base_s, 1.0, float(np.abs(base - ref).mean()),
-                     f"K = 64 march at {size}×{size}", 1.0, ""))
-        for level in LEVELS:
-            stats = ShadowStats()
-            times = []
-            for _ in range(RUNS):
-                t, sec = timed(lambda: bake(n, light, OFFSET, level, heights_px=z, slopes=s,
-                                            stats=stats))
-                times.append(sec)
-            err = float(np.abs(t - ref).mean())
-            rows.append((label, level, min(times), min(times) / base_s, err, stats.settings(),
-                         max(times) / base_s, goal(light, level, min(times) / base_s, err)))
-        print(*[f"{r[0]} | {r[1]}: {r[2]:.3f} s ({r[3]:.3f}× baseline, worst {r[6]:.3f}×), "
-                f"mean {r[4]:.1e} {r[7]}" for r in rows[-4:]], sep="\n", flush=True)
+        for run in range(repeat):
+            case_rows = measure_case(label, light, n, z, s, ref, size)
+            spread.setdefault(label, []).append(case_rows[-1][3])
+            if run == 0:
+                rows += case_rows
+    return rows, spread
+
+
+def measure_case(label, light, n, z, s, ref, size):
+    """The baseline's row and each level's for one case (times: best of RUNS)."""
+    rows = []
+    # the best of a few runs, for the baseline as for the levels (this machine's timings
+    # vary by ±10–25 % from run to run)
+    runs = [timed(lambda: cos_theta_shadow(n, light, OFFSET, 64, heights_px=z, slopes=s))
+            for _ in range(RUNS)]
+    base, base_s = runs[0][0], min(r[1] for r in runs)
+    rows.append((label, "baseline", base_s, 1.0, float(np.abs(base - ref).mean()),
+                 f"K = 64 march at {size}×{size}", 1.0, ""))
+    for level in LEVELS:
+        stats = ShadowStats()
+        times = []
+        for _ in range(RUNS):
+            t, sec = timed(lambda: bake(n, light, OFFSET, level, heights_px=z, slopes=s,
+                                        stats=stats))
+            times.append(sec)
+        err = float(np.abs(t - ref).mean())
+        rows.append((label, level, min(times), min(times) / base_s, err, stats.settings(),
+                     max(times) / base_s, goal(light, level, min(times) / base_s, err)))
+    print(*[f"{r[0]} | {r[1]}: {r[2]:.3f} s ({r[3]:.3f}× baseline, worst {r[6]:.3f}×), "
+            f"mean {r[4]:.1e} {r[7]}" for r in rows], sep="\n", flush=True)
     return rows
 
 
@@ -213,8 +228,21 @@ def main(argv=None):
     ap.add_argument("--truth-size", type=int, default=256,
                     help="size of the 3D ground-truth scene (benchmarks/ground_truth.py)")
     ap.add_argument("--out", help="Markdown page (the SVG chart goes next to it, in img/)")
+    ap.add_argument("--repeat", type=int, default=3,
+                    help="runs of the timings (each the best of 3) for the finals' spread")
+    ap.add_argument("--cases", default="",
+                    help="only the cases whose name holds this text (e.g. 'sun'): their "
+                         "timings and spread are printed, nothing else is measured or written")
     args = ap.parse_args(argv)
-    rows = measure(args.size)
+    cases = [c for c in CASES if args.cases in c[0]]
+    rows, spread = measure(args.size, cases, args.repeat)
+    runs = [f"| {label} | {' · '.join(f'{r:.3f}' for r in ratios)} | {min(ratios):.3f}–"
+            f"{max(ratios):.3f} | ≤ {FINAL_GOALS[light.kind][0]:g}×: "
+            f"{'met in every run' if max(ratios) <= FINAL_GOALS[light.kind][0] else 'not met'} |"
+            for (label, _, light), ratios in zip(cases, spread.values())]
+    print("final × baseline in each run:", *runs, sep="\n")
+    if args.cases:
+        return
     peak, inputs = peak_memory(args.memory_size)
     latency = live_latency(args.size)
     from ground_truth import level_errors
@@ -244,7 +272,11 @@ def main(argv=None):
               f"Every time (baseline and levels) is the best of {RUNS} runs, the worst in "
               "brackets: timings on this shared 2-core machine vary by ±10–25 % between runs.",
               "", "Goals: final ≤ 0.1× baseline for suns (issue 4), ≤ 0.2× for point lights "
-              "(issue 18), both with mean ≤ 5e-4; preview ≤ 0.02× with mean ≤ 0.01.", ""]
+              "(issue 18), both with mean ≤ 5e-4; preview ≤ 0.02× with mean ≤ 0.01.", "",
+              f"Final × baseline in each of {args.repeat} runs of the timings (baseline and "
+              f"final each the best of {RUNS} in every run; the table above is the first):",
+              "", "| case | final × baseline, run by run | spread | goal |", "|---|---|---|---|",
+              *runs, ""]
     if args.out:
         img = os.path.join(os.path.dirname(os.path.abspath(args.out)), "img", "shadow-quality.svg")
         os.makedirs(os.path.dirname(img), exist_ok=True)

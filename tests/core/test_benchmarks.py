@@ -19,8 +19,12 @@ def one_run(monkeypatch):
 
 
 def test_shadow_quality_rows(one_run):
-    rows = shadow_quality.measure(64)
+    rows, spread = shadow_quality.measure(64, repeat=2)
     assert len(rows) == 4 * len(shadow_quality.CASES)
+    # each case's final × baseline in each run, the first run's in the rows
+    finals = {r[0]: r[3] for r in rows if r[1] == "final"}
+    assert list(spread) == [c[0] for c in shadow_quality.CASES]
+    assert all(len(v) == 2 and v[0] == finals[k] and v[1] > 0 for k, v in spread.items())
     for label, level, sec, ratio, err, settings, worst, goal in rows:
         assert sec > 0 and np.isfinite(ratio) and 0 <= err < 0.05, (label, level, err)
         assert worst >= ratio
@@ -32,6 +36,14 @@ def test_shadow_quality_rows(one_run):
     # final stays close to the reference even at 64² (where it marches, K = 64, below 512 px)
     finals = [r for r in rows if r[1] == "final"]
     assert all(r[4] < 3e-3 for r in finals)
+
+
+def test_shadow_quality_cases_print_the_spread_only(one_run, capsys, tmp_path):
+    shadow_quality.main(["--size", "64", "--cases", "height map, sun 35", "--repeat", "2"])
+    out = capsys.readouterr().out
+    assert out.count("| final:") == 2          # one case, two runs
+    spread = [line for line in out.splitlines() if line.startswith("| height map, sun 35°")]
+    assert len(spread) == 1 and spread[0].count(" · ") == 1 and "≤ 0.1×" in spread[0]
 
 
 def test_overhead_lights_prints_a_ratio_per_case(one_run, capsys):
