@@ -229,7 +229,7 @@ def main(argv=None):
                     help="size of the 3D ground-truth scene (benchmarks/ground_truth.py)")
     ap.add_argument("--out", help="Markdown page (the SVG chart goes next to it, in img/)")
     ap.add_argument("--repeat", type=int, default=3,
-                    help="runs of the timings (each the best of 3) for the finals' spread")
+                    help=f"runs of the timings (each the best of {RUNS}) for the finals' spread")
     ap.add_argument("--cases", default="",
                     help="only the cases whose name holds this text (e.g. 'sun'): their "
                          "timings and spread are printed, nothing else is measured or written")
