@@ -49,20 +49,19 @@ def quality_settings(quality, steps=64, scale=1.0):
 def _crossings_plan(light, quality, fast_level, h, w, normal_map, offset):
     """((H, W) to bake at, function) where crossings (crossings.py) bake this light at this
     level, else None: suns and point lights at the level's crossings scale (full size at
-    final), when their tables fit in memory."""
+    final), when a block of their tables fits in memory."""
     if not fast_level or light.kind not in ("sun", "point"):
         return None
     q = QUALITY[quality]
     f = q.get("crossings_scale_normal" if normal_map else "crossings_scale", 1.0)
     f = min(1.0, max(f, q.get("crossings_min_px", 0) / max(1, min(h, w))))
     sh, sw = max(1, round(h * f)), max(1, round(w * f))
-    if light.kind == "sun":
-        return ((sh, sw), crossings.sun_cos_theta) if crossings.fits(sh, sw) else None
-    # a large painting's final grid may not fit at POINT_STEP: columns 1 px apart then
-    for step in dict.fromkeys((q.get("point_step", crossings.POINT_STEP), 1.0)):
-        if crossings.point_grid_bytes(light, sh, sw, offset, step) <= crossings.MAX_TABLE_BYTES:
-            return (sh, sw), functools.partial(crossings.point_cos_theta, step=step)
-    return None
+    step = q.get("point_step", crossings.POINT_STEP)
+    fn = crossings.sun_cos_theta if light.kind == "sun" else \
+        functools.partial(crossings.point_cos_theta, step=step)
+    # blocks are built in groups that fit in memory: one block must
+    _, largest = crossings.table_bytes(light, sh, sw, offset, step)
+    return ((sh, sw), fn) if largest <= crossings.MAX_TABLE_BYTES else None
 
 
 def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=None, steps=64,

@@ -22,8 +22,8 @@ row's slope). Where a ray is still inside when it leaves the box of pixel centre
 of shadow.py (tangent plane of P_S) finishes it, as in the reference; a flat plane gives
 cos θ exactly, up to the border.
 
-Both grids are stored in blocks of rows, each as wide as its rows' rays can read
-(_BlockGrid). Measured (benchmarks/shadow_quality.py, 1024², relief 0.5 image widths,
+Both grids are stored in blocks of rows, each as wide as its rows' rays can read, and
+built in groups of blocks that fit MAX_TABLE_BYTES (_BlockGrid). Measured (benchmarks/shadow_quality.py, 1024², relief 0.5 image widths,
 d = 0.01): mean |Δt| 1.4e-4–5e-4 against the K = 1024 float64 reference for suns and point
 lights (the K = 64 march: 1e-3–2e-2).
 Everything is in pixels; the result is t = d / max(r, d) like shadow.cos_theta_shadow.
@@ -39,10 +39,10 @@ from .sampling import pixel_centres, sample_bilinear, sample_bilinear_extend
 from .shadow import cos_theta_shadow, exit_distance, inside_box, vertical_cos_theta
 
 MAX_CROSSINGS = 8     # enter/exit pairs followed per ray (more are very rare)
-MAX_TABLE_BYTES = 1.5 * 2**30   # larger grids fall back to the march
+MAX_TABLE_BYTES = 1.5 * 2**30   # tables built at once (larger grids: in groups of blocks)
 THREADS = max(1, min(4, os.cpu_count() or 1))
 RAY_BAND_PIXELS = 1 << 17       # rays searched together (see _bake)
-TRACE_PIXELS = 1 << 21          # rays whose starts are held at once (_SunGrid.trace)
+TRACE_PIXELS = 1 << 21          # rays whose starts are held at once (_BlockGrid.trace)
 SUN_BLOCKS, SUN_BLOCK_ROWS = 8, 160   # _SunGrid's blocks of rows: at most 8, ≥ 160 rows
 TABLE_LEVELS = 9                  # windows of up to 256 columns (_levels)
 NEVER = 1e30                      # table padding: beyond any G, finite so blends stay finite
@@ -154,13 +154,6 @@ def _descend(tables, rows, start, c, upper):
     return i - rows.b0
 
 
-def fits(h, w):
-    """True if the sparse tables of an (h, w) image stay within MAX_TABLE_BYTES."""
-    side = np.hypot(h, w) + 4
-    levels = _levels(side)
-    return 2 * levels * side * (side + 1) * 4 <= MAX_TABLE_BYTES
-
-
 def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None, reach=np.inf):
     """t = d / max(r, d) (H, W) for a sun, r from exact crossings.
 
@@ -190,8 +183,7 @@ def _bake(grid, normals, offset, heights_px, slopes):
     """t (H, W) by the grid's crossing search. numpy releases the GIL on large arrays: the
     blocks' profiles and tables, the rays' starts and their searches each run side by side."""
     with ThreadPoolExecutor(THREADS) as pool:
-        searches = grid.search(pool, heights_px, slopes)
-        return grid.trace(pool, searches, normals, offset, heights_px)
+        return grid.trace(pool, normals, offset, heights_px, slopes)
 
 
 def _by_bands(pool, h, w, fn):
@@ -254,27 +246,50 @@ class _BlockGrid:
             c1 = int(np.clip(np.ceil(last) + 1, c0 + 2, self.width))
             self.blocks.append((a, n, c0, c1))
 
-    def table_bytes(self):
-        """The memory the blocks' profiles and tables take."""
-        return sum((2 * _levels(c1 - c0) + 2) * n * (c1 - c0 + 1) * 4
-                   for _, n, c0, c1 in self.blocks)
+    def block_bytes(self):
+        """The memory each block's profile and tables take."""
+        return [(2 * _levels(c1 - c0) + 2) * n * (c1 - c0 + 1) * 4
+                for _, n, c0, c1 in self.blocks]
 
-    def search(self, pool, heights_px, slopes):
-        """Per block: (its _Search, the rebuilt heights z of a normal map or None)."""
-        inputs = self._inputs(heights_px, slopes)
-        return list(pool.map(lambda spec: self._profile(spec, *inputs), self.blocks))
+    def groups(self):
+        """The blocks in runs whose tables fit MAX_TABLE_BYTES together (one run up to about
+        3000² px), each built, searched and freed in turn; a block too big alone is a run of
+        its own (the bake's plan marches rather than build it, table_bytes)."""
+        groups, total = [[]], 0
+        for b, size in enumerate(self.block_bytes()):
+            if groups[-1] and total + size > MAX_TABLE_BYTES:
+                groups, total = groups + [[]], 0
+            groups[-1].append(b)
+            total += size
+        return groups
 
-    def trace(self, pool, searches, normals, offset, heights_px):
-        """t, in chunks of up to TRACE_PIXELS rays (bounded memory on huge images): the rays'
-        starts in bands of pixel rows, then the search in each block for the rays whose rows
-        are in it, side by side."""
+    def trace(self, pool, normals, offset, heights_px, slopes):
+        """t: per group of blocks (groups), their profiles and tables side by side, then the
+        rays in chunks of up to TRACE_PIXELS (bounded memory on huge images): the rays'
+        starts in bands of pixel rows, then the search in each block of the group for the
+        rays whose rows are in it, side by side. The starts are recomputed per group (cheaper
+        than holding a huge image's); the last group's pass finishes t."""
         h, w = normals.shape[:2]
+        inputs = self._inputs(heights_px, slopes)
+        groups = self.groups()
+        r_h = np.empty(h * w, np.float32)
+        t = np.empty((h, w), normals.dtype)
         rows = max(1, TRACE_PIXELS // w)
-        return np.concatenate([self._trace_rows(pool, searches, normals, offset, heights_px,
-                                                r0, min(h, r0 + rows))
-                               for r0 in range(0, h, rows)])
+        for g, group in enumerate(groups):
+            searches = None                    # (the last group's tables freed first)
+            searches = dict(zip(group, pool.map(
+                lambda b: self._profile(self.blocks[b], *inputs), group)))
+            for r0 in range(0, h, rows):
+                r1 = min(h, r0 + rows)
+                self._trace_rows(pool, searches, normals, offset, heights_px, r0, r1,
+                                 r_h[r0 * w:r1 * w], t[r0:r1] if g == len(groups) - 1 else None,
+                                 first=g == 0)
+        return t
 
-    def _trace_rows(self, pool, searches, normals, offset, heights_px, r0, r1):
+    def _trace_rows(self, pool, searches, normals, offset, heights_px, r0, r1, r_h, t, first):
+        """The rays of pixel rows r0 … r1 − 1 in the blocks of `searches`: their inside
+        lengths into r_h (set first to the tail from δ0 alone, for the rays no block
+        searches), and t from them where t is given."""
         w = normals.shape[1]
         ray = {}
 
@@ -287,7 +302,8 @@ class _BlockGrid:
                 if part is not None:
                     chunk[a * w:b * w] = part
         _by_bands(pool, r1 - r0, w, start)
-        r_h = ray["alone"]            # rays not searched: the tail from δ0 alone
+        if first:
+            r_h[:] = ray["alone"]
         block = np.minimum(ray["row0"] // self.block_rows, len(self.blocks) - 1)
         block = block.astype(np.int16)
         block[~ray["searched"]] = -1
@@ -296,10 +312,10 @@ class _BlockGrid:
             sel = np.flatnonzero(block == b)
             if sel.size:
                 r_h[sel] = self._search_block(b, searches[b], ray, sel)
-        list(pool.map(search_block, range(len(self.blocks))))
-        t = self.finish(ray, r_h, float(offset) * w)
-        return np.clip(np.where(np.isfinite(t), t, 0), 0, 1).reshape(r1 - r0, w).astype(
-            normals.dtype, copy=False)
+        list(pool.map(search_block, searches))
+        if t is not None:
+            done = self.finish(ray, r_h, float(offset) * w)
+            t[:] = np.clip(np.where(np.isfinite(done), done, 0), 0, 1).reshape(r1 - r0, w)
 
     def _block_rays(self, b, ray, sel):
         """Rays `sel` in block b's coordinates: (rows from its first, u from its first
@@ -451,9 +467,19 @@ def point_cos_theta(normals, light, offset, *, heights_px=None, slopes=None, rea
                  slopes)
 
 
-def point_grid_bytes(light, h, w, offset, step=POINT_STEP):
-    """The memory the tables of point_cos_theta's polar grid take."""
-    return _PointGrid(light, h, w, offset, step=step).table_bytes()
+def table_bytes(light, h, w, offset, step=POINT_STEP):
+    """(all blocks, the largest block): the memory the profiles and tables of a crossing bake
+    of this light take at (h, w); its blocks are built in groups within MAX_TABLE_BYTES
+    (_BlockGrid.groups), so a bake needs the largest block to fit."""
+    if light.kind == "sun":
+        lvec = np.asarray(light.vector, np.float64) / np.linalg.norm(light.vector)
+        if lvec[2] <= 0 or np.hypot(lvec[0], lvec[1]) < 1e-6:
+            return 0, 0              # no grid: below the horizon, or straight up
+        grid = _SunGrid(lvec, h, w)
+    else:
+        grid = _PointGrid(light, h, w, offset, step=step)
+    sizes = grid.block_bytes()
+    return sum(sizes), max(sizes)
 
 
 class _PointGrid(_BlockGrid):

@@ -46,6 +46,12 @@ def test_shadow_quality_cases_print_the_spread_only(one_run, capsys, tmp_path):
     assert len(spread) == 1 and spread[0].count(" · ") == 1 and "≤ 0.1×" in spread[0]
 
 
+def test_shadow_quality_large_final_reports_times_and_memory():
+    sec, march_sec, gap, peak, inputs = shadow_quality.large_final(96)
+    assert sec > 0 and march_sec > 0 and peak > 0 and inputs == 96 * 96 * 4 * 4
+    assert 0 <= gap < 0.05          # 96 px: final marches too (K = 64), the same march
+
+
 def test_overhead_lights_prints_a_ratio_per_case(one_run, capsys):
     worst = overhead_lights.main(["--size", "64", "--levels", "draft"])
     out = capsys.readouterr().out

@@ -428,32 +428,55 @@ def test_point_grid_blocks_keep_only_the_columns_rays_read():
     cells = sum(n * (c1 - c0) for _, n, c0, c1 in grid.blocks)
     assert len(grid.blocks) == crossings.POINT_BLOCKS
     assert 0.4 < cells / (grid.rows * grid.width) < 0.65
-    assert grid.table_bytes() == crossings.point_grid_bytes(
+    assert (sum(grid.block_bytes()), max(grid.block_bytes())) == crossings.table_bytes(
         Light("point", (0.3, -0.2, 0.6)), 1024, 1024, 0.01)
 
 
-def test_point_final_takes_columns_1_px_apart_where_its_grid_would_not_fit(monkeypatch):
-    """A final grid too big at POINT_STEP is built 1 px apart (about 1.4× fewer cells)
-    before the bake gives up crossings for the march."""
+@pytest.mark.parametrize("kind", ["sun", "point"])
+def test_a_final_too_big_for_memory_at_once_bakes_by_crossings_in_groups(kind, monkeypatch):
+    """Where a painting's tables would not fit MAX_TABLE_BYTES at once (a 4096² final: about
+    2 GiB) the bake's plan still takes crossings while one block fits: the blocks are built
+    a group at a time. The result is the same as in one group, bit for bit."""
     n, z = flat_normals(512, 512), np.zeros((512, 512), np.float32)
     z[200:260, 200:260] = 40.0
-    light = Light("point", (0.3, 0.1, 0.4))
-    fine = crossings.point_grid_bytes(light, 512, 512, 0.01)
-    coarse = crossings.point_grid_bytes(light, 512, 512, 0.01, 1.0)
-    assert coarse < fine / 1.3
-    steps, point_cos_theta = [], crossings.point_cos_theta
-
-    def recorded(*args, step, **kw):
-        steps.append(step)
-        return point_cos_theta(*args, step=step, **kw)
-    monkeypatch.setattr(crossings, "point_cos_theta", recorded)
-    monkeypatch.setattr(crossings, "MAX_TABLE_BYTES", (fine + coarse) / 2)
+    light = Light("sun", (0.5, 0.2, 0.4)) if kind == "sun" else Light("point", (0.3, 0.1, 0.4))
+    whole, largest = crossings.table_bytes(light, 512, 512, 0.01)
+    one = bake(n, light, 0.01, "final", heights_px=z)
+    monkeypatch.setattr(crossings, "MAX_TABLE_BYTES", (whole + largest) / 3)
+    assert whole > crossings.MAX_TABLE_BYTES >= largest        # not at once, a block at least
     stats = ShadowStats()
     t = bake(n, light, 0.01, "final", heights_px=z, stats=stats)
-    assert stats.method == "aimed crossings" and steps == [1.0]
-    monkeypatch.setattr(crossings, "MAX_TABLE_BYTES", 0)
-    ref = bake(n, light, 0.01, "final", heights_px=z)
-    assert np.abs(t - ref).mean() < 2e-3
+    assert stats.method.endswith("crossings") and np.array_equal(t, one)
+    monkeypatch.setattr(crossings, "MAX_TABLE_BYTES", largest * 0.99)
+    stats = ShadowStats()
+    bake(n, light, 0.01, "final", heights_px=z, stats=stats)
+    assert stats.method == "march"
+
+
+@pytest.mark.parametrize("kind", ["sun, height", "sun, normal", "point, height",
+                                  "point, normal"])
+def test_groups_of_blocks_only_split_the_work(kind, monkeypatch):
+    """Blocks built and searched a group at a time (each group's tables freed before the
+    next, the rays' starts recomputed per group, t finished in the last): bit-identical to
+    all blocks at once."""
+    from dynpaint_addon.testpainting import builtin_images
+    z = height_field_px(builtin_images(160)["shape"].grey().astype(np.float32), 0.3)
+    n = normals_from_height_px(z)
+    kw = {"heights_px": z} if kind.endswith("height") else {"slopes": slopes_from_normals(n)}
+    monkeypatch.setattr(crossings, "SUN_BLOCK_ROWS", 16)
+    monkeypatch.setattr(crossings, "POINT_BLOCK_CELLS", 1000)
+    monkeypatch.setattr(crossings, "TRACE_PIXELS", 9000)       # several chunks per group
+    if kind.startswith("sun"):
+        light, fn = Light("sun", (0.5, -0.7, 0.5)), crossings.sun_cos_theta
+        grid = crossings._SunGrid(np.array(unit(light.vector)), 160, 160)
+    else:
+        light, fn = Light("point", (0.3, -0.2, 0.6)), crossings.point_cos_theta
+        grid = crossings._PointGrid(light, 160, 160, 0.01)
+    one = fn(n, light, 0.01, **kw)
+    monkeypatch.setattr(crossings, "MAX_TABLE_BYTES", 2.5 * max(grid.block_bytes()))
+    groups = grid.groups()
+    assert len(groups) >= 3 and sum(groups, []) == list(range(len(grid.blocks)))
+    assert np.array_equal(fn(n, light, 0.01, **kw), one)
 
 
 def test_point_crossings_fall_back_to_the_march_when_the_grid_is_too_big(monkeypatch):
