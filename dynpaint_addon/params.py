@@ -139,9 +139,8 @@ PARAMS = (
       choices=("baked", "osl"), spec="§6, §13", structural=True, feature="shadow_source"),
     P("shadows", "quality", "enum", "final", "Speed against accuracy of the bake (§13): draft "
       "and preview bake at a reduced resolution (⅛ and ¼), final at full, all by crossings "
-      "(final from 512 px up; point lights over a normal map's relief along the ray march "
-      "instead, K = 16/32/64), reference in float64 with K = 1024; custom uses your K and "
-      "resolution", choices=QUALITIES,
+      "(final from 512 px up; below, the K = 64 march), reference in float64 with K = 1024; "
+      "custom uses your K and resolution", choices=QUALITIES,
       spec="§13", bake=True),
     P("shadows", "offset", float, 0.01, "d: how deep below the surface each shadow ray starts; "
       "larger = softer, more translucent look", unit="image widths", min=0.0, max=1.0, spec="§6",
