@@ -69,7 +69,8 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
     """The cos-θ term at a quality level (§13): march at a reduced resolution if the level
     says so, then upsample to the shape's size. Heights are in pixels of the full image;
     reach: how far a normal map's rebuilt relief is felt (image widths, §6 Reach).
-    progress: optional callable(fraction done) (the march reports once per band of rows)."""
+    progress: optional callable(fraction done) (the march reports once per band of rows,
+    crossings once per chunk of rays)."""
     k, scale, dtype = quality_settings(quality, steps, scale)
     h, w = normals.shape[:2]
     normals = normals.astype(dtype, copy=False)
@@ -90,10 +91,11 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
 
         def march(n, lt, off, _k, heights_px=None, slopes=None, reach=np.inf, cancel=None,
                   progress=None, **_):
-            if cancel is not None and cancel():      # one pass: superseded before it starts
+            if cancel is not None and cancel():      # superseded before it starts
                 raise BakeCancelled()
-            t = fast(n, lt, off, heights_px=heights_px, slopes=slopes, reach=reach)
-            if progress is not None:
+            t = fast(n, lt, off, heights_px=heights_px, slopes=slopes, reach=reach,
+                     cancel=cancel, progress=progress)
+            if progress is not None:                 # (closed forms report nothing)
                 progress(1.0)
             return t
     if stats is not None:

@@ -36,7 +36,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .sampling import pixel_centres, sample_bilinear, sample_bilinear_extend
-from .shadow import cos_theta_shadow, exit_distance, inside_box, vertical_cos_theta
+from .shadow import (BakeCancelled, cos_theta_shadow, exit_distance, inside_box,
+                     vertical_cos_theta)
 
 MAX_CROSSINGS = 8     # enter/exit pairs followed per ray (more are very rare)
 MAX_TABLE_BYTES = 1.5 * 2**30   # tables built at once (larger grids: in groups of blocks)
@@ -154,13 +155,15 @@ def _descend(tables, rows, start, c, upper):
     return i - rows.b0
 
 
-def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None, reach=np.inf):
+def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None, reach=np.inf,
+                  cancel=None, progress=None):
     """t = d / max(r, d) (H, W) for a sun, r from exact crossings.
 
     heights_px: the relief in pixels (height maps); or slopes (H, W, 2), −N.xy/N.z (normal
     maps): along a grid row the rebuilt height is then the running integral of the row's
     slope, so the same crossing search applies (§6: height rebuilt along the ray only), felt
-    up to `reach` image widths along the ray (shadow.cos_theta_shadow).
+    up to `reach` image widths along the ray (shadow.cos_theta_shadow). cancel, progress: as
+    cos_theta_shadow's, asked and told once per chunk of rays (large paintings).
     """
     dtype = normals.dtype
     h, w = normals.shape[:2]
@@ -170,20 +173,21 @@ def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None, reach
         return np.zeros((h, w), dtype)
     if offset <= 0:             # the d → 0 limit: hard visibility, marched
         return cos_theta_shadow(normals, light, offset, 64, heights_px=heights_px, slopes=slopes,
-                                reach=reach)
+                                reach=reach, cancel=cancel, progress=progress)
     if np.hypot(lvec[0], lvec[1]) < 1e-6:
         # straight up: no horizontal direction to lay rows along, and no need (closed form;
         # on a normal map t = N.z whatever the reach)
         return vertical_cos_theta(normals, offset, heights_px=heights_px)
     reach_px = max(0.0, float(reach)) * w if slopes is not None else np.inf
-    return _bake(_SunGrid(lvec, h, w, reach_px), normals, offset, heights_px, slopes)
+    return _bake(_SunGrid(lvec, h, w, reach_px), normals, offset, heights_px, slopes, cancel,
+                 progress)
 
 
-def _bake(grid, normals, offset, heights_px, slopes):
+def _bake(grid, normals, offset, heights_px, slopes, cancel=None, progress=None):
     """t (H, W) by the grid's crossing search. numpy releases the GIL on large arrays: the
     blocks' profiles and tables, the rays' starts and their searches each run side by side."""
     with ThreadPoolExecutor(THREADS) as pool:
-        return grid.trace(pool, normals, offset, heights_px, slopes)
+        return grid.trace(pool, normals, offset, heights_px, slopes, cancel, progress)
 
 
 def _by_bands(pool, h, w, fn):
@@ -263,12 +267,13 @@ class _BlockGrid:
             total += size
         return groups
 
-    def trace(self, pool, normals, offset, heights_px, slopes):
+    def trace(self, pool, normals, offset, heights_px, slopes, cancel=None, progress=None):
         """t: per group of blocks (groups), their profiles and tables side by side, then the
         rays in chunks of up to TRACE_PIXELS (bounded memory on huge images): the rays'
         starts in bands of pixel rows, then the search in each block of the group for the
         rays whose rows are in it, side by side. The starts are recomputed per group (cheaper
-        than holding a huge image's); the last group's pass finishes t."""
+        than holding a huge image's); the last group's pass finishes t. cancel is asked
+        before each chunk (BakeCancelled), progress told after it."""
         h, w = normals.shape[:2]
         inputs = self._inputs(heights_px, slopes)
         groups = self.groups()
@@ -279,11 +284,15 @@ class _BlockGrid:
             searches = None                    # (the last group's tables freed first)
             searches = dict(zip(group, pool.map(
                 lambda b: self._profile(self.blocks[b], *inputs), group)))
-            for r0 in range(0, h, rows):
+            for i, r0 in enumerate(range(0, h, rows)):
+                if cancel is not None and cancel():
+                    raise BakeCancelled()
                 r1 = min(h, r0 + rows)
                 self._trace_rows(pool, searches, normals, offset, heights_px, r0, r1,
                                  r_h[r0 * w:r1 * w], t[r0:r1] if g == len(groups) - 1 else None,
                                  first=g == 0)
+                if progress is not None:
+                    progress((g * -(-h // rows) + i + 1) / (len(groups) * -(-h // rows)))
         return t
 
     def _trace_rows(self, pool, searches, normals, offset, heights_px, r0, r1, r_h, t, first):
@@ -453,18 +462,18 @@ class _SunGrid(_BlockGrid):
 
 
 def point_cos_theta(normals, light, offset, *, heights_px=None, slopes=None, reach=np.inf,
-                    step=POINT_STEP):
+                    step=POINT_STEP, cancel=None, progress=None):
     """t = d / max(r, d) (H, W) for a point light, by crossings along the rows of a polar
     grid around the light's foot (_PointGrid): each ray is aimed from P0 at the light, §6's
-    ray. heights_px, or slopes and reach as sun_cos_theta; step: the grid's column spacing
-    (px; coarser is faster, and less exact near walls)."""
+    ray. heights_px, or slopes and reach, cancel and progress as sun_cos_theta; step: the
+    grid's column spacing (px; coarser is faster, and less exact near walls)."""
     if offset <= 0:             # the d → 0 limit: hard visibility, marched (as suns)
         return cos_theta_shadow(normals, light, offset, 64, heights_px=heights_px, slopes=slopes,
-                                reach=reach)
+                                reach=reach, cancel=cancel, progress=progress)
     h, w = normals.shape[:2]
     reach_px = max(0.0, float(reach)) * w if slopes is not None else np.inf
     return _bake(_PointGrid(light, h, w, offset, reach_px, step), normals, offset, heights_px,
-                 slopes)
+                 slopes, cancel, progress)
 
 
 def table_bytes(light, h, w, offset, step=POINT_STEP):

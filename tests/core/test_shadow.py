@@ -453,6 +453,30 @@ def test_a_final_too_big_for_memory_at_once_bakes_by_crossings_in_groups(kind, m
     assert stats.method == "march"
 
 
+@pytest.mark.parametrize("kind", ["sun", "point"])
+def test_a_long_crossing_bake_reports_progress_and_can_be_superseded(kind, monkeypatch):
+    """A large painting's final by crossings (several groups of blocks, several chunks of
+    rays: seconds to a minute) tells its progress after each chunk and asks `cancel` before
+    each, as the march does per band of rows."""
+    n, z = flat_normals(512, 512), np.zeros((512, 512), np.float32)
+    z[200:260, 200:260] = 40.0
+    light = Light("sun", (0.5, 0.2, 0.4)) if kind == "sun" else Light("point", (0.3, 0.1, 0.4))
+    whole, largest = crossings.table_bytes(light, 512, 512, 0.01)
+    monkeypatch.setattr(crossings, "MAX_TABLE_BYTES", (whole + largest) / 3)   # ≥ 2 groups
+    monkeypatch.setattr(crossings, "TRACE_PIXELS", 512 * 128)                 # 4 chunks
+    seen = []
+    bake(n, light, 0.01, "final", heights_px=z, progress=seen.append)
+    assert len(seen) >= 2 * 4 and seen == sorted(seen) and seen[-1] == 1.0 and seen[0] <= 0.125
+    asked = []
+
+    def cancel():
+        asked.append(1)
+        return len(asked) > 3
+    with pytest.raises(BakeCancelled):
+        bake(n, light, 0.01, "final", heights_px=z, cancel=cancel)
+    assert len(asked) == 4        # once before the bake, then before each chunk
+
+
 @pytest.mark.parametrize("kind", ["sun, height", "sun, normal", "point, height",
                                   "point, normal"])
 def test_groups_of_blocks_only_split_the_work(kind, monkeypatch):
