@@ -23,9 +23,10 @@ of shadow.py (tangent plane of P_S) finishes it, as in the reference; a flat pla
 cos θ exactly, up to the border.
 
 Both grids are stored in blocks of rows, each as wide as its rows' rays can read, and
-built in groups of blocks that fit MAX_TABLE_BYTES (_BlockGrid). Measured (benchmarks/shadow_quality.py, 1024², relief 0.5 image widths,
-d = 0.01): mean |Δt| 1.4e-4–5e-4 against the K = 1024 float64 reference for suns and point
-lights (the K = 64 march: 1e-3–2e-2).
+built in groups of blocks that fit MAX_TABLE_BYTES (_BlockGrid). Measured
+(benchmarks/shadow_quality.py, 1024², relief 0.5 image widths, d = 0.01): mean |Δt|
+1.4e-4–5e-4 against the K = 1024 float64 reference for suns and point lights (the K = 64
+march: 1e-3–2e-2).
 Everything is in pixels; the result is t = d / max(r, d) like shadow.cos_theta_shadow.
 """
 import functools
@@ -280,11 +281,12 @@ class _BlockGrid:
         r_h = np.empty(h * w, np.float32)
         t = np.empty((h, w), normals.dtype)
         rows = max(1, TRACE_PIXELS // w)
+        chunks = range(0, h, rows)
         for g, group in enumerate(groups):
             searches = None                    # (the last group's tables freed first)
             searches = dict(zip(group, pool.map(
                 lambda b: self._profile(self.blocks[b], *inputs), group)))
-            for i, r0 in enumerate(range(0, h, rows)):
+            for i, r0 in enumerate(chunks):
                 if cancel is not None and cancel():
                     raise BakeCancelled()
                 r1 = min(h, r0 + rows)
@@ -292,7 +294,7 @@ class _BlockGrid:
                                  r_h[r0 * w:r1 * w], t[r0:r1] if g == len(groups) - 1 else None,
                                  first=g == 0)
                 if progress is not None:
-                    progress((g * -(-h // rows) + i + 1) / (len(groups) * -(-h // rows)))
+                    progress((g * len(chunks) + i + 1) / (len(groups) * len(chunks)))
         return t
 
     def _trace_rows(self, pool, searches, normals, offset, heights_px, r0, r1, r_h, t, first):

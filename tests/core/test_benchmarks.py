@@ -38,7 +38,7 @@ def test_shadow_quality_rows(one_run):
     assert all(r[4] < 3e-3 for r in finals)
 
 
-def test_shadow_quality_cases_print_the_spread_only(one_run, capsys, tmp_path):
+def test_shadow_quality_cases_print_the_spread_only(one_run, capsys):
     shadow_quality.main(["--size", "64", "--cases", "height map, sun 35", "--repeat", "2"])
     out = capsys.readouterr().out
     assert out.count("| final:") == 2          # one case, two runs

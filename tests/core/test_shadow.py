@@ -432,14 +432,21 @@ def test_point_grid_blocks_keep_only_the_columns_rays_read():
         Light("point", (0.3, -0.2, 0.6)), 1024, 1024, 0.01)
 
 
+def _tall_box(kind):
+    """(normals, heights px, light): a 512² plane with a 40 px box, lit by a sun or a point
+    light; a final bake of it runs by crossings."""
+    n, z = flat_normals(512, 512), np.zeros((512, 512), np.float32)
+    z[200:260, 200:260] = 40.0
+    light = Light("sun", (0.5, 0.2, 0.4)) if kind == "sun" else Light("point", (0.3, 0.1, 0.4))
+    return n, z, light
+
+
 @pytest.mark.parametrize("kind", ["sun", "point"])
 def test_a_final_too_big_for_memory_at_once_bakes_by_crossings_in_groups(kind, monkeypatch):
     """Where a painting's tables would not fit MAX_TABLE_BYTES at once (a 4096² final: about
     2 GiB) the bake's plan still takes crossings while one block fits: the blocks are built
     a group at a time. The result is the same as in one group, bit for bit."""
-    n, z = flat_normals(512, 512), np.zeros((512, 512), np.float32)
-    z[200:260, 200:260] = 40.0
-    light = Light("sun", (0.5, 0.2, 0.4)) if kind == "sun" else Light("point", (0.3, 0.1, 0.4))
+    n, z, light = _tall_box(kind)
     whole, largest = crossings.table_bytes(light, 512, 512, 0.01)
     one = bake(n, light, 0.01, "final", heights_px=z)
     monkeypatch.setattr(crossings, "MAX_TABLE_BYTES", (whole + largest) / 3)
@@ -458,9 +465,7 @@ def test_a_long_crossing_bake_reports_progress_and_can_be_superseded(kind, monke
     """A large painting's final by crossings (several groups of blocks, several chunks of
     rays: seconds to a minute) tells its progress after each chunk and asks `cancel` before
     each, as the march does per band of rows."""
-    n, z = flat_normals(512, 512), np.zeros((512, 512), np.float32)
-    z[200:260, 200:260] = 40.0
-    light = Light("sun", (0.5, 0.2, 0.4)) if kind == "sun" else Light("point", (0.3, 0.1, 0.4))
+    n, z, light = _tall_box(kind)
     whole, largest = crossings.table_bytes(light, 512, 512, 0.01)
     monkeypatch.setattr(crossings, "MAX_TABLE_BYTES", (whole + largest) / 3)   # ≥ 2 groups
     monkeypatch.setattr(crossings, "TRACE_PIXELS", 512 * 128)                 # 4 chunks
@@ -477,25 +482,30 @@ def test_a_long_crossing_bake_reports_progress_and_can_be_superseded(kind, monke
     assert len(asked) == 4        # once before the bake, then before each chunk
 
 
+def _relief_case(kind):
+    """(normals, relief keywords, light, crossing function) for "sun|point, height|normal":
+    the built-in relief at 160², as a height map or as a normal map's slopes."""
+    from dynpaint_addon.testpainting import builtin_images
+    z = height_field_px(builtin_images(160)["shape"].grey().astype(np.float32), 0.3)
+    n = normals_from_height_px(z)
+    kw = {"heights_px": z} if kind.endswith("height") else {"slopes": slopes_from_normals(n)}
+    if kind.startswith("sun"):
+        return n, kw, Light("sun", (0.5, -0.7, 0.5)), crossings.sun_cos_theta
+    return n, kw, Light("point", (0.3, -0.2, 0.6)), crossings.point_cos_theta
+
+
 @pytest.mark.parametrize("kind", ["sun, height", "sun, normal", "point, height",
                                   "point, normal"])
 def test_groups_of_blocks_only_split_the_work(kind, monkeypatch):
     """Blocks built and searched a group at a time (each group's tables freed before the
     next, the rays' starts recomputed per group, t finished in the last): bit-identical to
     all blocks at once."""
-    from dynpaint_addon.testpainting import builtin_images
-    z = height_field_px(builtin_images(160)["shape"].grey().astype(np.float32), 0.3)
-    n = normals_from_height_px(z)
-    kw = {"heights_px": z} if kind.endswith("height") else {"slopes": slopes_from_normals(n)}
+    n, kw, light, fn = _relief_case(kind)
     monkeypatch.setattr(crossings, "SUN_BLOCK_ROWS", 16)
     monkeypatch.setattr(crossings, "POINT_BLOCK_CELLS", 1000)
     monkeypatch.setattr(crossings, "TRACE_PIXELS", 9000)       # several chunks per group
-    if kind.startswith("sun"):
-        light, fn = Light("sun", (0.5, -0.7, 0.5)), crossings.sun_cos_theta
-        grid = crossings._SunGrid(np.array(unit(light.vector)), 160, 160)
-    else:
-        light, fn = Light("point", (0.3, -0.2, 0.6)), crossings.point_cos_theta
-        grid = crossings._PointGrid(light, 160, 160, 0.01)
+    grid = crossings._SunGrid(np.array(unit(light.vector)), 160, 160) if light.kind == "sun" \
+        else crossings._PointGrid(light, 160, 160, 0.01)
     one = fn(n, light, 0.01, **kw)
     monkeypatch.setattr(crossings, "MAX_TABLE_BYTES", 2.5 * max(grid.block_bytes()))
     groups = grid.groups()
@@ -520,16 +530,7 @@ def test_crossings_do_not_depend_on_blocks_chunks_or_threads(kind, monkeypatch):
     """The grid's blocks, the chunks of rays, the threads and the tables' top level (a
     descent that stops at its reach is resumed) only split the work: the same result, up to
     float32 rounding of positions counted from each block's first column."""
-    from dynpaint_addon.testpainting import builtin_images
-    z = height_field_px(builtin_images(160)["shape"].grey().astype(np.float32), 0.3)
-    n = normals_from_height_px(z)
-    kw = {"heights_px": z} if kind.endswith("height") else {"slopes": slopes_from_normals(n)}
-    if kind.startswith("sun"):
-        light = Light("sun", (0.5, -0.7, 0.5))
-        fn = crossings.sun_cos_theta
-    else:
-        light = Light("point", (0.3, -0.2, 0.6))
-        fn = crossings.point_cos_theta
+    n, kw, light, fn = _relief_case(kind)
     one = fn(n, light, 0.01, **kw)
     assert len(crossings._SunGrid(np.array(unit((0.5, -0.7, 0.5))), 160, 160).blocks) == 1
     monkeypatch.setattr(crossings, "SUN_BLOCK_ROWS", 16)
