@@ -115,25 +115,31 @@ def _cuts(mask):
             (mask[1:, :] == mask[:-1, :]).astype(float))
 
 
-def integrate(normals, mask=None, depth=0.0, precise=True):
+def integrate(normals, mask=None, depth=0.0, precise=True, breaks=None):
     """Least-squares height of a unit normal field (H, W, 3), y up → Integrated.
 
     mask: (H, W) bool, True on the figure; equations across its edge are dropped and each part
     is placed by `depth` (image widths: how far a figure's rim stands above the background).
     precise=False solves a masked field in float32 to 1e-4 (heights within ~2e-4 of the
     relief, 3× faster: what a shadow bake needs).
+    breaks: (bx (H, W−1), by (H−1, W)) bool, edges known to cross a hidden wall; their
+    equations are dropped too, so the height may jump there. A normal map cannot show where
+    its walls are (docs/shape-from-painting.md); the benchmark passes the true ones to
+    measure what knowing them would give.
     """
     n = np.asarray(normals, dtype=np.float64)
     h, w = n.shape[:2]
     gx, gy = edge_slopes(n)
     gx, gy = gx / w, gy / w                 # per pixel step, in image widths
-    if mask is None or np.all(mask) or not np.any(mask):
+    if breaks is None and (mask is None or np.all(mask) or not np.any(mask)):
         wx, wy = np.ones_like(gx), np.ones_like(gy)
         z = poisson_neumann(_divergence(gx, gy, (h, w)))
         iterations, count = 0, 1
     else:
-        mask = np.asarray(mask, bool)
+        mask = np.ones((h, w), bool) if mask is None else np.asarray(mask, bool)
         wx, wy = _cuts(mask)
+        if breaks is not None:
+            wx, wy = wx * ~np.asarray(breaks[0], bool), wy * ~np.asarray(breaks[1], bool)
         labels, count = components(wx > 0, wy > 0)
         z, iterations, _ = solve(Grid(wx, wy, dtype=np.float64 if precise else np.float32),
                                  _divergence(gx * wx, gy * wy, (h, w)), 1e-6 if precise else 1e-4)

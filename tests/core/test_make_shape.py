@@ -1,7 +1,7 @@
 """Shape from the painting (issue 16): each method's exact cases and its extremes, bpy-free.
 
 Integration of a plane and a smooth bump, the residual of a field no height map has, masks
-that cut a figure from its background; inflation of a disc into a hemisphere; lighting
+that cut a figure from its background, a ramp whose hidden wall is known; inflation of a disc into a hemisphere; lighting
 profiles rendered by the core itself; the red/green photograph; NaN-free on empty, one-pixel,
 flat and non-square inputs.
 """
@@ -103,6 +103,31 @@ def test_a_box_needs_its_mask_and_depth():
     r = integrate(n, box, depth=0.1)
     assert np.allclose(r.height[box], 0.1) and np.allclose(r.height[~box], 0)
     assert r.parts == 2
+
+
+def test_a_ramp_around_a_hidden_wall_comes_back_once_the_wall_is_known():
+    """A spiral ramp z = a·θ/2π climbs once around its centre and drops by `a` at a wall along
+    θ = 0. Its normals are smooth everywhere (the wall is invisible to them) and their slope
+    field has no divergence, so least squares finds next to no height; cut at the wall
+    (`breaks`), the ramp comes back to 2 % of its drop (the field turns within a pixel at the
+    centre, which the edges' mean slopes cannot follow)."""
+    h = w = 96
+    a = 0.1
+    x, y = grid_xy(h, w)
+    r2 = x * x + y * y
+    p, q = -a / (2 * np.pi) * y / r2, a / (2 * np.pi) * x / r2      # ∂z/∂x, ∂z/∂y of a·θ/2π
+    n = np.dstack([-p, -q, np.ones_like(p)])
+    n /= np.linalg.norm(n, axis=2, keepdims=True)
+    assert np.ptp(integrate(n).height) < 0.05 * a       # a twentieth of the ramp
+    wall_x = np.zeros((h, w - 1), bool)
+    wall_y = np.zeros((h - 1, w), bool)
+    wall_y[h // 2 - 1, w // 2:] = True              # between the rows either side of θ = 0
+    got = integrate(n, breaks=(wall_x, wall_y))
+    truth = a * (np.arctan2(y, x) % (2 * np.pi)) / (2 * np.pi)
+    away = r2 > 0.1 ** 2
+    err = np.abs((got.height - got.height[away].mean()) - (truth - truth[away].mean()))[away]
+    assert err.max() < 0.02 * a and err.mean() < 0.01 * a
+    assert got.parts == 1
 
 
 def test_each_part_of_a_mask_is_integrated_on_its_own():
