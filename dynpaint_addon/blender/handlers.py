@@ -13,13 +13,15 @@
   images numpy made (derived copies, shadow bakes: generated images): they are remade when
   the file opens, so a reopened file renders the same pixels as before it was saved.
 
-Each of them calls sync.update, which redoes only what changed. A handler never raises into
-Blender: failures are reported (status.py) and the painting keeps its last good images
-(shadow_images.bake_shadows writes only after a complete bake).
+Each of them calls sync.update, which redoes only what changed; the first two do nothing
+while an operator only reads the lights frame by frame (frame_sampling.py). A handler never
+raises into Blender: failures are reported (status.py) and the painting keeps its last good
+images (shadow_images.bake_shadows writes only after a complete bake).
 """
 import bpy
 from bpy.app.handlers import persistent
 
+from .frame_sampling import only_reading_lights
 from .live_bake import rendering
 from .shadow_images import bake_shadows, forget_cached_shapes
 from .status import problems, report
@@ -44,7 +46,7 @@ WATCHED = (bpy.types.Object, bpy.types.Light, bpy.types.Collection, bpy.types.Sc
 def on_depsgraph_update(scene, depsgraph):
     """A light added, deleted, moved or relinked, the plane moved: bring paintings up to date
     (a moving light bakes live: preview now, final once it stops)."""
-    if not any(isinstance(u.id, WATCHED) for u in depsgraph.updates):
+    if only_reading_lights() or not any(isinstance(u.id, WATCHED) for u in depsgraph.updates):
         return
     when = "missing" if rendering() else "live"
     for mat in paintings(scene):
@@ -58,6 +60,8 @@ def on_depsgraph_update(scene, depsgraph):
 def on_frame_change(scene, depsgraph):
     """Each frame's lights where that frame puts them: baked here in renders (the render waits
     for its own light positions), live during playback."""
+    if only_reading_lights():
+        return
     for mat in paintings(scene):
         sh = mat.dynamic_painting.shadows
         if not sh.enabled or (sh.source == "osl" and scene.render.engine == "CYCLES"

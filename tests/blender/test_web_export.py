@@ -13,6 +13,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
+from dynpaint_addon.blender.frame_sampling import reading_lights  # noqa: E402
 from dynpaint_addon.blender.lights import painting_lights  # noqa: E402
 from dynpaint_addon.blender.operators import menu_export  # noqa: E402
 from dynpaint_addon.blender.settings import channel_images, settings_to_params  # noqa: E402
@@ -85,9 +86,11 @@ def test_addon_exports_current_settings_lights_and_animation(empty_scene, tmp_pa
                                                 radius=0.8, elevation=0.6, start_angle=0.0,
                                                 set_output=False) == {"FINISHED"}
     scene.frame_set(4)
+    baked = {item.object.name: item.bake_key for item in s.lights}
     out = str(tmp_path / "page" / "painting.html")
     assert bpy.ops.dynpaint.export_web(filepath=out, credits="Test") == {"FINISHED"}
     assert scene.frame_current == 4                       # the frame is put back
+    assert baked == {item.object.name: item.bake_key for item in s.lights}
     _, data = page_json(out)
     assert data["title"] == mat.name and data["credits"] == "Test"
     # Blender hands the 16-bit normal map over as floats: stored as its 16-bit codes again
@@ -126,3 +129,26 @@ def test_benchmark_reports_every_figure_with_its_goal(tmp_path):
     rows = [ln for ln in text.splitlines() if ln.startswith(("| glass", "| portrait",
                                                              "| impossible"))]
     assert len(rows) == 3 and all("≤ 3×: met" in ln for ln in rows)
+
+
+def test_frames_only_read_for_the_lights_bake_nothing(empty_scene, tmp_path):
+    """Inside reading_lights() a frame change leaves the shadows as they are (the export reads
+    the animation with it); outside it, the frame's light position is baked."""
+    folder = str(tmp_path / "images")
+    write_images(folder)
+    bpy.ops.dynpaint.add(directory=folder, files=[{"name": n} for n in
+                                                  ("normal.png", "dark.png", "bright.png")])
+    s = bpy.context.object.active_material.dynamic_painting
+    s.shadows.enabled = True
+    assert bpy.ops.dynpaint.add_light_turntable(light="NEW_POINT", frame_start=1, frame_end=12,
+                                                set_output=False) == {"FINISHED"}
+    scene = bpy.context.scene
+    scene.frame_set(1)
+    item = next(i for i in s.lights if i.object.name.startswith("Turntable"))
+    first = item.bake_key
+    assert first
+    with reading_lights():
+        scene.frame_set(7)
+    assert item.bake_key == first
+    scene.frame_set(7)
+    assert item.bake_key != first

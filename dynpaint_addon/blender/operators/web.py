@@ -10,6 +10,7 @@ from bpy_extras.io_utils import ExportHelper
 from ... import params
 from ...imageio import ImageReadError, image_data_from_blender
 from ...web.page import page_data, write_page
+from ..frame_sampling import reading_lights
 from ..lights import painting_lights
 from ..settings import channel_images, settings_to_params
 from .common import PaintingOperator, active_painting, run_and_report
@@ -20,19 +21,21 @@ MAX_ANIMATION_FRAMES = 2000
 
 def light_animation(mat, scene, progress=None):
     """The lights' vectors (painting frame) on every frame of the scene's range → {'fps',
-    'frames'}, or None when no light moves. The frame is put back afterwards."""
+    'frames'}, or None when no light moves. The frame is put back afterwards, the shadows as
+    they were (nothing is baked for the frames visited)."""
     start, end = scene.frame_start, min(scene.frame_end, scene.frame_start
                                         + MAX_ANIMATION_FRAMES - 1)
     here = scene.frame_current
     frames = []
-    try:
-        for frame in range(start, end + 1):
-            scene.frame_set(frame)
-            frames.append([list(lt.vector) for lt in painting_lights(mat, scene)])
-            if progress:
-                progress(0.8 * (frame - start + 1) / (end - start + 1))
-    finally:
-        scene.frame_set(here)
+    with reading_lights():           # no shadow bakes for frames only visited to read them
+        try:
+            for frame in range(start, end + 1):
+                scene.frame_set(frame)
+                frames.append([list(lt.vector) for lt in painting_lights(mat, scene)])
+                if progress:
+                    progress(0.8 * (frame - start + 1) / (end - start + 1))
+        finally:
+            scene.frame_set(here)
     if all(f == frames[0] for f in frames):
         return None
     return {"fps": scene.render.fps / scene.render.fps_base, "frames": frames}
