@@ -10,7 +10,7 @@ from .core.inflate import PROFILES, inflate
 from .core.integrate import integrate
 from .core.occlusion import ambient_occlusion
 from .core.photometric import SIDES, normals_from_profiles, normals_from_rg_photo
-from .core.pipeline import shape_normals
+from .core.pipeline import normal_map_relief_px, shape_normals
 from .core.shape import ENCODINGS
 from .imageio import read_image, write_exr, write_png
 from .recipe import load_recipe
@@ -135,9 +135,12 @@ def cmd_export_maps(args):
     images = {c: read_image(path) for c, path in recipe.images.items()   # only what it exports
               if c in ("shape", "gloss")}
     p = recipe.params
-    n, z_px, _ = shape_normals(images["shape"], p, np.float64)
-    w = n.shape[1]
-    height = z_px / w if z_px is not None else integrate(n).height
+    n, z_px, _ = shape_normals(images["shape"], p, np.float64, relief=False)
+    if z_px is None:
+        # a normal map's heights: its figure cut at the alpha (the shadows' default relief),
+        # whichever relief the recipe's shadows use
+        z_px = normal_map_relief_px(n, images["shape"], precise=True)
+    height = z_px / n.shape[1]
     os.makedirs(args.out, exist_ok=True)
     out = {name: os.path.join(args.out, name) for name in
            ("normal.png", "height.exr", "height.png", "ambient_occlusion.png", "specular.png")}

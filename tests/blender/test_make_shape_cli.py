@@ -1,11 +1,15 @@
 """`make-shape` on the command line (issue 16): each method on files in other tools'
 conventions (16-bit PNGs, Sprite Lamp names, alpha silhouettes, EXR heights in image widths),
 the bake reading an integrated height at its true scale, and bad input as one line."""
+import os
+import shutil
+
 import numpy as np
 import pytest
 
 from dynpaint_addon.core.integrate import integrate
 from dynpaint_addon.imageio import read_image, write_exr, write_png
+from dynpaint_addon.samples import recipe_path
 
 from conftest import run_cli
 
@@ -101,6 +105,20 @@ def test_export_maps_of_a_sample(tmp_path):
         assert (tmp_path / "maps" / name).exists(), out
     ao = read_image(tmp_path / "maps" / "ambient_occlusion.png").pixels[..., 0]
     assert 0 < ao.min() < 0.95 and ao.max() == 1.0
+
+
+def test_export_maps_height_of_a_normal_map_does_not_follow_the_shadows_relief(tmp_path):
+    """A normal map's exported height is its figure integrated apart at the alpha, whether the
+    recipe's shadows fall from that relief or are rebuilt along the ray."""
+    shutil.copytree(os.path.dirname(recipe_path("glass")), tmp_path / "glass")
+    text = (tmp_path / "glass" / "painting.toml").read_text(encoding="utf-8")
+    heights = []
+    for relief in ("integrated", "along_ray"):
+        recipe = tmp_path / "glass" / f"{relief}.toml"
+        recipe.write_text(text + f'\n[shadows]\nrelief = "{relief}"\n', encoding="utf-8")
+        ok(run_cli("make-shape", "export-maps", recipe, "--out", tmp_path / relief))
+        heights.append(read_image(tmp_path / relief / "height.exr").pixels[..., 0])
+    assert np.ptp(heights[0]) > 0.01 and np.array_equal(heights[0], heights[1])
 
 
 @pytest.mark.parametrize("args,message", [
