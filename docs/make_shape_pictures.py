@@ -231,6 +231,12 @@ its shadows from the integrated relief (middle, the default) and rebuilt along e
 the paper's way). Mean colour difference from the truth: {err_integrated:.4f} integrated,
 {err_along:.4f} along the ray. Against 3D renders (shape-numbers.md) the integrated relief's
 cast shadows overlap the truth 0.84–0.89× as well as a true height map's, along the ray 0.33×.
+What keeps it under 0.9× is walls the figure hides: Suzanne's muzzle stands up to 0.16 image
+widths above the ground beside it, and the normals on either side of such a wall are smooth, so
+no normal map says where it is or how tall. Cut at the walls that only the 3D scene knows, the
+same integration reaches 0.99× (the "bound" rows of shape-numbers.md). An artist who knows a
+figure stands off the canvas integrates it with its mask and the rim's height (`make-shape
+integrate --mask … --depth`, or Make Shape's Depth) and uses that height map as the shape.
 Set `relief = "along_ray"` for impossible figures (the Penrose sample does).
 
 ## Lighting profiles
