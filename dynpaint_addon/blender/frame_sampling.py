@@ -2,8 +2,9 @@
 
 The web export steps through the scene's frame range to record the lights' animation; the
 shadows frame_change_post would bake for each of those frames are thrown away when the frame is
-put back (the portrait with a point light: 18 s of bakes for 120 frames in background Blender,
-against 0.05 s to read the lights). Inside `reading_lights()` the handler bakes nothing.
+put back (the portrait with a point light keyframed over 250 frames: 34 s of bakes in
+background Blender, against 0.3 s for the whole export; docs/web-numbers.md). Inside
+`reading_lights()` the handlers bake nothing.
 """
 import contextlib
 
