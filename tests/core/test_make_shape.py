@@ -1,9 +1,9 @@
 """Shape from the painting (issue 16): each method's exact cases and its extremes, bpy-free.
 
 Integration of a plane and a smooth bump, the residual of a field no height map has, masks
-that cut a figure from its background, a ramp whose hidden wall is known; inflation of a disc into a hemisphere; lighting
-profiles rendered by the core itself; the red/green photograph; NaN-free on empty, one-pixel,
-flat and non-square inputs.
+that cut a figure from its background, a ramp whose hidden wall is known; inflation of a disc
+into a hemisphere; lighting profiles rendered by the core itself; the red/green photograph;
+NaN-free on empty, one-pixel, flat and non-square inputs.
 """
 import numpy as np
 import pytest
