@@ -137,6 +137,17 @@ def true_walls(z):
     return np.abs(np.diff(z, axis=1)) > WALL, np.abs(np.diff(z, axis=0)) > WALL
 
 
+def default_relief(n_map, z, index):
+    """The relief the add-on's shadows fall from (§6 "Relief"): the normal map integrated with
+    its figure cut at the alpha (here the object index)."""
+    return integrate(n_map, index > 0, precise=False).height
+
+
+def relief_with_true_walls(n_map, z, index):
+    """The bound: default_relief also cut at the true walls."""
+    return integrate(n_map, index > 0, precise=False, breaks=true_walls(z)).height
+
+
 def profile_errors(size, elevation, folder):
     """Mean angular error (degrees) of normals from Cycles-rendered profiles, per profile set,
     over the objects' pixels (cast shadows on the ground and on Suzanne included)."""
@@ -200,10 +211,9 @@ def main(argv=None):
     default = "integrated, cut at the figure's alpha (the default relief)"
     walls_known = f"bound: also cut at the true walls (steps > {WALL} widths, from 3D)"
     methods = {"integrated, no alpha": lambda n, z, index: integrate(n).height,
-               default: lambda n, z, index: integrate(n, index > 0, precise=False).height,
+               default: default_relief,
                "along the ray (reach 0.05, the paper's way)": None,
-               walls_known: lambda n, z, index: integrate(n, index > 0, precise=False,
-                                                         breaks=true_walls(z)).height}
+               walls_known: relief_with_true_walls}
     lines += ["", "### Cast shadows of each object's normal map", "",
               "| object | method | mean \\|t − 3D\\| | cast-shadow IoU | goal |",
               "|---|---|---|---|---|"]

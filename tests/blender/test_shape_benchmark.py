@@ -26,10 +26,8 @@ def test_integration_and_inflation_rows():
 def test_the_bound_shows_suzannes_hidden_walls():
     """Cut at the walls the 3D scene knows, Suzanne's integrated normal map casts shadows much
     closer to the truth: what the default relief misses is those walls."""
-    def height(walls):
-        return lambda n, z, index: sfp.integrate(n, index > 0, precise=False,
-                                                 breaks=sfp.true_walls(z) if walls else None).height
     res = sfp.shadows_against_truth(sfp.SMOOTH["Suzanne"], 128, 0.01, 128, tempfile.mkdtemp(),
-                                    {"default": height(False), "bound": height(True)})
+                                    {"default": sfp.default_relief,
+                                     "bound": sfp.relief_with_true_walls})
     assert res["bound"][1] > res["default"][1] + 0.1
     assert res["bound"][0] < res["default"][0]

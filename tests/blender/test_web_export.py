@@ -72,13 +72,17 @@ def test_cli_bad_options_get_one_line(args, says, tmp_path):
     assert not (tmp_path / "x.html").exists()
 
 
-def test_addon_exports_current_settings_lights_and_animation(empty_scene, tmp_path, browser):
+def add_test_painting(tmp_path):
+    """The test images' normal-map painting, added to the scene → its material."""
     folder = str(tmp_path / "images")
     write_images(folder)
     bpy.ops.dynpaint.add(directory=folder, files=[{"name": n} for n in
                                                   ("normal.png", "dark.png", "bright.png")])
-    plane = bpy.context.object
-    mat = plane.active_material
+    return bpy.context.object.active_material
+
+
+def test_addon_exports_current_settings_lights_and_animation(empty_scene, tmp_path, browser):
+    mat = add_test_painting(tmp_path)
     s = mat.dynamic_painting
     s.diffuse.t0, s.specular.enabled = -0.3, True
     scene = bpy.context.scene
@@ -134,11 +138,7 @@ def test_benchmark_reports_every_figure_with_its_goal(tmp_path):
 def test_frames_only_read_for_the_lights_bake_nothing(empty_scene, tmp_path):
     """Inside reading_lights() a frame change leaves the shadows as they are (the export reads
     the animation with it); outside it, the frame's light position is baked."""
-    folder = str(tmp_path / "images")
-    write_images(folder)
-    bpy.ops.dynpaint.add(directory=folder, files=[{"name": n} for n in
-                                                  ("normal.png", "dark.png", "bright.png")])
-    s = bpy.context.object.active_material.dynamic_painting
+    s = add_test_painting(tmp_path).dynamic_painting
     s.shadows.enabled = True
     assert bpy.ops.dynpaint.add_light_turntable(light="NEW_POINT", frame_start=1, frame_end=12,
                                                 set_output=False) == {"FINISHED"}
