@@ -206,17 +206,20 @@ def cmd_turntable(args):
         raise CommandError(f"--size must be at least 16 × 16 pixels, got {args.size}")
     if args.size is not None and any(s % 2 for s in args.size):
         raise CommandError(f"--size must be even in both directions (H.264), got {args.size}")
+    if args.samples is not None and args.samples < 1:
+        raise CommandError(f"--samples must be at least 1, got {args.samples}")
     if args.elevation is not None and not -90 <= args.elevation <= 90:
         raise CommandError(f"--elevation must be in [-90, 90] degrees, got {args.elevation}")
     recipe = load_recipe(recipe_path(args.recipe))
     from .blender.headless import render_turntable  # Blender only when asked for
     try:
-        seconds = render_turntable(recipe, args.out, args.frames, args.engine, args.size,
+        seconds, samples = render_turntable(recipe, args.out, args.frames, args.engine, args.size,
                                    args.elevation, args.light, args.clockwise, args.samples,
                                    args.fps, progress=lambda line: print(line, flush=True))
     except ValueError as exc:
         raise CommandError(str(exc)) from None
-    print(f"turntable: {args.frames} frames with {args.engine} in {seconds:.1f} s "
+    print(f"turntable: {args.frames} frames with {args.engine}, {samples} sample"
+          f"{'s' if samples > 1 else ''} a pixel, in {seconds:.1f} s "
           f"({seconds / args.frames:.2f} s/frame) → {args.out}")
 
 
@@ -308,8 +311,12 @@ def build_parser():
                     "degrees (default: where the recipe puts the light)")
     tt.add_argument("--light", help="name of the recipe light to orbit (default: its first Sun)")
     tt.add_argument("--clockwise", action="store_true", help="orbit clockwise (seen from the front)")
-    tt.add_argument("--samples", type=int, default=16, help="render samples per pixel (antialiasing)")
-    tt.add_argument("--fps", type=int, default=24, help="frames per second of the video")
+    tt.add_argument("--samples", type=int, help="render samples per pixel; default: one at the "
+                    "shape image's size (the video frames the painting pixel for pixel, and one "
+                    "sample at each pixel centre is the exact image), antialiased at other sizes "
+                    "(the count is printed)")
+    tt.add_argument("--fps", type=int, default=24, help="frames per second of the video "
+                    "(default 24)")
     tt.set_defaults(func=cmd_turntable)
     d = sub.add_parser("demo", help="render the built-in test painting (the README's main job)")
     d.add_argument("--out", default="out/demo.png", help="output image (default out/demo.png)")

@@ -68,27 +68,37 @@ def _pick_exr_channels(channels):
 
 
 @contextlib.contextmanager
-def _quiet_native_stderr():
-    """Blender's image libraries print their own complaints (libpng, OpenImageIO) straight to
-    file descriptor 2; the command line says what went wrong in one line of its own."""
+def quiet_native(fd=2):
+    """Silence what native code writes straight to file descriptor `fd` (Blender's image
+    libraries' complaints on 2; its render log's "Video append frame" lines on 1), while
+    Python's own sys.stdout / sys.stderr keep reaching the terminal: the command line says
+    what happened in lines of its own."""
+    stream = sys.stdout if fd == 1 else sys.stderr
     try:
-        sys.stderr.flush()
-        saved = os.dup(2)
-    except (OSError, ValueError):
+        stream.flush()
+        saved = os.dup(fd)
+    except (OSError, ValueError, AttributeError):
         yield
         return
+    keep = open(saved, "w", buffering=1, closefd=False, encoding="utf-8", errors="replace")
+    swapped = {1: "stdout", 2: "stderr"}[fd]
+    original = getattr(sys, swapped)
     try:
         with open(os.devnull, "w") as null:
-            os.dup2(null.fileno(), 2)
+            os.dup2(null.fileno(), fd)
+            setattr(sys, swapped, keep)
             yield
     finally:
-        os.dup2(saved, 2)
+        setattr(sys, swapped, original)
+        keep.flush()
+        keep.close()
+        os.dup2(saved, fd)
         os.close(saved)
 
 
 def _read_with_blender(path):
     import bpy
-    with _quiet_native_stderr():       # decoding happens lazily: keep the whole read quiet
+    with quiet_native(2):       # decoding happens lazily: keep the whole read quiet
         try:
             img = bpy.data.images.load(path, check_existing=False)
         except RuntimeError as exc:

@@ -9,6 +9,7 @@ import time
 
 import bpy
 
+from ..imageio import quiet_native
 from . import register_once
 from .scene import create_painting, exact_camera, exact_render_settings, output_settings
 from . import turntable
@@ -56,17 +57,26 @@ def fit_camera(scene, plane, width, height):
     scene.render.resolution_x, scene.render.resolution_y = width, height
 
 
-def video_render_settings(scene, engine, samples=16):
-    """Antialiased, opaque frames for a video (the exact settings, with a normal pixel filter)."""
+ANTIALIAS_SAMPLES = 16     # a video whose pixels are not the painting's: enough to hide jaggies
+
+
+def video_render_settings(scene, engine, samples=None, exact=False):
+    """Opaque frames for a video. `exact` (framed pixel for pixel): one sample at each pixel's
+    centre is the exact image, the settings of exact_render_settings (the parity tests'); else
+    `samples` (ANTIALIAS_SAMPLES by default) with a normal 1.5 px pixel filter. → samples."""
     exact_render_settings(scene, engine)
+    scene.render.film_transparent = False
+    if exact and samples in (None, 1):
+        return 1
+    samples = samples or ANTIALIAS_SAMPLES
     scene.cycles.samples = samples
     scene.cycles.filter_width = 1.5
     scene.cycles.pixel_filter_type = "BLACKMAN_HARRIS"
     scene.eevee.taa_render_samples = samples
     scene.render.filter_size = 1.5
-    scene.render.film_transparent = False
     if scene.camera is not None:
         scene.camera.data.shift_x = scene.camera.data.shift_y = 0.0
+    return samples
 
 
 def turntable_light(recipe, mat, scene, name=None):
@@ -95,17 +105,23 @@ def turntable_light(recipe, mat, scene, name=None):
 
 
 def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevation=None,
-                     light_name=None, clockwise=False, samples=16, fps=24, progress=print):
-    """Render a light turntable of the recipe's painting to a video file → seconds.
+                     light_name=None, clockwise=False, samples=None, fps=24, progress=print):
+    """Render a light turntable of the recipe's painting to a video file → (seconds, samples
+    per pixel).
 
     The recipe's first Sun (or the named light) orbits the painting once over `frames` frames,
-    starting where the recipe puts it; every frame bakes its shadows at final quality.
+    starting where the recipe puts it; every frame bakes its shadows at final quality. At the
+    shape image's size (the default) the video frames the painting pixel for pixel and one
+    sample is the exact image; `samples` (default ANTIALIAS_SAMPLES at other sizes) adds
+    antialiasing. Blender's own render log is kept off the terminal: `progress` gets a line a
+    frame.
     """
     plane, mat = build_recipe_scene(recipe)
     scene = bpy.context.scene
-    w, h = size or tuple(mat.dynamic_painting.image_shape.size)
+    image_size = tuple(mat.dynamic_painting.image_shape.size)
+    w, h = size or image_size
     fit_camera(scene, plane, w, h)
-    video_render_settings(scene, engine, samples)
+    samples = video_render_settings(scene, engine, samples, exact=(w, h) == image_size)
     light, elev, azimuth, radius = turntable_light(recipe, mat, scene, light_name)
     if elevation is not None:
         elev = math.radians(elevation)
@@ -123,7 +139,8 @@ def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevati
 
     bpy.app.handlers.render_post.append(report)
     try:
-        bpy.ops.render.render(animation=True)
+        with quiet_native(1):          # "Video append frame N" between our progress lines
+            bpy.ops.render.render(animation=True)
     finally:
         bpy.app.handlers.render_post.remove(report)
-    return time.perf_counter() - start
+    return time.perf_counter() - start, samples

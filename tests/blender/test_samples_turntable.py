@@ -228,9 +228,23 @@ def test_turntable_command_writes_a_video_with_progress(engine, tmp_path):
     assert res.returncode == 0, res.stderr[-2000:]
     progress = [ln for ln in res.stdout.splitlines() if ln.startswith("frame ")]
     assert [ln.split()[1] for ln in progress] == ["1/3", "2/3", "3/3"], res.stdout
-    assert f"turntable: 3 frames with {engine}" in res.stdout
+    assert f"turntable: 3 frames with {engine}, 1 sample a pixel" in res.stdout
+    assert "Video append" not in res.stdout      # Blender's log stays off our progress lines
     clip = bpy.data.movieclips.load(str(out))
     assert clip.frame_duration == 3 and tuple(clip.size) == (64, 48)
+
+
+def test_a_turntable_framed_pixel_for_pixel_renders_the_exact_image_at_one_sample(empty_scene):
+    """At the shape image's size one sample at each pixel centre is the exact image (the
+    parity renders' settings, opaque); another size is antialiased."""
+    scene = bpy.context.scene
+    assert headless.video_render_settings(scene, "cycles", None, exact=True) == 1
+    assert scene.cycles.samples == 1 and scene.cycles.pixel_filter_type == "BOX"
+    assert not scene.render.film_transparent
+    assert headless.video_render_settings(scene, "cycles", None, exact=False) == \
+        headless.ANTIALIAS_SAMPLES == scene.cycles.samples
+    assert scene.cycles.filter_width == 1.5
+    assert headless.video_render_settings(scene, "cycles", 4, exact=True) == 4
 
 
 @pytest.mark.parametrize("args, message", [
