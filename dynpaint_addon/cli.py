@@ -20,6 +20,7 @@ from .core.shadow import ShadowStats
 from .export_web_cli import ExportError, add_parser as add_export_web_parser
 from .imageio import ImageReadError, read_image, write_exr, write_png
 from .make_shape_cli import add_parser as add_make_shape_parser
+from .notes import check_and_print, print_notes
 from .recipe import RecipeError, load_images, load_recipe
 from .samples import recipe_path
 from .shape_maker import ShapeError
@@ -84,8 +85,7 @@ def cmd_render(args):
     t = time.perf_counter()
     result = render(images, recipe.lights, recipe.params, dtype, keep_passes=False)
     ms = (time.perf_counter() - t) * 1000
-    for w in result.warnings:
-        print(f"warning: {w}", file=sys.stderr)
+    print_notes(result.warnings)
     write_render(args.out, result.rgba)
     h, w = result.rgba.shape[:2]
     print(f"rendered {w}×{h} in {ms:.0f} ms → {args.out}")
@@ -98,7 +98,7 @@ def _render_blender(args, recipe):
     if os.path.splitext(args.out)[1].lower() not in (".png", ".exr"):
         raise CommandError(f"{args.out}: unsupported output format (use .png or .exr)")
     from .blender.headless import render_recipe     # Blender only when asked for
-    seconds = render_recipe(recipe, args.engine, args.out, args.frame)
+    seconds = render_recipe(recipe, args.engine, args.out, args.frame, notes=print_notes)
     print(f"rendered with {args.engine} in {seconds * 1000:.0f} ms → {args.out}")
 
 
@@ -177,7 +177,9 @@ def cmd_bake_shadow(args):
     steps, scale, dtype = quality_settings(
         quality, level["steps"] if args.steps is None else args.steps,
         level["scale"] if args.scale is None else args.scale)
-    n, z, slopes = shape_normals(read_image(args.shape), p, dtype)
+    shape = read_image(args.shape)
+    check_and_print({"shape": shape}, p)
+    n, z, slopes = shape_normals(shape, p, dtype)
     stats = ShadowStats()
     t0 = time.perf_counter()
     t = bake(n, light, p.shadows.offset, quality, heights_px=z, slopes=slopes, steps=steps,
@@ -215,7 +217,8 @@ def cmd_turntable(args):
     try:
         seconds, samples = render_turntable(recipe, args.out, args.frames, args.engine, args.size,
                                    args.elevation, args.light, args.clockwise, args.samples,
-                                   args.fps, progress=lambda line: print(line, flush=True))
+                                   args.fps, progress=lambda line: print(line, flush=True),
+                                   notes=print_notes)
     except ValueError as exc:
         raise CommandError(str(exc)) from None
     print(f"turntable: {args.frames} frames with {args.engine}, {samples} sample"

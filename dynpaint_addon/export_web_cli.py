@@ -6,6 +6,7 @@ description; the viewer drags the light. Problems end as one `error: …` line (
 import time
 
 from . import params
+from .notes import check_and_print, print_notes
 from .recipe import image_bytes, load_images, load_recipe
 from .samples import recipe_path
 from .web.page import TURNTABLE_SECONDS, page_data, write_page
@@ -28,16 +29,17 @@ def cmd_export_web(args):
         raise ExportError(f"--turntable-seconds {args.turntable_seconds}: must be positive")
     start = time.perf_counter()
     recipe = load_recipe(recipe_path(args.recipe))
+    images = load_images(recipe)
+    check_and_print(images, recipe.params)
     data, warnings = page_data(
-        load_images(recipe), recipe.lights, recipe.params,
+        images, recipe.lights, recipe.params,
         title=recipe.name if args.title is None else args.title,
         credits=recipe.credits if args.credits is None else args.credits,
         steps=args.steps, max_size=args.max_size, turntable_seconds=args.turntable_seconds)
     size = write_page(args.out, data)
     seconds = time.perf_counter() - start
     inputs = image_bytes(recipe)
-    for warning in warnings:
-        print(f"warning: {warning}")
+    print_notes(warnings)
     print(f"export-web: wrote {args.out} ({size / 1e6:.2f} MB, {size / inputs:.2f}× its input "
           f"images; {data['width']}×{data['height']}, {len(data['lights'])} light(s)"
           f"{', shadows K = %d' % data['steps'] if data['shadows'] else ''}) in {seconds:.1f} s")

@@ -6,17 +6,19 @@ import time
 
 import numpy as np
 
+from . import params
 from .core.inflate import PROFILES, inflate
 from .core.integrate import integrate
 from .core.occlusion import ambient_occlusion
 from .core.photometric import SIDES, normals_from_profiles, normals_from_rg_photo
-from .core.pipeline import normal_map_relief_px, shape_normals
+from .core.pipeline import input_notes, normal_map_relief_px, shape_normals
 from .core.shape import ENCODINGS
 from .imageio import read_image, write_exr, write_png
+from .notes import check_and_print, figure_note, print_notes
 from .recipe import load_recipe
 from .samples import recipe_path
-from .shape_maker import (GREENS, ShapeError, decode_normals, encode_normals, figure_mask,
-                          height_widths, linear_luminance, normals_of_height, same_size,
+from .shape_maker import (GREENS, ShapeError, decode_normals, encode_normals, figure_and_source,
+                          figure_mask, height_widths, linear_luminance, normals_of_height, same_size,
                           sprite_lamp_side)
 
 
@@ -51,6 +53,12 @@ def _timed(args, what, started):
 
 def cmd_integrate(args):
     img = read_image(args.normal)
+    p = params.defaults()
+    p.shape.encoding, p.shape.strength = args.encoding, args.strength
+    try:
+        notes = input_notes({"shape": img}, p)
+    except ValueError as exc:
+        raise ShapeError(str(exc)) from None
     n = decode_normals(img, args.encoding, args.flip_green, args.strength)
     mask = None
     if args.mask == "alpha":
@@ -62,7 +70,8 @@ def cmd_integrate(args):
         if mimg.size != img.size:
             raise ShapeError(f"--mask {args.mask} is {mimg.size[0]}×{mimg.size[1]}, the normal "
                              f"map {img.size[0]}×{img.size[1]}: they must match")
-        mask = figure_mask(mimg)
+        mask, source = figure_and_source(mimg)
+        notes.append(figure_note(args.mask, source))
     started = time.perf_counter()
     result = integrate(n, mask, args.depth)
     _timed(args, "integrate", started)
@@ -74,6 +83,7 @@ def cmd_integrate(args):
     if args.residual:
         write_exr(args.residual, result.residual.astype(np.float32))
         print(f"wrote {args.residual} (|g − ∇z| per pixel, slope units)")
+    print_notes(notes)          # once the work is done: an error stays one line
 
 
 def cmd_normals(args):
@@ -118,7 +128,7 @@ def cmd_rg_photo(args):
 
 def cmd_inflate(args):
     img = read_image(args.image)
-    mask = figure_mask(img, args.mask_channel)
+    mask, source = figure_and_source(img, args.mask_channel)
     if not mask.any():
         raise ShapeError(f"{args.image}: no figure to inflate (its mask is empty: give an "
                          f"image with alpha, or a mask painted white on black)")
@@ -128,6 +138,7 @@ def cmd_inflate(args):
                                       else img) if args.detail else None, args.detail_blur)
     _timed(args, "inflate", started)
     _write_height(args.out, result.height)
+    print_notes([figure_note(args.image, source)])
 
 
 def cmd_export_maps(args):
@@ -135,6 +146,7 @@ def cmd_export_maps(args):
     images = {c: read_image(path) for c, path in recipe.images.items()   # only what it exports
               if c in ("shape", "gloss")}
     p = recipe.params
+    check_and_print(images, p)
     n, z_px, _ = shape_normals(images["shape"], p, np.float64, relief=False)
     if z_px is None:
         # a normal map's heights: its figure cut at the alpha (the shadows' default relief),

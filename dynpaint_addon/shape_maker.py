@@ -41,11 +41,17 @@ def linear_luminance(img):
 def figure_mask(img, channel="auto"):
     """Where the figure is (H, W) bool: the image's alpha when it has one that is not all
     opaque, else the mask read from `channel` (core.inputs.mask_values) above ½."""
+    return figure_and_source(img, channel)[0]
+
+
+def figure_and_source(img, channel="auto"):
+    """(figure_mask, what it was read from: 'alpha', 'luminance', 'red', …): the guess a
+    command says."""
     alpha = img.alpha()
     if channel == "auto" and alpha is not None and np.nanmin(alpha) < 0.5:
-        return np.nan_to_num(alpha) >= 0.5
-    values, _ = mask_values(img.pixels, channel)
-    return np.nan_to_num(values) >= 0.5
+        return np.nan_to_num(alpha) >= 0.5, "alpha"
+    values, read = mask_values(img.pixels, channel)
+    return np.nan_to_num(values) >= 0.5, read
 
 
 def decode_normals(img, encoding="auto", flip_green=False, strength=1.0):

@@ -16,22 +16,26 @@ from . import turntable
 from .lights import linked_lights
 
 
-def build_recipe_scene(recipe, size=1.0):
-    """Empty scene → the recipe's painting, lights and an exact camera → (plane, material)."""
+def build_recipe_scene(recipe, size=1.0, notes=None):
+    """Empty scene → the recipe's painting, lights and an exact camera → (plane, material).
+    notes: called with what Add says about the painting (a list of lines), if given."""
     bpy.ops.wm.read_homefile(use_empty=True)
     register_once()
     context = bpy.context
-    plane, mat, _ = create_painting(context, recipe.images, recipe.params, recipe.lights,
+    plane, mat, messages = create_painting(context, recipe.images, recipe.params, recipe.lights,
                                       name=recipe.name or "Dynamic Painting", size=size,
                                       default_sun=False)
+    if notes is not None:
+        notes(messages)
     exact_camera(context.scene, plane)
     context.view_layer.update()
     return plane, mat
 
 
-def render_recipe(recipe, engine, out, frame=None):
-    """Render the recipe's painting to `out` (.exr linear float or .png) → seconds rendering."""
-    plane, mat = build_recipe_scene(recipe)
+def render_recipe(recipe, engine, out, frame=None, notes=None):
+    """Render the recipe's painting to `out` (.exr linear float or .png) → seconds rendering.
+    notes: as for build_recipe_scene."""
+    plane, mat = build_recipe_scene(recipe, notes=notes)
     scene = bpy.context.scene
     exact_render_settings(scene, engine)
     output_settings(scene, out)
@@ -105,7 +109,8 @@ def turntable_light(recipe, mat, scene, name=None):
 
 
 def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevation=None,
-                     light_name=None, clockwise=False, samples=None, fps=24, progress=print):
+                     light_name=None, clockwise=False, samples=None, fps=24, progress=print,
+                     notes=None):
     """Render a light turntable of the recipe's painting to a video file → (seconds, samples
     per pixel).
 
@@ -114,9 +119,9 @@ def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevati
     shape image's size (the default) the video frames the painting pixel for pixel and one
     sample is the exact image; `samples` (default ANTIALIAS_SAMPLES at other sizes) adds
     antialiasing. Blender's own render log is kept off the terminal: `progress` gets a line a
-    frame.
+    frame; notes: as for build_recipe_scene.
     """
-    plane, mat = build_recipe_scene(recipe)
+    plane, mat = build_recipe_scene(recipe, notes=notes)
     scene = bpy.context.scene
     image_size = tuple(mat.dynamic_painting.image_shape.size)
     w, h = size or image_size

@@ -6,7 +6,9 @@ size in the scene. A Copy Rotation constraint keeps it facing the scene camera (
 choice as Blender's Image as Planes).
 """
 import os
+from collections.abc import Mapping
 from contextlib import contextmanager
+from dataclasses import replace
 
 import numpy as np
 
@@ -14,9 +16,8 @@ import bpy
 from mathutils import Vector
 
 from .. import params
-from ..core.inputs import normal_map_notes, normal_map_problem, size_message
 from ..core.lights import Light
-from ..core.pipeline import MASKS, PER_PIXEL_CHANNELS, mask_channels, mask_notes
+from ..core.pipeline import input_notes
 from ..imageio import image_data_from_blender
 from .images import load_image, prepare_channel_image
 from .lights import add_light, linked_lights
@@ -53,23 +54,31 @@ def unchanged_images_on_failure():
         raise
 
 
+class _ImagesRead(Mapping):
+    """{channel: ImageData} of Blender images, each read on first use (input_notes reads
+    the pixels of the shape and the masks only)."""
+
+    def __init__(self, loaded):
+        self.loaded, self.read = loaded, {}
+
+    def __getitem__(self, channel):
+        if channel not in self.read:
+            img = self.loaded[channel]
+            name = os.path.basename(bpy.path.abspath(img.filepath)) or img.name
+            self.read[channel] = replace(image_data_from_blender(img), name=name)
+        return self.read[channel]
+
+    def __iter__(self):
+        return iter(self.loaded)
+
+    def __len__(self):
+        return len(self.loaded)
+
+
 def check_images(loaded, p):
-    """The rules of core/inputs.py on the painting's images → warnings; raises ValueError
+    """core.pipeline.input_notes on the painting's Blender images → notes; raises ValueError
     (one line) for a shape image that cannot be what the settings `p` say."""
-    shape = loaded["shape"]
-    notes = []
-    if p.shape.kind == "normal":
-        name = os.path.basename(bpy.path.abspath(shape.filepath)) or shape.name
-        px = image_data_from_blender(shape).pixels
-        problem = normal_map_problem(px, name, p.shape.encoding)
-        if problem:
-            raise ValueError(problem)
-        notes += normal_map_notes(px, name, p.shape.encoding, p.shape.strength)
-    masks = {c: image_data_from_blender(img) for c, img in loaded.items() if c in MASKS}
-    notes += mask_notes(mask_channels(masks, p), p)
-    return notes + [size_message(ch, tuple(img.size), tuple(shape.size))
-                    for ch, img in loaded.items()
-                    if ch in PER_PIXEL_CHANNELS and tuple(img.size) != tuple(shape.size)]
+    return input_notes(_ImagesRead(loaded), p)
 
 
 def face_camera(obj, camera):

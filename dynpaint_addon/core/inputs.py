@@ -4,12 +4,14 @@
   becomes the flat normal (0.5, 0.5, 1.0) (what §2's fallback makes of it anyway); in a height
   map 0; in every other image NaN and −Inf become 0 and +Inf the image's largest finite value
   (a stray firefly stays as bright as the brightest real pixel, not infinite). Reported.
-- A normal map must look like one: a grey image (one channel, or R = G = B everywhere) or one
-  whose blue is below ½ (N.z < 0, facing away from the viewer) in most opaque pixels is
-  refused with a message that says what it looks like instead — or which setting reads it (a
-  two-channel map read as RGB). Unit vectors mostly facing away are a map made for a decoder
-  that halves each tilt: usable, with a note. A usable map gets notes: read as two-channel,
-  the share of its opaque pixels that face away (and the strength that keeps them).
+- Guesses survive 8-bit export and JPEG compression (thresholds measured on noisy variants of
+  every convention: docs/detection-numbers.md, benchmarks/detection.py) and are always said; an
+  explicit setting (encoding, channel, strength) is obeyed, never refused by a guess.
+- A normal map must be coloured: a grey image (one channel, or R = G = B everywhere) read as
+  one is refused with a message naming the setting that reads it as a height map. Any coloured
+  image is read; a map whose opaque pixels mostly face away gets a note with the fix: unit
+  vectors are a map made for a decoder that halves each tilt (shape strength 0.5); vectors of
+  other lengths are such a map or no normal map at all (the map cannot tell which).
 - Per-pixel images of another size than the shape image are resampled to it (reported).
 No bpy here.
 """
@@ -56,7 +58,8 @@ def _opaque(px):
 
 
 def normal_map_problem(px, name="shape image", encoding="auto"):
-    """Why these pixels cannot be a normal map (one line), or None if they can.
+    """Why these pixels cannot be a normal map (one line), or None if they can: only a grey
+    image, which holds no direction at all (every coloured image is read, with notes).
 
     px: (H, W, C) file values in 0..1 (C = 1 … 4); encoding: shape.encoding (§2).
     """
@@ -69,39 +72,39 @@ def normal_map_problem(px, name="shape image", encoding="auto"):
             np.allclose(rgb[..., 1], rgb[..., 2], atol=2e-3):
         return (f"{name} is grey (R = G = B everywhere): a normal map is coloured (flat = "
                 f"light blue 0.5, 0.5, 1.0); read it as a height map: shape kind 'height'")
-    if resolve_encoding(rgb, encoding) == "rg":
-        return None                      # blue is ignored
-    opaque = _opaque(px)
-    away = float(np.mean(rgb[..., 2][opaque] < 0.5)) if opaque.any() else 0.0
-    if away > 0.5 and not _unit_vectors(rgb[opaque]):
-        if resolve_encoding(rgb, "auto") == "rg":
-            return (f"{name} stores only x and y (blue is 0 in every pixel: the two-channel "
-                    f"convention): set the shape encoding to 'rg' or 'auto' "
-                    f"(recipe: shape.encoding = \"rg\")")
-        return (f"{name} does not look like a normal map: blue < 0.5 (a normal facing away from "
-                f"the viewer) in {away:.0%} of its pixels; is it a colour or height image?")
     return None
 
 
-def _unit_vectors(rgb):
-    """Do most pixels hold unit vectors 2C − 1? A map made by software for a decoder that
-    halves each tilt stores its tilts doubled — most face away — but every vector is still
-    unit length; a colour or height image read as a normal map is not."""
-    length = np.sqrt(np.sum((2 * rgb - 1) ** 2, axis=-1))
-    return rgb.size > 0 and float(np.mean(np.abs(length - 1) < 0.05)) >= 0.8
+# Unit vectors 2C − 1: |length − 1| below UNIT_TOLERANCE in UNIT_SHARE of the pixels. Measured
+# (docs/detection-numbers.md): unit maps keep ≥ 0.90 of their pixels within 0.05 down to JPEG
+# quality 30; maps of other lengths ≤ 0.60, colour images ≤ 0.21.
+UNIT_TOLERANCE = 0.05
+UNIT_SHARE = 0.8
+
+
+def unit_share(rgb):
+    """The share of pixels whose vector 2C − 1 is unit length (within UNIT_TOLERANCE)."""
+    length = np.sqrt(np.sum((2 * np.asarray(rgb)[..., :3] - 1) ** 2, axis=-1))
+    return float(np.mean(np.abs(length - 1) < UNIT_TOLERANCE)) if length.size else 0.0
 
 
 def normal_map_notes(px, name="shape image", encoding="auto", strength=1.0):
-    """What an artist should know about a usable normal map (§2), one line each: a map read
-    as two-channel, and the share of its *opaque* pixels facing away from the viewer (tilted
-    up to N.z = z_min), with the strength that would keep them if a halving decoder was meant."""
+    """What an artist should know about a normal map (§2), one line each: a map read as
+    two-channel, one that looks two-channel but is read as RGB by an explicit setting, and the
+    share of its *opaque* pixels facing away from the viewer (tilted up to N.z = z_min) with
+    the fix where a halving decoder may have been meant: a map of unit vectors mostly facing
+    away can only be one; a map of other lengths may also be no normal map at all."""
     px = np.asarray(px)
     rgb = np.nan_to_num(px[..., :3].astype(np.float32), posinf=0.0, neginf=0.0)
     resolved = resolve_encoding(rgb, encoding)
+    looks_rg = resolve_encoding(rgb, "auto") == "rg"
     notes = []
     if encoding == "auto" and resolved == "rg":
         notes.append(f"{name}: read as a two-channel normal map (x, y in red and green, "
-                     f"z = √(1 − x² − y²))")
+                     f"z = √(1 − x² − y²)); set shape encoding 'rgb' to read its blue")
+    elif encoding == "rgb" and looks_rg:
+        notes.append(f"{name}: its blue is about 0 everywhere, as in a two-channel map, but "
+                     f"shape encoding 'rgb' reads it as blue (set 'auto' or 'rg' to read x, y)")
     n = normal_vectors(rgb, resolved, strength)
     opaque = _opaque(px) & (np.sqrt(np.sum(n * n, axis=-1)) >= 0.05)
     if not opaque.any():
@@ -109,11 +112,15 @@ def normal_map_notes(px, name="shape image", encoding="auto", strength=1.0):
     away = float(np.mean(n[..., 2][opaque] < 0))
     if away > 0.01:
         hint = ""
-        if strength == 1:
+        if strength == 1 and not looks_rg:
             halved = float(np.mean(scale_tilt(n, 0.5)[..., 2][opaque] < 0))
-            if halved < away / 4:
+            unit = unit_share(rgb[opaque]) >= UNIT_SHARE
+            if halved < away / 4 and (unit or away > 0.5):
                 hint = ("; painted for a decoder that halves each tilt? shape strength 0.5 "
-                        f"keeps {1 - halved / away:.0%} of them")
+                        f"(recipe: shape.strength = 0.5) keeps {1 - halved / away:.0%} of them")
+                if not unit:
+                    hint += (" — its vectors are not unit length, so the map cannot tell; or "
+                             "is it a colour or height image?")
         notes.append(f"{name}: {away:.0%} of its opaque pixels face away from the viewer and "
                      f"are tilted up to the minimum N.z{hint}")
     return notes
@@ -123,18 +130,28 @@ MASK_CHANNELS = ("auto", "luminance", "red", "green", "blue", "alpha")
 _CHANNEL_INDEX = {"red": 0, "green": 1, "blue": 2}
 
 
+# A mask painted in one pure channel (red on black): the other two stay below MASK_LEAK times
+# the painted one (99.9th percentiles). Measured (docs/detection-numbers.md): one-channel masks
+# leak at most 0.25 (JPEG quality 30, chroma subsampled), grey masks and colour images ≥ 0.93.
+MASK_LEAK = 0.45
+
+
 def mask_channel(px, channel="auto"):
-    """The channel `mask_values` reads: `channel` itself, or for 'auto' the one pure channel a
-    mask is painted in (the others 0 everywhere), else 'luminance'. Decided on the whole image
-    (a part of it may look painted in one channel when the whole is not)."""
+    """The channel `mask_values` reads: `channel` itself, or for 'auto' the one channel a mask
+    is painted in (the other two below MASK_LEAK of it, whatever 8-bit export or JPEG left in
+    them), else 'luminance'. Decided on the whole image (a part of it may look painted in one
+    channel when the whole is not)."""
     px = np.asarray(px)
     if channel != "auto":
         return channel
     if px.shape[-1] >= 3:
-        rgb = np.nan_to_num(px[..., :3])
-        lit = [i for i in range(3) if np.max(rgb[..., i], initial=0) > 1 / 255]
-        if len(lit) == 1 and np.min(rgb[..., lit[0]]) < np.max(rgb[..., lit[0]]):
-            return ("red", "green", "blue")[lit[0]]
+        rgb = np.nan_to_num(px[..., :3].reshape(-1, 3).astype(np.float32))
+        top = np.percentile(rgb, 99.9, axis=0) if len(rgb) else np.zeros(3)
+        lit = int(np.argmax(top))
+        others = np.delete(top, lit)
+        if top[lit] > 1 / 255 and np.all(others <= MASK_LEAK * top[lit]) and \
+                np.min(rgb[:, lit]) < np.max(rgb[:, lit]):
+            return ("red", "green", "blue")[lit]
     return "luminance"
 
 
@@ -160,8 +177,9 @@ def mask_values(px, channel="auto"):
 def mask_note(name, channel, resolved):
     """The line an artist gets when 'auto' read a mask from one pure channel."""
     if channel == "auto" and resolved in _CHANNEL_INDEX:
-        return (f"{name}: read from its {resolved} channel (a mask painted in pure "
-                f"{resolved}); set its channel to 'luminance' to read its brightness")
+        return (f"{name}: read from its {resolved} channel (a mask painted in {resolved}; "
+                f"the other channels hold at most noise); set its channel to 'luminance' to "
+                f"read its brightness")
     return ""
 
 

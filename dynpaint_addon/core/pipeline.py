@@ -229,24 +229,17 @@ def render(images, lights, p, dtype=np.float32, cache=None, keep_passes=True):
     hs, ws = shape.pixels.shape[:2]
     if not np.any(np.isfinite(shape.pixels)):
         raise ValueError("the shape image has no finite pixel (all NaN or Inf)")
-    if p.shape.kind == "normal":
-        name = shape.name or "shape image"
-        problem = normal_map_problem(shape.pixels, name, p.shape.encoding)
-        if problem:
-            raise ValueError(problem)
-        warnings += normal_map_notes(shape.pixels, name, p.shape.encoding, p.shape.strength)
+    warnings += input_notes(images, p)
 
     imgs = {}
     for name, img in images.items():     # core/inputs.py: the rules for imperfect images
         img, warning = finite_image(img, pixel_role(name, p), f"{name} image")
         warnings += [warning] if warning else []
         if name in PER_PIXEL_CHANNELS and img.pixels.shape[:2] != (hs, ws):
-            warnings.append(size_message(name, img.size, (ws, hs)))
             img = ImageData(resample(img.pixels.astype(dtype), hs, ws), img.bits, img.name)
         imgs[name] = img
 
     masks = mask_channels(imgs, p)
-    warnings += mask_notes(masks, p)
     n, z_px, slopes = shape_normals(imgs["shape"], p, dtype, relief=p.shadows.enabled)
     shadows = [shadow_term(n, z_px, slopes, light, p) for light in lights] \
         if p.shadows.enabled else None
@@ -284,6 +277,44 @@ def mask_notes(masks, p):
     channel."""
     notes = [mask_note(f"{c} image", mask_setting(p, c), read) for c, read in masks.items()]
     return [note for note in notes if note]
+
+
+def input_notes(images, p):
+    """The checks of core/inputs.py on a painting's images (§14): what every command and the
+    add-on's Add say about them, one line each. Raises ValueError (one line) for a shape image
+    that cannot be what `p` says (a grey image read as a normal map).
+
+    images: {channel: ImageData} (a mapping: only the shape, the masks and the per-pixel
+    images' sizes and alphas are read); p: the parameters.
+    """
+    shape = images["shape"]
+    notes = []
+    if p.shape.kind == "normal":
+        name = shape.name or "shape image"
+        problem = normal_map_problem(shape.pixels, name, p.shape.encoding)
+        if problem:
+            raise ValueError(problem)
+        notes += normal_map_notes(shape.pixels, name, p.shape.encoding, p.shape.strength)
+    notes += mask_notes(mask_channels(images, p), p)
+    notes += [size_message(c, images[c].size, shape.size) for c in PER_PIXEL_CHANNELS
+              if c in images and images[c].size != shape.size]
+    return notes + silhouette_notes(images, p)
+
+
+def silhouette_notes(images, p):
+    """A painting that shows glass or a background needs a silhouette (§11): without an alpha
+    in the shape or dark image (a JPEG has none) the whole canvas is the figure."""
+    if p.silhouette.source == "none" or \
+            silhouette_channel(p.silhouette.source, lambda c: c in images and
+                               images[c].has_alpha):
+        return []
+    glass = transparency_branch(p.transparency.amount, "transparency" in images) != "none"
+    if not glass and "background" not in images:
+        return []
+    shows = "is glass" if glass else "hides the background"
+    return [f"no alpha in the shape or dark image (a JPEG has none): the whole canvas {shows}; "
+            f"give the shape image the figure's alpha (PNG), or set silhouette.source = "
+            f"\"none\" to keep the canvas whole"]
 
 
 def pixel_role(channel, p):

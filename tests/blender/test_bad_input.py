@@ -114,9 +114,9 @@ CASES = {
                                  "bright": "cmyk.tif"}, "height", ("ok", None)),
     "two-channel normal map": ({"shape": "normal_rg.png", "dark": "dark.png"}, "normal",
                                ("ok", "read as a two-channel normal map")),
+    # an explicit setting is obeyed, never refused by a guess (issue 27): read as asked, noted
     "two-channel map read as RGB": ({"shape": "normal_rg.png", "dark": "dark.png"}, "normal/rgb",
-                                    ("error", "set the shape encoding to 'rg'",
-                                     "set the shape encoding to 'rg'")),
+                                    ("ok", "'auto' or 'rg' to read x, y")),
     "map for a halving decoder": ({"shape": "normal_halving.png", "dark": "dark.png"}, "normal",
                                   ("ok", "shape strength 0.5")),
     "mask in one colour channel": ({"shape": "height.png", "dark": "dark.png",
@@ -125,7 +125,8 @@ CASES = {
 }
 RENDERED = ("1×1 images", "2×2 height map", "different sizes", "non-square",
             "8-bit, 16-bit and float", "EXR with NaN and Inf", "palette and CMYK images",
-            "two-channel normal map", "map for a halving decoder", "mask in one colour channel")
+            "two-channel normal map", "two-channel map read as RGB", "map for a halving decoder",
+            "mask in one colour channel")
 LIGHTS = [Light("sun", (-0.5, 0.45, 0.74), (1.0, 1.0, 1.0), 1.0, "Sun")]
 
 

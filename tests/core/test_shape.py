@@ -139,8 +139,9 @@ def test_convention_messages_name_the_setting_that_reads_the_map():
     rg = np.concatenate([(n[..., :2] + 1) / 2, np.zeros(n.shape[:-1] + (1,))], -1)
     assert normal_map_problem(rg, "x.png") is None            # auto: read as two-channel
     assert normal_map_problem(rg, "x.png", "rg") is None
-    message = normal_map_problem(rg, "x.png", "rgb")
-    assert "encoding to 'rg'" in message and "colour or height" not in message
+    assert normal_map_problem(rg, "x.png", "rgb") is None     # explicit: obeyed, never refused
+    notes = normal_map_notes(rg, "x.png", "rgb")
+    assert "'auto' or 'rg' to read x, y" in notes[0] and "halves" not in " ".join(notes)
     assert any("two-channel" in note for note in normal_map_notes(rg, "x.png"))
     # a map for the halving decoder read at strength 1: its back-facing share, and the cure
     from parity_recipes import doubled_tilts
