@@ -61,8 +61,8 @@ def normal_conventions():
     rg = ImageData(ex.normal_map_rg(n).astype(np.float32), 16)
     halving = ImageData(ex.normal_map_halving(n).astype(np.float32), 16)
     pics = [_shade({**PAINT, "shape": rg})[0],
+            _shade({**PAINT, "shape": halving}, shape__strength=1.0)[0],
             _shade({**PAINT, "shape": halving})[0],
-            _shade({**PAINT, "shape": halving}, shape__strength=0.5)[0],
             _shade({**PAINT, "shape": ImageData(ex.normal_map_rgb(n).astype(np.float32), 16)})[0]]
     return pics
 
@@ -143,12 +143,16 @@ by the numpy core. *Before* is what Dynamic Painting did until 2026-11-23. Param
 {conventions}
 
 A sphere lit from the upper left. 1: a two-channel map (x, y in red and green, blue 0), read
-with `encoding = "auto"` (blue 0 everywhere → rg). Before, it was refused with a misleading "is
-it a colour or height image?"; read as RGB (`encoding = "rgb"`) it is refused now with the fix in
-the message: *set the shape encoding to 'rg' or 'auto'*. 2: a map painted for a decoder that
-halves every tilt, at strength 1 (before): twice as steep as drawn, the shading crowded to the
-rim. 3: the same at `strength = 0.5`. 4: the sphere's own RGB map, for comparison (1, 3 and 4
-agree to float precision).
+with `encoding = "auto"` (blue about 0 → rg, whatever 8-bit export or JPEG left in it). Before,
+it was refused with a misleading "is it a colour or height image?"; read as RGB (`encoding =
+"rgb"`, an explicit setting) it is read as asked, with a note that names the fix: *set 'auto'
+or 'rg' to read x, y*. 2: a map painted for a decoder that halves every tilt, at strength 1
+(before): twice as steep as drawn, the shading crowded to the rim. 3: the same with `strength =
+"auto"` (the default since 2026-11-25): its unit vectors face away where the drawing is steep,
+which only such a map's do, so it is read at 0.5, and said. A map whose vectors are not unit
+length cannot tell: its note names `strength = 0.5`. 4: the sphere's own RGB map, for
+comparison (1, 3 and 4 agree to float precision). How each guess survives noisy and JPEG
+files: [detection-numbers.md](detection-numbers.md).
 
 ## Masks painted in one colour channel (`transparency.channel`)
 

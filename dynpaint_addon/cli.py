@@ -4,6 +4,7 @@ User mistakes (missing files, unreadable images, bad recipes or options) end wit
 `error: …` on stderr and exit status 1 (2 for malformed command lines); never a traceback.
 """
 import argparse
+import difflib
 import os
 import sys
 import time
@@ -22,7 +23,7 @@ from .imageio import ImageReadError, read_image, write_exr, write_png
 from .make_shape_cli import add_parser as add_make_shape_parser
 from .notes import check_and_print, print_notes
 from .recipe import RecipeError, load_images, load_recipe
-from .samples import recipe_path
+from .samples import recipe_help
 from .shape_maker import ShapeError
 from .testpainting import builtin_images, builtin_recipe, write_test_painting
 
@@ -108,7 +109,9 @@ BAKE_OPTIONS = {"--height-scale": "shape.height_scale", "--preblur": "shape.preb
                 "--flip-green": "shape.flip_green", "--z-min": "shape.z_min",
                 "--offset": "shadows.offset", "--steps": "shadows.steps",
                 "--scale": "shadows.resolution", "--quality": "shadows.quality",
-                "--occupancy": "shadows.occupancy"}
+                "--occupancy": "shadows.occupancy", "--relief": "shadows.relief",
+                "--reach": "shadows.reach", "--encoding": "shape.encoding",
+                "--strength": "shape.strength"}
 
 
 def _dest(flag):
@@ -212,7 +215,7 @@ def cmd_turntable(args):
         raise CommandError(f"--samples must be at least 1, got {args.samples}")
     if args.elevation is not None and not -90 <= args.elevation <= 90:
         raise CommandError(f"--elevation must be in [-90, 90] degrees, got {args.elevation}")
-    recipe = load_recipe(recipe_path(args.recipe))
+    recipe = load_recipe(args.recipe)
     from .blender.headless import render_turntable  # Blender only when asked for
     try:
         seconds, samples = render_turntable(recipe, args.out, args.frames, args.engine, args.size,
@@ -270,7 +273,7 @@ def build_parser():
     r = sub.add_parser("render", help="render a recipe to an image",
                        description="Render a painting recipe (painting.toml) to PNG (8-bit sRGB) "
                                    "or EXR (linear float, premultiplied RGBA).")
-    r.add_argument("recipe", help="painting recipe (.toml)")
+    r.add_argument("recipe", help=recipe_help())
     r.add_argument("--out", required=True, help="output image (.png or .exr)")
     r.add_argument("--engine", default="numpy", choices=ENGINES,
                    help="numpy (the reference core, default), or cycles / eevee (the add-on's "
@@ -302,7 +305,7 @@ def build_parser():
     tt = sub.add_parser("turntable", help="render a light turntable of a recipe to a video",
                         description="The recipe's first Sun (or --light) orbits the painting once, "
                         "starting where the recipe puts it; each frame re-bakes its shadows.")
-    tt.add_argument("recipe", help="painting.toml, or a sample's name (portrait, glass, impossible)")
+    tt.add_argument("recipe", help=recipe_help())
     tt.add_argument("--frames", type=int, default=48, help="frames in one orbit (default 48)")
     tt.add_argument("--engine", choices=("eevee", "cycles"), default="cycles",
                     help="cycles (default: CPU, any machine) or eevee (fast with a GPU; this "
@@ -321,7 +324,8 @@ def build_parser():
     tt.add_argument("--fps", type=int, default=24, help="frames per second of the video "
                     "(default 24)")
     tt.set_defaults(func=cmd_turntable)
-    d = sub.add_parser("demo", help="render the built-in test painting (the README's main job)")
+    d = sub.add_parser("demo", help="render the built-in test painting with the numpy core (no "
+                       "Blender needed; the README's main job is `turntable portrait`)")
     d.add_argument("--out", default="out/demo.png", help="output image (default out/demo.png)")
     d.add_argument("--size", type=int, default=256, help="size in pixels (default 256)")
     d.set_defaults(func=cmd_demo)
@@ -339,13 +343,37 @@ def build_parser():
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    unknown = _unknown_command(parser, argv)
+    if unknown:
+        parser.print_usage(sys.stderr)
+        print(f"error: {unknown}", file=sys.stderr)
+        return 2
+    args = parser.parse_args(argv)
     try:
         args.func(args)
     except (CommandError, RecipeError, ImageReadError, ShapeError, ExportError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
+    except BrokenPipeError:
+        # `params | head`: the reader has gone; say nothing more (Python's own advice)
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     except (ValueError, OSError, MemoryError) as exc:
         print(f"error: {type(exc).__name__}: {exc}", file=sys.stderr)
         return 1
     return 0
+
+
+def _unknown_command(parser, argv):
+    """'rendr: no such command (did you mean 'render'?)' for a first word that names none."""
+    if not argv or argv[0].startswith("-"):
+        return ""
+    commands = next(a for a in parser._actions
+                    if isinstance(a, argparse._SubParsersAction)).choices
+    if argv[0] in commands:
+        return ""
+    close = difflib.get_close_matches(argv[0], list(commands), n=1)
+    hint = f" (did you mean '{close[0]}'?)" if close else ""
+    return f"'{argv[0]}' is no command{hint}; the commands: {', '.join(commands)}"

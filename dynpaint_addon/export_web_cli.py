@@ -8,7 +8,7 @@ import time
 from . import params
 from .notes import check_and_print, print_notes
 from .recipe import image_bytes, load_images, load_recipe
-from .samples import recipe_path
+from .samples import recipe_help
 from .web.page import TURNTABLE_SECONDS, page_data, write_page
 
 STEPS = params.BY_PATH["shadows.steps"]
@@ -28,7 +28,7 @@ def cmd_export_web(args):
     if args.turntable_seconds <= 0:
         raise ExportError(f"--turntable-seconds {args.turntable_seconds}: must be positive")
     start = time.perf_counter()
-    recipe = load_recipe(recipe_path(args.recipe))
+    recipe = load_recipe(args.recipe)
     images = load_images(recipe)
     check_and_print(images, recipe.params)
     data, warnings = page_data(
@@ -51,7 +51,7 @@ def add_parser(sub):
                        description="Write one offline .html file (images inside, no network) "
                        "where viewers drag the light over the painting (WebGL2). Open "
                        "PAINTING.html?embed for the painting alone at its own size.")
-    w.add_argument("recipe", help="painting.toml, or a sample's name (portrait, glass, impossible)")
+    w.add_argument("recipe", help=recipe_help())
     w.add_argument("--out", required=True, help="the web page (.html)")
     w.add_argument("--max-size", type=int, metavar="PX",
                    help="longest side of the painting in the page, in pixels (default: the "

@@ -1,6 +1,7 @@
 """`python -m dynpaint_addon make-shape METHOD …`: height and normal maps made from what the
 artist has (docs/shape-from-painting.md). Registered by cli.py; the work is in shape_maker and
 the core."""
+import argparse
 import os
 import time
 
@@ -16,7 +17,7 @@ from .core.shape import ENCODINGS
 from .imageio import read_image, write_exr, write_png
 from .notes import check_and_print, figure_note, print_notes
 from .recipe import load_recipe
-from .samples import recipe_path
+from .samples import recipe_help
 from .shape_maker import (GREENS, ShapeError, decode_normals, encode_normals, figure_and_source,
                           figure_mask, height_widths, linear_luminance, normals_of_height, same_size,
                           sprite_lamp_side)
@@ -49,6 +50,20 @@ def _write_normals(path, n, green):
 def _timed(args, what, started):
     if args.verbose:
         print(f"{what}: {time.perf_counter() - started:.3f} s")
+
+
+def _strength(text):
+    """--strength: 'auto' or a number in shape.strength's range."""
+    if text == "auto":
+        return text
+    prm = params.BY_PATH["shape.strength"]
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number or auto, got {text!r}") from None
+    if not prm.min <= value <= prm.max:
+        raise argparse.ArgumentTypeError(f"must be in [{prm.min:g}, {prm.max:g}], got {value:g}")
+    return value
 
 
 def cmd_integrate(args):
@@ -142,7 +157,7 @@ def cmd_inflate(args):
 
 
 def cmd_export_maps(args):
-    recipe = load_recipe(recipe_path(args.recipe))
+    recipe = load_recipe(args.recipe)
     images = {c: read_image(path) for c, path in recipe.images.items()   # only what it exports
               if c in ("shape", "gloss")}
     p = recipe.params
@@ -203,9 +218,9 @@ def add_parser(sub):
     m.add_argument("--encoding", choices=ENCODINGS, default="auto",
                    help="rgb, rg (two-channel) or auto (as shape.encoding)")
     m.add_argument("--flip-green", action="store_true", help="DirectX normal map (green down)")
-    m.add_argument("--strength", type=float, default=1.0,
-                   help="scale of each normal's tilt (0.5 for tilt-halving maps; as "
-                   "shape.strength)")
+    m.add_argument("--strength", type=_strength, default="auto",
+                   help="scale of each normal's tilt: a number (0.5 for tilt-halving maps) or "
+                   "auto (default; as shape.strength)")
     m.add_argument("--residual", help="also write the residual |g − ∇z| per pixel (.exr)")
     m.add_argument("--out", required=True, help="height map: .exr (image widths) or .png (16-bit)")
 
@@ -258,7 +273,7 @@ def add_parser(sub):
 
     m = method("export-maps", "a recipe's maps for game engines: normal, height, AO, specular",
                cmd_export_maps)
-    m.add_argument("recipe", metavar="RECIPE", help="painting recipe (.toml) or a sample's name")
+    m.add_argument("recipe", metavar="RECIPE", help=recipe_help())
     green_option(m)
     m.add_argument("--out", required=True, help="folder for normal.png, height.exr/.png, "
                    "ambient_occlusion.png, specular.png")

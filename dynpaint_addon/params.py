@@ -96,10 +96,12 @@ PARAMS = (
       "maps of many engines and tools); auto reads a map whose blue is 0 everywhere as rg",
       choices=ENCODINGS, spec="§2", derives=("shape", "relief"), bake=True,
       shown_if=("shape.kind", "normal")),
-    P("shape", "strength", float, 1.0, "Scales each normal's tilt angle: 0.5 halves every tilt, "
-      "exactly what maps made for a decoder that halves them (normalize((0,0,1) + N), some web "
-      "relighting tools) need; 1 = as painted", min=0.0, max=2.0, spec="§2",
-      derives=("shape", "relief"), bake=True, shown_if=("shape.kind", "normal")),
+    P("shape", "strength", "auto_float", "auto", "Scales each normal's tilt angle: 0.5 halves "
+      "every tilt, exactly what maps made for a decoder that halves them (normalize((0,0,1) + "
+      "N), some web relighting tools) need; 1 = as painted; 'auto' = 0.5 for a map of unit "
+      "vectors of which some face away (only such maps do), else 1", min=0.0, max=2.0,
+      spec="§2", auto_value=1.0, derives=("shape", "relief"), bake=True,
+      shown_if=("shape.kind", "normal")),
     P("shape", "z_min", float, 0.05, "Smallest allowed N.z: steeper normals are tilted back up so "
       "slopes stay finite", min=0.001, max=1.0, spec="§2", label="Minimum N.z",
       derives=("relief",), bake=True),
@@ -149,12 +151,13 @@ PARAMS = (
       "custom quality)", min=0, max=100000, spec="§6", label="Steps (K)", bake=True),
     P("shadows", "resolution", float, 1.0, "Resolution the bake marches at, then upsampled "
       "(custom quality)", unit="× the shape image", min=0.05, max=1.0, spec="§13", bake=True),
-    P("shadows", "relief", "enum", "integrated", "What a normal map's shadows fall from: "
+    P("shadows", "relief", "enum", "auto", "What a normal map's shadows fall from: "
       "integrated, the height field that best fits its normals (least squares, the figure cut "
-      "at the shape image's alpha; real shapes' shadows: measured against 3D, 0.84–0.89× a "
-      "true height map's cast-shadow overlap, along_ray 0.33×), or "
-      "along_ray, its slopes rebuilt along each shadow ray (the paper's way: impossible "
-      "figures, whose normals fit no height field)", choices=("integrated", "along_ray"),
+      "at the shape image's alpha); along_ray, its slopes rebuilt along each shadow ray (the "
+      "paper's way: impossible figures, whose normals fit no height field, and full-frame maps "
+      "whose hidden walls the integration would spread); auto = integrated where the shape "
+      "image has an alpha, else along_ray (measured against 3D: docs/relief-choice.md)",
+      choices=("auto", "integrated", "along_ray"),
       spec="§6", label="Normal-Map Relief", structural=True, derives=("relief",), bake=True,
       shown_if=("shape.kind", "normal")),
     P("shadows", "reach", float, 0.05, "How far along each shadow ray a normal map's relief "

@@ -27,7 +27,9 @@ from dataclasses import dataclass, field, replace
 
 from . import params
 from .core.lights import LIGHT_KINDS, Light
+from .channel_names import IMAGE_EXTENSIONS
 from .imageio import read_image
+from .samples import list_samples, recipe_path
 
 LIGHT_KEYS = ("type", "direction", "position", "color", "strength", "name")
 
@@ -175,20 +177,34 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True):
 
 
 def load_recipe(path):
-    """Read and validate a recipe file → Recipe."""
-    path = os.fspath(path)
+    """Read and validate a recipe file, or a sample's name ('portrait') → Recipe. A path that
+    is neither says which samples there are, and an image says that a recipe was expected."""
+    path = recipe_path(os.fspath(path))
     if not os.path.isfile(path):
-        raise RecipeError(f"{path}: recipe file not found")
+        raise RecipeError(_not_found(path))
+    if path.lower().endswith(IMAGE_EXTENSIONS):
+        raise RecipeError(f"{path} is an image: a recipe (painting.toml) was expected, which "
+                          f"names the images ([images] shape = \"{os.path.basename(path)}\", "
+                          f"…; docs/your-painting.md)")
     try:
         with open(path, "rb") as fh:
             data = tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
         raise RecipeError(f"{path}: not valid TOML ({exc})") from None
     except UnicodeDecodeError:
-        raise RecipeError(f"{path}: not a text file") from None
+        raise RecipeError(f"{path}: not a text file: a recipe (painting.toml) was "
+                          f"expected") from None
     recipe = parse_recipe(data, os.path.dirname(os.path.abspath(path)), path)
     recipe.path = os.path.abspath(path)
     return recipe
+
+
+def _not_found(path):
+    names = [s.id for s in list_samples()]
+    if os.sep in path or path.endswith(".toml"):
+        return f"{path}: recipe file not found"
+    return (f"{path}: no recipe file and no sample of that name"
+            f"{_suggest(path, names)} (samples: {', '.join(names)})")
 
 
 def _toml_value(v):

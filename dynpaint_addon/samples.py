@@ -48,3 +48,8 @@ def recipe_path(name_or_path):
         if sample.id == name_or_path:
             return sample.recipe
     return name_or_path     # load_recipe reports it as not found
+
+
+def recipe_help():
+    """The command line's help for a RECIPE argument, naming the samples there are."""
+    return f"painting.toml, or a sample's name ({', '.join(s.id for s in list_samples())})"

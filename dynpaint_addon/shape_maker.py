@@ -57,7 +57,7 @@ def figure_and_source(img, channel="auto"):
 def decode_normals(img, encoding="auto", flip_green=False, strength=1.0):
     """A normal-map image → unit normals (§2: its encoding, DirectX green, tilt strength)."""
     return decode_normal_map(np.asarray(img.rgb(), np.float64), flip_green, 0.001, encoding,
-                             strength)
+                             strength, img.alpha())
 
 
 def encode_normals(n, green="opengl"):

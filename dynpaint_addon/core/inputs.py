@@ -17,7 +17,7 @@ No bpy here.
 """
 import numpy as np
 
-from .shape import normal_vectors, resolve_encoding, scale_tilt
+from .shape import facing_away, normal_vectors, resolve_encoding, resolve_strength, scale_tilt
 
 FLAT_NORMAL_RGB = (0.5, 0.5, 1.0)
 
@@ -75,27 +75,16 @@ def normal_map_problem(px, name="shape image", encoding="auto"):
     return None
 
 
-# Unit vectors 2C − 1: |length − 1| below UNIT_TOLERANCE in UNIT_SHARE of the pixels. Measured
-# (docs/detection-numbers.md): unit maps keep ≥ 0.90 of their pixels within 0.05 down to JPEG
-# quality 30; maps of other lengths ≤ 0.60, colour images ≤ 0.21.
-UNIT_TOLERANCE = 0.05
-UNIT_SHARE = 0.8
-
-
-def unit_share(rgb):
-    """The share of pixels whose vector 2C − 1 is unit length (within UNIT_TOLERANCE)."""
-    length = np.sqrt(np.sum((2 * np.asarray(rgb)[..., :3] - 1) ** 2, axis=-1))
-    return float(np.mean(np.abs(length - 1) < UNIT_TOLERANCE)) if length.size else 0.0
-
-
-def normal_map_notes(px, name="shape image", encoding="auto", strength=1.0):
+def normal_map_notes(px, name="shape image", encoding="auto", strength="auto"):
     """What an artist should know about a normal map (§2), one line each: a map read as
-    two-channel, one that looks two-channel but is read as RGB by an explicit setting, and the
-    share of its *opaque* pixels facing away from the viewer (tilted up to N.z = z_min) with
-    the fix where a halving decoder may have been meant: a map of unit vectors mostly facing
-    away can only be one; a map of other lengths may also be no normal map at all."""
+    two-channel or as painted for a decoder that halves each tilt (the 'auto' guesses), one
+    that looks two-channel but is read as RGB by an explicit setting, and the share of its
+    *opaque* pixels facing away from the viewer (tilted up to N.z = z_min), with the fix where
+    a halving decoder may have been meant but the map cannot tell (its vectors are not unit
+    length, as a colour or height image's are not either)."""
     px = np.asarray(px)
     rgb = np.nan_to_num(px[..., :3].astype(np.float32), posinf=0.0, neginf=0.0)
+    alpha = px[..., 3] if px.shape[-1] == 4 else None
     resolved = resolve_encoding(rgb, encoding)
     looks_rg = resolve_encoding(rgb, "auto") == "rg"
     notes = []
@@ -105,22 +94,22 @@ def normal_map_notes(px, name="shape image", encoding="auto", strength=1.0):
     elif encoding == "rgb" and looks_rg:
         notes.append(f"{name}: its blue is about 0 everywhere, as in a two-channel map, but "
                      f"shape encoding 'rgb' reads it as blue (set 'auto' or 'rg' to read x, y)")
-    n = normal_vectors(rgb, resolved, strength)
-    opaque = _opaque(px) & (np.sqrt(np.sum(n * n, axis=-1)) >= 0.05)
-    if not opaque.any():
-        return notes
-    away = float(np.mean(n[..., 2][opaque] < 0))
+    k = resolve_strength(rgb, strength, encoding, alpha)
+    if strength == "auto" and k != 1:
+        away = facing_away(normal_vectors(rgb, resolved, 1.0), alpha)
+        notes.append(f"{name}: read as painted for a decoder that halves each tilt (its unit "
+                     f"vectors face away in {away:.0%} of its pixels): strength {k:g}; set "
+                     f"shape strength 1 to read it as it is")
+    away = facing_away(normal_vectors(rgb, resolved, k), alpha)
     if away > 0.01:
         hint = ""
-        if strength == 1 and not looks_rg:
-            halved = float(np.mean(scale_tilt(n, 0.5)[..., 2][opaque] < 0))
-            unit = unit_share(rgb[opaque]) >= UNIT_SHARE
-            if halved < away / 4 and (unit or away > 0.5):
+        if strength == "auto" and k == 1 and not looks_rg:
+            n = normal_vectors(rgb, resolved, 1.0)
+            if facing_away(scale_tilt(n, 0.5), alpha) < away / 4:
                 hint = ("; painted for a decoder that halves each tilt? shape strength 0.5 "
-                        f"(recipe: shape.strength = 0.5) keeps {1 - halved / away:.0%} of them")
-                if not unit:
-                    hint += (" — its vectors are not unit length, so the map cannot tell; or "
-                             "is it a colour or height image?")
+                        "(recipe: shape.strength = 0.5) reads it so — its vectors are not "
+                        "unit length, so the map cannot tell; or is it a colour or height "
+                        "image?")
         notes.append(f"{name}: {away:.0%} of its opaque pixels face away from the viewer and "
                      f"are tilted up to the minimum N.z{hint}")
     return notes
@@ -131,8 +120,9 @@ _CHANNEL_INDEX = {"red": 0, "green": 1, "blue": 2}
 
 
 # A mask painted in one pure channel (red on black): the other two stay below MASK_LEAK times
-# the painted one (99.9th percentiles). Measured (docs/detection-numbers.md): one-channel masks
-# leak at most 0.25 (JPEG quality 30, chroma subsampled), grey masks and colour images ≥ 0.93.
+# the painted one (99.9th percentiles). Measured (docs/detection-numbers.md, 64² to 256²):
+# one-channel masks leak at most 0.28 (JPEG, chroma subsampled), grey masks and colour images
+# ≥ 0.93.
 MASK_LEAK = 0.45
 
 

@@ -111,10 +111,20 @@ def shape_normals(shape, p, dtype=np.float32, relief=True):
         z_px = height_field_px(shape.grey().astype(dtype), p.shape.height_scale, float(sigma))
         return normals_from_height_px(z_px, p.shape.z_min), z_px, None
     n = decode_normal_map(shape.rgb().astype(dtype), p.shape.flip_green, p.shape.z_min,
-                          p.shape.encoding, p.shape.strength)
-    if relief and p.shadows.relief == "integrated":
+                          p.shape.encoding, p.shape.strength, shape.alpha())
+    if relief and relief_of(p.shadows.relief, shape.has_alpha) == "integrated":
         return n, normal_map_relief_px(n, shape), None
     return n, None, slopes_from_normals(n)
+
+
+def relief_of(relief, shape_has_alpha):
+    """shadows.relief as the relief a normal map's shadows fall from (§6 "Relief"): 'auto' is
+    integrated where the shape image has an alpha (the figure is cut out; its hidden walls
+    are at the cut), along the ray for a full-frame map (integrating it would spread each
+    hidden wall over the whole image). Measured against 3D: docs/relief-choice.md."""
+    if relief != "auto":
+        return relief
+    return "integrated" if shape_has_alpha else "along_ray"
 
 
 def normal_map_relief_px(n, shape, precise=False):

@@ -72,9 +72,9 @@ ENCODINGS = ("auto", "rgb", "rg")
 
 
 # A two-channel map: blue about 0 (its 99th percentile ≤ TWO_CHANNEL_BLUE) and x, y in the
-# unit disc (x² + y² ≤ 1.1 in ≥ 98 % of pixels). Measured (docs/detection-numbers.md): two-
-# channel maps keep blue's 99th percentile ≤ 0.07 down to JPEG quality 30 (single pixels
-# reach 0.26), RGB normal maps ≥ 0.9, colour images ≥ 0.9.
+# unit disc (x² + y² ≤ 1.1 in ≥ 98 % of pixels). Measured (docs/detection-numbers.md, 64² to
+# 256²): two-channel maps keep blue's 99th percentile ≤ 0.13 down to JPEG quality 30, RGB
+# normal maps and colour images ≥ 0.94.
 TWO_CHANNEL_BLUE = 0.25
 
 
@@ -109,22 +109,72 @@ def scale_tilt(n, strength):
                     axis=-1).astype(dtype, copy=False)
 
 
-def normal_vectors(rgb, encoding="rgb", strength=1.0):
+# Unit vectors 2C − 1: |length − 1| below UNIT_TOLERANCE in UNIT_SHARE of the tilted pixels
+# (|x, y| > 0.1: a flat background is unit in any map). Measured (docs/detection-numbers.md,
+# 64² to 256²): unit maps keep ≥ 0.74 of them within 0.15 down to JPEG quality 30; maps of
+# other lengths ≤ 0.56, colour images ≤ 0.38.
+UNIT_TOLERANCE = 0.15
+UNIT_SHARE = 0.65
+# A map painted for a decoder that halves each tilt stores unit vectors with doubled tilts, so
+# its steep parts face away, which a map of the usual convention never does: 'auto' strength
+# reads a map of unit vectors of which at least HALVING_AWAY (of the opaque, non-degenerate
+# pixels) face away at strength 0.5. Measured (docs/detection-numbers.md): usual maps ≤ 0.001
+# down to JPEG quality 30, halving maps of a hemisphere ≥ 0.24.
+HALVING_AWAY = 0.05
+
+
+def unit_share(rgb):
+    """The share of tilted pixels (|x, y| > 0.1) whose vector 2C − 1 is unit length (within
+    UNIT_TOLERANCE); 1 for a flat map."""
+    v = 2 * np.asarray(rgb, np.float32)[..., :3] - 1
+    tilted = np.hypot(v[..., 0], v[..., 1]) > 0.1
+    if not tilted.any():
+        return 1.0
+    length = np.sqrt(np.sum(v[tilted] ** 2, axis=-1))
+    return float(np.mean(np.abs(length - 1) < UNIT_TOLERANCE))
+
+
+def facing_away(n, alpha=None):
+    """The share of vectors n (…, 3) that face away (z < 0), among the opaque (alpha ≥ ½) and
+    non-degenerate ones; 0 if there are none."""
+    keep = np.sqrt(np.sum(n * n, axis=-1)) >= DEGENERATE_LENGTH
+    if alpha is not None:
+        keep &= np.nan_to_num(alpha) > 0.5
+    return float(np.mean(n[..., 2][keep] < 0)) if keep.any() else 0.0
+
+
+def resolve_strength(rgb, strength="auto", encoding="auto", alpha=None):
+    """shape.strength as a number (§2): 'auto' is 0.5 for a map painted for a decoder that
+    halves each tilt (unit vectors, HALVING_AWAY or more of them facing away), else 1."""
+    if strength != "auto":
+        return float(strength)
+    rgb = np.nan_to_num(np.asarray(rgb, np.float32)[..., :3], posinf=0.0, neginf=0.0)
+    if resolve_encoding(rgb, encoding) == "rg":
+        return 1.0
+    opaque = np.ones(rgb.shape[:-1], bool) if alpha is None else np.nan_to_num(alpha) > 0.5
+    if not opaque.any() or unit_share(rgb[opaque]) < UNIT_SHARE:
+        return 1.0
+    return 0.5 if facing_away(2 * rgb - 1, alpha) >= HALVING_AWAY else 1.0
+
+
+def normal_vectors(rgb, encoding="rgb", strength=1.0, alpha=None):
     """§2 normal map → the vectors 2C − 1 (not yet unit, no fallbacks): `encoding` 'rg' takes
-    z = √(1 − x² − y²) (blue ignored), 'auto' detects it; `strength` scales each tilt."""
+    z = √(1 − x² − y²) (blue ignored), 'auto' detects it; `strength` scales each tilt, 'auto'
+    as resolve_strength decides (on the opaque pixels: `alpha`)."""
     rgb = np.asarray(rgb)
     n = 2 * rgb[..., :3] - 1
     if resolve_encoding(rgb, encoding) == "rg":
         z = np.sqrt(np.maximum(1 - n[..., 0] ** 2 - n[..., 1] ** 2, 0))
         n = np.concatenate([n[..., :2], z[..., None].astype(n.dtype)], axis=-1)
-    return scale_tilt(n, strength)
+    return scale_tilt(n, resolve_strength(rgb, strength, encoding, alpha))
 
 
-def decode_normal_map(rgb, flip_green=False, z_min=Z_MIN_DEFAULT, encoding="rgb", strength=1.0):
+def decode_normal_map(rgb, flip_green=False, z_min=Z_MIN_DEFAULT, encoding="rgb", strength=1.0,
+                      alpha=None):
     """§2 normal map: N = 2C − 1 on RGB (or RG, `encoding`), each tilt scaled by `strength`,
     renormalized, fallbacks, z_min; `flip_green` for DirectX-style maps (green means "lit
-    from below")."""
-    n = normal_vectors(rgb, encoding, strength)
+    from below"); alpha: the map's, for strength 'auto'."""
+    n = normal_vectors(rgb, encoding, strength, alpha)
     if flip_green:
         n = n * np.array([1, -1, 1], dtype=n.dtype)
     return finalize_normals(n, z_min)

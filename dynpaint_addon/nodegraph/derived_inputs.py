@@ -37,7 +37,7 @@ from ..core.inputs import mask_values
 from ..core.pipeline import (MASKS, PER_PIXEL_CHANNELS, finite_image, lookup_copy, mask_setting,
                              shape_normals)
 from ..core.shape import (default_preblur_px, normal_vectors, preblurred_height, resolve_encoding,
-                          slopes_from_normals)
+                          resolve_strength, slopes_from_normals)
 
 
 @dataclass(frozen=True)
@@ -143,12 +143,12 @@ def _standard_normal_map(p):
     """A normal map in the convention the graph decodes (N = 2C − 1 on RGB), or None when it
     is stored so already (rgb encoding, strength 1): §2's encoding and strength applied."""
     def make(data):
-        rgb = data.rgb()
+        rgb, a = data.rgb(), data.alpha()
         encoding = resolve_encoding(rgb, p.shape.encoding)
-        if encoding == "rgb" and p.shape.strength == 1:
+        strength = resolve_strength(rgb, p.shape.strength, encoding, a)
+        if encoding == "rgb" and strength == 1:
             return None
-        n = normal_vectors(rgb, encoding, p.shape.strength)
-        a = data.alpha()
+        n = normal_vectors(rgb, encoding, strength)
         return _rgba(np.concatenate([(n + 1) / 2] + ([a[..., None]] if a is not None else []),
                                     -1))
     return make

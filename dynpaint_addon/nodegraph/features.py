@@ -13,7 +13,7 @@ structural parameter needs no code here.
 import dataclasses
 
 from .. import params
-from ..core.pipeline import silhouette_channel, transparency_branch
+from ..core.pipeline import relief_of, silhouette_channel, transparency_branch
 
 # The structural parameters whose Features value depends on the images as well: the value the
 # graph needs is resolved from the setting, the channels that have an image and those with alpha.
@@ -29,7 +29,13 @@ def _silhouette(source, channels, alpha_channels):
     return silhouette_channel(source, lambda c: c in channels and c in alpha_channels)
 
 
-RESOLVE = {"transparency.amount": _transparency, "silhouette.source": _silhouette}
+def _relief(relief, channels, alpha_channels):
+    """What a normal map's shadows fall from (§6): core.pipeline.relief_of."""
+    return relief_of(relief, "shape" in alpha_channels)
+
+
+RESOLVE = {"transparency.amount": _transparency, "silhouette.source": _silhouette,
+           "shadows.relief": _relief}
 DEFAULT_CHANNELS = frozenset({"shape", "dark", "bright"})
 STRUCTURAL = tuple(p for p in params.PARAMS if p.structural)
 

@@ -69,12 +69,103 @@
   }
 
   // -- images: base64 → inflate → byte planes → row deltas → RGBA texture --------------------
-  async function inflate(b64) {
+  // Inflated here, synchronously (RFC 1950/1951), not by DecompressionStream: the first frame is
+  // then drawn before the page's load event, so a screenshot taken at load shows the painting.
+  const LENGTH_BASE = [3, 4, 5, 6, 7, 8, 9, 10, 11, 13, 15, 17, 19, 23, 27, 31, 35, 43, 51, 59,
+                       67, 83, 99, 115, 131, 163, 195, 227, 258];
+  const LENGTH_BITS = [0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4,
+                       5, 5, 5, 5, 0];
+  const DIST_BASE = [1, 2, 3, 4, 5, 7, 9, 13, 17, 25, 33, 49, 65, 97, 129, 193, 257, 385, 513,
+                     769, 1025, 1537, 2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577];
+  const DIST_BITS = [0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 9, 9, 10, 10,
+                     11, 11, 12, 12, 13, 13];
+  const CODE_ORDER = [16, 17, 18, 0, 8, 7, 9, 6, 10, 5, 11, 4, 12, 3, 13, 2, 14, 1, 15];
+
+  // A canonical Huffman code as one lookup table over its longest code's bits: entry =
+  // symbol << 4 | code length (codes are packed least significant bit first).
+  function huffman(lengths) {
+    const max = Math.max(1, ...lengths), table = new Int32Array(1 << max).fill(-1);
+    const count = new Array(16).fill(0), next = new Array(16).fill(0);
+    lengths.forEach((l) => { if (l) count[l]++; });
+    for (let b = 1, code = 0; b <= max; b++) { code = (code + count[b - 1]) << 1; next[b] = code; }
+    lengths.forEach((l, symbol) => {
+      if (!l) return;
+      let code = next[l]++, reversed = 0;
+      for (let i = 0; i < l; i++) { reversed = (reversed << 1) | (code & 1); code >>= 1; }
+      for (let k = reversed; k < table.length; k += 1 << l) table[k] = (symbol << 4) | l;
+    });
+    return { table, max };
+  }
+  const FIXED_LENGTHS = huffman([...Array(288)].map((_, i) =>
+    i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8));
+  const FIXED_DISTANCES = huffman(new Array(30).fill(5));
+
+  function inflate(b64) {
     const text = atob(b64);
-    const bytes = new Uint8Array(text.length);
-    for (let i = 0; i < text.length; i++) bytes[i] = text.charCodeAt(i);
-    const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream("deflate"));
-    return new Uint8Array(await new Response(stream).arrayBuffer());
+    const src = new Uint8Array(text.length);
+    for (let i = 0; i < text.length; i++) src[i] = text.charCodeAt(i);
+    let pos = 2, bits = 0, count = 0, out = new Uint8Array(4 * src.length + 1024), size = 0;
+    const need = (n) => { while (count < n) { bits |= (src[pos++] | 0) << count; count += 8; } };
+    const take = (n) => {
+      need(n);
+      const v = bits & ((1 << n) - 1);
+      bits >>>= n; count -= n;
+      return v;
+    };
+    const symbol = (code) => {
+      need(code.max);
+      const e = code.table[bits & ((1 << code.max) - 1)];
+      if (e < 0) throw new Error("a painting image is damaged (bad deflate code)");
+      bits >>>= e & 15; count -= e & 15;
+      return e >> 4;
+    };
+    const room = (n) => {
+      if (size + n <= out.length) return;
+      const bigger = new Uint8Array(Math.max(2 * out.length, size + n));
+      bigger.set(out.subarray(0, size));
+      out = bigger;
+    };
+    let last = 0;
+    while (!last) {
+      last = take(1);
+      const type = take(2);
+      if (type === 0) {                              // stored: whole bytes after the header
+        pos -= count >> 3; bits = count = 0;
+        const n = src[pos] | (src[pos + 1] << 8);
+        pos += 4;
+        room(n);
+        out.set(src.subarray(pos, pos + n), size);
+        size += n; pos += n;
+        continue;
+      }
+      let lengths = FIXED_LENGTHS, distances = FIXED_DISTANCES;
+      if (type === 2) {
+        const nlen = take(5) + 257, ndist = take(5) + 1, ncode = take(4) + 4;
+        const codeLengths = new Array(19).fill(0);
+        for (let i = 0; i < ncode; i++) codeLengths[CODE_ORDER[i]] = take(3);
+        const lengthCode = huffman(codeLengths), all = [];
+        while (all.length < nlen + ndist) {
+          const s = symbol(lengthCode);
+          if (s < 16) all.push(s);
+          else if (s === 16) all.push(...new Array(3 + take(2)).fill(all[all.length - 1]));
+          else all.push(...new Array(s === 17 ? 3 + take(3) : 11 + take(7)).fill(0));
+        }
+        lengths = huffman(all.slice(0, nlen));
+        distances = huffman(all.slice(nlen));
+      } else if (type !== 1) {
+        throw new Error("a painting image is damaged (bad deflate block)");
+      }
+      for (;;) {
+        const s = symbol(lengths);
+        if (s < 256) { room(1); out[size++] = s; continue; }
+        if (s === 256) break;
+        const n = LENGTH_BASE[s - 257] + take(LENGTH_BITS[s - 257]);
+        const d = symbol(distances), back = DIST_BASE[d] + take(DIST_BITS[d]);
+        room(n);
+        for (let i = 0; i < n; i++, size++) out[size] = out[size - back];
+      }
+    }
+    return out.subarray(0, size);
   }
 
   const SIZES = { u8: 1, u16: 2, f16: 2, f32: 4 };
@@ -112,8 +203,8 @@
     return out;
   }
 
-  async function texture(tex) {
-    const rgba = rgbaOf(tex, codesOf(tex, await inflate(tex.data)));
+  function texture(tex) {
+    const rgba = rgbaOf(tex, codesOf(tex, inflate(tex.data)));
     const t = gl.createTexture();
     gl.bindTexture(gl.TEXTURE_2D, t);
     gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
@@ -459,7 +550,7 @@
     requestAnimationFrame(loop);
   }
 
-  async function start() {
+  function start() {
     if (EMBED) document.documentElement.classList.add("embed");
     buildControls();
     if (!gl) {
@@ -467,16 +558,11 @@
            "off). Try a current Firefox, Chrome, Edge or Safari, with hardware acceleration on.");
       return;
     }
-    if (typeof DecompressionStream === "undefined") {
-      fail("This browser is too old to unpack the painting's images (no DecompressionStream): " +
-           "try a current Firefox, Chrome, Edge or Safari.");
-      return;
-    }
     state.steps = DATA.steps;
     try {
       useLook();
       const names = Object.keys(DATA.textures).filter((c) => !DATA.textures[c].same_as);
-      const made = await Promise.all(names.map((c) => texture(DATA.textures[c])));
+      const made = names.map((c) => texture(DATA.textures[c]));
       names.forEach((c, i) => { textures[c] = made[i]; });
       let unit = 0;
       for (const [c, tex] of Object.entries(DATA.textures)) {
@@ -499,5 +585,9 @@
     requestAnimationFrame(loop);
   }
 
-  api.ready = start().catch((err) => fail(String(err.message || err)));
+  // drawn before the load event (no await on the way); `ready` stays a promise for the tests
+  api.ready = new Promise((resolve) => {
+    try { start(); } catch (err) { fail(String(err.message || err)); }
+    resolve();
+  });
 })();

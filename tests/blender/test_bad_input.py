@@ -118,7 +118,7 @@ CASES = {
     "two-channel map read as RGB": ({"shape": "normal_rg.png", "dark": "dark.png"}, "normal/rgb",
                                     ("ok", "'auto' or 'rg' to read x, y")),
     "map for a halving decoder": ({"shape": "normal_halving.png", "dark": "dark.png"}, "normal",
-                                  ("ok", "shape strength 0.5")),
+                                  ("ok", "read as painted for a decoder that halves each tilt")),
     "mask in one colour channel": ({"shape": "height.png", "dark": "dark.png",
                                     "transparency": "mask_red.png", "background": "bright.png"},
                                    "height", ("ok", "read from its red channel")),

@@ -1,8 +1,11 @@
 """The command line, run as users run it: `python -m dynpaint_addon …` in a fresh process."""
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
-from conftest import run_cli, unit
+from conftest import REPO, run_cli, unit
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.shadow import cos_theta_shadow
 from dynpaint_addon.core.shape import height_field_px, normals_from_height_px
@@ -97,9 +100,16 @@ def test_bake_shadow_normal_map_and_point_light(tmp_path):
     (("render", "bad.toml", "--out", "x.png"), "bad.toml: shadows.stpes: unknown key (did you mean 'steps'?)"),
     (("render", "good.toml", "--out", "x.jpg"), "unsupported output format '.jpg'"),
     (("render", "good.toml", "--out", "x.png", "--frame", 3), "--frame needs --engine eevee or cycles"),
+    # what cost a newcomer minutes (issue 27)
+    (("render", "portriat", "--out", "x.png"),
+     "portriat: no recipe file and no sample of that name (did you mean 'portrait'?) (samples: "),
+    (("turntable", "portriat", "--out", "x.mp4"), "(did you mean 'portrait'?)"),
+    (("render", "height.png", "--out", "x.png"),
+     "height.png is an image: a recipe (painting.toml) was expected"),
 ])
 def test_user_mistakes_give_one_clear_line(tmp_path, painting, args, message):
     (tmp_path / "notimage.png").write_text("hello")
+    (tmp_path / "height.png").write_bytes(b"\x89PNG\r\n")
     (tmp_path / "bad.toml").write_text('[images]\nshape = "notimage.png"\ndark = "notimage.png"\n[shadows]\nstpes = 3\n')
     args = [painting if a == "good.toml" else a for a in args]
     res = run_cli(*args, cwd=tmp_path)
@@ -112,6 +122,16 @@ def test_user_mistakes_give_one_clear_line(tmp_path, painting, args, message):
 def test_malformed_command_lines_exit_2():
     res = run_cli("bake-shadow", "x.png", "--kind", "sphere", "--light", 0, 0, 1, "--out", "t.exr")
     assert res.returncode == 2 and "invalid choice" in res.stderr and "Traceback" not in res.stderr
+    res = run_cli("rendr", "portrait", "--out", "x.png")
+    assert res.returncode == 2 and "'rendr' is no command (did you mean 'render'?)" in res.stderr
+
+
+def test_a_sample_name_renders_and_a_closed_pipe_ends_quietly(tmp_path):
+    res = run_cli("render", "portrait", "--width", 32, "--out", tmp_path / "p.png")
+    assert res.returncode == 0 and "rendered 32×32" in res.stdout, res.stderr
+    head = subprocess.run(f"{sys.executable} -m dynpaint_addon params | head -3", shell=True,
+                          cwd=REPO, capture_output=True, text=True)
+    assert len(head.stdout.splitlines()) == 3 and "Error" not in head.stderr, head.stderr
 
 
 def test_demo_writes_an_image(tmp_path):
@@ -133,3 +153,27 @@ def test_render_with_cycles_matches_numpy(tmp_path):
     got = read_image(str(tmp_path / "c.exr")).pixels
     want = read_image(str(tmp_path / "n.exr")).pixels
     assert np.abs(got - want)[1:-1, 1:-1].max() <= 1e-3
+
+
+def test_bake_shadow_chooses_the_relief_and_its_reach(tmp_path):
+    """--relief and --reach reach the bake (issue 27): auto is along the ray for a full-frame
+    normal map, integrated for one with an alpha (core.pipeline.relief_of)."""
+    size = 48
+    y, x = (np.mgrid[0:size, 0:size] + 0.5) / size - 0.5
+    z = np.sqrt(np.clip(0.3 ** 2 - x * x - y * y, 0, None))
+    n = normals_from_height_px((z * size).astype(np.float32))
+    write_png(tmp_path / "n.png", (n + 1) / 2, bits=16)
+    write_png(tmp_path / "na.png", np.concatenate([(n + 1) / 2, (z > 0)[..., None]], -1), bits=16)
+
+    def bake(image, *extra):
+        out = tmp_path / f"t{len(list(tmp_path.iterdir()))}.exr"
+        res = run_cli("bake-shadow", tmp_path / image, "--kind", "normal", "--light", 1, 0, 0.6,
+                      *extra, "--out", out)
+        assert res.returncode == 0, res.stderr
+        return read_image(str(out)).pixels[..., 0]
+    along, integrated = bake("n.png", "--relief", "along_ray"), bake("n.png", "--relief",
+                                                                      "integrated")
+    assert np.abs(along - integrated).max() > 0.1
+    np.testing.assert_array_equal(bake("n.png"), along)
+    np.testing.assert_array_equal(bake("na.png"), bake("na.png", "--relief", "integrated"))
+    assert np.abs(bake("n.png", "--relief", "along_ray", "--reach", 0.01) - along).max() > 0.05

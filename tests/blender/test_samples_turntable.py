@@ -251,7 +251,7 @@ def test_a_turntable_framed_pixel_for_pixel_renders_the_exact_image_at_one_sampl
     (("glass", "--out", "x.png"), "a turntable is a video"),
     (("glass", "--frames", "1", "--out", "x.mp4"), "--frames must be at least 2"),
     (("glass", "--size", "65", "48", "--out", "x.mp4"), "must be even"),
-    (("nosuch", "--out", "x.mp4"), "recipe file not found"),
+    (("nosuch", "--out", "x.mp4"), "nosuch: no recipe file and no sample of that name"),
     (("glass", "--light", "Fill", "--out", "x.mp4"), "--light Fill: no such light"),
 ])
 def test_turntable_command_errors_are_one_line(args, message, tmp_path):

@@ -4,15 +4,19 @@ and the viewer's controls are driven with real input events.
 
 Images are read through Blender (tests/parity_recipes.py writes PNGs), hence tests/blender.
 """
+import subprocess
+
 import numpy as np
 import pytest
 
 from dynpaint_addon.core.pipeline import render as core_render
+from dynpaint_addon.imageio import read_image
+from dynpaint_addon.web.chromium import find_chromium
 from dynpaint_addon.looks import with_look
 from dynpaint_addon.recipe import load_images
 from dynpaint_addon.web.page import page_data, write_page
 
-from conftest import open_page, page_pixels
+from conftest import open_page, page_pixels, run_cli
 from parity_recipes import RECIPES, make_recipe, write_images
 
 SHADOWS = [n for n, (_, over, _) in RECIPES.items() if over.get("shadows.enabled")]
@@ -105,3 +109,20 @@ def test_looks_are_offered_and_render_like_the_core_with_that_look(paths, browse
         got = page_pixels(page, data["width"], data["height"])
         want = core_render(images, recipe.lights, with_look(recipe.params, key)).rgba
         assert np.abs(interior(got) - interior(want)).max() <= 2e-3, label
+
+
+def test_a_screenshot_taken_at_load_shows_the_painting(browser, tmp_path):
+    """`chromium --headless --screenshot` (what a user runs) shoots at the load event: the
+    images are inflated and the first frame drawn before it, every time (issue 27: 3 blank
+    shots in 5 when the images were inflated asynchronously)."""
+    page = tmp_path / "portrait.html"
+    res = run_cli("export-web", "portrait", "--out", page)
+    assert res.returncode == 0, res.stderr
+    for i in range(3):
+        shot = tmp_path / f"shot{i}.png"
+        subprocess.run([find_chromium(), "--headless", "--no-sandbox", f"--screenshot={shot}",
+                        "--window-size=700,700", f"file://{page}?embed"], capture_output=True,
+                       timeout=120, cwd=tmp_path)
+        px = read_image(str(shot)).pixels[..., :3]
+        # the page's backdrop is one flat grey; the painting has light and shade
+        assert px.std() > 0.05 and np.mean(np.abs(px - px[0, 0]).sum(-1) > 0.05) > 0.3, i

@@ -160,5 +160,6 @@ def test_back_facing_shares_count_only_opaque_pixels():
                          np.concatenate([np.ones((1, 400, 1)), np.zeros((1, 400, 1))], 1)], -1)
     assert normal_map_notes(px, "a.png") == []               # … but are transparent
     px[..., 400:, 3] = 1
-    assert "50% of its opaque pixels" in normal_map_notes(px, "a.png")[0]
+    assert "50% of its opaque pixels" in normal_map_notes(px, "a.png", strength=1.0)[0]
+    assert "face away in 50%" in normal_map_notes(px, "a.png")[0]   # auto: a halving map
     assert normal_map_problem(px[..., :3], "b.png") is None  # half away: usable, not refused
