@@ -3,7 +3,8 @@
 1. The command itself, as the README runs it (`python -m dynpaint_addon turntable portrait`),
    timed from the process start to the written video, best of --repeat runs; beside it the
    baseline in the same run: the same command with the antialiasing it used before issue 27
-   (--samples 16 and a 1.5 px filter) over --baseline-frames frames, scaled to 48.
+   (--samples 16 and a 1.5 px filter) over --baseline-frames frames, scaled to 48; and the
+   command with --engine eevee.
 2. Where a frame's time goes, in one background Blender with the scene the command builds:
    - bake: the core's final cos-θ bake of the orbiting light (what the frame-change handler
      runs; the static Fill light bakes once),
@@ -140,6 +141,7 @@ def main(argv=None):
         runs = [run_command(video, FRAMES) for _ in range(args.repeat)]
         best, summary = min(runs)
         base, _ = run_command(video, args.baseline_frames, "--samples", "16")
+        eevee, _ = run_command(video, FRAMES, "--engine", "eevee")
         one, _ = run_command(video, 2)         # Blender's start, the build, two frames
         part = shares(recipe, args.frames_measured)
         exact = exactness(recipe, folder)
@@ -164,6 +166,7 @@ def main(argv=None):
         f"| baseline: the same with 16 antialiasing samples ({args.baseline_frames} frames "
         f"× {FRAMES / args.baseline_frames:g}) | {baseline:.1f} | |",
         f"| speed-up | {baseline / best:.1f}× | |",
+        f"| the command with `--engine eevee` (software OpenGL here: no GPU) | {eevee:.1f} | |",
         "",
         f"The command's own line: `{summary}`",
         "",
@@ -176,6 +179,9 @@ def main(argv=None):
           for name, ms in [*part.items(), ("encoding and the rest", encoding)]],
         f"| once per run: Python, Blender's start, the scene's build | {startup * 1000:.0f} | "
         "— |",
+        "",
+        f"EEVEE takes {eevee / best:.1f}× Cycles' time on this machine, which has no GPU: the "
+        "command line renders with Cycles unless `--engine eevee` is asked for.",
         "",
         "Each frame against the numpy core's render of the lights where that frame puts them "
         f"(max |Δ| over RGB, goal ≤ {EXACT_GOAL:g}): "

@@ -308,6 +308,12 @@ def input_notes(images, p):
     notes += mask_notes(mask_channels(images, p), p)
     notes += [size_message(c, images[c].size, shape.size) for c in PER_PIXEL_CHANNELS
               if c in images and images[c].size != shape.size]
+    if p.shape.kind == "normal" and p.shadows.enabled and p.shadows.relief == "auto" and \
+            not shape.has_alpha:
+        notes.append(f"{shape.name or 'shape image'}: no alpha, so its shadows fall from its "
+                     f"slopes along each ray (shadows.relief auto); give it the figure's alpha "
+                     f"to cut the figure out, or set shadows.relief = \"integrated\" "
+                     f"(docs/relief-choice.md)")
     return notes + silhouette_notes(images, p)
 
 

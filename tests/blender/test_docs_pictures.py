@@ -24,3 +24,10 @@ def test_page_and_pictures_are_current(generator, page, pictures, tmp_path):
         new = read_image(str(tmp_path / "img" / pictures / name)).pixels
         old = read_image(os.path.join(docs, "img", pictures, name)).pixels
         assert new.shape == old.shape and float(np.abs(new - old).max()) <= 2 / 255, name
+
+
+def test_walkthrough_page_and_pictures_are_current(browser, tmp_path):
+    """docs/your-painting.md: its commands run as a user runs them (the page's picture is a
+    headless Chromium screenshot, hence the browser)."""
+    test_page_and_pictures_are_current("make_walkthrough", "your-painting.md", "walkthrough",
+                                       tmp_path)

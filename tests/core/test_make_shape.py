@@ -301,8 +301,9 @@ def test_the_multigrid_solver_handles_cut_and_held_pixels():
 
 
 def test_normal_map_shadows_fall_from_the_integrated_relief():
-    """§6 Relief: by default a normal map's shadows are marched over its integrated height,
-    which on a real shape is the true one; the paper's along-the-ray rebuild is kept."""
+    """§6 Relief: a normal map's shadows marched over its integrated height, which on a real
+    shape is the true one; the paper's along-the-ray rebuild is kept (and is what 'auto'
+    picks for a map without an alpha: docs/relief-choice.md)."""
     from dynpaint_addon.core.pipeline import shape_normals
     from dynpaint_addon.core.shadow import cos_theta_shadow
     size = 96
@@ -311,7 +312,8 @@ def test_normal_map_shadows_fall_from_the_integrated_relief():
     n = normals_of_height(z)
     image = ImageData(((n + 1) / 2).astype(np.float32), 32)
     p = params.defaults()
-    assert p.shadows.relief == "integrated"
+    assert p.shadows.relief == "auto" and shape_normals(image, p)[1] is None   # no alpha
+    p.shadows.relief = "integrated"
     sun = Light("sun", (np.cos(np.radians(30)), 0.0, np.sin(np.radians(30))))
     n32, relief, slopes = shape_normals(image, p)
     assert slopes is None and abs(relief.max() / size - 0.3) < 0.02

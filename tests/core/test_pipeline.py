@@ -4,7 +4,7 @@ import pytest
 
 from dynpaint_addon import params
 from dynpaint_addon.core.lights import Light
-from dynpaint_addon.core.pipeline import ImageData, render, shape_normals
+from dynpaint_addon.core.pipeline import ImageData, input_notes, relief_of, render, shape_normals
 
 
 def srgb_decode(v):
@@ -335,3 +335,21 @@ def test_point_light_falloff_halves_the_weight_at_its_radius_and_spares_suns():
     p.falloff.mode = "inverse_square"
     w_sun = render(flat, [Light("sun", (0.0, 0.0, 1.0))], p).passes["W"][..., 0]
     assert np.allclose(w_sun, 1.0)
+
+
+def test_auto_relief_integrates_cut_out_figures_and_marches_full_frame_maps_and_says_so():
+    """shadows.relief 'auto' (docs/relief-choice.md): integrated where the shape image has an
+    alpha, along the ray where it has none, with a note naming both ways out."""
+    assert relief_of("auto", True) == "integrated" and relief_of("auto", False) == "along_ray"
+    assert relief_of("integrated", False) == "integrated"
+    rgb = np.full((16, 16, 3), (0.5, 0.5, 1.0), np.float32)
+    p = params.defaults()
+    p.shape.kind, p.shadows.enabled = "normal", True
+    full = ImageData(rgb, 8, "n.png")
+    cut = ImageData(np.dstack([rgb, np.ones((16, 16), np.float32)]), 8, "n.png")
+    assert shape_normals(full, p)[1] is None and shape_normals(cut, p)[1] is not None
+    notes = input_notes({"shape": full}, p)
+    assert len(notes) == 1 and "along each ray" in notes[0] and "integrated" in notes[0]
+    assert input_notes({"shape": cut}, p) == []
+    p.shadows.relief = "along_ray"                       # chosen: nothing to say
+    assert input_notes({"shape": full}, p) == []
