@@ -104,7 +104,7 @@ def integrated_portrait():
 
 def relief_shadows():
     """§6 Relief: the portrait as a normal map under a low sun, shadows from its true heights,
-    from its integrated relief (the default) and along each ray (the paper's way)."""
+    from its integrated relief and along each ray (the paper's way)."""
     recipe, images, n, z = portrait_relief()
     normal_map = {**images, "shape": ImageData(((n + 1) / 2).astype(np.float32), 32)}
     tiles = [_lit(render(images, [LOW_SUN], recipe.params).rgba)]
@@ -227,8 +227,9 @@ export. Not for impossible figures: the residual says how much of the drawing wo
 {relief}
 
 The portrait under a low sun, from its height map (left, the truth), then as a normal map with
-its shadows from the integrated relief (middle, the default) and rebuilt along each ray (right,
-the paper's way). Mean colour difference from the truth: {err_integrated:.4f} integrated,
+its shadows from the integrated relief (middle: what `relief = "auto"`, the default, picks for
+a map with the figure in its alpha) and rebuilt along each ray (right, the paper's way, which
+`auto` picks for a full-frame map: [relief-choice.md](relief-choice.md)). Mean colour difference from the truth: {err_integrated:.4f} integrated,
 {err_along:.4f} along the ray. Against 3D renders (shape-numbers.md) the integrated relief's
 cast shadows overlap the truth 0.84–0.89× as well as a true height map's, along the ray 0.33×.
 What keeps it under 0.9× is walls the figure hides: Suzanne's muzzle stands up to 0.16 image
