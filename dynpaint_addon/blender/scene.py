@@ -242,6 +242,7 @@ def exact_render_settings(scene, engine):
 def output_settings(scene, path):
     ext = os.path.splitext(path)[1].lower()
     s = scene.render.image_settings
+    s.media_type = "IMAGE"      # Blender 5.0: a scene set up for video offers only FFMPEG
     if ext == ".exr":
         s.file_format, s.color_depth, s.exr_codec = "OPEN_EXR", "32", "ZIP"
     elif ext == ".png":
