@@ -40,7 +40,7 @@ class Param:
     # nodegraph.features.Features, named `feature` or after the path); the graph reads any
     # parameter's value live (a driver or a group input carries it: changing it rebuilds
     # nothing), a structural one's too where a branch needs it. derives:
-    # the images numpy derives from the inputs with it (core/derived.py). bake: the cos-θ
+    # the images numpy derives from the inputs with it (nodegraph/derived_inputs.py). bake: the cos-θ
     # bake reads it.
     structural: bool = False
     feature: str = ""
@@ -289,5 +289,6 @@ def defaults():
 
 
 def as_dict(params):
-    """Section → {key: value}, the inverse of `from_dict` (for writing recipes)."""
+    """Section → {key: value} (for writing and comparing recipes; recipe.parse_recipe reads
+    them back)."""
     return {s: dict(vars(getattr(params, s))) for s in SECTIONS}

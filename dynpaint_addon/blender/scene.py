@@ -10,8 +10,6 @@ from collections.abc import Mapping
 from contextlib import contextmanager
 from dataclasses import replace
 
-import numpy as np
-
 import bpy
 from mathutils import Vector
 
@@ -252,6 +250,3 @@ def output_settings(scene, path):
     s.color_mode = "RGBA"
     scene.render.filepath = os.path.abspath(path)
 
-
-def is_exact_size(plane):
-    return np.allclose(plane.scale, plane.scale[0])

@@ -1,6 +1,14 @@
 """The pure-numpy implementation of pipeline.md (§0–§11, §14): the reference for every backend.
 
-Must never import bpy. Modules by spec section: shape (§2), shading (§3–§5, §7), shadow (§6),
-warps (§8–§9), fresnel (§10), pipeline (§11 composite and the whole render), sampling and
-colour (§0 lookups and transfer functions), lights (§0 painting frame).
+Must never import bpy. Modules by job:
+
+- the render: pipeline (§11 composite, the whole render, the input rules), inputs (§14:
+  imperfect images and the guesses about their conventions), shape (§2), shading (§3–§5, §7),
+  lights (§0 painting frame, §5 falloff), warps (§8–§9), fresnel (§10), sampling and colour
+  (§0 lookups and transfer functions);
+- the cos-θ shadows (§6, §13): bake (quality levels), shadow (the reference march),
+  crossings (the fast path at every level);
+- making the shape from the painting: integrate (normal map → height), laplace (its solver),
+  inflate (silhouette → height), photometric (lighting profiles, red/green photos → normals),
+  occlusion (ambient occlusion for exported maps).
 """
