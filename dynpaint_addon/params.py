@@ -157,7 +157,7 @@ PARAMS = (
       "paper's way: impossible figures, whose normals fit no height field, and full-frame maps "
       "whose hidden walls the integration would spread); auto = integrated where the shape "
       "image has an alpha, else along_ray (measured against 3D: docs/relief-choice.md)",
-      choices=("auto", "integrated", "along_ray"),
+      choices=("integrated", "along_ray", "auto"),   # this order: a .blend stores the index
       spec="§6", label="Normal-Map Relief", structural=True, derives=("relief",), bake=True,
       shown_if=("shape.kind", "normal")),
     P("shadows", "reach", float, 0.05, "How far along each shadow ray a normal map's relief "

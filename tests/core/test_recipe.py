@@ -97,3 +97,11 @@ def test_unreadable_recipe_files(tmp_path):
     binary.write_bytes(b"\xff\xfe\x00garbage")
     with pytest.raises(RecipeError):
         load_recipe(str(binary))
+
+
+def test_enum_choices_keep_the_numbers_saved_files_hold():
+    """A .blend stores an enum setting as its item's index: a new choice goes at the end (the
+    choices of released versions keep their places; issue 27 added relief and strength
+    'auto')."""
+    assert params.BY_PATH["shadows.relief"].choices == ("integrated", "along_ray", "auto")
+    assert params.BY_PATH["shape.encoding"].choices == ("auto", "rgb", "rg")
