@@ -1,7 +1,8 @@
 """Command line: `python -m dynpaint_addon <command>` (see --help of each command).
 
-User mistakes (missing files, unreadable images, bad recipes or options) end with one line
-`error: …` on stderr and exit status 1 (2 for malformed command lines); never a traceback.
+User mistakes (missing files, unreadable images, bad recipes or options: errors.UserError) end
+with one line `error: …` on stderr and exit status 1 (2 for malformed command lines); never a
+traceback.
 """
 import argparse
 import difflib
@@ -18,17 +19,17 @@ from .core.pipeline import PER_PIXEL_CHANNELS, ImageData, render, shape_normals
 from .core.sampling import resample
 from .core.bake import QUALITY, bake, quality_settings
 from .core.shadow import ShadowStats
-from .export_web_cli import ExportError, add_parser as add_export_web_parser
-from .imageio import ImageReadError, read_image, write_exr, write_png
+from .errors import UserError
+from .export_web_cli import add_parser as add_export_web_parser
+from .imageio import read_image, write_exr, write_png
 from .make_shape_cli import add_parser as add_make_shape_parser
 from .notes import check_and_print, print_notes
-from .recipe import RecipeError, load_images, load_recipe
+from .recipe import load_images, load_recipe
 from .samples import recipe_help
-from .shape_maker import ShapeError
 from .testpainting import builtin_images, builtin_recipe, write_test_painting
 
 
-class CommandError(Exception):
+class CommandError(UserError):
     """A user-facing problem with a command's options."""
 
 
@@ -353,7 +354,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     try:
         args.func(args)
-    except (CommandError, RecipeError, ImageReadError, ShapeError, ExportError) as exc:
+    except UserError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
     except BrokenPipeError:

@@ -6,6 +6,7 @@ description; the viewer drags the light. Problems end as one `error: …` line (
 import time
 
 from . import params
+from .errors import UserError
 from .notes import check_and_print, print_notes
 from .recipe import image_bytes, load_images, load_recipe
 from .samples import recipe_help
@@ -14,7 +15,7 @@ from .web.page import TURNTABLE_SECONDS, page_data, write_page
 STEPS = params.BY_PATH["shadows.steps"]
 
 
-class ExportError(ValueError):
+class ExportError(UserError):
     """A user-facing problem with export-web's options."""
 
 

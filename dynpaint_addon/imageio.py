@@ -14,11 +14,12 @@ import zlib
 import numpy as np
 
 from .core.pipeline import ImageData
+from .errors import UserError
 
 EXR_MAGIC = b"\x76\x2f\x31\x01"
 
 
-class ImageReadError(ValueError):
+class ImageReadError(UserError):
     """An image could not be read; the message names the file and the problem."""
 
 

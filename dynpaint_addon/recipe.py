@@ -26,15 +26,16 @@ import tomllib
 from dataclasses import dataclass, field, replace
 
 from . import params
-from .core.lights import LIGHT_KINDS, Light
 from .channel_names import IMAGE_EXTENSIONS
+from .core.lights import LIGHT_KINDS, Light
+from .errors import UserError
 from .imageio import read_image
 from .samples import list_samples, recipe_path
 
 LIGHT_KEYS = ("type", "direction", "position", "color", "strength", "name")
 
 
-class RecipeError(ValueError):
+class RecipeError(UserError):
     """A recipe problem; the message starts with the file and the key."""
 
 

@@ -22,11 +22,12 @@ from .core.photometric import SIDES, normals_from_profiles, normals_from_rg_phot
 from .core.sampling import resample
 from .core.shape import (decode_normal_map, default_preblur_px, height_field_px,
                          normals_from_height_px, preblurred_height)
+from .errors import UserError
 
 GREENS = ("opengl", "directx")
 
 
-class ShapeError(ValueError):
+class ShapeError(UserError):
     """A make-shape input that cannot be used; the message says what to change."""
 
 
