@@ -126,6 +126,7 @@ def _profile_images(args):
 
 def cmd_profiles(args):
     paths = _profile_images(args)
+    named = {side: path for side, path in paths.items() if path in args.images}
     images = {side: read_image(path) for side, path in paths.items()}
     same_size(images, "lighting profiles")
     started = time.perf_counter()
@@ -133,6 +134,8 @@ def cmd_profiles(args):
                               args.elevation)
     _timed(args, f"profiles ({', '.join(paths)})", started)
     _write_normals(args.out, n, args.green)
+    print_notes([f"{path}: the {side} profile (by its name; --{side} sets it)"
+                 for side, path in named.items()])
 
 
 def cmd_rg_photo(args):

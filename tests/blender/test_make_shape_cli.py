@@ -74,9 +74,11 @@ def test_normals_profiles_and_rg_photo_make_normal_maps(tmp_path):
                     "top": (0, np.cos(e), np.sin(e)), "bottom": (0, -np.cos(e), np.sin(e))}.items():
         shot = np.clip(n @ np.array(l), 0, 1)
         write_exr(tmp_path / f"portrait_{side}.exr", shot)
-    ok(run_cli("make-shape", "profiles", *[tmp_path / f"portrait_{s}.exr" for s in
-                                           ("left", "right", "top", "bottom")],
-               "--out", tmp_path / "p.exr", "-v"))
+    res = run_cli("make-shape", "profiles", *[tmp_path / f"portrait_{s}.exr" for s in
+                                              ("left", "right", "top", "bottom")],
+                  "--out", tmp_path / "p.exr", "-v")
+    ok(res)
+    assert "portrait_left.exr: the left profile (by its name; --left sets it)" in res.stderr
     got = read_image(tmp_path / "p.exr").pixels[..., :3] * 2 - 1
     assert np.degrees(np.arccos(np.clip(np.sum(got * n, 2), -1, 1)))[inside].mean() < 0.5
     write_png(tmp_path / "photo.png", (n + 1) / 2, bits=16)
