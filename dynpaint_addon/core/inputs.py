@@ -130,7 +130,14 @@ def mask_channel(px, channel="auto"):
     """The channel `mask_values` reads: `channel` itself, or for 'auto' the one channel a mask
     is painted in (the other two below MASK_LEAK of it, whatever 8-bit export or JPEG left in
     them), else 'luminance'. Decided on the whole image (a part of it may look painted in one
-    channel when the whole is not)."""
+    channel when the whole is not).
+
+    >>> px = np.zeros((4, 4, 3))
+    >>> px[..., 0] = np.linspace(0, 1, 16).reshape(4, 4)   # painted in red …
+    >>> px[..., 1:] = 0.03                                  # … with JPEG's noise in the others
+    >>> mask_channel(px), mask_channel(np.repeat(px[..., :1], 3, -1))
+    ('red', 'luminance')
+    """
     px = np.asarray(px)
     if channel != "auto":
         return channel

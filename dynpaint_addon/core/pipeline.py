@@ -121,7 +121,11 @@ def relief_of(relief, shape_has_alpha):
     """shadows.relief as the relief a normal map's shadows fall from (§6 "Relief"): 'auto' is
     integrated where the shape image has an alpha (the figure is cut out; its hidden walls
     are at the cut), along the ray for a full-frame map (integrating it would spread each
-    hidden wall over the whole image). Measured against 3D: docs/relief-choice.md."""
+    hidden wall over the whole image). Measured against 3D: docs/relief-choice.md.
+
+    >>> relief_of("auto", shape_has_alpha=True), relief_of("auto", shape_has_alpha=False)
+    ('integrated', 'along_ray')
+    """
     if relief != "auto":
         return relief
     return "integrated" if shape_has_alpha else "along_ray"

@@ -145,7 +145,13 @@ def facing_away(n, alpha=None):
 
 def resolve_strength(rgb, strength="auto", encoding="auto", alpha=None):
     """shape.strength as a number (§2): 'auto' is 0.5 for a map painted for a decoder that
-    halves each tilt (unit vectors, HALVING_AWAY or more of them facing away), else 1."""
+    halves each tilt (unit vectors, HALVING_AWAY or more of them facing away), else 1.
+
+    >>> n = np.array([[[0.0, 0.8, -0.6], [0.0, 0.0, 1.0]]])   # one of two unit normals faces away
+    >>> resolve_strength((n + 1) / 2), resolve_strength((0.7 * n + 1) / 2), resolve_strength(
+    ...     (n + 1) / 2, 1.0)
+    (0.5, 1.0, 1.0)
+    """
     if strength != "auto":
         return float(strength)
     rgb = np.nan_to_num(np.asarray(rgb, np.float32)[..., :3], posinf=0.0, neginf=0.0)
