@@ -9,9 +9,10 @@
   explicit setting (encoding, channel, strength) is obeyed, never refused by a guess.
 - A normal map must be coloured: a grey image (one channel, or R = G = B everywhere) read as
   one is refused with a message naming the setting that reads it as a height map. Any coloured
-  image is read; a map whose opaque pixels mostly face away gets a note with the fix: unit
-  vectors are a map made for a decoder that halves each tilt (shape strength 0.5); vectors of
-  other lengths are such a map or no normal map at all (the map cannot tell which).
+  image is read. A map of unit vectors some of which face away can only be a map made for a
+  decoder that halves each tilt: strength 'auto' reads it at 0.5, and says so; a map of other
+  lengths that faces away cannot tell (no map of the usual convention does, but neither does
+  a colour image read as one): its note names shape strength 0.5.
 - Per-pixel images of another size than the shape image are resampled to it (reported).
 No bpy here.
 """
@@ -48,13 +49,6 @@ def finite_pixels(px, role="colour"):
 def non_finite_message(name, bad):
     return (f"{name}: {bad} NaN/Inf value{'s' if bad != 1 else ''} replaced (NaN and −Inf → 0, "
             f"+Inf → the image's largest finite value; in a normal map: flat)")
-
-
-def _opaque(px):
-    """Pixels that show (alpha above ½, or all of them without alpha)."""
-    if px.shape[-1] in (2, 4):
-        return np.nan_to_num(px[..., -1]) > 0.5
-    return np.ones(px.shape[:-1], bool)
 
 
 def normal_map_problem(px, name="shape image", encoding="auto"):
