@@ -219,10 +219,10 @@ def cmd_turntable(args):
     recipe = load_recipe(args.recipe)
     from .blender.headless import render_turntable  # Blender only when asked for
     try:
-        seconds, samples = render_turntable(recipe, args.out, args.frames, args.engine, args.size,
-                                   args.elevation, args.light, args.clockwise, args.samples,
-                                   args.fps, progress=lambda line: print(line, flush=True),
-                                   notes=print_notes)
+        seconds, samples = render_turntable(
+            recipe, args.out, args.frames, args.engine, args.size, args.elevation, args.light,
+            args.clockwise, args.samples, args.fps,
+            progress=lambda line: print(line, flush=True), notes=print_notes)
     except ValueError as exc:
         raise CommandError(str(exc)) from None
     print(f"turntable: {args.frames} frames with {args.engine}, {samples} sample"
