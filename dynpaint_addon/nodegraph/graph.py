@@ -55,7 +55,15 @@ class Graph:
 
     # -- plumbing -----------------------------------------------------------------------
     def add(self, op, inputs=None, label="", **props):
-        node = Node(len(self.nodes), op, props, dict(inputs or {}), label, self._section)
+        """A new node after every other; its inputs may only name earlier nodes (what keeps
+        the order topological, so every backend builds in one pass)."""
+        inputs = dict(inputs or {})
+        late = [ref for ref in inputs.values()
+                if isinstance(ref, Ref) and not 0 <= ref.node < len(self.nodes)]
+        if late:
+            raise ValueError(f"{self.name or 'graph'}: {op} reads node {late[0].node}, which "
+                             f"does not come before it (nodes 0 … {len(self.nodes) - 1})")
+        node = Node(len(self.nodes), op, props, inputs, label, self._section)
         self.nodes.append(node)
         return node
 

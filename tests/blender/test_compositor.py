@@ -99,14 +99,33 @@ def test_shipped_node_groups_regenerate_and_append(tmp_path):
                           "--out", out], capture_output=True, text=True)
     assert res.returncode == 0 and "wrote 5 groups" in res.stdout, res.stderr
     bpy.ops.wm.read_homefile(use_empty=True)
+    shapes = []
     for path in (out, os.path.join(repo, "node_groups", "dynamic_painting.blend")):
+        bpy.ops.wm.read_homefile(use_empty=True)
         with bpy.data.libraries.load(path) as (src, dst):
-            dst.node_groups = [n for n in src.node_groups if n.endswith("Everything")]
-        group = dst.node_groups[0]
+            dst.node_groups = [n for n in src.node_groups if n.startswith("Dynamic Painting:")]
+        group = next(g for g in dst.node_groups if g.name.endswith("Everything"))
         names = {s.name for s in group.interface.items_tree if s.in_out == "INPUT"}
         assert {"Shape", "Environment", "Light 2 Position", "Light 1 Shadow",
                 "Diffuse t0"} <= names
         assert group.asset_data is not None
+        shapes.append({g.name: tree_shape(g) for g in dst.node_groups})
+    # the committed file is what the generator writes today (issue 28, point 7)
+    assert shapes[0] == shapes[1], "node_groups/dynamic_painting.blend is stale: run " \
+        "node_groups/make_node_groups.py"
+
+
+def tree_shape(tree):
+    """What a node group is made of: its interface, its nodes (type, label) and links, and
+    its sub-groups' shapes."""
+    return (sorted((s.in_out, s.name) for s in tree.interface.items_tree
+                   if s.item_type == "SOCKET"),
+            sorted((n.bl_idname, n.label) for n in tree.nodes),
+            sorted((link.from_node.label or link.from_node.bl_idname, link.from_socket.identifier,
+                    link.to_node.label or link.to_node.bl_idname, link.to_socket.identifier)
+                   for link in tree.links),
+            sorted(tree_shape(n.node_tree) for n in tree.nodes
+                   if getattr(n, "node_tree", None) is not None))
 
 
 def test_passes_per_light_match_core(paths, tmp_path):
