@@ -164,11 +164,40 @@ def make_shape(method, images, p, profile="round", height=1.0, detail=0.0, detai
                red_from="right", green_from="top"):
     """A painting's new shape image (the add-on's Make Shape; docs/shape-from-painting.md).
 
-    images: {channel: ImageData}; p: its parameters; profiles: {side: ImageData} and photo:
-    ImageData for the methods that read pictures of their own (resampled to the painting's
-    size). → (kind 'height' | 'normal', pixels (H, W, 4): heights in image widths (grey) or a
-    normal map's colours, with the old shape image's alpha (inflated: the silhouette's), else
-    opaque; report lines).
+    Parameters
+    ----------
+    method : str
+        One of METHODS: 'inflate', 'integrate', 'normals', 'profiles', 'rg_photo'.
+    images : dict
+        {channel: ImageData} of the painting (pipeline.md §1).
+    p : namespace
+        The painting's parameters (params.defaults() layout): how its shape image is read.
+    profile, height, detail, detail_blur : str, float, float, float
+        inflate: the rim's profile (core.inflate.PROFILES), the highest point, the painting's
+        luminance embossed as detail, and that detail's blur (all in image widths).
+    depth : float
+        integrate: how far the figure's rim stands above its background (image widths).
+    use_mask : bool
+        integrate: cut the figure at the shape image's alpha.
+    profiles : dict, optional
+        profiles: {side: ImageData} of two to five lighting profiles ('left', 'right', 'top',
+        'bottom', 'front'), resampled to the painting's size.
+    elevation : float
+        profiles: the side lights' elevation in degrees.
+    photo : ImageData, optional
+        rg_photo: the red/green photograph, resampled to the painting's size.
+    red_from, green_from : str
+        rg_photo: the sides the red and green lights shone from.
+
+    Returns
+    -------
+    kind : str
+        'height' or 'normal'.
+    pixels : ndarray (H, W, 4)
+        Heights in image widths (grey) or a normal map's colours, with the old shape image's
+        alpha (inflated: the silhouette's), else opaque.
+    lines : list of str
+        What was done, for the report.
     """
     shape = images.get("shape")
     alpha = shape.alpha() if shape is not None else None
