@@ -89,17 +89,17 @@ def normal_map_notes(px, name="shape image", encoding="auto", strength="auto"):
         notes.append(f"{name}: its blue is about 0 everywhere, as in a two-channel map, but "
                      f"shape encoding 'rgb' reads it as blue (set 'auto' or 'rg' to read x, y)")
     k = resolve_strength(rgb, strength, encoding, alpha)
+    as_painted = normal_vectors(rgb, resolved, 1.0)
     if strength == "auto" and k != 1:
-        away = facing_away(normal_vectors(rgb, resolved, 1.0), alpha)
+        away = facing_away(as_painted, alpha)
         notes.append(f"{name}: read as painted for a decoder that halves each tilt (its unit "
                      f"vectors face away in {away:.0%} of its pixels): strength {k:g}; set "
                      f"shape strength 1 to read it as it is")
-    away = facing_away(normal_vectors(rgb, resolved, k), alpha)
+    away = facing_away(scale_tilt(as_painted, k), alpha)
     if away > 0.01:
         hint = ""
         if strength == "auto" and k == 1 and not looks_rg:
-            n = normal_vectors(rgb, resolved, 1.0)
-            if facing_away(scale_tilt(n, 0.5), alpha) < away / 4:
+            if facing_away(scale_tilt(as_painted, 0.5), alpha) < away / 4:
                 hint = ("; painted for a decoder that halves each tilt? shape strength 0.5 "
                         "(recipe: shape.strength = 0.5) reads it so — its vectors are not "
                         "unit length, so the map cannot tell; or is it a colour or height "

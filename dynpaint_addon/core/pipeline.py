@@ -302,9 +302,9 @@ def input_notes(images, p):
     images' sizes and alphas are read); p: the parameters.
     """
     shape = images["shape"]
+    name = shape.name or "shape image"
     notes = []
     if p.shape.kind == "normal":
-        name = shape.name or "shape image"
         problem = normal_map_problem(shape.pixels, name, p.shape.encoding)
         if problem:
             raise ValueError(problem)
@@ -314,7 +314,7 @@ def input_notes(images, p):
               if c in images and images[c].size != shape.size]
     if p.shape.kind == "normal" and p.shadows.enabled and p.shadows.relief == "auto" and \
             not shape.has_alpha:
-        notes.append(f"{shape.name or 'shape image'}: no alpha, so its shadows fall from its "
+        notes.append(f"{name}: no alpha, so its shadows fall from its "
                      f"slopes along each ray (shadows.relief auto); give it the figure's alpha "
                      f"to cut the figure out, or set shadows.relief = \"integrated\" "
                      f"(docs/relief-choice.md)")
