@@ -34,7 +34,7 @@ from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.core.shape import normals_from_height_px  # noqa: E402
 from dynpaint_addon.imageio import read_image, write_png  # noqa: E402
-from dynpaint_addon.nodegraph.build_bpy import count_nodes  # noqa: E402
+from dynpaint_addon.blender.nodes.build import count_nodes  # noqa: E402
 from dynpaint_addon.recipe import Recipe, load_images  # noqa: E402
 from dynpaint_addon.testpainting import builtin_images  # noqa: E402
 
@@ -137,7 +137,7 @@ def main(argv=None):
     ap.add_argument("--sizes", type=int, nargs="+", default=[512, 1024])
     ap.add_argument("--out", help="also write the table as Markdown here")
     args = ap.parse_args(argv)
-    lines = [f"# Material numbers (issue 3)", "",
+    lines = ["# Material numbers (issue 3)", "",
              f"Machine: {platform.machine()}, {os.cpu_count()} cores, no GPU (EEVEE on llvmpipe); "
              f"bpy {bpy.app.version_string}. Command: `.venv/bin/python "
              f"benchmarks/material_numbers.py --sizes {' '.join(map(str, args.sizes))}`.", "",

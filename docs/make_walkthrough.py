@@ -16,7 +16,6 @@ DOCS = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(DOCS)
 sys.path.insert(0, REPO)
 
-from dynpaint_addon.core.colour import linear_to_srgb           # noqa: E402
 from dynpaint_addon.imageio import read_image, write_png        # noqa: E402
 from dynpaint_addon.web.chromium import find_chromium           # noqa: E402
 

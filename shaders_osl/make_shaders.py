@@ -4,7 +4,7 @@
 
 Each is the whole pipeline (pipeline.md §2–§11) for one set of features, generated from the
 graph description by dynpaint_addon/nodegraph/osl_codegen.py, with the cos-θ march of
-cos_theta.h inside the shader.
+dynpaint_addon/nodegraph/snippets/shared/cos_theta.h inside the shader.
 """
 import os
 import sys

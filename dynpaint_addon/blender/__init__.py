@@ -1,12 +1,11 @@
-"""Blender glue: properties, operators, panels and handlers (everything that imports bpy
-besides the node-graph builders). `register()` is called by the extension's root __init__.
+"""Blender glue: properties, operators, panels and handlers; the only folder that imports bpy. `register()` is called by the extension's root __init__.
 
 Imports run one way, from what Blender calls down to the helpers:
 
     properties, operators/, panels, handlers      (registered with Blender)
       → sync (keep a painting current), scene, turntable, compositor, headless
         → tree, osl, live_bake, shadow_images, images, lights, status, settings
-          → nodegraph/ → core/
+          → nodes/ (the graph built as node trees) → nodegraph/ → core/
 """
 import bpy
 

@@ -12,8 +12,8 @@ import bpy
 from .. import params
 from ..core.pipeline import pixel_role, shadow_term, shape_normals
 from ..imageio import read_image, write_exr
-from ..nodegraph import build_bpy
-from ..nodegraph.compositor_backend import INPUT_OF, CompositorBackend, input_name, param_inputs
+from .nodes import build
+from .nodes.compositor_backend import INPUT_OF, CompositorBackend, input_name, param_inputs
 from ..nodegraph.derived_inputs import Source, derived_inputs, make_derived
 from ..nodegraph.features import Features
 from ..nodegraph.pipeline_graph import describe
@@ -30,7 +30,7 @@ def build_group(features, name=GROUP_NAME):
     """A compositor node group for `features` (a new one; an existing name gets a suffix)."""
     group = bpy.data.node_groups.new(name, "CompositorNodeTree")
     backend = CompositorBackend(features.silhouette, features.lights)
-    build_bpy.build(group, describe(features), backend)
+    build.build(group, describe(features), backend)
     group["dp_features"] = features.key()
     return group
 

@@ -5,7 +5,7 @@ import bpy
 from mathutils import Matrix, Vector
 
 from ..core.lights import Light
-from ..nodegraph.shader_backend import POINT_POWER_UNIT
+from .nodes.shader_backend import POINT_POWER_UNIT
 
 
 def linked_lights(mat, scene):

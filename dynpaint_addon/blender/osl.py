@@ -18,7 +18,7 @@ from ..imageio import write_exr
 from ..nodegraph import osl_codegen
 from ..nodegraph.derived_inputs import march_bounds
 from ..nodegraph.pipeline_graph import describe
-from ..nodegraph.shader_backend import (SETTINGS, ShaderBackend, drive_location, drive_property,
+from .nodes.shader_backend import (SETTINGS, ShaderBackend, drive_location, drive_property,
                                         drive_sun_direction, light_strength_expression)
 from .images import has_alpha
 from .settings import settings_to_params

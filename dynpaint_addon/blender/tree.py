@@ -1,10 +1,10 @@
 """A painting's node tree: built from the graph description for its features, and rebuilt
 exactly when they change (docs/pipeline.md §12). Values (t0, η, …) reach the tree through
-drivers (nodegraph/shader_backend.py), so changing one rebuilds nothing."""
-from ..nodegraph import build_bpy
+drivers (nodes/shader_backend.py), so changing one rebuilds nothing."""
+from .nodes import build
 from ..nodegraph.features import Features
 from ..nodegraph.pipeline_graph import describe
-from ..nodegraph.shader_backend import ShaderBackend
+from .nodes.shader_backend import ShaderBackend
 from . import osl
 from .images import has_alpha
 from .lights import linked_lights
@@ -73,7 +73,7 @@ def rebuild_tree(mat, scene, force=False, features=None):
     tree = mat.node_tree
     tree.animation_data_clear()
     tree.nodes.clear()
-    build_bpy.build(tree, describe(f), ShaderBackend(mat, images, lights))
+    build.build(tree, describe(f), ShaderBackend(mat, images, lights))
     if f.shadow_source == "osl":
         # Cycles renders the OSL shader (in-shader march); EEVEE keeps the node material.
         eevee_out = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")

@@ -77,7 +77,6 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
     heights_px = None if heights_px is None else heights_px.astype(dtype, copy=False)
     slopes = None if slopes is None else slopes.astype(dtype, copy=False)
     hs, ws = max(1, round(h * scale)), max(1, round(w * scale))
-    march = cos_theta_shadow
     # Crossings smear one-pixel walls a little (a resampled grid): below ~512 px the K = 64
     # march is more accurate and cheap anyway, so 'final' marches there.
     fast_level = quality in ("draft", "preview") or (quality == "final"
@@ -98,6 +97,8 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
             if progress is not None:                 # (closed forms report nothing)
                 progress(1.0)
             return t
+    else:
+        march = cos_theta_shadow
     if stats is not None:
         stats.size = (hs, ws)
     if (hs, ws) == (h, w):

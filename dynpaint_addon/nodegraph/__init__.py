@@ -1,2 +1,4 @@
-"""Node graphs of the pipeline: one backend-neutral description (graph.py, pipeline_graph.py,
-no bpy) and the builders that turn it into Blender node trees (build_bpy.py, *_backend.py)."""
+"""Node graphs of the pipeline, no bpy: one backend-neutral description (graph.py,
+pipeline_graph.py), what a painting needs of it (features.py, derived_inputs.py) and the text
+generators (text_codegen.py → osl_codegen.py, glsl_codegen.py) with their hand-written
+snippets by language (snippets/). Blender's node trees are built from it in blender/nodes/."""

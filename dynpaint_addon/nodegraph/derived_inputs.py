@@ -121,7 +121,7 @@ def derived_inputs(features, p, sources):
 
 
 def march_bounds(n, z_px, slopes):
-    """The in-shader march's global bounds (shaders_osl/cos_theta.h, §6), from the core's
+    """The in-shader march's global bounds (snippets/shared/cos_theta.h, §6), from the core's
     decode of the shape (core.pipeline.shape_normals): the highest relief in image widths (0
     without heights) and the steepest implied slope of the normals → {'relief_max',
     'slope_max'}."""

@@ -1,9 +1,9 @@
 """GLSL ES 3.00 from the graph description: the pipeline as one WebGL2 fragment shader (issue 17).
 
 The fourth backend of pipeline_graph.describe, the web page's. Ordinary nodes are written by
-text_codegen.py exactly as for OSL, with the same node helpers (shaders_osl/dp_nodes.h, read
-through web/dp_words.glsl's #defines); here only the lookups (web/dp_tex.glsl) and the pseudo
-nodes differ:
+text_codegen.py exactly as for OSL, with the same node helpers (snippets/shared/dp_nodes.h, read
+through snippets/glsl/dp_words.glsl's #defines); here only the lookups (snippets/glsl/dp_tex.glsl)
+and the pseudo nodes differ:
 
   dp.uv      the fragment's place in the painting's rectangle (`dp_rect`, framebuffer pixels)
   dp.sample  dp_tex on a sampler2D uniform `tex_<channel>` with explicit texel taps (no GPU
@@ -14,15 +14,12 @@ nodes differ:
   dp.output  the premultiplied linear result; shown over the page's backdrop in sRGB, or kept
              as it is (`dp_display` 0) for a float framebuffer read back by the tests
 
-The cos-θ term is always marched in the shader (shaders_osl/cos_theta.h, the OSL shader's
+The cos-θ term is always marched in the shader (snippets/shared/cos_theta.h, the OSL shader's
 own march, §6): a page has no bake.
 """
-import os
-
 from .graph import FLOAT, VECTOR
-from .text_codegen import Emitter, Program, indent, param_name, read_shared
+from .text_codegen import Emitter, Program, indent, param_name, read_snippet
 
-WEB_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "web")
 WRAPS = {"REPEAT": 0, "EXTEND": 1, "MIRROR": 2}
 INTERPS = {"Linear": 0, "Closest": 1}
 
@@ -108,11 +105,8 @@ def generate(graph, features):
             "// description (pipeline.md §2–§11); do not edit: regenerate.\n"
             f"// Features: {features.key()}\n"
             "precision highp float;\nprecision highp int;\nprecision highp sampler2D;\n\n")
-    return (head + read("dp_main.glsl") + uniforms + "\n" + read("dp_words.glsl")
-            + read_shared("dp_nodes.h") + "\n" + read("dp_tex.glsl") + "\n" + functions + "\n"
+    return (head + read_snippet("glsl", "dp_main.glsl") + uniforms + "\n"
+            + read_snippet("glsl", "dp_words.glsl") + read_snippet("shared", "dp_nodes.h") + "\n"
+            + read_snippet("glsl", "dp_tex.glsl") + "\n" + functions + "\n"
             + march_src + "void main()\n{\n" + indent(body) + "}\n"), prog
 
-
-def read(name):
-    with open(os.path.join(WEB_DIR, name), encoding="utf-8") as fh:
-        return fh.read()

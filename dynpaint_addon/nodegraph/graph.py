@@ -1,6 +1,6 @@
 """A backend-neutral node graph: the one description of the pipeline's node trees.
 
-The pipeline (pipeline_graph.py) is written once against this small API; `build_bpy.py`
+The pipeline (pipeline_graph.py) is written once against this small API; `blender/nodes/build.py`
 turns a Graph into a Blender shader material tree or a compositor node group. Ordinary nodes
 are named by their Blender class (ShaderNodeMath, ShaderNodeVectorMath, ShaderNodeMapRange,
 ShaderNodeMix, ShaderNodeCombineXYZ, ShaderNodeSeparateXYZ), which exist with the same sockets

@@ -1,6 +1,6 @@
 """The pipeline (pipeline.md §2–§11) as one node-graph description, pruned per scene (§12).
 
-`describe(features)` returns a Graph (graph.py) that `build_bpy` turns into the shader
+`describe(features)` returns a Graph (graph.py) that `blender/nodes/build.py` turns into the shader
 material or the compositor group. It mirrors core/pipeline.py step by step; the core is the
 reference and the parity tests compare the two pixel by pixel.
 

@@ -4,12 +4,13 @@ Both shading languages are C-like, so every ordinary node (Math, Vector Math, Ma
 Separate/Combine XYZ) becomes the same statement in both, with Blender's node semantics
 kept by small helper functions named `dp_…` (division by zero gives 0, Map Range at
 From Min = From Max gives To Min, …). Those helpers and the in-shader cos-θ march are written
-once for both languages (shaders_osl/dp_nodes.h, shaders_osl/cos_theta.h: `read_shared`);
-GLSL reads them through a prelude of #defines (dynpaint_addon/web/dp_words.glsl). Every
-sub-graph becomes a function with output parameters. A language differs in two words (its
-vector type, its output qualifier), in its image lookups (shaders_osl/dp_tex.h,
-dynpaint_addon/web/dp_tex.glsl) and in the backend-specific pseudo nodes (dp.uv, dp.sample,
-dp.param, dp.light, dp.output), which each backend's Emitter subclass writes.
+once for both languages (snippets/shared/dp_nodes.h, snippets/shared/cos_theta.h); GLSL
+reads them through a prelude of #defines (snippets/glsl/dp_words.glsl). Every sub-graph
+becomes a function with output parameters. A language differs in two words (its vector type,
+its output qualifier), in its image lookups (snippets/osl/dp_tex.h, snippets/glsl/dp_tex.glsl)
+and in the backend-specific pseudo nodes (dp.uv, dp.sample, dp.param, dp.light, dp.output),
+which each backend's Emitter subclass writes. The hand-written snippets sit in one folder per
+language beside this generator (snippets/README.md), as MaterialX keeps its genosl/genglsl.
 
 No bpy here: the text can be generated and inspected anywhere.
 """
@@ -17,9 +18,8 @@ import os
 
 from .graph import FLOAT, VECTOR, Ref
 
-# The shader sources: those both languages share, and OSL's own (shaders_osl/README.md).
-SHADER_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
-    os.path.abspath(__file__)))), "shaders_osl")
+# The hand-written shader sources: snippets/shared (both languages), snippets/osl, snippets/glsl.
+SNIPPETS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "snippets")
 
 MATH = {
     "ADD": "({0} + {1})", "SUBTRACT": "({0} - {1})", "MULTIPLY": "({0} * {1})",
@@ -57,9 +57,10 @@ def param_name(path, index=None):
     return "p_" + ident(path) + ("" if index is None else "_" + "xy"[index])
 
 
-def read_shared(name):
-    """The text of a shader source in shaders_osl/ (dp_nodes.h, cos_theta.h, dp_tex.h)."""
-    with open(os.path.join(SHADER_DIR, name), encoding="utf-8") as fh:
+def read_snippet(language, name):
+    """The text of a hand-written shader source: `language` is "shared" (written in the words
+    both languages read), "osl" or "glsl"; e.g. ("shared", "cos_theta.h")."""
+    with open(os.path.join(SNIPPETS, language, name), encoding="utf-8") as fh:
         return fh.read()
 
 
@@ -199,17 +200,17 @@ class Program:
         return self.functions[sub.name][0]
 
     def march_source(self):
-        """The shared in-shader march (shaders_osl/cos_theta.h), after the graph's functions,
+        """The shared in-shader march (snippets/shared/cos_theta.h), after the graph's functions,
         with the graph's §2 normal decode as its DP_NORMAL_DECODE (a height map's march never
         decodes one)."""
         decode = next((fn for key, (fn, _) in self.functions.items()
                        if key.startswith("DP Normal Map")), None)
         macro = f"{decode}(c, flip, zmin, n)" if decode else "n = vector(0, 0, 1)"
         return (f"#define DP_NORMAL_DECODE(c, flip, zmin, n) {macro}\n"
-                + read_shared("cos_theta.h") + "\n")
+                + read_snippet("shared", "cos_theta.h") + "\n")
 
     def march_call(self, normal, light, kind, uv):
-        """The in-shader cos-θ term of one light (shaders_osl/cos_theta.h), in either
+        """The in-shader cos-θ term of one light (snippets/shared/cos_theta.h), in either
         language. It marches a normal map's integrated relief (§6 "Relief", image widths),
         the normal map itself rebuilt along the ray from its slopes, or the pre-blurred
         height map; a backend names the image's arguments (image_arguments) and the march's

@@ -53,7 +53,7 @@ def test_one_description_two_trees(paths, tmp_path):
 
 def test_operator_adds_a_wired_group_for_the_active_painting(tmp_path):
     from dynpaint_addon import blender
-    paths = write_images(str(tmp_path))
+    write_images(str(tmp_path))
     bpy.ops.wm.read_homefile(use_empty=True)
     blender.register_once()
     folder = str(tmp_path)

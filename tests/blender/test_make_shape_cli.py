@@ -7,7 +7,6 @@ import shutil
 import numpy as np
 import pytest
 
-from dynpaint_addon.core.integrate import integrate
 from dynpaint_addon.imageio import read_image, write_exr, write_png
 from dynpaint_addon.samples import recipe_path
 

@@ -111,7 +111,7 @@ def test_shipped_shader_compiles_with_cycles(tmp_path):
     node.mode = "EXTERNAL"
     import shutil     # compile a copy: Blender writes the .oso next to the source
     for name in os.listdir(os.path.join(repo, "shaders_osl")):
-        if name.endswith((".osl", ".h")):
+        if name.endswith(".osl"):
             shutil.copy(os.path.join(repo, "shaders_osl", name), tmp_path / name)
     node.filepath = str(tmp_path / "dynamic_painting_height_shadows.osl")
     osl._cycles_osl().update_script_node(node, lambda kind, msg: None)

@@ -1,13 +1,19 @@
-"""The package's imports run one way (issue 14): read from the source, no Blender needed.
+"""The package's imports run one way (issue 14), and bpy lives in one folder (issue 28): read
+from the source, no Blender needed.
 
     command line, add-on glue (blender/)  →  nodegraph/  →  core/
     params, recipe, imageio, … sit beside: the core imports none of them, they import the core
+
+Only blender/ imports bpy; nothing under core/, nodegraph/ or web/ does, even inside a function;
+a module beside them may reach Blender on first use only (imageio's image loader).
 
 Every import of a dynpaint_addon module counts, also one inside a function: a cycle kept alive
 by a late import is still a cycle.
 """
 import ast
 import os
+import subprocess
+import sys
 
 from conftest import REPO
 
@@ -99,8 +105,11 @@ def test_no_import_inside_a_function_but_optional_ones():
 
 
 def layer(module):
+    """The folder a module sits in under the package ("core", "blender", …), or "top"."""
     parts = module.split(".")
-    return parts[1] if len(parts) > 2 or parts[1] in ("core", "nodegraph", "blender") else "top"
+    if len(parts) > 2 or (len(parts) == 2 and parts[1] in ("core", "nodegraph", "blender", "web")):
+        return parts[1]
+    return "top"
 
 
 def test_layers_import_downward_only():
@@ -129,3 +138,45 @@ def test_no_single_letter_module_aliases():
                 short += [f"{name}:{node.lineno} {a.name} as {a.asname}" for a in node.names
                           if a.asname and len(a.asname) == 1]
     assert short == []
+
+
+BPY_FREE_FOLDERS = ("core", "nodegraph", "web")
+
+
+def bpy_imports(path):
+    """[(line, inside a function)] of a module's imports of bpy (or its submodules)."""
+    tree = ast.parse(open(path, encoding="utf-8").read())
+    in_function = set()
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            in_function |= {id(n) for n in ast.walk(node) if n is not node}
+    found = []
+    for node in ast.walk(tree):
+        names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
+                 [node.module or ""] if isinstance(node, ast.ImportFrom) and not node.level else [])
+        if any(n.split(".")[0] == "bpy" for n in names):
+            found.append((node.lineno, id(node) in in_function))
+    return found
+
+
+def test_bpy_lives_in_blender_only():
+    """The folder rule: core/, nodegraph/ and web/ never import bpy; the modules beside them
+    only inside a function (on first use); blender/ is the glue."""
+    wrong = []
+    for name, path in modules().items():
+        folder = layer(name)
+        for line, lazy in bpy_imports(path):
+            if folder in BPY_FREE_FOLDERS or (folder == "top" and not lazy):
+                wrong.append(f"{name}:{line}")
+    assert wrong == []
+    # the rule holds at run time too: every module outside blender/ imports with bpy absent
+    outside = sorted(m for m in modules() if layer(m) != "blender" and m != "dynpaint_addon.__main__")
+    code = ("import sys, importlib; sys.modules['bpy'] = None\n"
+            f"for m in {outside!r}: importlib.import_module(m)\n"
+            "from dynpaint_addon.core import pipeline\n"
+            "from dynpaint_addon.testpainting import builtin_images, builtin_recipe\n"
+            "r = builtin_recipe(); print(pipeline.render(builtin_images(16), r.lights, r.params).rgba.shape)")
+    res = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True,
+                         env={**os.environ, "PYTHONPATH": REPO})
+    assert res.returncode == 0 and "(16, 16, 4)" in res.stdout, res.stderr
+    assert len(outside) > 40

@@ -10,7 +10,7 @@ import pytest
 from dynpaint_addon import params
 from dynpaint_addon.nodegraph import glsl_codegen, osl_codegen
 from dynpaint_addon.nodegraph.pipeline_graph import Features, describe
-from dynpaint_addon.nodegraph.text_codegen import param_name, read_shared
+from dynpaint_addon.nodegraph.text_codegen import param_name, read_snippet
 from dynpaint_addon.web.page import param_uniforms
 
 FULL = Features(size=(40, 30), channels=frozenset(params.CHANNELS), lights=("sun", "point"),
@@ -34,14 +34,14 @@ def test_shared_shader_sources_use_only_words_both_languages_read():
     osl = osl_codegen.generate(describe(f), f, march=True)
     glsl, _ = glsl_codegen.generate(describe(f), f)
     for name in ("dp_nodes.h", "cos_theta.h"):
-        text = read_shared(name)
+        text = read_snippet("shared", name)
         code = re.sub(r"//.*", "", text)
         for word in ("vec2", "vec3", "texture(", "string", "color", "bool", "true", "false",
                      "const ", "(int)", "(float)", "point("):
             assert word not in code, (name, word)
         assert not re.search(r"if \((!?)(is_point|normal_map|stopped|by_reach|clamp_)\)", code)
         assert text in osl and text in glsl
-    assert helpers(read_shared("dp_tex.h")) == helpers(glsl_codegen.read("dp_tex.glsl")) - {
+    assert helpers(read_snippet("osl", "dp_tex.h")) == helpers(read_snippet("glsl", "dp_tex.glsl")) - {
         "dp_wrap", "dp_texel"}
 
 

@@ -9,8 +9,8 @@ plane's object space, whose unit is one image width, §0).
 """
 import bpy
 
-from .. import params
-from .build_bpy import link_or_set
+from ... import params
+from .build import link_or_set
 
 SETTINGS = "dynamic_painting"     # Material.dynamic_painting (blender/properties.py)
 

@@ -3,7 +3,7 @@
 // normalizing (0, 0, 0) gives (0, 0, 0)).
 //
 // Shared by the OSL shader and the web page's GLSL (nodegraph/text_codegen.py): written in
-// the words both languages read; the GLSL prelude (dynpaint_addon/web/dp_words.glsl) maps
+// the words both languages read; the GLSL prelude (glsl/dp_words.glsl) maps
 // `vector`, `fabs` and `output` to GLSL's. Conditions compare ints explicitly (GLSL has no
 // int truth), casts are constructor calls (`int(x)`), both languages' form.
 

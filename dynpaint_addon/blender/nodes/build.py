@@ -10,7 +10,7 @@ import hashlib
 
 import bpy
 
-from .graph import FLOAT, Ref
+from ...nodegraph.graph import FLOAT, Ref
 
 SOCKET_TYPES = {FLOAT: "NodeSocketFloat", "VECTOR": "NodeSocketVector"}
 COLUMN_WIDTH, ROW_HEIGHT = 220, 190

@@ -13,8 +13,8 @@ alpha to Channel Packed); the height map is used as given (an 8-bit one wants th
 first); environment and background are used unblurred (for glossy/translucent looks, feed
 blurred copies, e.g. made by the add-on).
 """
-from .. import params
-from .build_bpy import link_or_set
+from ... import params
+from .build import link_or_set
 
 # channel of the description → group input it reads (the pre-blurred height map comes in
 # through the Shape input); the background outside the silhouette has an input of its own, as

@@ -1,4 +1,4 @@
-// The words the shader sources shared with OSL (shaders_osl/dp_nodes.h, cos_theta.h) are
+// The words the shader sources shared with OSL (shared/dp_nodes.h, cos_theta.h) are
 // written in, as GLSL ES 3.00 says them.
 #define vector vec3
 #define fabs abs

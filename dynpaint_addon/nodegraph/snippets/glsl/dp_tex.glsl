@@ -1,6 +1,6 @@
 // The web page's image lookups: explicit texel fetches and weights (no GPU filtering, whose
 // weights are 8-bit fractions), core/sampling.py's sample_bilinear; the GLSL twin of
-// shaders_osl/dp_tex.h.
+// osl/dp_tex.h.
 
 vec3 dp_srgb_to_linear(vec3 c)
 {
