@@ -4,8 +4,10 @@ Imports run one way, from what Blender calls down to the helpers:
 
     properties, operators/, panels, handlers      (registered with Blender)
       → sync (keep a painting current), scene, turntable, compositor, headless
-        → tree, osl, live_bake, shadow_images, images, lights, status, settings
-          → nodes/ (the graph built as node trees) → nodegraph/ → core/
+        → tree, osl, live_bake, shadow_images
+          → painting_state (settings, images and lights read once per update)
+            → images, lights, status, settings
+              → nodes/ (the graph built as node trees) → nodegraph/ → core/
 """
 import bpy
 

@@ -12,16 +12,16 @@ import bpy
 from .. import params
 from ..core.pipeline import pixel_role, shadow_term, shape_normals
 from ..imageio import read_image, write_exr
-from .nodes import build
-from .nodes.compositor_backend import INPUT_OF, CompositorBackend, input_name, param_inputs
-from ..nodegraph.derived_inputs import Source, derived_inputs, make_derived
+from ..nodegraph.derived_inputs import make_derived, prepare
 from ..nodegraph.features import Features
 from ..nodegraph.pipeline_graph import describe
 from ..recipe import Recipe
-from .images import bits_of, has_alpha, prepare_channel_image
+from .images import prepare_channel_image
 from .lights import painting_lights
+from .nodes import build
+from .nodes.compositor_backend import INPUT_OF, CompositorBackend, input_name, param_inputs
+from .painting_state import image_source
 from .scene import output_settings
-from .settings import channel_images, settings_to_params
 
 GROUP_NAME = "Dynamic Painting"
 
@@ -33,14 +33,6 @@ def build_group(features, name=GROUP_NAME):
     build.build(group, describe(features), backend)
     group["dp_features"] = features.key()
     return group
-
-
-def recipe_features(recipe, images):
-    """Features of a recipe whose images are loaded ({channel: bpy Image})."""
-    alpha = {c for c, img in images.items() if has_alpha(img)}
-    return Features.from_params(recipe.params, images.keys(), [lt.kind for lt in recipe.lights],
-                                tuple(images["shape"].size), alpha,
-                                {c: tuple(img.size) for c, img in images.items()})
 
 
 def set_group_inputs(node, recipe, p=None):
@@ -76,12 +68,11 @@ def _straight(rgba):
     return np.concatenate([np.where(a > 0, rgba[..., :3] / np.where(a > 0, a, 1), 0), a], -1)
 
 
-def _numpy_prepared(recipe, features, images, folder):
-    """The derived images the group takes as inputs, as float EXRs → {group channel: image}."""
+def _numpy_prepared(recipe, plan, folder):
+    """The derived images the group takes as inputs (plan: derived_inputs.prepare's), as float
+    EXRs → {group channel: image}."""
     p = recipe.params
-    plan = [d for d in derived_inputs(features, p, {c: Source(img.name, bits_of(img))
-                                                    for c, img in images.items()})
-            if d.channel in GROUP_DERIVED]
+    plan = [d for d in plan if d.channel in GROUP_DERIVED]
     made, _ = make_derived(plan, lambda c: read_image(recipe.images[c]),
                            lambda c: pixel_role(c, p))
     prepared = {}
@@ -115,8 +106,9 @@ def composite_recipe(recipe, out, shadow_folder=None):
         img = bpy.data.images.load(os.path.abspath(path), check_existing=True)
         prepare_channel_image(img, channel)
         images[channel] = img
-    f = recipe_features(recipe, images)
-    images.update(_numpy_prepared(recipe, f, images, folder))
+    f, plan = prepare(recipe.params, {c: image_source(img) for c, img in images.items()},
+                      [lt.kind for lt in recipe.lights])
+    images.update(_numpy_prepared(recipe, plan, folder))
     group = build_group(f)
     tree = bpy.data.node_groups.new("Composite", "CompositorNodeTree")
     tree.interface.new_socket("Image", in_out="OUTPUT", socket_type="NodeSocketColor")
@@ -190,11 +182,12 @@ def add_group_node(scene, group):
     return node
 
 
-def wire_painting(scene, node, mat):
-    """Feed a group node built for a painting its images, settings and current lights."""
+def wire_painting(scene, node, mat, state):
+    """Feed a group node built for a painting its images, settings and current lights
+    (state: the painting's PaintingState)."""
     s = mat.dynamic_painting
     tree = scene.compositing_node_group
-    images = channel_images(s)
+    images = dict(state.images)
     for item in s.derived:        # numpy-prepared copies: height, blurred E/B
         if item.channel in GROUP_DERIVED and item.image:
             images[INPUT_OF.get(item.channel, item.channel)] = item.image
@@ -208,4 +201,4 @@ def wire_painting(scene, node, mat):
             src.image = img
             src.location = (node.location.x - 300, node.location.y - 120 * k)
             tree.links.new(src.outputs["Image"], node.inputs[name])
-    set_group_inputs(node, Recipe(settings_to_params(s), painting_lights(mat, scene)))
+    set_group_inputs(node, Recipe(state.params, painting_lights(mat, scene)))

@@ -9,8 +9,7 @@ import bpy
 from .. import params
 from ..core.pipeline import pixel_role
 from ..imageio import file_channels, image_data_from_blender
-from ..nodegraph.derived_inputs import Source, derived_inputs, grey_rgba, make_derived
-from .settings import channel_images, settings_to_params
+from ..nodegraph.derived_inputs import grey_rgba, make_derived
 
 COLOUR_CHANNELS = {c for c, (_, kind) in params.CHANNELS.items() if kind == "colour"}
 
@@ -81,23 +80,16 @@ def grey_image(name, grey):
 
 
 # -- derived images -------------------------------------------------------------------------
-def sources(settings):
-    """{channel: Source} of the painting's input images, for the derived-image plan."""
-    return {c: Source(img.name, bits_of(img)) for c, img in channel_images(settings).items()}
-
-
 def derived_image(settings, channel):
     return next((d.image for d in settings.derived if d.channel == channel), None)
 
 
-def update_derived_images(mat, features, force=False):
-    """Make the images numpy derives from the inputs that the graph with `features` samples,
-    only those whose key changed (or all: `force`), reading each source once; drop the rest.
+def update_derived_images(mat, state, force=False):
+    """Make the images numpy derives from the inputs (state.plan: PaintingState's), only those
+    whose key changed (or all: `force`), reading each source once; drop the rest.
     → warnings (non-finite pixels replaced)."""
     s = mat.dynamic_painting
-    p = settings_to_params(s)
-    imgs = channel_images(s)
-    plan = derived_inputs(features, p, sources(s))
+    p, imgs, plan = state.params, state.images, state.plan
     stored = {d.channel: d for d in s.derived}
     todo = [d for d in plan if force or d.channel not in stored or stored[d.channel].image is None
             or stored[d.channel].key != d.key]

@@ -13,6 +13,7 @@ of queueing behind it, so the UI never waits and never shows a stale light.
 Rendering (and background Blender) does not come here: frame_change_post bakes synchronously
 at final quality, so each rendered frame has the bake of its own light positions.
 """
+import copy
 import queue
 import threading
 import time
@@ -50,19 +51,21 @@ class LiveBake:
         self.levels = {}            # material name → its live level (LIVE_LEVELS)
 
     # -- main thread --------------------------------------------------------------------
-    def ensure(self, mat, scene, depsgraph=None):
+    def ensure(self, mat, scene, depsgraph=None, p=None):
         """Request a bake unless the newest request was for these very light places and
         settings (it is in flight, or its final bake is due): asking again on every update
-        would keep superseding it."""
-        keys = [key for item, _, key in light_bakes(mat, depsgraph) if item.shadow is not None]
+        would keep superseding it. p: the painting's parameters, when the caller has them."""
+        p = p or settings_to_params(mat.dynamic_painting)
+        keys = [key for item, _, key in light_bakes(mat, depsgraph, p) if item.shadow is not None]
         if self.wanted.get(mat.name) != keys:
-            self.request(mat, scene, depsgraph)
+            self.request(mat, scene, depsgraph, p=p)
 
-    def request(self, mat, scene, depsgraph=None, quality=None):
+    def request(self, mat, scene, depsgraph=None, quality=None, p=None):
         """Start a bake of `mat`'s lights where they are now, at `quality` (default: the
         painting's live level); supersedes one in flight."""
         quality = quality or self.levels.get(mat.name, LIVE_LEVELS[0])
-        p = settings_to_params(mat.dynamic_painting)
+        # a copy: a live bake writes its own quality into it (and the worker keeps it)
+        p = copy.deepcopy(p) if p is not None else settings_to_params(mat.dynamic_painting)
         bakes = [b for b in light_bakes(mat, depsgraph, p) if b[0].shadow is not None]
         self.wanted[mat.name] = [key for _, _, key in bakes]
         if quality != "final":

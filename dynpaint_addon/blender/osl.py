@@ -21,7 +21,6 @@ from ..nodegraph.pipeline_graph import describe
 from .nodes.shader_backend import (SETTINGS, ShaderBackend, drive_location, drive_property,
                                         drive_sun_direction, light_strength_expression)
 from .images import has_alpha
-from .settings import settings_to_params
 from .shadow_images import bake_shape
 
 TEXT_PREFIX = "DP OSL "
@@ -64,8 +63,9 @@ def image_file(img, name):
     return path, srgb
 
 
-def build_osl_tree(mat, features, images, lights, march):
-    """Replace the material's tree by the OSL Script node (+ output), driven and compiled."""
+def build_osl_tree(mat, features, images, lights, march, p):
+    """Replace the material's tree by the OSL Script node (+ output), driven and compiled
+    (p: the painting's parameters, for the march's bounds)."""
     src = osl_codegen.generate(describe(features), features, march=march)
     text = bpy.data.texts.get(TEXT_PREFIX + mat.name) or bpy.data.texts.new(TEXT_PREFIX + mat.name)
     text.from_string(src)
@@ -103,7 +103,7 @@ def build_osl_tree(mat, features, images, lights, march):
     tree.links.new(coords.outputs["UV"], script.inputs["painting_uv"])
     coords.location = (-600, 200)
     if march:
-        _set_relief_bounds(mat, script, features)
+        _set_relief_bounds(mat, script, p)
     ShaderBackend(mat, images, lights).output(
         tree, None, {"rgb": script.outputs["Color"], "alpha": script.outputs["Alpha"]})
     script.location = (-300, 0)
@@ -126,10 +126,10 @@ def _drive_vector(script, sock, obj, kind):
     comb.location = (-600, -200 * len([n for n in tree.nodes if n.bl_idname == "ShaderNodeCombineXYZ"]))
 
 
-def _set_relief_bounds(mat, script, features):
+def _set_relief_bounds(mat, script, p):
     """The march's global bounds (derived_inputs.march_bounds), from the numpy copy of the
-    shape the material also uses."""
-    bounds = march_bounds(*bake_shape(mat, settings_to_params(mat.dynamic_painting)))
+    shape the material also uses (p: the painting's parameters)."""
+    bounds = march_bounds(*bake_shape(mat, p))
     for name, value in bounds.items():
         if name in script.inputs:
             script.inputs[name].default_value = value

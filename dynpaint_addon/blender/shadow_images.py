@@ -78,15 +78,16 @@ def shadow_image_name(mat, light_name):
     return f"DP {mat.name} shadow {light_name}"
 
 
-def bake_shadows(mat, scene, depsgraph=None, force=True, progress=None):
+def bake_shadows(mat, scene, depsgraph=None, force=True, progress=None, p=None):
     """Bake the cos-θ term (§6) of the linked lights into their images. → milliseconds taken.
+    p: the painting's parameters when the caller has them (read from its settings if not).
 
     Without `force`, a light whose painting-frame position and shadow inputs are those of its
     last bake is skipped (static lights in an animation bake once). A failure leaves the
     previous images untouched: new pixels are written only after every light is baked.
     """
     s = mat.dynamic_painting
-    p = settings_to_params(s)
+    p = p or settings_to_params(s)
     if s.image_shape is None:
         raise ValueError("no shape image to bake shadows from: assign one under Images "
                          "(the last baked shadows are kept)")

@@ -16,7 +16,8 @@ from .images import prepare_channel_image, update_derived_images
 from .live_bake import LIVE, rendering
 from .shadow_images import bake_shadows, forget_cached_shape, stale_lights
 from .status import clear_errors, report
-from .tree import features_for, rebuild_tree, sync_light_items
+from .painting_state import read_state
+from .tree import rebuild_tree, sync_light_items
 
 _suspended = [0]
 
@@ -82,30 +83,29 @@ def update(mat, scene=None, depsgraph=None, progress=None, bake="now", rebake=Fa
     every derived image and rebuild the tree as well.
     """
     scene = scene or bpy.context.scene
-    s = mat.dynamic_painting
-    features = features_for(mat, scene)
-    warnings = update_derived_images(mat, features[0], force=force)
-    sync_light_items(s, features[1])
-    if s.shadows.enabled:
-        _bake(mat, scene, depsgraph, progress, bake, rebake or force)
-    rebuild_tree(mat, scene, force=force, features=features)
+    state = read_state(mat, scene)          # the settings, read once for the whole update
+    warnings = update_derived_images(mat, state, force=force)
+    sync_light_items(mat.dynamic_painting, state.lights)
+    if state.params.shadows.enabled:
+        _bake(mat, scene, depsgraph, progress, bake, rebake or force, state.params)
+    rebuild_tree(mat, scene, force=force, state=state)
     clear_errors(mat)
     return warnings
 
 
-def _bake(mat, scene, depsgraph, progress, when, everything):
+def _bake(mat, scene, depsgraph, progress, when, everything, p):
     s = mat.dynamic_painting
-    stale = everything or stale_lights(mat, depsgraph)
+    stale = everything or stale_lights(mat, depsgraph, p)
     if not stale:
         return
     all_have_images = all(i.shadow is not None for i in s.lights)
     if when == "missing" and all_have_images and not everything:
         return
     if when == "live" and all_have_images and not everything and not rendering():
-        LIVE.ensure(mat, scene, depsgraph)
+        LIVE.ensure(mat, scene, depsgraph, p)
         return
     s.shadows_stale = True         # until the bake succeeds (the panel says so)
-    bake_shadows(mat, scene, depsgraph, force=everything, progress=progress)
+    bake_shadows(mat, scene, depsgraph, force=everything, progress=progress, p=p)
 
 
 def invalidate_generated(mat):

@@ -1,30 +1,11 @@
 """A painting's node tree: built from the graph description for its features, and rebuilt
 exactly when they change (docs/pipeline.md §12). Values (t0, η, …) reach the tree through
 drivers (nodes/shader_backend.py), so changing one rebuilds nothing."""
-from .nodes import build
-from ..nodegraph.features import Features
 from ..nodegraph.pipeline_graph import describe
-from .nodes.shader_backend import ShaderBackend
 from . import osl
-from .images import has_alpha
-from .lights import linked_lights
-from .settings import channel_images, settings_to_params
-
-
-def features_for(mat, scene):
-    """The painting's Features and its linked lights (in the tree's order)."""
-    s = mat.dynamic_painting
-    imgs = channel_images(s)
-    if "shape" not in imgs:
-        raise ValueError("the painting has no shape image (normal or height map)")
-    if "dark" not in imgs and "bright" not in imgs:
-        raise ValueError("the painting needs a dark or a bright image")
-    data_alpha = {c for c, img in imgs.items() if has_alpha(img)}
-    lights = linked_lights(mat, scene)
-    f = Features.from_params(settings_to_params(s), imgs.keys(),
-                             [o.data.type.lower() for o in lights], imgs["shape"].size,
-                             data_alpha, {c: tuple(img.size) for c, img in imgs.items()})
-    return f, lights
+from .nodes import build
+from .nodes.shader_backend import ShaderBackend
+from .painting_state import read_state
 
 
 def signature(features, lights, images):
@@ -48,22 +29,24 @@ def sync_light_items(s, lights):
         item.shadow, item.bake_key = old.get(obj.name, (None, ""))
 
 
-def tree_images(s):
-    """{channel: image} the tree samples: the inputs, the derived images replacing or adding
-    to them, and one cos-θ image per light ('shadow_<i>')."""
-    images = channel_images(s)
+def tree_images(s, inputs):
+    """{channel: image} the tree samples: the inputs ({channel: image}), the derived images
+    replacing or adding to them, and one cos-θ image per light ('shadow_<i>')."""
+    images = dict(inputs)
     images.update({item.channel: item.image for item in s.derived})
     images.update({f"shadow_{i}": item.shadow for i, item in enumerate(s.lights)
                    if item.shadow is not None})
     return images
 
 
-def rebuild_tree(mat, scene, force=False, features=None):
-    """Rebuild the node tree if its features or lights changed (or `force`). → True if rebuilt."""
+def rebuild_tree(mat, scene, force=False, state=None):
+    """Rebuild the node tree if its features or lights changed (or `force`). → True if rebuilt.
+    state: the PaintingState of this update (read now if not given)."""
     s = mat.dynamic_painting
-    f, lights = features or features_for(mat, scene)
+    state = state or read_state(mat, scene)
+    f, lights = state.features, state.lights
     sync_light_items(s, lights)
-    images = tree_images(s)
+    images = tree_images(s, state.images)
     sig = signature(f, lights, images)
     if not force and sig == s.signature and len(mat.node_tree.nodes):
         return False
@@ -78,7 +61,7 @@ def rebuild_tree(mat, scene, force=False, features=None):
         # Cycles renders the OSL shader (in-shader march); EEVEE keeps the node material.
         eevee_out = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
         eevee_out.target = "EEVEE"
-        osl.build_osl_tree(mat, f, images, lights, march=f.shadows)
+        osl.build_osl_tree(mat, f, images, lights, march=f.shadows, p=state.params)
         cycles_out = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"
                           and n != eevee_out)
         cycles_out.target = "CYCLES"

@@ -15,6 +15,8 @@ not the artist's own but made from them by numpy:
                      stored otherwise (two-channel) or its tilts are scaled (§2); for the
                      transparency and gloss maps the values read (luminance or a channel)
 
+`prepare` gives every backend what it builds from, in one call: the Features of a painting
+(what its images, alphas and lights decide) and the plan of its derived images.
 `derived_inputs` plans them from the features of the graph and the parameters (cheap: no
 pixel is read); `Derived.make` makes one from its source's pixels. Each carries a key built
 from what it depends on — its source image and the parameters whose `derives` role names it
@@ -26,6 +28,10 @@ the material, the compositor group, the OSL shader and the web page share one pr
     >>> f = Features(size=(8, 8), shape_kind="height")
     >>> [d.channel for d in derived_inputs(f, params.defaults(), {"shape": Source("h.png", 8)})]
     ['height']
+    >>> p = params.defaults(); p.shape.kind = "height"
+    >>> f, plan = prepare(p, {"shape": Source("h.png", 8, (64, 48)), "dark": Source("d.png")}, ["sun"])
+    >>> f.size, f.lights, [d.channel for d in plan]
+    ((64, 48), ('sun',), ['height'])
 """
 from dataclasses import dataclass
 from typing import Callable
@@ -38,6 +44,7 @@ from ..core.pipeline import (MASKS, PER_PIXEL_CHANNELS, finite_image, lookup_cop
                              shape_normals)
 from ..core.shape import (default_preblur_px, normal_vectors, preblurred_height, resolve_encoding,
                           resolve_strength, slopes_from_normals)
+from .features import Features
 
 
 @dataclass(frozen=True)
@@ -45,6 +52,21 @@ class Source:
     """What the plan needs to know of an input image without reading it."""
     name: str            # identifies the image (and so its pixels)
     bits: int = 8        # 8, 16 or 32 (float: may hold NaN/Inf)
+    size: tuple = (0, 0)     # (W, H) in pixels
+    alpha: bool = False      # it has an alpha channel
+
+
+def prepare(p, sources, light_kinds):
+    """What every backend builds a painting from (§12): its Features and the derived images
+    its graph samples → (Features, [Derived]).
+
+    p: the parameters; sources: {channel: Source} of the images it has (a shape image among
+    them); light_kinds: "sun" or "point" per light, in the graph's order.
+    """
+    features = Features.from_params(p, sources.keys(), light_kinds, sources["shape"].size,
+                                    {c for c, src in sources.items() if src.alpha},
+                                    {c: src.size for c, src in sources.items()})
+    return features, derived_inputs(features, p, sources)
 
 
 @dataclass(frozen=True)

@@ -29,8 +29,7 @@ from ..core.pipeline import ImageData, pixel_role, shape_normals
 from ..core.sampling import resample
 from ..looks import LOOKS, with_look
 from ..nodegraph import glsl_codegen
-from ..nodegraph.derived_inputs import Source, derived_inputs, make_derived, march_bounds
-from ..nodegraph.features import Features
+from ..nodegraph.derived_inputs import Source, make_derived, march_bounds, prepare
 from ..nodegraph.pipeline_graph import describe
 from ..nodegraph.text_codegen import param_name
 
@@ -54,15 +53,14 @@ def param_uniforms(p):
     return out
 
 
-def page_features(images, lights, p):
-    """The Features the page's shader is built for: those of the painting, with the cos-θ
-    term marched in the shader (the OSL march's choice of relief, §6)."""
+def page_params(p, steps=None):
+    """The painting's parameters as the page shows them: the cos-θ term marched in the shader
+    (the OSL march's choice of relief, §6), with K = `steps` when given."""
     p = copy.deepcopy(p)
     p.shadows.source = "osl"
-    return Features.from_params(p, images.keys(), [lt.kind for lt in lights],
-                                images["shape"].size,
-                                {c for c, img in images.items() if img.has_alpha},
-                                {c: img.size for c, img in images.items()}), p
+    if steps is not None:
+        p.shadows.steps = int(steps)
+    return p
 
 
 def shrink(img, max_size):
@@ -120,17 +118,15 @@ def _is_half(px):
                 and np.array_equal(px.astype(np.float16).astype(px.dtype), px))
 
 
-def page_textures(features, p, images, cache=None):
+def page_textures(features, plan, p, images, cache=None):
     """The images the shader samples → ({channel: encoded texture or {'same_as': channel}},
-    warnings). Derived images (nodegraph/derived_inputs.py) replace their sources; colour ones
-    (E, B) are halves (≤ 2.4e-4 off in 0..1), data ones (heights, relief) float32.
+    warnings). Derived images (plan: derived_inputs.prepare's) replace their sources; colour
+    ones (E, B) are halves (≤ 2.4e-4 off in 0..1), data ones (heights, relief) float32.
     cache: {derived key, or the channel of an image used as it is: texture}, shared by the
     calls for one painting's looks."""
     cache = {} if cache is None else cache
     need = {c for c in features.image_channels() if not c.startswith("shadow_")}
-    plan = [d for d in derived_inputs(features, p, {c: Source(c, img.bits)
-                                                    for c, img in images.items()})
-            if d.channel in need]
+    plan = [d for d in plan if d.channel in need]
     todo = [d for d in plan if d.key not in cache]
     made, warnings = make_derived(todo, images.__getitem__, lambda c: pixel_role(c, p))
     by_channel = {d.channel: d for d in plan}
@@ -174,11 +170,12 @@ def _march_bounds(images, p, cache):
 
 def _variant(images, lights, p, steps, cache):
     """One way to show the painting: (features, shader source, uniforms, textures, warnings)."""
-    features, p_page = page_features(images, lights, p)
-    if steps is not None:
-        p_page.shadows.steps = int(steps)
+    p_page = page_params(p, steps)
+    features, plan = prepare(p_page, {c: Source(c, img.bits, img.size, img.has_alpha)
+                                      for c, img in images.items()}, [lt.kind for lt in lights])
     source, program = glsl_codegen.generate(describe(features), features)
-    textures, warnings = page_textures(features, p_page, images, cache.setdefault("images", {}))
+    textures, warnings = page_textures(features, plan, p_page, images,
+                                       cache.setdefault("images", {}))
     uniforms = {name: value for name, value in param_uniforms(p_page).items()
                 if name in program.uniforms}
     if features.shadows:

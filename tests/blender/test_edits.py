@@ -3,6 +3,7 @@ change in — dragged through the properties, moved, swapped, undone — the mat
 fresh build for the same settings gives (node tree, drivers, derived and shadow images), and
 it renders (Cycles) like the numpy core."""
 import hashlib
+import sys
 
 import numpy as np
 import pytest
@@ -270,3 +271,32 @@ def test_a_random_edit_sequence_keeps_the_material_fresh_and_like_the_core(paths
         what = f"step {step} ({what}; before: {'; '.join(history[-6:-1])})"
         assert_fresh(mat, scene, what)
         renders_like_the_core(mat, scene, tmp_path, what)
+
+
+def test_one_update_reads_the_settings_once(paths):
+    """A setting change, a light move and a rebake each read the painting's settings once
+    (painting_state.read_state), and every part of the update (derived images, bakes, tree)
+    works from that one reading (issue 28: it converted them four to eight times)."""
+    from dynpaint_addon.blender import settings
+    mat, scene = painting(paths)
+    s = mat.dynamic_painting
+    calls = []
+
+    def count(frame, event, _):
+        if (event == "call" and frame.f_code.co_filename == settings.__file__
+                and not frame.f_code.co_name.startswith("<")):      # not comprehensions
+            calls.append(frame.f_code.co_name)
+    sun = linked_lights(mat, scene)[0]
+    edits = {"a setting": lambda: setattr(s.diffuse, "t0", 0.25),
+             "a light move": lambda: (sun.rotation_euler.__setitem__(0, 0.4),
+                                      update(mat, scene, bake="now")),
+             "a rebake": lambda: update(mat, scene, rebake=True)}
+    for what, edit in edits.items():
+        calls.clear()
+        sys.setprofile(count)
+        try:
+            edit()
+        finally:
+            sys.setprofile(None)
+        assert sorted(calls) == ["channel_images", "settings_to_params"], (what, calls)
+    assert_fresh(mat, scene, "the counted edits")

@@ -4,7 +4,7 @@ from bpy.props import BoolProperty, EnumProperty, IntProperty
 
 from ..compositor import (add_group_node, build_group, features_for_options,
                           wire_painting)
-from ..tree import features_for
+from ..painting_state import read_state
 from .common import active_painting, run_and_report
 
 
@@ -33,7 +33,8 @@ class DYNPAINT_OT_add_compositor_group(bpy.types.Operator):
 
         def work():
             if mat is not None:
-                features, _ = features_for(mat, context.scene)
+                state = read_state(mat, context.scene)
+                features = state.features
             else:
                 chans = [c for c in ("environment", "background", "transparency")
                          if getattr(self, c)]
@@ -42,7 +43,7 @@ class DYNPAINT_OT_add_compositor_group(bpy.types.Operator):
             group = build_group(features)
             node = add_group_node(context.scene, group)
             if mat is not None:
-                wire_painting(context.scene, node, mat)
+                wire_painting(context.scene, node, mat, state)
             return [("INFO", f"Added '{group.name}' to the compositor"
                      + (f" for {mat.name}" if mat is not None else ""))]
         return run_and_report(self, context, work, catch=(ValueError, KeyError))
