@@ -17,7 +17,7 @@ from .core.colour import linear_to_srgb
 from .core.lights import Light
 from .core.pipeline import PER_PIXEL_CHANNELS, ImageData, render, shape_normals
 from .core.sampling import resample
-from .core.bake import QUALITY, bake, quality_settings
+from .core.bake import QUALITY, bake, quality_level, quality_settings
 from .core.shadow import ShadowStats
 from .errors import UserError
 from .export_web_cli import add_parser as add_export_web_parser
@@ -142,16 +142,14 @@ def add_param_option(parser, flag, path):
 
 
 def _check_ranges(args, options):
-    """Every parameter option within its params.py range, or one clear line."""
+    """Every parameter option as its params.py entry allows (Param.check), or one clear line."""
     for flag, path in options.items():
-        prm, value = params.BY_PATH[path], getattr(args, _dest(flag))
-        if not isinstance(value, (int, float)) or isinstance(value, bool):
-            continue
-        unit = f" {prm.unit}" if prm.unit else ""
-        if prm.min is not None and value < prm.min:
-            raise CommandError(f"{flag} must be ≥ {prm.min:g}{unit}, got {value}")
-        if prm.max is not None and value > prm.max:
-            raise CommandError(f"{flag} must be ≤ {prm.max:g}{unit}, got {value}")
+        value = getattr(args, _dest(flag))
+        if value is not None and value is not False:
+            try:
+                params.BY_PATH[path].check(value)
+            except ValueError as exc:
+                raise CommandError(f"{flag}: {exc}") from None
 
 
 def _bake_params(args):
@@ -175,7 +173,7 @@ def cmd_bake_shadow(args):
     except ValueError as exc:
         raise CommandError(str(exc)) from None
     p = _bake_params(args)
-    quality = "custom" if args.steps is not None or args.scale is not None else args.quality
+    quality = quality_level(args.quality, args.steps, args.scale)
     level = QUALITY.get(args.quality, {"steps": params.BY_PATH["shadows.steps"].default,
                                        "scale": params.BY_PATH["shadows.resolution"].default})
     steps, scale, dtype = quality_settings(

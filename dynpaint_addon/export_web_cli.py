@@ -24,8 +24,11 @@ def cmd_export_web(args):
         raise ExportError(f"--out {args.out}: a web page is an .html file")
     if args.max_size is not None and args.max_size < 16:
         raise ExportError(f"--max-size {args.max_size}: at least 16 pixels")
-    if args.steps is not None and not STEPS.min <= args.steps <= STEPS.max:
-        raise ExportError(f"--steps {args.steps}: K must be in {STEPS.min}..{STEPS.max}")
+    if args.steps is not None:
+        try:
+            STEPS.check(args.steps)
+        except ValueError as exc:
+            raise ExportError(f"--steps: {exc}") from None
     if args.turntable_seconds <= 0:
         raise ExportError(f"--turntable-seconds {args.turntable_seconds}: must be positive")
     start = time.perf_counter()

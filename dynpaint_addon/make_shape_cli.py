@@ -8,19 +8,18 @@ import time
 import numpy as np
 
 from . import params
-from .core.inflate import PROFILES, inflate
+from .core.inflate import inflate
 from .core.integrate import integrate
 from .core.occlusion import ambient_occlusion
 from .core.photometric import SIDES, normals_from_profiles, normals_from_rg_photo
 from .core.pipeline import input_notes, normal_map_relief_px, shape_normals
-from .core.shape import ENCODINGS
 from .imageio import read_image, write_exr, write_png
 from .notes import check_and_print, figure_note, print_notes
 from .recipe import load_recipe
-from .samples import recipe_help
-from .shape_maker import (GREENS, ShapeError, decode_normals, encode_normals, figure_and_source,
+from .shape_maker import (ShapeError, decode_normals, encode_normals, figure_and_source,
                           figure_mask, height_widths, linear_luminance, normals_of_height, same_size,
                           sprite_lamp_side)
+from .shape_methods import METHODS, options
 
 
 def _write_height(path, z):
@@ -50,20 +49,6 @@ def _write_normals(path, n, green):
 def _timed(args, what, started):
     if args.verbose:
         print(f"{what}: {time.perf_counter() - started:.3f} s")
-
-
-def _strength(text):
-    """--strength: 'auto' or a number in shape.strength's range."""
-    if text == "auto":
-        return text
-    prm = params.BY_PATH["shape.strength"]
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number or auto, got {text!r}") from None
-    if not prm.min <= value <= prm.max:
-        raise argparse.ArgumentTypeError(f"must be in [{prm.min:g}, {prm.max:g}], got {value:g}")
-    return value
 
 
 def cmd_integrate(args):
@@ -102,7 +87,7 @@ def cmd_integrate(args):
 
 
 def cmd_normals(args):
-    img = read_image(args.height)
+    img = read_image(args.height_map)
     started = time.perf_counter()
     n = normals_of_height(height_widths(img, args.height_scale, args.preblur))
     _timed(args, "normals", started)
@@ -111,7 +96,8 @@ def cmd_normals(args):
 
 def _profile_images(args):
     """{side: path} from the --left … options and Sprite Lamp file names."""
-    chosen = {side: getattr(args, side) for side in SIDES if getattr(args, side)}
+    chosen = {side: getattr(args, f"profile_{side}") for side in SIDES
+              if getattr(args, f"profile_{side}")}
     for path in args.images:
         side = sprite_lamp_side(path)
         if side is None:
@@ -185,98 +171,60 @@ def cmd_export_maps(args):
         print(f"wrote {out['specular.png']}")
 
 
+# make-shape METHOD's runner on the command line (files in, files out), by METHODS key
+COMMANDS = {"integrate": cmd_integrate, "normals": cmd_normals, "profiles": cmd_profiles,
+            "rg_photo": cmd_rg_photo, "inflate": cmd_inflate, "export_maps": cmd_export_maps}
+OUT_HELP = {"height": "height map: .exr (image widths) or .png (16-bit)",
+            "normal": "normal map (.png 16-bit or .exr)",
+            "maps": "folder for normal.png, height.exr/.png, ambient_occlusion.png, specular.png"}
+
+
+def _value_type(option):
+    """argparse type of a number option: parsed, then checked (Option.check)."""
+    def parse(text):
+        try:
+            value = text if option.kind == "auto_float" and text == "auto" else \
+                (int if option.kind is int else float)(text)
+            return option.check(value)
+        except ValueError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
+    return parse
+
+
+def add_option(parser, option):
+    """One row of shape_methods.OPTIONS as a command-line argument."""
+    if option.positional:
+        parser.add_argument(option.name, metavar=option.positional, help=option.help,
+                            nargs="*" if option.many else None)
+        return
+    shown = (option.default is not None and option.kind is not bool
+             and "default" not in option.help)
+    text = option.help + (f" (default {option.default})" if shown else "")
+    kw = {"dest": option.name, "help": text}
+    if option.kind is bool:
+        parser.add_argument(option.cli_flag, action="store_true", **kw)
+    elif isinstance(option.kind, tuple):
+        parser.add_argument(option.cli_flag, choices=option.kind, default=option.default, **kw)
+    else:
+        numeric = option.kind in (float, int, "auto_float")
+        parser.add_argument(option.cli_flag, type=_value_type(option) if numeric else str,
+                            default=option.default, required=option.required, **kw)
+
+
 def add_parser(sub):
-    """Register `make-shape` and its methods on the command line's subparsers."""
+    """Register `make-shape` and its methods (shape_methods.METHODS, their options from
+    shape_methods.OPTIONS) on the command line's subparsers."""
     ms = sub.add_parser("make-shape", help="make a height or normal map from what you have",
                         description="Make the shape image: integrate a normal map into heights, "
                         "take a height map's normals, solve lighting profiles or a red/green "
                         "photograph for normals, inflate a silhouette, export maps for game "
                         "engines. Heights are in image widths.")
     methods = ms.add_subparsers(dest="method", required=True, metavar="METHOD")
-
-    def method(name, help_, func):
-        m = methods.add_parser(name, help=help_, description=help_)
+    for name, method in METHODS.items():
+        m = methods.add_parser(method.command, help=method.help, description=method.help)
         m.add_argument("-v", "--verbose", action="store_true", help="print the time (and, for "
                        "integrate, the non-integrable residual)")
-        m.set_defaults(func=func)
-        return m
-
-    def green_option(m):
-        m.add_argument("--green", choices=GREENS, default="opengl",
-                       help="normal map convention: opengl (green = up, Blender) or directx "
-                       "(green = down)")
-
-    def normal_map_out(m):
-        green_option(m)
-        m.add_argument("--out", required=True, help="normal map (.png 16-bit or .exr)")
-
-    m = method("integrate", "normal map → height map by least squares (free edges)",
-               cmd_integrate)
-    m.add_argument("normal", metavar="NORMAL", help="normal map image")
-    m.add_argument("--mask", default="none", help="figure mask image (white or alpha = figure), "
-                   "'alpha' for the normal map's own alpha, or 'none' (default): equations "
-                   "across the mask's edge are dropped, each part integrated on its own")
-    m.add_argument("--depth", type=float, default=0.0, help="with a mask: how far the figure's "
-                   "rim stands above its background (image widths, default 0)")
-    m.add_argument("--encoding", choices=ENCODINGS, default="auto",
-                   help="rgb, rg (two-channel) or auto (as shape.encoding)")
-    m.add_argument("--flip-green", action="store_true", help="DirectX normal map (green down)")
-    m.add_argument("--strength", type=_strength, default="auto",
-                   help="scale of each normal's tilt: a number (0.5 for tilt-halving maps) or "
-                   "auto (default; as shape.strength)")
-    m.add_argument("--residual", help="also write the residual |g − ∇z| per pixel (.exr)")
-    m.add_argument("--out", required=True, help="height map: .exr (image widths) or .png (16-bit)")
-
-    m = method("normals", "height map → normal map (§2)", cmd_normals)
-    m.add_argument("height", metavar="HEIGHT", help="height map (grey; EXR in image widths)")
-    m.add_argument("--height-scale", type=float, required=True,
-                   help="relief of a white pixel (image widths; 1 for make-shape's EXRs)")
-    m.add_argument("--preblur", type=float, default=0.0,
-                   help="Gaussian blur before the slopes are taken (pixels; 1.5 for 8-bit maps)")
-    normal_map_out(m)
-
-    m = method("profiles", "lighting profiles (2–5 images lit from the sides) → normal map",
-               cmd_profiles)
-    m.add_argument("images", nargs="*", metavar="IMAGE",
-                   help="profiles named in Sprite Lamp's convention (name_left.png, _right, _top, "
-                   "_bottom, _front)")
-    for side in SIDES:
-        m.add_argument(f"--{side}", help=f"the image lit from the {side}")
-    m.add_argument("--elevation", type=float, default=45.0,
-                   help="the side lights' height above the painting (degrees, default 45)")
-    normal_map_out(m)
-
-    m = method("rg-photo", "photograph lit red from one side, green from the top → normal map",
-               cmd_rg_photo)
-    m.add_argument("photo", metavar="PHOTO", help="the photograph")
-    m.add_argument("--red-from", choices=("right", "left"), default="right",
-                   help="side the red light came from (default right)")
-    m.add_argument("--green-from", choices=("top", "bottom"), default="top",
-                   help="side the green light came from (default top)")
-    normal_map_out(m)
-
-    m = method("inflate", "silhouette → round height map (−Δh = 1 inside, h = 0 on its edge)",
-               cmd_inflate)
-    m.add_argument("image", metavar="IMAGE", help="painting with alpha, or a mask (white = figure)")
-    m.add_argument("--profile", choices=PROFILES, default="round",
-                   help="round (a disc gives a hemisphere), soft or flat (rounded rims, a plateau)")
-    m.add_argument("--height", type=float, default=1.0,
-                   help="scale of the relief (1: a disc's hemisphere as tall as its radius)")
-    m.add_argument("--mask-channel", default="auto",
-                   choices=("auto", "alpha", "luminance", "red", "green", "blue"),
-                   help="what of IMAGE is the figure (auto: its alpha, else a painted mask)")
-    m.add_argument("--detail", type=float, default=0.0,
-                   help="emboss the painting's luminance: image widths of relief per unit "
-                   "of luminance (e.g. 0.01; default 0 = none)")
-    m.add_argument("--detail-image", help="the painting whose luminance is embossed "
-                   "(default IMAGE)")
-    m.add_argument("--detail-blur", type=float, default=0.002,
-                   help="blur of the embossed luminance (image widths, default 0.002)")
-    m.add_argument("--out", required=True, help="height map: .exr (image widths) or .png (16-bit)")
-
-    m = method("export-maps", "a recipe's maps for game engines: normal, height, AO, specular",
-               cmd_export_maps)
-    m.add_argument("recipe", metavar="RECIPE", help=recipe_help())
-    green_option(m)
-    m.add_argument("--out", required=True, help="folder for normal.png, height.exr/.png, "
-                   "ambient_occlusion.png, specular.png")
+        m.set_defaults(func=COMMANDS[name])
+        for option in options(name, "cli"):
+            add_option(m, option)
+        m.add_argument("--out", required=True, help=OUT_HELP[method.makes])

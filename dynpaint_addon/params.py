@@ -4,7 +4,8 @@ The recipe reader (recipe.py), the command line's help, the docs and the add-on'
 properties are all generated from this table, so a parameter is added in one place.
 No bpy import here. Lengths are in image widths (pipeline.md §0) unless a unit says otherwise.
 """
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, replace
 from types import SimpleNamespace
 
 from .core.fresnel import DOMAINS
@@ -80,6 +81,51 @@ class Param:
     @property
     def ui_label(self):
         return self.label or self.key.replace("_", " ").title()
+
+    def check(self, value):
+        """The value as the parameter holds it, or ValueError saying what is wrong (every
+        reader of a value calls this: recipes, command-line options, export-web).
+
+        >>> BY_PATH["refraction.ior"].check(1)
+        1.0
+        >>> BY_PATH["refraction.ior"].check(3.0)
+        Traceback (most recent call last):
+        ValueError: 3.0 is out of range [0.5, 2.0]
+        """
+        kind = self.kind
+        if kind is bool:
+            if not isinstance(value, bool):
+                raise ValueError(f"expected true or false, got {value!r}")
+            return value
+        if kind == "enum":
+            if value not in self.choices:
+                raise ValueError(f"must be one of {', '.join(self.choices)}, got {value!r}")
+            return value
+        if kind == "auto_float" and value == "auto":
+            return value
+        if kind == "vec2":
+            if not isinstance(value, (list, tuple)) or len(value) != 2:
+                raise ValueError(f"expected two numbers [x, y], got {value!r}")
+            component = replace(self, kind=float)
+            out = []
+            for i, c in enumerate(value):
+                try:
+                    out.append(component.check(c))
+                except ValueError as exc:
+                    raise ValueError(f"[{i}]: {exc}") from None
+            return tuple(out)
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            expected = "an integer" if kind is int else (
+                'a number or "auto"' if kind == "auto_float" else "a number")
+            raise ValueError(f"expected {expected}, got {value!r}")
+        if kind is int and not isinstance(value, int):
+            raise ValueError(f"expected an integer, got {value!r}")
+        if not math.isfinite(value):
+            raise ValueError(f"must be a finite number, got {value!r}")
+        if self.min is not None and value < self.min or self.max is not None and value > self.max:
+            unit = f" {self.unit}" if self.unit else ""
+            raise ValueError(f"{value!r} is out of range [{self.min}, {self.max}]{unit}")
+        return int(value) if kind is int else float(value)
 
 
 P = Param

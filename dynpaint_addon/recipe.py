@@ -23,7 +23,7 @@ import difflib
 import math
 import os
 import tomllib
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 from . import params
 from .channel_names import IMAGE_EXTENSIONS
@@ -56,34 +56,11 @@ def _suggest(key, options):
 
 
 def _check_value(param, value, where):
-    kind = param.kind
-    if kind is bool:
-        if not isinstance(value, bool):
-            raise RecipeError(f"{where}: expected true or false, got {value!r}")
-        return value
-    if kind == "enum":
-        if value not in param.choices:
-            raise RecipeError(f"{where}: must be one of {', '.join(param.choices)}, got {value!r}")
-        return value
-    if kind == "auto_float" and value == "auto":
-        return value
-    if kind == "vec2":
-        if not isinstance(value, (list, tuple)) or len(value) != 2:
-            raise RecipeError(f"{where}: expected two numbers [x, y], got {value!r}")
-        component = replace(param, kind=float)
-        return tuple(_check_value(component, c, f"{where}[{i}]") for i, c in enumerate(value))
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        expected = "an integer" if kind is int else ("a number or \"auto\"" if kind == "auto_float"
-                                                     else "a number")
-        raise RecipeError(f"{where}: expected {expected}, got {value!r}")
-    if kind is int and not isinstance(value, int):
-        raise RecipeError(f"{where}: expected an integer, got {value!r}")
-    if not math.isfinite(value):
-        raise RecipeError(f"{where}: must be a finite number, got {value!r}")
-    if param.min is not None and value < param.min or param.max is not None and value > param.max:
-        unit = f" {param.unit}" if param.unit else ""
-        raise RecipeError(f"{where}: {value!r} is out of range [{param.min}, {param.max}]{unit}")
-    return int(value) if kind is int else float(value)
+    try:
+        return param.check(value)
+    except ValueError as exc:      # "[1]: …" names a vec2's component
+        sep = "" if str(exc).startswith("[") else ": "
+        raise RecipeError(f"{where}{sep}{exc}") from None
 
 
 def _vector(value, where, minimum=None):

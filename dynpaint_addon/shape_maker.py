@@ -117,15 +117,6 @@ def same_size(images, what):
 
 
 
-METHODS = {
-    "inflate": "Inflate Silhouette: a round relief inside the painting's alpha",
-    "integrate": "Height from Normal Map: integrate the normal map (least squares)",
-    "normals": "Normal Map from Height: the height map's normals (§2)",
-    "profiles": "Normal Map from Lighting Profiles: 2–5 pictures lit from the sides",
-    "rg_photo": "Normal Map from a Red/Green Photo: red light from a side, green from the top",
-}
-
-
 # How the painting reads a shape image make_shape made (§2): heights in image widths, float
 # (no pre-blur); normal maps in the standard RGB convention.
 SHAPE_READS = {"height": {"kind": "height", "height_scale": 1.0, "preblur": "auto"},
@@ -159,100 +150,89 @@ def _at_size(pixels, size):
     return pixels if pixels.shape[:2] == (h, w) else resample(pixels, h, w)
 
 
-def make_shape(method, images, p, profile="round", height=1.0, detail=0.0, detail_blur=0.002,
-               depth=0.0, use_mask=True, profiles=None, elevation=45.0, photo=None,
-               red_from="right", green_from="top"):
-    """A painting's new shape image (the add-on's Make Shape; docs/shape-from-painting.md).
-
-    Parameters
-    ----------
-    method : str
-        One of METHODS: 'inflate', 'integrate', 'normals', 'profiles', 'rg_photo'.
-    images : dict
-        {channel: ImageData} of the painting (pipeline.md §1).
-    p : namespace
-        The painting's parameters (params.defaults() layout): how its shape image is read.
-    profile, height, detail, detail_blur : str, float, float, float
-        inflate: the rim's profile (core.inflate.PROFILES), the highest point, the painting's
-        luminance embossed as detail, and that detail's blur (all in image widths).
-    depth : float
-        integrate: how far the figure's rim stands above its background (image widths).
-    use_mask : bool
-        integrate: cut the figure at the shape image's alpha.
-    profiles : dict, optional
-        profiles: {side: ImageData} of two to five lighting profiles ('left', 'right', 'top',
-        'bottom', 'front'), resampled to the painting's size.
-    elevation : float
-        profiles: the side lights' elevation in degrees.
-    photo : ImageData, optional
-        rg_photo: the red/green photograph, resampled to the painting's size.
-    red_from, green_from : str
-        rg_photo: the sides the red and green lights shone from.
-
-    Returns
-    -------
-    kind : str
-        'height' or 'normal'.
-    pixels : ndarray (H, W, 4)
-        Heights in image widths (grey) or a normal map's colours, with the old shape image's
-        alpha (inflated: the silhouette's), else opaque.
-    lines : list of str
-        What was done, for the report.
-    """
-    shape = images.get("shape")
-    alpha = shape.alpha() if shape is not None else None
-    lines = []
-    if method == "inflate":
-        channel, alpha = _silhouette(images)
-        mask = alpha >= 0.5
-        painting = images.get("bright") or images.get("dark")
-        lum = linear_luminance(painting) if detail and painting is not None else None
-        if lum is not None and lum.shape != mask.shape:
-            raise ShapeError("the painting and its silhouette differ in size: resample one")
-        result = inflate(mask, profile, height, detail, lum, detail_blur)
-        kind, values = "height", result.height
-        lines.append(f"inflated the {channel} image's silhouette ({profile}), highest point "
-                     f"{values.max():.3g} image widths")
-    elif method == "integrate":
-        if shape is None or p.shape.kind != "normal":
-            raise ShapeError("Height from Normal Map needs a normal map as the shape image")
-        n = decode_normals(shape, p.shape.encoding, p.shape.flip_green, p.shape.strength)
-        mask = figure_mask(shape, "alpha") if use_mask else None    # no alpha: all figure
-        result = integrate(n, mask, depth)
-        kind, values = "height", result.height
-        lines.append(f"integrated the normal map: relief {values.max():.3g} image widths; "
-                     f"{100 * result.residual_share:.1f} % of it no height map can hold "
-                     f"(painted or impossible parts)")
-    elif method == "normals":
-        if shape is None or p.shape.kind != "height":
-            raise ShapeError("Normal Map from Height needs a height map as the shape image")
-        blur = p.shape.preblur if p.shape.preblur != "auto" else default_preblur_px(shape.bits)
-        kind = "normal"
-        values = encode_normals(normals_of_height(height_widths(shape, p.shape.height_scale,
-                                                                float(blur))))
-        lines.append("made the height map's normal map")
-    elif method in ("profiles", "rg_photo"):
-        size = (shape or images.get("bright") or images.get("dark")).size
-        kind = "normal"
-        if method == "profiles":
-            given = {side: img for side, img in (profiles or {}).items() if img is not None}
-            if len(given) < 2:
-                raise ShapeError("Lighting Profiles: give at least two pictures (left, right, "
-                                 "top, bottom, front)")
-            n = normals_from_profiles({side: _at_size(linear_luminance(img), size)
-                                       for side, img in given.items()}, elevation)
-            lines.append(f"solved {len(given)} lighting profiles ({', '.join(given)})")
-        else:
-            if photo is None:
-                raise ShapeError("Red/Green Photo: give the photograph")
-            n = normals_from_rg_photo(_at_size(np.asarray(photo.rgb(), np.float64), size),
-                                      red_from, green_from)
-            lines.append("decoded the red/green photograph")
-        values = encode_normals(n)
-    else:
-        raise ShapeError(f"unknown method {method!r} (expected one of {', '.join(METHODS)})")
+def _with_alpha(values, alpha):
+    """Heights (H, W) or normal-map colours (H, W, 3) as RGBA, with `alpha` where it fits
+    the result, else opaque."""
     h, w = values.shape[:2]
     if alpha is None or alpha.shape != (h, w):
         alpha = np.ones((h, w))
     rgb = np.repeat(values[..., None], 3, axis=2) if values.ndim == 2 else values
-    return kind, np.concatenate([rgb, np.asarray(alpha)[..., None]], axis=2), lines
+    return np.concatenate([rgb, np.asarray(alpha)[..., None]], axis=2)
+
+
+def _shape_alpha(images):
+    shape = images.get("shape")
+    return shape.alpha() if shape is not None else None
+
+
+# Each method: (images, p, its options) → (kind, RGBA pixels, report lines). Its options
+# and their defaults are in shape_methods.OPTIONS; shape_methods.make_shape calls them.
+def inflate_silhouette(images, p, profile, height, detail, detail_blur):
+    """inflate: the painting's silhouette (the alpha of its shape, dark or bright image)
+    inflated into a round height field (core.inflate), its luminance embossed as detail."""
+    channel, alpha = _silhouette(images)
+    mask = alpha >= 0.5
+    painting = images.get("bright") or images.get("dark")
+    lum = linear_luminance(painting) if detail and painting is not None else None
+    if lum is not None and lum.shape != mask.shape:
+        raise ShapeError("the painting and its silhouette differ in size: resample one")
+    values = inflate(mask, profile, height, detail, lum, detail_blur).height
+    return "height", _with_alpha(values, alpha), [
+        f"inflated the {channel} image's silhouette ({profile}), highest point "
+        f"{values.max():.3g} image widths"]
+
+
+def integrate_normal_map(images, p, use_mask, depth):
+    """integrate: the normal map (read as p's §2 settings say) integrated into heights by least
+    squares (core.integrate), cut at its alpha when `use_mask`, the rim `depth` up."""
+    shape = images.get("shape")
+    if shape is None or p.shape.kind != "normal":
+        raise ShapeError("Height from Normal Map needs a normal map as the shape image")
+    n = decode_normals(shape, p.shape.encoding, p.shape.flip_green, p.shape.strength)
+    mask = figure_mask(shape, "alpha") if use_mask else None    # no alpha: all figure
+    result = integrate(n, mask, depth)
+    values = result.height
+    return "height", _with_alpha(values, shape.alpha()), [
+        f"integrated the normal map: relief {values.max():.3g} image widths; "
+        f"{100 * result.residual_share:.1f} % of it no height map can hold "
+        f"(painted or impossible parts)"]
+
+
+def normal_map_of_height(images, p):
+    """normals: the height map's normals (§2, with p's height scale and pre-blur)."""
+    shape = images.get("shape")
+    if shape is None or p.shape.kind != "height":
+        raise ShapeError("Normal Map from Height needs a height map as the shape image")
+    blur = p.shape.preblur if p.shape.preblur != "auto" else default_preblur_px(shape.bits)
+    values = encode_normals(normals_of_height(height_widths(shape, p.shape.height_scale,
+                                                            float(blur))))
+    return "normal", _with_alpha(values, shape.alpha()), ["made the height map's normal map"]
+
+
+def _painting_size(images):
+    return (images.get("shape") or images.get("bright") or images.get("dark")).size
+
+
+def normal_map_from_profiles(images, p, profiles, elevation):
+    """profiles: normals solved from two to five pictures lit from the sides ({side:
+    ImageData}, resampled to the painting's size; core.photometric)."""
+    size = _painting_size(images)
+    given = {side: img for side, img in (profiles or {}).items() if img is not None}
+    if len(given) < 2:
+        raise ShapeError("Lighting Profiles: give at least two pictures (left, right, "
+                         "top, bottom, front)")
+    n = normals_from_profiles({side: _at_size(linear_luminance(img), size)
+                               for side, img in given.items()}, elevation)
+    return "normal", _with_alpha(encode_normals(n), _shape_alpha(images)), [
+        f"solved {len(given)} lighting profiles ({', '.join(given)})"]
+
+
+def normal_map_from_rg_photo(images, p, photo, red_from, green_from):
+    """rg_photo: normals decoded from a photograph lit red from one side and green from the
+    top or bottom (core.photometric)."""
+    if photo is None:
+        raise ShapeError("Red/Green Photo: give the photograph")
+    n = normals_from_rg_photo(_at_size(np.asarray(photo.rgb(), np.float64), _painting_size(images)),
+                              red_from, green_from)
+    return "normal", _with_alpha(encode_normals(n), _shape_alpha(images)), [
+        "decoded the red/green photograph"]

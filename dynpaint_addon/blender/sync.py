@@ -11,7 +11,7 @@ from contextlib import contextmanager
 
 import bpy
 
-from ..core.bake import QUALITY
+from ..core.bake import QUALITY, quality_level
 from .images import prepare_channel_image, update_derived_images
 from .live_bake import LIVE, rendering
 from .shadow_images import bake_shadows, forget_cached_shape, stale_lights
@@ -65,10 +65,8 @@ def sync_quality(sh, path):
         if path == "shadows.quality" and sh.quality in QUALITY:
             sh.steps = QUALITY[sh.quality]["steps"]
             sh.resolution = QUALITY[sh.quality]["scale"]
-        elif path != "shadows.quality" and sh.quality in QUALITY:
-            q = QUALITY[sh.quality]
-            if (sh.steps, round(sh.resolution, 4)) != (q["steps"], q["scale"]):
-                sh.quality = "custom"
+        elif quality_level(sh.quality, sh.steps, sh.resolution) != sh.quality:
+            sh.quality = "custom"        # K or the resolution edited by hand
 
 
 def update(mat, scene=None, depsgraph=None, progress=None, bake="now", rebake=False,

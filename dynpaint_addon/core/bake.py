@@ -38,6 +38,23 @@ QUALITIES = (*QUALITY, "custom")
 FAST_FINAL_MIN_PX = 512
 
 
+def quality_level(quality, steps=None, scale=None):
+    """The level a bake chosen by `quality` and, optionally, its own K (`steps`) and
+    resolution (`scale`) runs at (§13): the level while K and the resolution are the level's
+    own (or not given), 'custom' once either is set otherwise — as editing K by hand in the
+    add-on makes the level Custom.
+
+    >>> quality_level("final"), quality_level("final", steps=64), quality_level("final", 32)
+    ('final', 'final', 'custom')
+    """
+    q = QUALITY.get(quality)
+    if q is None:
+        return "custom"
+    same = (steps is None or int(steps) == q["steps"]) and (
+        scale is None or round(float(scale), 4) == q["scale"])
+    return quality if same else "custom"
+
+
 def quality_settings(quality, steps=64, scale=1.0):
     """(K, resolution scale, dtype) of a quality level; 'custom' uses steps and scale."""
     if quality == "custom":

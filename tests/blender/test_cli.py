@@ -96,7 +96,7 @@ def test_bake_shadow_normal_map_and_point_light(tmp_path):
     (("bake-shadow", "notimage.png", "--kind", "height", "--light", 0, 0, 0, "--out", "t.exr"),
      "sun direction must not be (0, 0, 0)"),
     (("bake-shadow", "notimage.png", "--kind", "height", "--light", 0, 0, 1, "--steps", -3,
-      "--out", "t.exr"), "--steps must be ≥ 0"),
+      "--out", "t.exr"), "--steps: -3 is out of range [0, "),
     (("render", "bad.toml", "--out", "x.png"), "bad.toml: shadows.stpes: unknown key (did you mean 'steps'?)"),
     (("render", "good.toml", "--out", "x.jpg"), "unsupported output format '.jpg'"),
     (("render", "good.toml", "--out", "x.png", "--frame", 3), "--frame needs --engine eevee or cycles"),

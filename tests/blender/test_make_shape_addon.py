@@ -130,3 +130,21 @@ def test_a_lone_opaque_painting_is_refused_with_what_to_do_and_nothing_is_made(e
     with pytest.raises(RuntimeError, match="no silhouette to inflate"):
         bpy.ops.dynpaint.add(directory=str(tmp_path), files=[{"name": "opaque.png"}])
     assert set(bpy.data.objects) == objects and set(bpy.data.images) == images
+
+
+def test_the_operator_is_generated_from_the_one_table():
+    """Make Shape's properties are shape_methods.OPTIONS' add-on rows (issue 28), with the
+    table's defaults and ranges; its menu holds the methods that make a shape."""
+    from dynpaint_addon import blender
+    from dynpaint_addon.shape_methods import METHODS, OPTIONS
+    blender.register_once()
+    props = bpy.ops.dynpaint.make_shape.get_rna_type().properties
+    addon = [o for o in OPTIONS if o.where != "cli"]
+    assert {p.identifier for p in props} - {"rna_type"} == {"method"} | {o.name for o in addon}
+    for o in addon:
+        prop = props[o.name]
+        if o.kind is float:
+            assert (prop.default, prop.hard_min, prop.hard_max) == pytest.approx(
+                (o.default, o.min, o.max)), o.name
+    assert [i.identifier for i in props["method"].enum_items] == [
+        k for k, m in METHODS.items() if m.make]

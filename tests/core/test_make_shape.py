@@ -17,6 +17,7 @@ from dynpaint_addon.core.occlusion import ambient_occlusion
 from dynpaint_addon.core.photometric import (normals_from_profiles, normals_from_rg_photo,
                                              profile_directions)
 from dynpaint_addon.core.pipeline import ImageData, render
+from dynpaint_addon.shape_methods import make_shape
 from dynpaint_addon.shape_maker import (encode_normals, figure_mask, normals_of_height,
                                         sprite_lamp_side)
 
@@ -344,7 +345,6 @@ def test_a_soft_shadow_in_one_of_four_profiles_is_left_out():
 def test_an_opaque_alpha_cuts_nothing_when_integrating():
     """The figure of a normal map is its alpha ≥ ½, the rule the shadow relief uses: an
     alpha opaque everywhere cuts nothing (it was read as the map's luminance instead)."""
-    from dynpaint_addon.shape_maker import make_shape
     _, n = bump(48, 64)
     rgba = np.concatenate([(n + 1) / 2, np.ones(n.shape[:2] + (1,))], -1)
     p = params.defaults()
@@ -352,3 +352,20 @@ def test_an_opaque_alpha_cuts_nothing_when_integrating():
     _, plain, _ = make_shape("integrate", {"shape": ImageData(rgba[..., :3].astype(np.float32),
                                                                 32)}, p)
     assert np.allclose(cut[..., 0], plain[..., 0], atol=1e-9)
+
+
+def test_the_command_line_is_generated_from_the_one_table():
+    """make-shape METHOD takes exactly the table's options for it (shape_methods.OPTIONS, issue
+    28), each range checked by Option.check as the operator's sliders clamp."""
+    import argparse
+    from dynpaint_addon.cli import build_parser
+    from dynpaint_addon.shape_methods import METHODS, options
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    methods = next(a for a in sub.choices["make-shape"]._actions
+                   if isinstance(a, argparse._SubParsersAction))
+    assert set(methods.choices) == {m.command for m in METHODS.values()}
+    for name, method in METHODS.items():
+        dests = {a.dest for a in methods.choices[method.command]._actions} - {"help", "verbose", "out"}
+        assert dests == {o.name for o in options(name, "cli")}, name
+    with pytest.raises(SystemExit):
+        methods.choices["inflate"].parse_args(["x.png", "--height", "20", "--out", "h.exr"])

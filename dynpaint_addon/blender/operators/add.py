@@ -14,7 +14,8 @@ from ...channel_names import IMAGE_EXTENSIONS, common_name, guess_channels
 from ...imageio import image_data_from_blender
 from ...recipe import RecipeError, load_recipe
 from ...samples import list_samples
-from ...shape_maker import make_shape, read_as_made
+from ...shape_maker import read_as_made
+from ...shape_methods import make_shape
 from ..images import load_image, made_shape_image
 from ..scene import create_painting, unchanged_images_on_failure
 from .common import run_and_report
