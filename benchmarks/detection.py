@@ -34,7 +34,8 @@ from dynpaint_addon import example_paintings as ex  # noqa: E402
 from dynpaint_addon import params  # noqa: E402
 from dynpaint_addon.core.inputs import MASK_LEAK, mask_channel  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
-from dynpaint_addon.core.pipeline import ImageData, render  # noqa: E402
+from dynpaint_addon.core.input_rules import ImageData  # noqa: E402
+from dynpaint_addon.core.pipeline import render  # noqa: E402
 from dynpaint_addon.core.shape import (HALVING_AWAY, TWO_CHANNEL_BLUE, UNIT_SHARE,  # noqa: E402
                                        facing_away, resolve_encoding, resolve_strength,
                                        unit_share)

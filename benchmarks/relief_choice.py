@@ -6,7 +6,7 @@ hides under the outline), the same objects resting on the ground (a hidden wall 
 outline), and boxes (walls no normal map sees), each painted with the figure's alpha (a
 cut-out) and without (a full-frame map). For each: the mean |t − 3D| of the shadows baked from
 the integrated relief (the figure cut at the alpha where there is one), along the ray (reach
-0.05, the paper's way) and by `auto`, the rule core.pipeline.relief_of picks per painting;
+0.05, the paper's way) and by `auto`, the rule core.input_rules.relief_of picks per painting;
 the integration's residual beside them. Goal: auto at least as good as the better fixed
 choice on every kind, and never more than 0.005 worse on any painting.
 
@@ -27,7 +27,7 @@ from report import command_line, publish  # noqa: E402
 from shape_from_painting import BOXES, RESTING, SMOOTH, shadows_against_truth  # noqa: E402
 
 from dynpaint_addon.core.integrate import integrate  # noqa: E402
-from dynpaint_addon.core.pipeline import relief_of  # noqa: E402
+from dynpaint_addon.core.input_rules import relief_of  # noqa: E402
 
 GAP = 0.005           # auto may be this much worse than the better fixed choice, no more
 KINDS = {"sunk to the middle": SMOOTH, "resting on the ground": None, "box": BOXES}
@@ -137,7 +137,7 @@ def main(argv=None):
              f"`{command_line(__file__, argv)}`: Cycles truth, hard suns at "
              f"{', '.join(f'{e}°/{a}°' for e, a in gt.SUNS)} (elevation/azimuth), the core's "
              f"march (d = {args.offset}, K = {args.steps}); mean |t − 3D| over the suns. `auto` "
-             "is `core.pipeline.relief_of`: integrated where the shape image has an alpha, "
+             "is `core.input_rules.relief_of`: integrated where the shape image has an alpha, "
              "along the ray where it has none.", ""]
     for size in args.sizes:
         lines += report(measure(size, args.offset, args.steps, tempfile.mkdtemp()), size)

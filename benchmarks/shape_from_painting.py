@@ -32,7 +32,7 @@ from dynpaint_addon.core.inflate import inflate  # noqa: E402
 from dynpaint_addon.core.integrate import integrate  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.photometric import normals_from_profiles, profile_directions  # noqa: E402
-from dynpaint_addon.core.pipeline import ImageData  # noqa: E402
+from dynpaint_addon.core.input_rules import ImageData  # noqa: E402
 from dynpaint_addon.core.shadow import cos_theta_shadow  # noqa: E402
 from dynpaint_addon.core.shape import decode_normal_map, normals_from_height_px  # noqa: E402
 

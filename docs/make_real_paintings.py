@@ -18,7 +18,8 @@ from dynpaint_addon import example_paintings as ex            # noqa: E402
 from dynpaint_addon import params                             # noqa: E402
 from dynpaint_addon.core.colour import linear_to_srgb         # noqa: E402
 from dynpaint_addon.core.lights import Light                  # noqa: E402
-from dynpaint_addon.core.pipeline import ImageData, render    # noqa: E402
+from dynpaint_addon.core.input_rules import ImageData  # noqa: E402
+from dynpaint_addon.core.pipeline import render  # noqa: E402
 from dynpaint_addon.core.shading import barycentric_mix       # noqa: E402
 from dynpaint_addon.imageio import write_png                  # noqa: E402
 

@@ -23,7 +23,8 @@ from dynpaint_addon.core.lights import Light                    # noqa: E402
 from dynpaint_addon.core.occlusion import ambient_occlusion     # noqa: E402
 from dynpaint_addon.core.photometric import (normals_from_profiles,  # noqa: E402
                                              normals_from_rg_photo, profile_directions)
-from dynpaint_addon.core.pipeline import ImageData, render, shape_normals  # noqa: E402
+from dynpaint_addon.core.input_rules import ImageData  # noqa: E402
+from dynpaint_addon.core.pipeline import render, shape_normals  # noqa: E402
 from dynpaint_addon.imageio import write_png                    # noqa: E402
 from dynpaint_addon.shape_maker import encode_normals, normals_of_height  # noqa: E402
 

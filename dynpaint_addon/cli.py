@@ -15,7 +15,8 @@ import numpy as np
 from . import params
 from .core.colour import linear_to_srgb
 from .core.lights import Light
-from .core.pipeline import PER_PIXEL_CHANNELS, ImageData, render, shape_normals
+from .core.input_rules import PER_PIXEL_CHANNELS, ImageData
+from .core.pipeline import render, shape_normals
 from .core.sampling import resample
 from .core.bake import QUALITY, bake, quality_level, quality_settings
 from .core.shadow import ShadowStats

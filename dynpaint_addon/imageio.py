@@ -13,7 +13,7 @@ import zlib
 
 import numpy as np
 
-from .core.pipeline import ImageData
+from .core.input_rules import ImageData
 from .errors import UserError
 
 EXR_MAGIC = b"\x76\x2f\x31\x01"

@@ -12,7 +12,8 @@ from .core.inflate import inflate
 from .core.integrate import integrate
 from .core.occlusion import ambient_occlusion
 from .core.photometric import SIDES, normals_from_profiles, normals_from_rg_photo
-from .core.pipeline import input_notes, normal_map_relief_px, shape_normals
+from .core.input_rules import input_notes
+from .core.pipeline import normal_map_relief_px, shape_normals
 from .imageio import read_image, write_exr, write_png
 from .notes import check_and_print, figure_note, print_notes
 from .recipe import load_recipe

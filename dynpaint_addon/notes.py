@@ -1,13 +1,13 @@
 """One voice (issue 27): how every command says what it guessed about its inputs.
 
-Each command runs the same checks (core.pipeline.input_notes on a recipe's images, or the
+Each command runs the same checks (core.input_rules.input_notes on a recipe's images, or the
 part of them its inputs have) and prints each note as `note: …` on stderr, before its own
 result line on stdout; errors stay one `error: …` line (cli.main). The add-on's Add reports
 the same lines (blender/scene.check_images).
 """
 import sys
 
-from .core.pipeline import input_notes
+from .core.input_rules import input_notes
 
 
 def print_notes(notes):

@@ -1,6 +1,6 @@
 """Make a painting's shape image from what the artist has (docs/shape-from-painting.md).
 
-The glue between image files (core.pipeline.ImageData) and the numpy methods: the command
+The glue between image files (core.input_rules.ImageData) and the numpy methods: the command
 line (`make-shape`) and the add-on's Make Shape operator both call these, so a method reads
 its inputs the same way everywhere. No bpy here.
 

@@ -9,7 +9,7 @@ import numpy as np
 from . import params
 from .core.colour import linear_to_srgb
 from .core.lights import Light
-from .core.pipeline import ImageData
+from .core.input_rules import ImageData
 from .imageio import write_png
 from .recipe import Recipe, recipe_to_toml
 

@@ -25,7 +25,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 
 from dynpaint_addon import params                                   # noqa: E402
-from dynpaint_addon.core.colour import linear_to_srgb, srgb_to_linear    # noqa: E402
+from dynpaint_addon.core.colour import linear_to_srgb    # noqa: E402
 from dynpaint_addon.core.lights import Light                             # noqa: E402
 from dynpaint_addon.core.sampling import gaussian_blur, resample        # noqa: E402
 from dynpaint_addon.imageio import read_image, write_exr, write_png     # noqa: E402

@@ -10,7 +10,8 @@ import numpy as np
 import bpy
 
 from .. import params
-from ..core.pipeline import pixel_role, shadow_term, shape_normals
+from ..core.input_rules import pixel_role
+from ..core.pipeline import shadow_term, shape_normals
 from ..imageio import read_image, write_exr
 from ..nodegraph.derived_inputs import make_derived, prepare
 from ..nodegraph.features import Features

@@ -7,7 +7,7 @@ import numpy as np
 import bpy
 
 from .. import params
-from ..core.pipeline import pixel_role
+from ..core.input_rules import pixel_role
 from ..imageio import file_channels, image_data_from_blender
 from ..nodegraph.derived_inputs import grey_rgba, make_derived
 

@@ -15,7 +15,7 @@ from mathutils import Vector
 
 from .. import params
 from ..core.lights import Light
-from ..core.pipeline import input_notes
+from ..core.input_rules import input_notes
 from ..imageio import image_data_from_blender
 from .images import load_image, prepare_channel_image
 from .lights import add_light, linked_lights
@@ -74,7 +74,7 @@ class _ImagesRead(Mapping):
 
 
 def check_images(loaded, p):
-    """core.pipeline.input_notes on the painting's Blender images → notes; raises ValueError
+    """core.input_rules.input_notes on the painting's Blender images → notes; raises ValueError
     (one line) for a shape image that cannot be what the settings `p` say."""
     return input_notes(_ImagesRead(loaded), p)
 

@@ -10,13 +10,10 @@ out of the relief are searched along its row:
 - Point lights over height maps (_PointGrid): a polar grid around the light's foot; the ray
   is aimed at the light (§6 "Which ray"), G = (H − z_L)/ρ, c = (z0 − z_L)/ρ0.
 
-Per row, sparse tables of the maximum and minimum of G over power-of-two windows find the
-next up- or down-crossing of c by a binary descent; the inside length is the sum of the
-intervals between crossings, each placed by linear interpolation of the ray's depth between
-columns. A ray between two rows follows the blend of the two rows' profiles (the tables'
-blended extremes bound the blend's, and single columns are exact). Most rays need no descent:
-their first exit is where the tangent plane puts it, proved in O(1) (_exit_guess). The start
-is the reference's: δ0 from the exact bilinear relief at P0 (height maps) or the tangent
+The search along a row (crossing_search.py) is the same for both: sparse tables of G find
+each ray's next crossing of c by a binary descent, and the inside length is the sum of the
+intervals between crossings. Here: the grids, the rays' starts (Rays) and their tails. The
+start is the reference's: δ0 from the exact bilinear relief at P0 (height maps) or the tangent
 plane of P_S (normal maps, whose rebuilt height along a row is the running integral of the
 row's slope). Where a ray is still inside when it leaves the box of pixel centres, the tail
 of shadow.py (tangent plane of P_S) finishes it, as in the reference; a flat plane gives
@@ -29,131 +26,28 @@ built in groups of blocks that fit MAX_TABLE_BYTES (_BlockGrid). Measured
 march: 1e-3–2e-2).
 Everything is in pixels; the result is t = d / max(r, d) like shadow.cos_theta_shadow.
 """
-import functools
 import os
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
 
+from .crossing_search import inside_length, row_value, search_tables, table_levels
 from .sampling import pixel_centres, sample_bilinear, sample_bilinear_extend
 from .shadow import (BakeCancelled, cos_theta_shadow, exit_distance, inside_box,
                      vertical_cos_theta)
 
-MAX_CROSSINGS = 8     # enter/exit pairs followed per ray (more are very rare)
 MAX_TABLE_BYTES = 1.5 * 2**30   # tables built at once (larger grids: in groups of blocks)
 THREADS = max(1, min(4, os.cpu_count() or 1))
 RAY_BAND_PIXELS = 1 << 17       # rays searched together (see _bake)
 TRACE_PIXELS = 1 << 21          # rays whose starts are held at once (_BlockGrid.trace)
 SUN_BLOCKS, SUN_BLOCK_ROWS = 8, 160   # _SunGrid's blocks of rows: at most 8, ≥ 160 rows
-TABLE_LEVELS = 9                  # windows of up to 256 columns (_levels)
-NEVER = 1e30                      # table padding: beyond any G, finite so blends stay finite
-GUESS_STEPS, GUESS_LEAP = 3, 64
 POINT_RHO_MIN = 1e-3   # ρ (px) below which G = (H − z_L)/ρ divides by this: only a column at F
 POINT_ARC = 2.0   # row spacing (px) at ρ_max of full-circle grids (most rays are nearer F)
 POINT_STEP = 0.7  # column spacing (px of ρ) of polar grids at final: finer than pixels
 # _PointGrid's blocks of rows, each trimmed to the box seen from F: at most 16, one per 2**18
 # cells of the untrimmed grid, at least one per thread (small grids: per-call costs dominate)
 POINT_BLOCKS, POINT_BLOCK_CELLS = 16, 1 << 18
-
-
-def _levels(width):
-    """Table levels of a row `width` columns long: windows of 2**k ≤ width (a wider window
-    would cross the row's end from every column: all sentinels, never read), at most
-    TABLE_LEVELS: wider windows almost never skip (measured, sun 35° at 1024²: 0 % at 1024
-    columns, 0.2 % at 512, 13 % at 256), and a descent that stops short of its answer is
-    resumed by its caller."""
-    return max(1, min(TABLE_LEVELS, int(width).bit_length()))
-
-
-def _tables(g, op, sentinel):
-    """t[k, r, i] = op(G[r, i : i + 2**k]) for windows inside the row, `sentinel` (never
-    skipped by a descent) for windows that cross its end: one (levels, rows, width + 1) array
-    (column `width` is padding), so descents need no bounds checks and a per-ray level k can
-    be gathered from its flat view (_range_min)."""
-    rows, width = g.shape
-    levels = _levels(width)
-    out = np.empty((levels, rows, width + 1), g.dtype)
-    out[0, :, :width] = g
-    out[0, :, width] = sentinel
-    wp = width + 1
-    for k in range(1, levels):
-        half = 1 << (k - 1)
-        op(out[k - 1, :, :wp - half], out[k - 1, :, half:], out=out[k, :, :wp - half])
-        out[k, :, wp - half:] = sentinel
-    return out
-
-
-@functools.lru_cache(maxsize=8)
-def _windows(width, levels):
-    """Per range of n + 1 columns (n = 0 … width − 1): the level k of the two overlapping
-    windows that cover it (floor(log2(n + 1)), at most the top level), the second window's
-    start from the first's (n + 1 − 2**k), and whether two top windows are too short."""
-    n = np.arange(width)
-    k = np.minimum(np.floor(np.log2(n + 1)).astype(np.int64), levels - 1)
-    return k, n + 1 - (1 << k), n + 1 > (2 << (levels - 1))
-
-
-def _suffix_max(g):
-    """max of G from each column onward, per row (padded like the tables)."""
-    out = np.empty((g.shape[0], g.shape[1] + 1), g.dtype)
-    np.maximum.accumulate(g[:, ::-1], axis=1, out=out[:, -2::-1])
-    out[:, -1] = -NEVER
-    return out
-
-
-def _range_min(tables, rows, lo, hi):
-    """A lower bound of min over columns lo … hi (hi ≥ lo) of each ray's blended profile,
-    from two overlapping windows of one level: O(1) per ray; −∞ (nothing proved) where the
-    range is longer than two windows of the top level."""
-    levels, nrows, stride = tables.shape
-    k, back, too_long = _windows(stride, levels)
-    span = hi - lo
-    first = np.take(k, span)
-    first *= nrows * stride           # the level's plane in the flat tables
-    first += lo
-    second = np.take(back, span)
-    second += first
-    flat = tables.reshape(-1)
-    low = np.minimum(rows.at(flat, first), rows.at(flat, second))
-    np.copyto(low, -np.inf, where=np.take(too_long, span))
-    return rows.bend_bound(low, lo, hi, upper=False)
-
-
-def _descend(tables, rows, start, c, upper):
-    """First column j ≥ start where the blended profile (1 − w)·row0 + w·row1 is not beyond c:
-    above it (upper, tables of maxima: the next entry) or below or at it (tables of minima:
-    the next exit); `width` if none.
-
-    A window is skipped when the same blend of the two rows' window extremes is still on the
-    skipped side: a bound of the blended profile's own extreme (blend of maxima ≥ maximum of
-    the blend), so a skip is always right; the last level (single columns) is exact. When a
-    bound was too loose to skip, the column found may still be on the skipped side: the
-    caller checks it and descends again from the next column. Windows past the row's end hold
-    a sentinel that is never skipped, so j ≤ width always.
-    """
-    levels, _, stride = tables.shape
-    skip_if = np.less_equal if upper else np.greater
-    i = rows.b0 + start                      # flat index of row0 at the window's start
-    a, b = np.empty(i.size, tables.dtype), np.empty(i.size, tables.dtype)
-    skip, step = np.empty(i.size, bool), np.empty(i.size, np.int64)
-    for k in range(levels - 1, -1, -1):
-        flat = tables[k].reshape(-1)
-        # (buffers and no bounds checks: this loop is the bake's hottest)
-        np.take(flat, i, out=a, mode="clip")
-        np.take(flat[stride:], i, out=b, mode="clip")     # row1, one row further
-        b -= a
-        b *= rows.w
-        b += a
-        bound = b
-        if rows.bend is not None:
-            pos = i - rows.b0
-            bound = rows.bend_bound(b, pos, pos + ((1 << k) - 1), upper)
-        skip_if(bound, c, out=skip)
-        # (a product, not `where=`: numpy's masked loops are slow on scattered masks)
-        np.multiply(skip, 1 << k, out=step)
-        i += step
-    return i - rows.b0
 
 
 def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None, reach=np.inf,
@@ -198,13 +92,6 @@ def _by_bands(pool, h, w, fn):
     return list(pool.map(lambda r0: fn(r0, min(h, r0 + rows)), range(0, h, rows)))
 
 
-def _search(g, rho_max=None, q=None):
-    """The profile G's tables (_Search)."""
-    gmin = _tables(g, np.minimum, -NEVER)
-    return _Search(gmin[0], _tables(g, np.maximum, NEVER), gmin, _suffix_max(g), g.shape[1],
-                   rho_max, q)
-
-
 def _start_points(normals, d, heights_px, r0, r1):
     """Both grids' ray starts for pixel rows r0 … r1 − 1 (float32, 2D): N, P0 = P_S − d·N
     (§6) and its depth δ0 under the relief, the reference's: the exact bilinear relief above
@@ -222,6 +109,31 @@ def _start_points(normals, d, heights_px, r0, r1):
     else:
         delta0, h0 = f32(d) / nz, f32(d) * (nx * nx + ny * ny) / nz
     return nx, ny, nz, x0, y0, z0, delta0, h0
+
+
+@dataclass
+class Rays:
+    """The rays of some pixel rows in a grid's coordinates: flat arrays, one entry per ray
+    (§6's ray from P0; a grid's `starts` makes them, its `_search_block` and `finish` read
+    them). Fields a grid does not use are None."""
+    row0: np.ndarray            # the grid row below the ray's path …
+    wv: np.ndarray              # … blended with the next by this weight (0: row0 alone)
+    fu: np.ndarray              # the start's column u (fractional)
+    u_end: np.ndarray           # where the search stops: the box's edge, the light, the reach
+    c: np.ndarray               # the ray's level: inside the relief where G > c
+    delta0: np.ndarray          # δ0, the start's depth under the relief (px)
+    h0: np.ndarray | None       # normal maps: H(P0) on the tangent plane of P_S
+    searched: np.ndarray        # P0 inside the box (the others: `alone`)
+    alone: np.ndarray           # the inside length from δ0 alone (the tangent-plane tail)
+    by_reach: np.ndarray        # stopped by the reach before the box's edge
+    fall: np.ndarray = None     # suns: δ's fall per px of u on the tangent plane of P_S
+    fall_d: np.ndarray = None   # point lights: δ's fall per px of ρ on that plane
+    g_start: np.ndarray = None  # point lights: G at the start
+    reach_h: np.ndarray = None  # point lights: the reach in px of ρ
+    to_light: np.ndarray = None     # point lights: the box's edge is at or past the light
+    rho0: np.ndarray = None     # point lights: ρ of the start (px from the light's foot)
+    ndl: np.ndarray = None      # point lights: N·L at the start
+    slant: np.ndarray = None    # point lights: 3D length per px of ρ
 
 
 class _BlockGrid:
@@ -253,7 +165,7 @@ class _BlockGrid:
 
     def block_bytes(self):
         """The memory each block's profile and tables take."""
-        return [(2 * _levels(c1 - c0) + 2) * n * (c1 - c0 + 1) * 4
+        return [(2 * table_levels(c1 - c0) + 2) * n * (c1 - c0 + 1) * 4
                 for _, n, c0, c1 in self.blocks]
 
     def groups(self):
@@ -302,22 +214,24 @@ class _BlockGrid:
         lengths into r_h (set first to the tail from δ0 alone, for the rays no block
         searches), and t from them where t is given."""
         w = normals.shape[1]
-        ray = {}
+        arrays = {}
 
         def start(a, b):
             # each band writes its part of the chunk's arrays (no serial concatenation after;
             # setdefault is atomic, the first band to finish allocates)
-            for key, part in self.starts(normals, offset, heights_px, r0 + a, r0 + b).items():
-                chunk = ray.setdefault(key, None if part is None else
-                                       np.empty((r1 - r0) * w, part.dtype))
+            part_rays = self.starts(normals, offset, heights_px, r0 + a, r0 + b)
+            for key, part in vars(part_rays).items():
+                chunk = arrays.setdefault(key, None if part is None else
+                                          np.empty((r1 - r0) * w, part.dtype))
                 if part is not None:
                     chunk[a * w:b * w] = part
         _by_bands(pool, r1 - r0, w, start)
+        ray = Rays(**arrays)
         if first:
-            r_h[:] = ray["alone"]
-        block = np.minimum(ray["row0"] // self.block_rows, len(self.blocks) - 1)
+            r_h[:] = ray.alone
+        block = np.minimum(ray.row0 // self.block_rows, len(self.blocks) - 1)
         block = block.astype(np.int16)
-        block[~ray["searched"]] = -1
+        block[~ray.searched] = -1
 
         def search_block(b):
             sel = np.flatnonzero(block == b)
@@ -332,8 +246,8 @@ class _BlockGrid:
         """Rays `sel` in block b's coordinates: (rows from its first, u from its first
         column, u_end there)."""
         a, _, c0, _ = self.blocks[b]
-        return (ray["row0"][sel] - a, np.clip(ray["fu"][sel] - c0, 0, None),
-                ray["u_end"][sel] - c0)
+        return (ray.row0[sel] - a, np.clip(ray.fu[sel] - c0, 0, None),
+                ray.u_end[sel] - c0)
 
 
 class _SunGrid(_BlockGrid):
@@ -401,12 +315,12 @@ class _SunGrid(_BlockGrid):
         gx = (self.cx + gu * self.ex).astype(f32)[None, :] - (v * self.ey).astype(f32)
         gy = (self.cy + gu * self.ey).astype(f32)[None, :] + (v * self.ex).astype(f32)
         if hz is not None:
-            return _search(_lookup(hz, gx, gy) - (self.m * gu).astype(f32)), None
+            return search_tables(_lookup(hz, gx, gy) - (self.m * gu).astype(f32)), None
         # the running integral (trapezoids) of the slope is the height along the row
         su = _lookup(sz, gx, gy).astype(np.float64)
         z = np.zeros(su.shape)
         np.cumsum((su[:, 1:] + su[:, :-1]) / 2, axis=1, out=z[:, 1:])
-        return _search((z - self.m * gu[None, :]).astype(f32)), z
+        return search_tables((z - self.m * gu[None, :]).astype(f32)), z
 
     def starts(self, normals, offset, heights_px, r0, r1):
         """The rays of pixel rows r0 … r1 − 1 in grid coordinates (flat arrays)."""
@@ -431,7 +345,7 @@ class _SunGrid(_BlockGrid):
         with np.errstate(divide="ignore", invalid="ignore"):
             # P0 outside the box: no search, the tail from the tangent plane of P_S (δ0 = d/N.z)
             alone = np.where(fall > 0, (f32(d) / nz.ravel()) / fall, np.inf).astype(f32)
-        return dict(fu=fu, row0=row0, wv=np.clip(fv - row0, f32(0), f32(1)),
+        return Rays(fu=fu, row0=row0, wv=np.clip(fv - row0, f32(0), f32(1)),
                     c=(z0.astype(np.float64) - m * u0.astype(np.float64)).ravel(),
                     u_end=fu + np.minimum(to_edge, f32(min(self.reach_u, 1e30))),
                     by_reach=to_edge > self.reach_u, searched=inbox0.ravel(),
@@ -443,20 +357,20 @@ class _SunGrid(_BlockGrid):
         f32 = np.float32
         search, z = block_search
         rb, fub, ueb = self._block_rays(b, ray, sel)
-        wv, fall, cb = ray["wv"][sel], ray["fall"][sel], ray["c"][sel]
+        wv, fall, cb = ray.wv[sel], ray.fall[sel], ray.c[sel]
         if z is not None:
             # the row's running integral, shifted so that it reads H(P0) at the start
-            cb = cb - ray["h0"][sel] + _row_value(z, rb, wv, fub)
-        total, inside_end, gap = _inside_length(
+            cb = cb - ray.h0[sel] + row_value(z, rb, wv, fub)
+        total, inside_end, gap = inside_length(
             search, rb, wv, fub.astype(f32), cb.astype(f32),
-            (cb + ray["delta0"][sel]).astype(f32), ueb.astype(f32), fall)
+            (cb + ray.delta0[sel]).astype(f32), ueb.astype(f32), fall)
         # still inside where the box ends: the tail along the tangent plane of P_S (§6);
         # stopped by the reach: the rest of the ray against that plane itself
         with np.errstate(divide="ignore", invalid="ignore"):
             tail = np.where(inside_end & (gap > 0), np.where(fall > 0, gap / fall, np.inf), 0)
-            plane = np.where(fall > 0, np.maximum(ray["delta0"][sel] / fall - self.reach_u, 0),
+            plane = np.where(fall > 0, np.maximum(ray.delta0[sel] / fall - self.reach_u, 0),
                              np.inf)
-        return total + np.where(ray["by_reach"][sel], plane, tail)
+        return total + np.where(ray.by_reach[sel], plane, tail)
 
     def finish(self, ray, r_h, d):
         r = r_h / self.lxy                                      # along the 3D ray
@@ -572,13 +486,13 @@ class _PointGrid(_BlockGrid):
         inv = (1 / np.maximum(rho, POINT_RHO_MIN)).astype(f32)
         rho_cols = self.rho_max / self.col_step - c0
         if hz is not None:
-            return _search((_lookup(hz, gx, gy) - f32(self.zl)) * inv[None, :], rho_cols), None
+            return search_tables((_lookup(hz, gx, gy) - f32(self.zl)) * inv[None, :], rho_cols), None
         # toward F the slope along the row is −(s·(cos φ, sin φ)); its running integral
         # (trapezoids, col_step px a column) is the height along the row
         su = -(_lookup(sxy[0], gx, gy) * cos + _lookup(sxy[1], gx, gy) * sin)
         z = np.zeros(su.shape)
         np.cumsum((su[:, 1:] + su[:, :-1]) * (self.col_step / 2), axis=1, out=z[:, 1:])
-        return _search(((z - self.zl) * inv[None, :]).astype(f32), rho_cols,
+        return search_tables(((z - self.zl) * inv[None, :]).astype(f32), rho_cols,
                        np.append(inv, inv[-1])), z
 
     def starts(self, normals, offset, heights_px, r0, r1):
@@ -611,55 +525,41 @@ class _PointGrid(_BlockGrid):
                 "fall_d": fall_d, "to_light": box >= rho0, "rho0": rho0, "alone": alone,
                 "searched": inside_box(x0, y0, h, w) & (rho0 >= 1), "ndl": ndl,
                 "slant": dist / safe}
-        return {k: None if v is None else v.ravel() for k, v in flat.items()}
+        return Rays(**{k: None if v is None else v.ravel() for k, v in flat.items()})
 
     def _search_block(self, b, block_search, ray, sel):
         """The inside length (px of ρ) of rays `sel`, all in block b, with the tail."""
         search, z = block_search
         rb, fub, ueb = self._block_rays(b, ray, sel)
-        wv, fall_d, step = ray["wv"][sel], ray["fall_d"][sel], np.float32(self.col_step)
+        wv, fall_d, step = ray.wv[sel], ray.fall_d[sel], np.float32(self.col_step)
         # normal maps: each ray's relief is its rows' rebuilt heights shifted by
         # b = z(P0) − H(P0), so that it reads H(P0) at the start (the class)
         bend = None if z is None else \
-            (_row_value(z, rb, wv, fub) - ray["h0"][sel]).astype(np.float32)
-        rho0 = ray["rho0"][sel]
-        total, inside_end, gap = _inside_length(
-            search, rb, wv, fub, ray["c"][sel], ray["g_start"][sel], ueb,
+            (row_value(z, rb, wv, fub) - ray.h0[sel]).astype(np.float32)
+        rho0 = ray.rho0[sel]
+        total, inside_end, gap = inside_length(
+            search, rb, wv, fub, ray.c[sel], ray.g_start[sel], ueb,
             fall_d / np.maximum(rho0, np.float32(1e-6)) * step, bend)
         total, gap = total * step, gap * step        # columns → px (δ/ρ in columns, too)
         rho_end = np.maximum(rho0 - (ueb - fub) * step, 0)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             # still inside where it leaves the box: the tangent-plane tail, never past the light
             tail = np.where(fall_d > 0, gap / fall_d, np.inf)
-            tail = np.where(inside_end & (gap > 0) & ~ray["to_light"][sel],
+            tail = np.where(inside_end & (gap > 0) & ~ray.to_light[sel],
                             np.minimum(tail, rho_end), 0)
             # stopped by the reach: the rest of the ray against that plane, not past the light
-            reach_h = ray["reach_h"][sel]
-            plane = np.where(fall_d > 0, np.maximum(ray["delta0"][sel] / fall_d - reach_h, 0),
+            reach_h = ray.reach_h[sel]
+            plane = np.where(fall_d > 0, np.maximum(ray.delta0[sel] / fall_d - reach_h, 0),
                              np.inf)
             plane = np.minimum(plane, np.maximum(rho0 - reach_h, 0))
-        return total + np.where(ray["by_reach"][sel], plane, tail)
+        return total + np.where(ray.by_reach[sel], plane, tail)
 
     def finish(self, ray, r_h, d):
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            t = d / np.maximum(r_h * ray["slant"], d)               # along the 3D ray
+            t = d / np.maximum(r_h * ray.slant, d)               # along the 3D ray
         # under the light itself: N·L (the limit d → 0 of a flat neighbourhood)
         return np.where(np.isfinite(t), t,
-                        np.where(ray["rho0"] < 1e-6, np.maximum(ray["ndl"], 0), 0))
-
-
-def _row_value(z, rb, wv, fu):
-    """The rebuilt heights z (rows, width) at each ray's start: linear along its two rows
-    rb, rb + 1 at column fu, blended by wv."""
-    width = z.shape[1]
-    k = np.clip(np.floor(fu).astype(np.int64), 0, width - 2)
-    f = np.clip(fu - k, 0, 1)
-    zf = z.reshape(-1)
-
-    def along(row):
-        i = row * width + k
-        return zf[i] + (zf[i + 1] - zf[i]) * f
-    return along(rb) * (1 - wv) + along(rb + 1) * wv
+                        np.where(ray.rho0 < 1e-6, np.maximum(ray.ndl, 0), 0))
 
 
 def _lookup(img, x, y):
@@ -669,207 +569,3 @@ def _lookup(img, x, y):
     return sample_bilinear(img, np.asarray(x, img.dtype), np.asarray(y, img.dtype), "extend")
 
 
-@dataclass
-class _Search:
-    """A grid's profile G and its tables, all (…, rows, width + 1) with a padding column:
-    what every ray's crossing search reads."""
-    g: np.ndarray
-    gmax: np.ndarray
-    gmin: np.ndarray
-    suffix: np.ndarray
-    width: int
-    rho_max: float = None     # polar grids: G − c is δ/ρ, ρ = rho_max − u (see _crossing)
-    q: np.ndarray = None      # polar grids of normal maps: 1/ρ (px) per column (see _Rows)
-
-
-class _Rows:
-    """Gathers at column k from the blend (1 − w)·row0 + w·row1 of each ray's two grid rows
-    (in a (rows, width + 1) layout, or one level of the tables).
-
-    A bend b per ray (polar grids of normal maps, _PointGrid) makes each ray's profile
-    G(k) − b·q(k), q = 1/ρ: its relief is the row's rebuilt height shifted by b, and a shift
-    divided by ρ is no shift of G (g; bend_bound bounds it over a window)."""
-
-    def __init__(self, row0, w, stride, bend=None, q=None):
-        self.b0 = row0.astype(np.int64) * stride
-        self.w, self.stride, self.bend, self.q = w, stride, bend, q
-
-    def sub(self, sel):
-        out = _Rows.__new__(_Rows)
-        out.b0, out.w, out.stride, out.q = self.b0[sel], self.w[sel], self.stride, self.q
-        out.bend = None if self.bend is None else self.bend[sel]
-        return out
-
-    def g(self, search, k):
-        """The ray's profile at column k."""
-        v = self.at(search.g.reshape(-1), k)
-        if self.bend is not None:
-            v -= self.bend * self.q[np.clip(k, 0, self.q.size - 1)]
-        return v
-
-    def bend_bound(self, v, lo, hi, upper):
-        """v, a bound of G over columns lo … hi, made a bound of G − b·q (q grows with k)."""
-        if self.bend is None:
-            return v
-        last = self.q.size - 1
-        q_lo, q_hi = self.q[np.clip(lo, 0, last)], self.q[np.clip(hi, 0, last)]
-        # −b·q is largest at q_lo where b ≥ 0, at q_hi where b < 0 (and the other way round)
-        pick = (self.bend >= 0) == upper
-        return v - self.bend * np.where(pick, q_lo, q_hi)
-
-    def at(self, flat, k):
-        i = self.b0 + k
-        a = np.take(flat, i)
-        b = np.take(flat[self.stride:], i)      # row1; a + (b − a)·w, in place
-        b -= a
-        b *= self.w
-        b += a
-        return b
-
-
-def _crossing(search, rows, pos, col, j, g_here, g_j, cc):
-    """Where G crosses c between the ray's position (or column j − 1) and column j, by linear
-    interpolation of the ray's depth δ (clipped to [pos, j]): δ = G − c for suns, ρ·(G − c)
-    on a polar grid (G = (H − z)/ρ is curved in ρ; δ is linear wherever H is)."""
-    first = j == col
-    x0 = np.where(first, pos, j - 1.0)
-    d0 = np.where(first, g_here, rows.g(search, np.maximum(j - 1, 0))) - cc
-    d1 = g_j - cc
-    if search.rho_max is not None:
-        d0, d1 = d0 * (search.rho_max - x0), d1 * (search.rho_max - j)
-    denom = d0 - d1
-    frac = np.where(denom != 0, d0 / np.where(denom != 0, denom, 1), 0)
-    return np.clip(x0 + frac * (j - x0), pos, j)
-
-
-def _exit_guess(search, rows, pos, col, g_here, cc, fall):
-    """(ok, j, G(j)): where ok, j is the first column ≥ col with G ≤ c, found at the tangent
-    plane's exit (δ falls by `fall` per px of u), or a secant step or two past it where the
-    ray is still inside there, and proved: G(j) ≤ c, and a lower bound of G over
-    col … j − 1 above c (the descent's own answer, without the descent)."""
-    width = search.width
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        est = pos + (g_here - cc) / fall
-    sel = (g_here > cc) & (fall > 0) & (est < width - 1)
-    jg = np.clip(np.ceil(np.where(sel, est, pos)).astype(np.int64), col, width - 1)
-    g_j = np.zeros(pos.size, search.g.dtype)
-    ok = np.zeros(pos.size, bool)
-    p = np.flatnonzero(sel)                   # rays whose candidate is still to check
-    for step in range(GUESS_STEPS):
-        gp = rows.sub(p).g(search, jg[p])
-        g_j[p] = gp
-        below = gp <= cc[p]
-        hit = p[below]
-        far = hit[jg[hit] > col[hit]]
-        ok[hit] = True
-        if far.size:
-            low = _range_min(search.gmin, rows.sub(far), col[far], jg[far] - 1)
-            ok[far[low <= cc[far]]] = False
-        # still inside at the candidate: a secant step along G to the next one
-        p = p[~below]
-        if p.size == 0 or step == GUESS_STEPS - 1:
-            break
-        g0 = rows.sub(p).g(search, jg[p] - 1)
-        drop = g0 - g_j[p]
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            ahead = np.where(drop > 0, (g_j[p] - cc[p]) / drop, 1)
-        nxt = jg[p] + np.clip(np.ceil(ahead), 1, GUESS_LEAP).astype(np.int64)
-        p = p[nxt < width]
-        jg[p] = nxt[nxt < width]
-    return ok, jg, g_j
-
-
-def _inside_length(search, r0, wv, fu, c, g_start, u_end, fall, bend=None):
-    """(length, inside at the end, δ at the end (0 where not inside)): the length (px of u)
-    of each ray inside the relief, along the profile blended from the two grid rows around
-    it, until u_end (it leaves the box of pixel centres, reaches a point light or its reach);
-    whether it is still inside there, and how deep (for the caller's tail). g_start: G at
-    the ray's start (from the exact δ0 of the reference, so the start is inside exactly when
-    it is there); fall: how fast G − c falls per px of u on the tangent plane of P_S (the
-    first exit's guess); bend: per ray, on polar grids of normal maps (_Rows).
-
-    Fast lane first: every ray starts inside (d/N.z under the surface) and most leave where
-    the tangent plane of P_S says (a guess proved exactly, _exit_guess); with nothing higher
-    ahead (the suffix maximum) they are lit and done in one pass. The others (rays in cast
-    shadow, ≈ 40 % on tall relief) go round by round, one crossing each, by binary descents;
-    rays are compacted as they finish.
-    """
-    width, stride = search.width, search.g.shape[1]
-    sflat = search.suffix.reshape(-1)
-    n = fu.size
-    total = np.zeros(n, np.float32)
-    inside_end = g_start > c
-    idx = np.flatnonzero(u_end > fu)           # the rays still marching
-    pos = fu[idx]
-    col = np.clip(np.floor(pos).astype(np.int64), 0, width - 2) + 1
-    g_here = g_start[idx]
-    inside = g_here > c[idx]
-    # the fast lane
-    def rays(i):
-        return _Rows(r0[i], wv[i], stride, None if bend is None else bend[i], search.q)
-    rows, cc, ue = rays(idx), c[idx], u_end[idx]
-    ok, jg, g_j = _exit_guess(search, rows, pos, col, g_here, cc, fall[idx])
-    f = np.flatnonzero(ok)
-    rf = rows.sub(f)
-    cross = _crossing(search, rf, pos[f], col[f], jg[f], g_here[f], g_j[f], cc[f])
-    ends = cross >= ue[f]
-    total[idx[f]] = np.minimum(cross, ue[f]) - pos[f]
-    lit = ~ends & (rf.bend_bound(rf.at(sflat, jg[f]), jg[f], width - 1, True) <= cc[f])
-    inside_end[idx[f[ends | lit]]] = True
-    inside_end[idx[f[lit]]] = False
-    pos[f], col[f], g_here[f], inside[f] = cross, jg[f], cc[f], False
-    keep = np.ones(idx.size, bool)
-    keep[f[ends | lit]] = False
-    idx, pos, col, inside, g_here = idx[keep], pos[keep], col[keep], inside[keep], g_here[keep]
-
-    for _ in range(2 * MAX_CROSSINGS):
-        if idx.size == 0:
-            break
-        rows, cc, ue = rays(idx), c[idx], u_end[idx]
-        # outside rays with nothing higher ahead are done (a blended suffix maximum bounds it)
-        done = ~inside & (rows.bend_bound(rows.at(sflat, col), col, width - 1, True) <= cc)
-        j = col.copy()
-        g_j = np.zeros(idx.size, search.g.dtype)    # G at min(j, width − 1), once checked
-        todo = ~done
-        # descend again where a loose bound, or the top level's reach, stopped one early
-        for _ in range(8 + (width >> (search.gmin.shape[0] - 1))):
-            sel = np.flatnonzero(todo)
-            if sel.size == 0:
-                break
-            jj = np.empty(sel.size, np.int64)
-            ins = inside[sel]
-            # inside: the next exit (minima); outside: the next entry (maxima)
-            for flag, table in ((True, search.gmin), (False, search.gmax)):
-                m = np.flatnonzero(ins == flag)
-                if m.size:
-                    s_ = sel[m]
-                    jj[m] = _descend(table, rows.sub(s_), j[s_], cc[s_], not flag)
-            j[sel] = jj
-            gj = g_j[sel] = rows.sub(sel).g(search, np.minimum(jj, width - 1))
-            wrong = (jj < width) & np.where(ins, gj > cc[sel], gj <= cc[sel])
-            todo = np.zeros_like(todo)
-            todo[sel[wrong]] = True
-            j[sel[wrong]] += 1
-        jc = np.minimum(j, width - 1)
-        cross = _crossing(search, rows, pos, col, jc, g_here, g_j, cc)
-        cross = np.where((j < width) & ~done, cross, np.inf)
-        ends = cross >= ue
-        seg = np.where(inside, np.minimum(cross, ue) - pos, 0.0)
-        total[idx] += seg
-        fin = ends | done
-        inside_end[idx[fin]] = inside[fin]
-        keep = ~fin
-        idx, pos, col, inside, g_here = (idx[keep], cross[keep], jc[keep], ~inside[keep],
-                                         cc[keep])
-    # δ where the rays still inside end (the others' depth is never read)
-    end = np.flatnonzero(inside_end)
-    ue = np.minimum(u_end[end], width - 1.0)
-    k = np.clip(np.floor(ue).astype(np.int64), 0, width - 2)
-    there = rays(end)
-    ce = c[end]
-    d0, d1 = there.g(search, k) - ce, there.g(search, k + 1) - ce
-    if search.rho_max is not None:                 # δ = ρ·(G − c) on a polar grid
-        d0, d1 = d0 * (search.rho_max - k), d1 * (search.rho_max - k - 1)
-    depth = np.zeros(n, d0.dtype)
-    depth[end] = d0 + (d1 - d0) * np.clip(ue - k, 0, 1)
-    return total, inside_end, depth

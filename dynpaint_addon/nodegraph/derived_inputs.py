@@ -40,8 +40,8 @@ import numpy as np
 
 from .. import params
 from ..core.inputs import mask_values
-from ..core.pipeline import (MASKS, PER_PIXEL_CHANNELS, finite_image, lookup_copy, mask_setting,
-                             shape_normals)
+from ..core.input_rules import MASKS, PER_PIXEL_CHANNELS, finite_image, mask_setting
+from ..core.pipeline import lookup_copy, shape_normals
 from ..core.shape import (default_preblur_px, normal_vectors, preblurred_height, resolve_encoding,
                           resolve_strength, slopes_from_normals)
 from .features import Features
@@ -198,7 +198,7 @@ def make_derived(items, read, role_of):
     where the source itself or the image of `same_as` will do}, warnings).
 
     read(channel) → ImageData; role_of(channel) → the role core/inputs.py replaces NaN/Inf by
-    ('colour', 'normal' or 'height': core.pipeline.pixel_role)."""
+    ('colour', 'normal' or 'height': core.input_rules.pixel_role)."""
     cache, made, warnings = {}, {}, []
     for item in items:
         if item.same_as:

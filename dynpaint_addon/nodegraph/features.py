@@ -13,14 +13,14 @@ structural parameter needs no code here.
 import dataclasses
 
 from .. import params
-from ..core.pipeline import relief_of, silhouette_channel, transparency_branch
+from ..core.input_rules import relief_of, silhouette_channel, transparency_branch
 
 # The structural parameters whose Features value depends on the images as well: the value the
 # graph needs is resolved from the setting, the channels that have an image and those with alpha.
 
 
 def _transparency(amount, channels, alpha_channels):
-    """k (§11): core.pipeline.transparency_branch of the setting and the map."""
+    """k (§11): core.input_rules.transparency_branch of the setting and the map."""
     return transparency_branch(amount, "transparency" in channels)
 
 
@@ -30,7 +30,7 @@ def _silhouette(source, channels, alpha_channels):
 
 
 def _relief(relief, channels, alpha_channels):
-    """What a normal map's shadows fall from (§6): core.pipeline.relief_of."""
+    """What a normal map's shadows fall from (§6): core.input_rules.relief_of."""
     return relief_of(relief, "shape" in alpha_channels)
 
 

@@ -25,7 +25,8 @@ import zlib
 import numpy as np
 
 from .. import params
-from ..core.pipeline import ImageData, pixel_role, shape_normals
+from ..core.input_rules import ImageData, pixel_role
+from ..core.pipeline import shape_normals
 from ..core.sampling import resample
 from ..looks import LOOKS, with_look
 from ..nodegraph import glsl_codegen

@@ -157,7 +157,7 @@ def test_render_with_cycles_matches_numpy(tmp_path):
 
 def test_bake_shadow_chooses_the_relief_and_its_reach(tmp_path):
     """--relief and --reach reach the bake (issue 27): auto is along the ray for a full-frame
-    normal map, integrated for one with an alpha (core.pipeline.relief_of)."""
+    normal map, integrated for one with an alpha (core.input_rules.relief_of)."""
     size = 48
     y, x = (np.mgrid[0:size, 0:size] + 0.5) / size - 0.5
     z = np.sqrt(np.clip(0.3 ** 2 - x * x - y * y, 0, None))

@@ -2,7 +2,8 @@
 import numpy as np
 import pytest
 
-from dynpaint_addon.core.pipeline import ImageData, render
+from dynpaint_addon.core.input_rules import ImageData
+from dynpaint_addon.core.pipeline import render
 from dynpaint_addon import params
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.imageio import ImageReadError, read_image, write_exr, write_png

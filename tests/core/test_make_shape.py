@@ -16,7 +16,8 @@ from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.occlusion import ambient_occlusion
 from dynpaint_addon.core.photometric import (normals_from_profiles, normals_from_rg_photo,
                                              profile_directions)
-from dynpaint_addon.core.pipeline import ImageData, render
+from dynpaint_addon.core.input_rules import ImageData
+from dynpaint_addon.core.pipeline import render
 from dynpaint_addon.shape_methods import make_shape
 from dynpaint_addon.shape_maker import (encode_normals, figure_mask, normals_of_height,
                                         sprite_lamp_side)

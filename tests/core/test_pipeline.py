@@ -4,7 +4,8 @@ import pytest
 
 from dynpaint_addon import params
 from dynpaint_addon.core.lights import Light
-from dynpaint_addon.core.pipeline import ImageData, input_notes, relief_of, render, shape_normals
+from dynpaint_addon.core.input_rules import ImageData, input_notes, relief_of
+from dynpaint_addon.core.pipeline import render, shape_normals
 
 
 def srgb_decode(v):

@@ -231,7 +231,7 @@ def test_a_bake_can_be_superseded():
 
 
 # -- the fast sun bake (crossings.py) ------------------------------------------------------
-from dynpaint_addon.core import crossings  # noqa: E402
+from dynpaint_addon.core import crossing_search, crossings  # noqa: E402
 
 
 @pytest.mark.parametrize("kind", ["height", "normal"])
@@ -538,7 +538,7 @@ def test_crossings_do_not_depend_on_blocks_chunks_or_threads(kind, monkeypatch):
     monkeypatch.setattr(crossings, "TRACE_PIXELS", 3000)
     monkeypatch.setattr(crossings, "RAY_BAND_PIXELS", 500)
     monkeypatch.setattr(crossings, "THREADS", 3)
-    monkeypatch.setattr(crossings, "TABLE_LEVELS", 3)
+    monkeypatch.setattr(crossing_search, "TABLE_LEVELS", 3)
     assert len(crossings._SunGrid(np.array(unit((0.5, -0.7, 0.5))), 160, 160).blocks) == 8
     assert len(crossings._PointGrid(Light("point", (0.3, -0.2, 0.6)), 160, 160, 0.01).blocks) \
         == crossings.POINT_BLOCKS
@@ -555,7 +555,7 @@ def test_descents_capped_by_the_tables_top_level_are_resumed(levels, monkeypatch
     n = normals_from_height_px(z)
     light = Light("sun", (np.cos(0.26) * np.cos(0.5), np.cos(0.26) * np.sin(0.5), np.sin(0.26)))
     full = crossings.sun_cos_theta(n, light, 0.01, heights_px=z)
-    monkeypatch.setattr(crossings, "TABLE_LEVELS", levels)
+    monkeypatch.setattr(crossing_search, "TABLE_LEVELS", levels)
     np.testing.assert_allclose(crossings.sun_cos_theta(n, light, 0.01, heights_px=z), full,
                                atol=1e-6)
 

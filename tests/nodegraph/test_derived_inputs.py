@@ -2,7 +2,8 @@
 import numpy as np
 
 from dynpaint_addon import params
-from dynpaint_addon.core.pipeline import ImageData, lookup_copy
+from dynpaint_addon.core.input_rules import ImageData
+from dynpaint_addon.core.pipeline import lookup_copy
 from dynpaint_addon.core.shape import preblurred_height
 from dynpaint_addon.nodegraph.derived_inputs import Source, derived_inputs, make_derived
 from dynpaint_addon.nodegraph.features import Features

@@ -8,7 +8,8 @@ import pytest
 
 from dynpaint_addon import params
 from dynpaint_addon.core.lights import Light
-from dynpaint_addon.core.pipeline import ImageData, pixel_role, shadow_term, shape_normals
+from dynpaint_addon.core.input_rules import ImageData, pixel_role
+from dynpaint_addon.core.pipeline import shadow_term, shape_normals
 from dynpaint_addon.nodegraph.derived_inputs import Source, derived_inputs, make_derived
 from dynpaint_addon.nodegraph.features import Features
 from dynpaint_addon.nodegraph.pipeline_graph import describe

@@ -1,0 +1,174 @@
+"""What the render reads of a painting's images, and how (pipeline.md §1, §11, §12, §14).
+
+`ImageData` holds one input image in core convention; the rules here decide what the render
+and every backend make of a painting's images before shading: which channels are per pixel,
+how a mask is read (transparency, gloss), whose alpha is the silhouette, whether the
+transparency branch exists, what a normal map's shadows fall from, how non-finite pixels are
+replaced, and the notes every command prints about the images. core/pipeline.py renders
+with them; nodegraph/features.py and derived_inputs.py take the same rules for the graphs.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from .inputs import (finite_pixels, mask_channel, mask_note, non_finite_message,
+                     normal_map_notes, normal_map_problem, size_message)
+
+PER_PIXEL_CHANNELS = ("dark", "bright", "specular_color", "gloss", "transparency")
+
+
+@dataclass
+class ImageData:
+    """One input image in core convention: pixels (H, W, C) with row 0 at the bottom (§0).
+
+    bits: 8, 16 or 32 (float). Integer images hold file values scaled to 0..1 (colour ones are
+    sRGB-encoded); float images are linear already.
+    """
+    pixels: np.ndarray
+    bits: int = 8
+    name: str = ""
+
+    def __post_init__(self):
+        px = np.asarray(self.pixels)
+        if px.ndim == 2:
+            px = px[..., None]
+        self.pixels = px
+
+    @property
+    def size(self):
+        return self.pixels.shape[1], self.pixels.shape[0]
+
+    @property
+    def has_alpha(self):
+        return self.pixels.shape[2] in (2, 4)
+
+    def rgb(self):
+        """RGB view: grey is repeated, alpha dropped."""
+        c = self.pixels.shape[2]
+        if c >= 3:
+            return self.pixels[..., :3]
+        return np.repeat(self.pixels[..., :1], 3, axis=2)
+
+    def grey(self):
+        """One channel: grey as is; colour by Rec.709 luminance."""
+        c = self.pixels.shape[2]
+        if c < 3:
+            return self.pixels[..., 0]
+        return self.pixels[..., :3] @ np.array([0.2126, 0.7152, 0.0722], dtype=self.pixels.dtype)
+
+    def alpha(self):
+        c = self.pixels.shape[2]
+        return self.pixels[..., c - 1] if c in (2, 4) else None
+
+
+def relief_of(relief, shape_has_alpha):
+    """shadows.relief as the relief a normal map's shadows fall from (§6 "Relief"): 'auto' is
+    integrated where the shape image has an alpha (the figure is cut out; its hidden walls
+    are at the cut), along the ray for a full-frame map (integrating it would spread each
+    hidden wall over the whole image). Measured against 3D: docs/relief-choice.md.
+
+    >>> relief_of("auto", shape_has_alpha=True), relief_of("auto", shape_has_alpha=False)
+    ('integrated', 'along_ray')
+    """
+    if relief != "auto":
+        return relief
+    return "integrated" if shape_has_alpha else "along_ray"
+
+
+MASKS = {"transparency": ("transparency", "channel"), "gloss": ("specular", "gloss_channel")}
+
+
+def mask_setting(p, channel):
+    """The parameter that says how a mask channel (transparency, gloss) is read."""
+    section, key = MASKS[channel]
+    return getattr(getattr(p, section), key)
+
+
+def mask_channels(images, p):
+    """{mask channel: the channel it is read from}, decided on each whole image."""
+    return {c: mask_channel(images[c].pixels, mask_setting(p, c)) for c in MASKS if c in images}
+
+
+def mask_notes(masks, p):
+    """What 'auto' made of the masks (`mask_channels`): a line for each read from one pure
+    channel."""
+    notes = [mask_note(f"{c} image", mask_setting(p, c), read) for c, read in masks.items()]
+    return [note for note in notes if note]
+
+
+def input_notes(images, p):
+    """The checks of core/inputs.py on a painting's images (§14): what every command and the
+    add-on's Add say about them, one line each. Raises ValueError (one line) for a shape image
+    that cannot be what `p` says (a grey image read as a normal map).
+
+    images: {channel: ImageData} (a mapping: only the shape, the masks and the per-pixel
+    images' sizes and alphas are read); p: the parameters.
+    """
+    shape = images["shape"]
+    name = shape.name or "shape image"
+    notes = []
+    if p.shape.kind == "normal":
+        problem = normal_map_problem(shape.pixels, name, p.shape.encoding)
+        if problem:
+            raise ValueError(problem)
+        notes += normal_map_notes(shape.pixels, name, p.shape.encoding, p.shape.strength)
+    notes += mask_notes(mask_channels(images, p), p)
+    notes += [size_message(c, images[c].size, shape.size) for c in PER_PIXEL_CHANNELS
+              if c in images and images[c].size != shape.size]
+    if p.shape.kind == "normal" and p.shadows.enabled and p.shadows.relief == "auto" and \
+            not shape.has_alpha:
+        notes.append(f"{name}: no alpha, so its shadows fall from its "
+                     f"slopes along each ray (shadows.relief auto); give it the figure's alpha "
+                     f"to cut the figure out, or set shadows.relief = \"integrated\" "
+                     f"(docs/relief-choice.md)")
+    return notes + silhouette_notes(images, p)
+
+
+def silhouette_notes(images, p):
+    """A painting that shows glass or a background needs a silhouette (§11): without an alpha
+    in the shape or dark image (a JPEG has none) the whole canvas is the figure."""
+    if p.silhouette.source == "none" or \
+            silhouette_channel(p.silhouette.source, lambda c: c in images and
+                               images[c].has_alpha):
+        return []
+    glass = transparency_branch(p.transparency.amount, "transparency" in images) != "none"
+    if not glass and "background" not in images:
+        return []
+    shows = "is glass" if glass else "hides the background"
+    return [f"no alpha in the shape or dark image (a JPEG has none): the whole canvas {shows}; "
+            f"give the shape image the figure's alpha (PNG), or set silhouette.source = "
+            f"\"none\" to keep the canvas whole"]
+
+
+def pixel_role(channel, p):
+    """How core/inputs.py replaces a channel's NaN/Inf pixels: the shape image by its kind
+    ('normal' or 'height'), every other image as colour."""
+    return p.shape.kind if channel == "shape" else "colour"
+
+
+def finite_image(img, role, name):
+    """`img` with NaN/Inf replaced by the rule of core/inputs.py → (ImageData, warning or '')."""
+    clean, bad = finite_pixels(img.pixels, role)
+    if not bad:
+        return img, ""
+    return ImageData(clean, img.bits, img.name), non_finite_message(name, bad)
+
+
+def transparency_branch(amount, has_map):
+    """§11, §12: whether the k branch exists and what drives it — 'none' (k ≡ 0, pruned),
+    'param' (the slider, live) or 'map' (auto with a transparency map). An explicit 0 with
+    no map prunes it; any other value keeps it (a slider may be dragged up). One rule for the
+    core's passes and the graphs' features."""
+    if amount == "auto":
+        return "map" if has_map else "none"
+    return "param" if amount > 0 or has_map else "none"
+
+
+# §1 silhouette.source → the channels whose alpha may cut the painting out, in order
+SILHOUETTE_ORDER = {"auto": ("shape", "dark"), "shape": ("shape",), "dark": ("dark",), "none": ()}
+
+
+def silhouette_channel(source, has_alpha):
+    """The channel whose alpha is the silhouette ('' for none); has_alpha(channel) says whether
+    that channel has an image with alpha. One rule for the core, the graphs and the add-on."""
+    return next((c for c in SILHOUETTE_ORDER[source] if has_alpha(c)), "")
