@@ -19,7 +19,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from dynpaint_addon.core.fresnel import fit_art_fresnel  # noqa: E402
 from report import publish  # noqa: E402
-from dynpaint_addon.testpainting import quantized_dome  # noqa: E402
+from testkit.shapes import quantized_dome  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.shadow import cos_theta_shadow  # noqa: E402
 from dynpaint_addon.core.shape import (default_preblur_px, height_field_px,  # noqa: E402

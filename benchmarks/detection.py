@@ -2,7 +2,7 @@
 convention as other tools write it, the threshold beside it, and fourteen example sets
 rendered from their files as found against the painting as its artist meant it.
 
-Conventions (dynpaint_addon/example_paintings.py draws them): masks painted in one pure
+Conventions (testkit/example_paintings.py draws them): masks painted in one pure
 channel (red, green, blue on black), a grey mask, a photograph read as a mask; normal maps in
 RGB, two-channel (blue 0), painted for a decoder that halves each tilt (unit vectors) and the
 same with vectors of other lengths (the decoder normalises them first), and a photograph read
@@ -30,7 +30,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import bpy  # noqa: E402
 from report import command_line, publish  # noqa: E402
 
-from dynpaint_addon import example_paintings as ex  # noqa: E402
+from testkit import example_paintings as ex  # noqa: E402
 from dynpaint_addon import params  # noqa: E402
 from dynpaint_addon.core.inputs import MASK_LEAK, mask_channel  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402

@@ -28,7 +28,7 @@ from dynpaint_addon import blender  # noqa: E402
 from dynpaint_addon.recipe import image_bytes, load_images, load_recipe  # noqa: E402
 from dynpaint_addon.samples import list_samples, recipe_path  # noqa: E402
 from dynpaint_addon.testpainting import builtin_images, builtin_recipe  # noqa: E402
-from dynpaint_addon.web.chromium import Chromium  # noqa: E402
+from testkit.chromium import Chromium  # noqa: E402
 from dynpaint_addon.web.page import page_data, write_page  # noqa: E402
 
 FPS_GOAL = 60

@@ -18,7 +18,7 @@ REPO = os.path.dirname(DOCS)
 sys.path.insert(0, REPO)
 
 from dynpaint_addon import params                       # noqa: E402
-from dynpaint_addon.cli import _resample_images             # noqa: E402
+from dynpaint_addon.core.input_rules import resample_painting  # noqa: E402
 from dynpaint_addon.core.lights import Light                 # noqa: E402
 from dynpaint_addon.core.pipeline import render              # noqa: E402
 from dynpaint_addon.imageio import write_png      # noqa: E402
@@ -66,7 +66,7 @@ def sample_images(sample, width):
     key = (sample, width)
     if key not in _CACHE:
         recipe = load_recipe(recipe_path(sample))
-        _CACHE[key] = (recipe, _resample_images(load_images(recipe), width))
+        _CACHE[key] = (recipe, resample_painting(load_images(recipe), width))
     return _CACHE[key]
 
 

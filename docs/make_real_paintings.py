@@ -1,5 +1,5 @@
 """Generate docs/real-paintings.md: before/after pictures of issue 15's points 1, 2, 4, 5 and 7
-on example paintings made in other tools' conventions (dynpaint_addon/example_paintings.py),
+on example paintings made in other tools' conventions (testkit/example_paintings.py),
 all rendered by the numpy core. "Before" is what the add-on did until 2026-11-23, reproduced
 with today's settings (encoding rgb, strength 1, luminance masks, no placement and wrap, reach
 over the whole image, linear mixing).
@@ -14,7 +14,7 @@ import numpy as np
 DOCS = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(DOCS))
 
-from dynpaint_addon import example_paintings as ex            # noqa: E402
+from testkit import example_paintings as ex            # noqa: E402
 from dynpaint_addon import params                             # noqa: E402
 from dynpaint_addon.core.colour import linear_to_srgb         # noqa: E402
 from dynpaint_addon.core.lights import Light                  # noqa: E402
@@ -135,7 +135,7 @@ def main(out=DOCS):
     page = f"""# Real paintings as their artists made them
 
 Pictures made by `docs/make_real_paintings.py` from the example paintings of
-`dynpaint_addon/example_paintings.py` (numpy only, in the conventions other tools use), rendered
+`testkit/example_paintings.py` (numpy only, in the conventions other tools use), rendered
 by the numpy core. *Before* is what Dynamic Painting did until 2026-11-23. Parameters:
 [parameters.md](parameters.md); the changes: [CHANGELOG](../CHANGELOG.md).
 

@@ -17,7 +17,7 @@ REPO = os.path.dirname(DOCS)
 sys.path.insert(0, REPO)
 
 from dynpaint_addon.imageio import read_image, write_png        # noqa: E402
-from dynpaint_addon.web.chromium import find_chromium           # noqa: E402
+from testkit.chromium import find_chromium           # noqa: E402
 
 PX = 256
 RECIPE = """name = "Pear"

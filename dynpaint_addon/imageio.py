@@ -13,10 +13,15 @@ import zlib
 
 import numpy as np
 
+from .core.colour import linear_to_srgb
 from .core.input_rules import ImageData
 from .errors import UserError
 
 EXR_MAGIC = b"\x76\x2f\x31\x01"
+
+
+class ImageWriteError(UserError):
+    """An image that cannot be written as asked (an unsupported format)."""
 
 
 class ImageReadError(UserError):
@@ -197,6 +202,25 @@ def write_png(path, pixels, bits=8):
     with open(path, "wb") as fh:
         fh.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", b"".join(data))
                  + chunk(b"IEND", b""))
+
+
+def write_render(path, rgba):
+    """Write premultiplied linear RGBA: .exr as is (float), .png as 8-bit sRGB straight alpha."""
+    ext = os.path.splitext(path)[1].lower()
+    if ext == ".exr":
+        write_exr(path, rgba)
+    elif ext == ".png":
+        out = np.empty(rgba.shape[:2] + (4,), np.float32)
+        rows = max(1, (1 << 20) // max(1, rgba.shape[1]))     # bands: bounded temporaries
+        for r in range(0, rgba.shape[0], rows):
+            band = rgba[r:r + rows]
+            a = band[..., 3:4]
+            straight = np.where(a > 0, band[..., :3] / np.where(a > 0, a, 1), 0)
+            out[r:r + rows, :, :3] = linear_to_srgb(straight)
+            out[r:r + rows, :, 3:] = a
+        write_png(path, out, bits=8)
+    else:
+        raise ImageWriteError(f"{path}: unsupported output format '{ext}' (use .png or .exr)")
 
 
 def _ensure_parent(path):

@@ -1,6 +1,6 @@
 """Make Shape's methods and options, once (issue 28; docs/shape-from-painting.md).
 
-The command line's `make-shape METHOD` arguments (make_shape_cli.py) and the add-on's Make
+The command line's `make-shape METHOD` arguments (cli/make_shape.py) and the add-on's Make
 Shape operator (its properties and its dialog, blender/operators/shape.py) are generated from
 these two tables, as params.py generates a painting's properties and recipe keys: an option
 is added in one place. `make_shape` runs a method on a painting's images. No bpy here.

@@ -309,11 +309,12 @@ SAMPLES = {"portrait": (make_portrait, 512), "glass": (make_glass, 512),
 
 def thumbnail(recipe_path, out, px=THUMB_PX):
     """Render the sample with the numpy core at `px` wide → out (PNG)."""
-    from dynpaint_addon.cli import _resample_images, write_render
+    from dynpaint_addon.core.input_rules import resample_painting
     from dynpaint_addon.core.pipeline import render
+    from dynpaint_addon.imageio import write_render
     from dynpaint_addon.recipe import load_images, load_recipe
     recipe = load_recipe(recipe_path)
-    images = _resample_images(load_images(recipe), px)
+    images = resample_painting(load_images(recipe), px)
     write_render(out, render(images, recipe.lights, recipe.params).rgba)
 
 

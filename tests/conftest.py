@@ -14,7 +14,7 @@ import sys
 import numpy as np
 import pytest
 
-from dynpaint_addon.web.chromium import Chromium, find_chromium
+from testkit.chromium import Chromium, find_chromium
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BLENDER_TESTS = os.path.join(REPO, "tests", "blender")
@@ -75,7 +75,7 @@ def rng():
 
 @pytest.fixture(scope="session")
 def browser():
-    """One headless Chromium for the session (dynpaint_addon/web/chromium.py). The README's
+    """One headless Chromium for the session (testkit/chromium.py). The README's
     test command installs it where it runs as root; DYNPAINT_SKIP_BROWSER=1 skips these tests
     on a machine without one (say so when you report a run)."""
     if os.environ.get("DYNPAINT_SKIP_BROWSER"):

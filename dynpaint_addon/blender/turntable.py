@@ -29,14 +29,6 @@ def orbit_position(elevation, azimuth, radius=1.0):
             radius * math.sin(elevation))
 
 
-def light_at(frame, frame_start, frame_end, elevation, start_angle, clockwise=False, radius=1.0):
-    """Where the turntable puts its light at `frame` (painting frame): one turn per
-    frame_end − frame_start + 1 frames, starting at start_angle."""
-    turns = (frame - frame_start) / (frame_end - frame_start + 1)
-    azimuth = start_angle + (-1 if clockwise else 1) * 2 * math.pi * turns
-    return orbit_position(elevation, azimuth, radius)
-
-
 def _clear_transform_animation(obj):
     """Drop the light's own location/rotation keys (the orbit replaces them) → count dropped."""
     ad = obj.animation_data

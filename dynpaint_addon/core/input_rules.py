@@ -13,6 +13,7 @@ import numpy as np
 
 from .inputs import (finite_pixels, mask_channel, mask_note, non_finite_message,
                      normal_map_notes, normal_map_problem, size_message)
+from .sampling import resample
 
 PER_PIXEL_CHANNELS = ("dark", "bright", "specular_color", "gloss", "transparency")
 
@@ -172,3 +173,16 @@ def silhouette_channel(source, has_alpha):
     """The channel whose alpha is the silhouette ('' for none); has_alpha(channel) says whether
     that channel has an image with alpha. One rule for the core, the graphs and the add-on."""
     return next((c for c in SILHOUETTE_ORDER[source] if has_alpha(c)), "")
+
+
+def resample_painting(images, width):
+    """The painting at `width` pixels (render --width): the shape and every per-pixel image
+    resampled so that the shape is `width` px wide.
+
+    Environment and background are looked up by UV (§8, §9), so their size does not matter.
+    """
+    h0, w0 = images["shape"].pixels.shape[:2]
+    height = max(1, round(h0 * width / w0))
+    return {ch: ImageData(resample(img.pixels, height, width), img.bits, img.name)
+            if ch == "shape" or ch in PER_PIXEL_CHANNELS else img
+            for ch, img in images.items()}

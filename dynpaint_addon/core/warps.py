@@ -80,12 +80,6 @@ def refraction_offset_linear(n, distance, mu):
     return n[..., :2] * scale[..., None]
 
 
-def total_internal_reflection(n, eta):
-    """§9/§10: mask where η < 1 and |N.xy| > η (no transmitted ray)."""
-    eta = clamp_eta(eta)
-    return np.hypot(n[..., 0], n[..., 1]) > eta
-
-
 def placed_uv(u, v, offset, scale, aspect):
     """§8, §9 placement: a painting UV (u, v) → the UV of an environment or background placed
     over it, centred on the painting's centre moved by `offset` (x, y in image widths) and

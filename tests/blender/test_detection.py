@@ -13,7 +13,7 @@ sys.path.insert(0, os.path.join(REPO, "benchmarks"))
 
 import detection  # noqa: E402
 
-from dynpaint_addon import example_paintings as ex  # noqa: E402
+from testkit import example_paintings as ex  # noqa: E402
 from dynpaint_addon.core.input_rules import ImageData, input_notes  # noqa: E402
 from dynpaint_addon.imageio import write_png  # noqa: E402
 from dynpaint_addon.recipe import Recipe, recipe_to_toml  # noqa: E402

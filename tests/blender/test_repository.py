@@ -39,7 +39,8 @@ def test_built_zip_excludes_dev_files(tmp_path):
         assert f"sample_scenes/{sample}/thumbnail.png" in names
     assert "sample_scenes/make_samples.py" not in names
     assert not [n for n in names if n.endswith(".oso")]       # compiled where needed
-    for dev in ("tests/", ".ci/", "scripts/", "benchmarks/", "docs/", ".venv/", "requirements-dev.txt",
+    for dev in ("tests/", "testkit/", ".ci/", "scripts/", "benchmarks/", "docs/", ".venv/",
+                "requirements-dev.txt",
                 "pytest.ini", "__pycache__"):
         assert not any(n.startswith(dev) or f"/{dev}" in n for n in names), dev
 

@@ -13,7 +13,7 @@ bpy = pytest.importorskip("bpy")
 from dynpaint_addon.blender import headless  # noqa: E402
 from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
 from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
-from dynpaint_addon.blender.turntable import add_light_turntable, light_at  # noqa: E402
+from dynpaint_addon.blender.turntable import add_light_turntable, orbit_position  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.imageio import read_image  # noqa: E402
@@ -22,6 +22,14 @@ from dynpaint_addon.samples import SAMPLES_DIR, list_samples, recipe_path  # noq
 
 from conftest import REPO, run_cli  # noqa: E402
 from parity_recipes import make_recipe, write_images  # noqa: E402
+
+
+def light_at(frame, frame_start, frame_end, elevation, start_angle, clockwise=False, radius=1.0):
+    """Where the turntable must put its light at `frame` (painting frame): one turn per
+    frame_end − frame_start + 1 frames, starting at start_angle (the tests' reference)."""
+    turns = (frame - frame_start) / (frame_end - frame_start + 1)
+    azimuth = start_angle + (-1 if clockwise else 1) * 2 * math.pi * turns
+    return orbit_position(elevation, azimuth, radius)
 
 
 def make_samples_module():

@@ -11,7 +11,7 @@ import pytest
 
 from dynpaint_addon.core.pipeline import render as core_render
 from dynpaint_addon.imageio import read_image
-from dynpaint_addon.web.chromium import find_chromium
+from testkit.chromium import find_chromium
 from dynpaint_addon.looks import with_look
 from dynpaint_addon.recipe import load_images
 from dynpaint_addon.web.page import page_data, write_page

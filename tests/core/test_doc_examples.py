@@ -9,12 +9,13 @@ import pytest
 
 from conftest import REPO
 
-PACKAGE = os.path.join(REPO, "dynpaint_addon")
+# the package, and what the tests and benchmarks share beside it
+FOLDERS = [os.path.join(REPO, name) for name in ("dynpaint_addon", "testkit")]
 
 
 def modules_with_examples():
     found = []
-    for folder, _, files in os.walk(PACKAGE):
+    for folder, _, files in (entry for top in FOLDERS for entry in os.walk(top)):
         for name in sorted(files):
             path = os.path.join(folder, name)
             if name.endswith(".py") and ">>>" in open(path, encoding="utf-8").read():

@@ -620,7 +620,7 @@ def test_a_plane_stays_exact_at_any_reach(reach, L):
 
 
 def test_crossings_follow_the_reach_like_the_reference():
-    from dynpaint_addon.example_paintings import penrose_triangle
+    from testkit.example_paintings import penrose_triangle
     n, _ = penrose_triangle(256)
     n = n.astype(np.float64)
     slopes = slopes_from_normals(n)
@@ -665,7 +665,7 @@ def test_an_impossible_figure_drawn_as_facets_casts_no_streaks(azimuth):
     never come back down smear long shadows over facets and the canvas."""
     from dynpaint_addon import params
     from dynpaint_addon.core.bake import bake
-    from dynpaint_addon.example_paintings import penrose_triangle
+    from testkit.example_paintings import penrose_triangle
     size = 256
     n, facet = penrose_triangle(size)
     n = n.astype(np.float32)

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from dynpaint_addon.core.sampling import gaussian_blur
-from dynpaint_addon.testpainting import quantized_dome
+from testkit.shapes import quantized_dome
 from dynpaint_addon.core.shape import (decode_normal_map, default_preblur_px, finalize_normals,
                                        height_field_px, normals_from_height_px)
 

@@ -5,7 +5,13 @@ import pytest
 from dynpaint_addon.core.fresnel import (art_curve, fit_art_fresnel, fresnel_art,
                                          fresnel_physical)
 from dynpaint_addon.core.warps import (clamp_eta, reflection_offset, refraction_offset_linear,
-                                       refraction_offset_physical, total_internal_reflection)
+                                       refraction_offset_physical)
+
+
+def total_internal_reflection(n, eta):
+    """§9/§10: mask where η < 1 and |N.xy| > η (no transmitted ray): the tests' reference."""
+    eta = clamp_eta(eta)
+    return np.hypot(n[..., 0], n[..., 1]) > eta
 
 
 def tilt_normals(theta, azimuth=0.3, dtype=np.float64):

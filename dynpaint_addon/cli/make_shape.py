@@ -1,26 +1,26 @@
 """`python -m dynpaint_addon make-shape METHOD …`: height and normal maps made from what the
-artist has (docs/shape-from-painting.md). Registered by cli.py; the work is in shape_maker and
-the core."""
+artist has (docs/shape-from-painting.md). Registered by cli/__init__.py; the options are
+shape_methods.OPTIONS; the work is shape_maker's and the core's."""
 import argparse
 import os
 import time
 
 import numpy as np
 
-from . import params
-from .core.inflate import inflate
-from .core.integrate import integrate
-from .core.occlusion import ambient_occlusion
-from .core.photometric import SIDES, normals_from_profiles, normals_from_rg_photo
-from .core.input_rules import input_notes
-from .core.pipeline import normal_map_relief_px, shape_normals
-from .imageio import read_image, write_exr, write_png
-from .notes import check_and_print, figure_note, print_notes
-from .recipe import load_recipe
-from .shape_maker import (ShapeError, decode_normals, encode_normals, figure_and_source,
+from .. import params
+from ..core.inflate import inflate
+from ..core.input_rules import input_notes
+from ..core.integrate import integrate
+from ..core.occlusion import ambient_occlusion
+from ..core.photometric import SIDES, normals_from_profiles, normals_from_rg_photo
+from ..core.pipeline import normal_map_relief_px, shape_normals
+from ..imageio import read_image, write_exr, write_png
+from ..recipe import load_recipe
+from ..shape_maker import (ShapeError, decode_normals, encode_normals, figure_and_source,
                           figure_mask, height_widths, linear_luminance, normals_of_height, same_size,
                           sprite_lamp_side)
-from .shape_methods import METHODS, options
+from ..shape_methods import METHODS, options
+from .notes import check_and_print, figure_note, print_notes
 
 
 def _write_height(path, z):

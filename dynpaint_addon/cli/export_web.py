@@ -5,12 +5,12 @@ description; the viewer drags the light. Problems end as one `error: …` line (
 """
 import time
 
-from . import params
-from .errors import UserError
+from .. import params
+from ..errors import UserError
+from ..recipe import image_bytes, load_images, load_recipe
+from ..samples import recipe_help
+from ..web.page import TURNTABLE_SECONDS, page_data, write_page
 from .notes import check_and_print, print_notes
-from .recipe import image_bytes, load_images, load_recipe
-from .samples import recipe_help
-from .web.page import TURNTABLE_SECONDS, page_data, write_page
 
 STEPS = params.BY_PATH["shadows.steps"]
 

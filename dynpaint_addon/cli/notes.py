@@ -7,7 +7,7 @@ the same lines (blender/scene.check_images).
 """
 import sys
 
-from .core.input_rules import input_notes
+from ..core.input_rules import input_notes
 
 
 def print_notes(notes):

@@ -1,0 +1,15 @@
+"""`python -m dynpaint_addon make-test-painting FOLDER`: the built-in test painting as files."""
+from ..testpainting import write_test_painting
+
+
+def cmd_make_test_painting(args):
+    path = write_test_painting(args.folder, args.size)
+    print(f"wrote {path}")
+
+
+def add_parser(sub):
+    """Register `make-test-painting` on the command line's subparsers."""
+    m = sub.add_parser("make-test-painting", help="write the built-in test painting as files")
+    m.add_argument("folder", help="folder for painting.toml and its images")
+    m.add_argument("--size", type=int, default=256, help="size in pixels (default 256)")
+    m.set_defaults(func=cmd_make_test_painting)

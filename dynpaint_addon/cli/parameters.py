@@ -1,0 +1,27 @@
+"""`python -m dynpaint_addon params`: every recipe parameter with its unit, range and default
+(from params.py)."""
+from .. import params
+
+
+def cmd_params(args):
+    section = None
+    for p in params.PARAMS:
+        if p.section != section:
+            section = p.section
+            print(f"\n[{section}]")
+        rng = f" range [{p.min}, {p.max}]" if p.min is not None else ""
+        choices = f" one of: {', '.join(p.choices)}" if p.choices else ""
+        unit = f" ({p.unit})" if p.unit else ""
+        print(f"  {p.key} = {p.default!r}{unit}{rng}{choices}  {p.spec}\n      {p.help}")
+    print("\n[images]  (paths relative to the recipe)")
+    for ch, (what, space) in params.CHANNELS.items():
+        print(f"  {ch}: {what} [{space}]")
+    print("\n[[lights]]  type = \"sun\" with direction = [x, y, z] (toward the light), or "
+          "\"point\" with position = [x, y, z] (image widths from the painting's centre);\n"
+          "            color = [r, g, b] (linear), strength = k ≥ 0 (pipeline.md §5)")
+
+
+def add_parser(sub):
+    """Register `params` on the command line's subparsers."""
+    pa = sub.add_parser("params", help="list every recipe parameter with its unit, range, default")
+    pa.set_defaults(func=cmd_params)
