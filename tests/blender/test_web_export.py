@@ -60,7 +60,7 @@ def test_cli_max_size_and_steps(tmp_path):
 
 @pytest.mark.parametrize("args, says", [
     (["portrait", "--out", "x.png"], "an .html file"),
-    (["portrait", "--out", "x.html", "--steps", "-1"], "--steps -1"),
+    (["portrait", "--out", "x.html", "--steps", "-1"], "--steps: -1 is out of range"),
     (["portrait", "--out", "x.html", "--max-size", "4"], "--max-size 4"),
     (["nowhere.toml", "--out", "x.html"], "nowhere.toml"),
     (["portrait", "--out", "x.html", "--turntable-seconds", "0"], "--turntable-seconds"),

@@ -37,14 +37,20 @@ def modules():
     return found
 
 
-def imports(name, path, known):
-    """[(imported module, inside a function, line)] of one module's own-package imports."""
-    is_package = path.endswith("__init__.py")
+def parsed(path):
+    """(syntax tree, ids of the nodes inside a function) of a module."""
     tree = ast.parse(open(path, encoding="utf-8").read())
     in_function = set()
     for node in ast.walk(tree):
         if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
             in_function |= {id(n) for n in ast.walk(node) if n is not node}
+    return tree, in_function
+
+
+def imports(name, path, known):
+    """[(imported module, inside a function, line)] of one module's own-package imports."""
+    is_package = path.endswith("__init__.py")
+    tree, in_function = parsed(path)
     out = []
     for node in ast.walk(tree):
         targets = []
@@ -149,11 +155,7 @@ BPY_FREE_FOLDERS = ("core", "nodegraph", "web", "cli")
 
 def bpy_imports(path):
     """[(line, inside a function)] of a module's imports of bpy (or its submodules)."""
-    tree = ast.parse(open(path, encoding="utf-8").read())
-    in_function = set()
-    for node in ast.walk(tree):
-        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
-            in_function |= {id(n) for n in ast.walk(node) if n is not node}
+    tree, in_function = parsed(path)
     found = []
     for node in ast.walk(tree):
         names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
