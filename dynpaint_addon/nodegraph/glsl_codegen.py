@@ -14,8 +14,10 @@ and the pseudo nodes differ:
   dp.output  the premultiplied linear result; shown over the page's backdrop in sRGB, or kept
              as it is (`dp_display` 0) for a float framebuffer read back by the tests
 
-The cos-θ term is always marched in the shader (snippets/shared/cos_theta.h, the OSL shader's
-own march, §6): a page has no bake.
+The cos-θ term is marched in the shader (snippets/shared/cos_theta.h, the OSL shader's own march,
+§6) for features whose shadow source is 'osl'; with baked shadows the frame reads `tex_shadow_<i>`
+like any image — the page draws those textures with the shader of
+pipeline_graph.describe_shadow when a light moves.
 """
 from .graph import FLOAT, VECTOR
 from .text_codegen import Emitter, Program, indent, param_name, read_snippet
@@ -34,7 +36,7 @@ class GlslEmitter(Emitter):
     def op_dp_sample(self, n):
         channel = n.props["channel"]
         uv = self.ref(n.inputs["uv"], VECTOR) if "uv" in n.inputs else "dp_uv()"
-        if channel.startswith("shadow_"):
+        if channel.startswith("shadow_") and self.program.features.shadow_source == "osl":
             self.define(n, "color", VECTOR, "vec3({})".format(self.program.march_call(
                 self.ref(n.inputs["normal"], VECTOR), self.ref(n.inputs["light"], VECTOR),
                 n.props["kind"], uv)))

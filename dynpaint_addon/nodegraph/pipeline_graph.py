@@ -61,15 +61,10 @@ def term(fn):
     return fn
 
 
-def describe(f):
-    """Features → Graph of the whole pipeline, with only the branches the scene needs (§12)."""
-    g = Graph("Dynamic Painting")
+def _shape(g, f, uv, u, v, aspect, z_min):
+    """§2: the pixel's unit normal and its surface point P_S (image widths from the painting's
+    centre, the frame point lights live in, §0) → (normal, surface)."""
     width, height = f.size
-    aspect = width / height                 # v per image width along y
-    with g.section("Inputs"):
-        uv = g.uv()
-        u, v, _ = g.separate(uv)
-        z_min = g.param("shape.z_min")
     with g.section("Shape (§2)"):
         surface_z = 0.0
         if f.shape_kind == "height":
@@ -82,25 +77,55 @@ def describe(f):
             hs = {k: g.separate(c)[0] for k, c in hs.items()}
             h_scale = g.param("shape.height_scale")
             slope = g.math("MULTIPLY", h_scale, float(width), label="h·W")
-            normal = g.group(subgraphs.height_gradient(), {**hs, "Slope Scale": slope, "Z Min": z_min})
+            normal = g.group(subgraphs.height_gradient(), {**hs, "Slope Scale": slope,
+                                                           "Z Min": z_min})
             centre_h = g.separate(g.sample("height", None, "EXTEND", label="height")[0])[0]
             surface_z = g.math("MULTIPLY", centre_h, h_scale, label="P_S.z = h·H")
         else:
             color, _ = g.sample("shape", None, "EXTEND", label="normal map")
-            normal = g.group(subgraphs.normal_map(), {"Color": color, "Flip Green": g.param("shape.flip_green"),
-                                             "Z Min": z_min})
-        normal = normal["Normal"]
-        # P_S in image widths from the painting's centre, the frame point lights live in (§0)
+            normal = g.group(subgraphs.normal_map(), {"Color": color,
+                                                      "Flip Green": g.param("shape.flip_green"),
+                                                      "Z Min": z_min})
         surface = g.combine(g.math("SUBTRACT", u, 0.5),
                             g.math("MULTIPLY", g.math("SUBTRACT", v, 0.5), 1.0 / aspect),
                             surface_z, label="P_S")
+    return normal["Normal"], surface
 
+
+def _inputs(g, f):
+    """The pixel's UV and its parts, the painting's aspect (v per image width along y) and
+    the §2 smallest N.z."""
+    with g.section("Inputs"):
+        uv = g.uv()
+        u, v, _ = g.separate(uv)
+        z_min = g.param("shape.z_min")
+    return uv, u, v, f.size[0] / f.size[1], z_min
+
+
+def describe(f):
+    """Features → Graph of the whole pipeline, with only the branches the scene needs (§12)."""
+    g = Graph("Dynamic Painting")
+    uv, u, v, aspect, z_min = _inputs(g, f)
+    normal, surface = _shape(g, f, uv, u, v, aspect, z_min)
     b = Build(g, f, uv, u, v, aspect, normal, surface)
     for graph_term in TERMS:
         graph_term(b)
     g.output(b.colour, b.alpha, {"W": b.passes.get("W", (0.0, 0.0, 0.0)), "s": b.s_mix,
                                  "F": b.passes.get("F", 0.0),
                                  **{k: v for k, v in b.passes.items() if k.startswith("t")}})
+    return g
+
+
+def describe_shadow(f, kind):
+    """Features → Graph of the raw cos-θ term (§6) of one light of `kind` ('sun' or
+    'point', the graph's light 0) at each pixel: grey (t, t, t), alpha 1. The web page draws
+    it into a texture when that light moves, and its frame reads it like a baked image."""
+    g = Graph("Dynamic Painting cos-θ")
+    uv, u, v, aspect, z_min = _inputs(g, f)
+    normal, _ = _shape(g, f, uv, u, v, aspect, z_min)
+    vec, _ = g.light(0, kind)
+    t = g.shadow_term(0, kind, normal, vec)
+    g.output(g.combine(t, t, t, label="t"), 1.0, {})
     return g
 
 

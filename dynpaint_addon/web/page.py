@@ -17,6 +17,7 @@ No bpy: the command line and the add-on both call `page_data` and `write_page`.
 """
 import base64
 import copy
+import dataclasses
 import html
 import json
 import os
@@ -31,7 +32,7 @@ from ..core.sampling import resample
 from ..looks import LOOKS, with_look
 from ..nodegraph import glsl_codegen
 from ..nodegraph.derived_inputs import Source, make_derived, march_bounds, prepare
-from ..nodegraph.pipeline_graph import describe
+from ..nodegraph.pipeline_graph import describe, describe_shadow
 from ..nodegraph.text_codegen import param_name
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -170,18 +171,30 @@ def _march_bounds(images, p, cache):
 
 
 def _variant(images, lights, p, steps, cache):
-    """One way to show the painting: (features, shader source, uniforms, textures, warnings)."""
+    """One way to show the painting → (Features of its frame, {shader name: source}, uniforms,
+    textures, warnings). Shaders: 'frame' draws the painting; with shadows it reads each
+    light's cos-θ term from a texture (`tex_shadow_<i>`) that the page draws with the
+    'shadow_<kind>' shader of that light's kind whenever the light moves (§6; the OSL
+    shader's march, pipeline_graph.describe_shadow)."""
     p_page = page_params(p, steps)
+    kinds = [lt.kind for lt in lights]
     features, plan = prepare(p_page, {c: Source(c, img.bits, img.size, img.has_alpha)
-                                      for c, img in images.items()}, [lt.kind for lt in lights])
-    source, program = glsl_codegen.generate(describe(features), features)
+                                      for c, img in images.items()}, kinds)
+    frame = dataclasses.replace(features, shadow_source="baked") if features.shadows \
+        else features
+    programs = {"frame": glsl_codegen.generate(describe(frame), frame)}
+    if features.shadows:
+        programs.update({f"shadow_{kind}": glsl_codegen.generate(describe_shadow(features, kind),
+                                                                 features)
+                         for kind in sorted(set(kinds))})
     textures, warnings = page_textures(features, plan, p_page, images,
                                        cache.setdefault("images", {}))
-    uniforms = {name: value for name, value in param_uniforms(p_page).items()
-                if name in program.uniforms}
+    used = set().union(*(program.uniforms for _, program in programs.values()))
+    uniforms = {name: value for name, value in param_uniforms(p_page).items() if name in used}
     if features.shadows:
         uniforms.update(_march_bounds(images, p_page, cache.setdefault("bounds", {})))
-    return features, source, uniforms, textures, warnings
+    return frame, {name: src for name, (src, _) in programs.items()}, uniforms, textures, \
+        warnings
 
 
 def page_data(images, lights, p, title="", credits="", steps=None, max_size=None,
@@ -200,20 +213,24 @@ def page_data(images, lights, p, title="", credits="", steps=None, max_size=None
     """
     images = {c: shrink(img, max_size) for c, img in images.items()}
     cache = {}
-    features, source, uniforms, textures, warnings = _variant(images, lights, p, steps, cache)
-    shaders, feature_keys = [source], [features]
+    shaders = []
+
+    def shader_indices(sources):
+        """{name: index in `shaders`} of a look's shaders, each source stored once."""
+        for src in sources.values():
+            if src not in shaders:
+                shaders.append(src)
+        return {name: shaders.index(src) for name, src in sources.items()}
+    features, sources, uniforms, textures, warnings = _variant(images, lights, p, steps, cache)
     looks = [{"name": "As exported", "description": "The painting's own settings",
-              "shader": 0, "uniforms": uniforms}]
+              "shaders": shader_indices(sources), "uniforms": uniforms}]
     for key, (label, description, _) in LOOKS.items():
-        f, src, u, tex, _ = _variant(images, lights, with_look(p, key), steps, cache)
+        _, srcs, u, tex, _ = _variant(images, lights, with_look(p, key), steps, cache)
         if any(c in textures and textures[c] != t for c, t in tex.items()):
             continue
-        if f not in feature_keys:
-            feature_keys.append(f)
-            shaders.append(src)
-        look = {"name": label, "description": description,
-                "shader": feature_keys.index(f), "uniforms": u}
-        if all(look["shader"] != other["shader"] or look["uniforms"] != other["uniforms"]
+        look = {"name": label, "description": description, "shaders": shader_indices(srcs),
+                "uniforms": u}
+        if all(look["shaders"] != other["shaders"] or look["uniforms"] != other["uniforms"]
                for other in looks):
             textures.update(tex)
             looks.append(look)

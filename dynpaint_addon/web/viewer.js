@@ -222,15 +222,22 @@
   let prog = null;
   const programs = [], textures = {}, units = {};
 
-  // The program of the current look (compiled the first time it is shown).
-  function useLook() {
-    const index = DATA.looks[state.look].shader;
+  // A shader of the current look ('frame', 'shadow_sun', 'shadow_point'), compiled the first
+  // time it is used.
+  function shaderOf(name) {
+    const index = DATA.looks[state.look].shaders[name];
     programs[index] = programs[index] || program(DATA.shaders[index]);
-    prog = programs[index];
+    return programs[index];
+  }
+
+  function useLook() {
+    prog = shaderOf("frame");
     gl.useProgram(prog);
   }
 
-  function setUniforms(rect, display) {
+  // The uniforms of the program in use: the look's parameters, its images, the lights (or,
+  // for a shadow pass, light `only` as the shader's one light), where it draws.
+  function setUniforms(rect, display, only = null) {
     const loc = (name) => gl.getUniformLocation(prog, name);
     for (const [name, value] of Object.entries(DATA.looks[state.look].uniforms)) {
       gl.uniform1f(loc(name), name === "p_shadows_steps" ? state.steps : value);
@@ -240,9 +247,9 @@
       gl.bindTexture(gl.TEXTURE_2D, textures[channel]);
       gl.uniform1i(loc("tex_" + channel), unit);
       const tex = DATA.textures[channel];
-      gl.uniform1i(loc("srgb_" + channel), (DATA.textures[tex.same_as] || tex).srgb);
+      gl.uniform1i(loc("srgb_" + channel), tex ? (DATA.textures[tex.same_as] || tex).srgb : 0);
     }
-    lights.forEach((lt, i) => {
+    (only ? [only] : lights).forEach((lt, i) => {
       gl.uniform3fv(loc(`light${i + 1}_vector`), lightVector(lt));
       const k = lt.on ? lt.strength : 0;
       gl.uniform3fv(loc(`light${i + 1}_weight`), lt.colour.map((c) => c * k));
@@ -252,6 +259,78 @@
     gl.uniform3fv(loc("dp_backdrop"), BACKDROP);
   }
 
+  // -- shadows: each light's cos-θ term (§6) drawn into a texture of its own when that light,
+  // the look or K changes — at a fraction of the painting's pixels while the light moves, at
+  // its full size once it stops — and read by the frame like any image (issue 29). A frame
+  // whose lights did not move marches nothing.
+  const shadows = [];                  // per light: {tex, fb, w, h, key}
+  const shadowState = { passMs: 0, final: true };
+
+  function shadowTarget(i, w, h) {
+    let target = shadows[i];
+    if (target && target.w === w && target.h === h) return target;
+    if (target) { gl.deleteFramebuffer(target.fb); gl.deleteTexture(target.tex); }
+    const float = !!gl.getExtension("EXT_color_buffer_float");
+    const tex = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D, tex);
+    if (float) gl.texImage2D(gl.TEXTURE_2D, 0, gl.R32F, w, h, 0, gl.RED, gl.FLOAT, null);
+    else gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, w, h, 0, gl.RGBA, gl.UNSIGNED_BYTE, null);
+    for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, gl.NEAREST], [gl.TEXTURE_MAG_FILTER, gl.NEAREST],
+                          [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]]) {
+      gl.texParameteri(gl.TEXTURE_2D, k, v);
+    }
+    const fb = gl.createFramebuffer();
+    gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, tex, 0);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    target = shadows[i] = { tex, fb, w, h, float, key: "" };
+    textures[`shadow_${i}`] = tex;
+    return target;
+  }
+
+  // The fraction of the painting's pixels a moving light's shadows are drawn at: a pass about
+  // as long as a frame (measured on the last full-size pass), never below 1/8 of the side.
+  function shadowDraftScale() {
+    const frame = Math.max(state.fullFrameMs, 1), pass = shadowState.passMs;
+    return pass <= frame ? 1 : Math.max(0.125, Math.sqrt(frame / pass));
+  }
+
+  // Draw the shadows of the lights that moved since their texture was drawn, at `scale` of
+  // the painting's pixels (1: final) → how many were drawn.
+  function updateShadows(scale) {
+    if (!DATA.shadows) return 0;
+    const look = DATA.looks[state.look];
+    const w = Math.max(1, Math.round(DATA.width * scale));
+    const h = Math.max(1, Math.round(DATA.height * scale));
+    let drawn = 0;
+    const start = performance.now();
+    lights.forEach((lt, i) => {
+      const key = JSON.stringify([look.shaders["shadow_" + lt.kind], look.uniforms, state.steps,
+                                  lightVector(lt), w, h]);
+      const target = shadowTarget(i, w, h);
+      if (target.key === key) return;
+      prog = shaderOf("shadow_" + lt.kind);
+      gl.useProgram(prog);
+      gl.bindFramebuffer(gl.FRAMEBUFFER, target.fb);
+      gl.viewport(0, 0, w, h);
+      setUniforms([0, 0, w, h], 0, lt);
+      gl.drawArrays(gl.TRIANGLES, 0, 3);
+      target.key = key;
+      drawn++;
+    });
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    if (drawn && scale >= 1) {
+      const float = shadows[0].float;     // wait for the pass: its time sets the drafts'
+      gl.bindFramebuffer(gl.FRAMEBUFFER, shadows[0].fb);
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, float ? gl.FLOAT : gl.UNSIGNED_BYTE,
+                    float ? new Float32Array(4) : new Uint8Array(4));
+      gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+      shadowState.passMs = (performance.now() - start) / drawn * lights.length;
+    }
+    shadowState.final = scale >= 1;
+    return drawn;
+  }
+
   // A full frame at the canvas's size; or, while the light moves and full frames are slower
   // than FRAME_BUDGET_MS (shadows on a slow GPU, software WebGL), a draft at a fraction
   // `scale` of the pixels, stretched onto the canvas: the light keeps up with the hand, and
@@ -259,7 +338,8 @@
   const FRAME_BUDGET_MS = 33;
   let draft = null;                    // {fb, rb, w, h}
 
-  function draw(scale = 1) {
+  function draw(scale = 1, shadowScale = 1) {
+    updateShadows(shadowScale);
     useLook();
     if (scale >= 1) {
       gl.bindFramebuffer(gl.FRAMEBUFFER, null);
@@ -296,6 +376,7 @@
   // once per canvas size and look.
   function measureFullFrame() {
     const one = new Uint8Array(4);
+    updateShadows(1);
     const start = performance.now();
     draw(1);
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
@@ -318,6 +399,8 @@
     gl.renderbufferStorage(gl.RENDERBUFFER, gl.RGBA32F, w, h);
     gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
     gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.RENDERBUFFER, rb);
+    updateShadows(1);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
     gl.viewport(0, 0, w, h);
     useLook();
     setUniforms([0, 0, w, h], 0);
@@ -336,20 +419,102 @@
     return btoa(text);
   };
 
-  // Milliseconds per frame over `n` frames drawn at the canvas's size, or as the drafts
-  // drawn while the light moves (`scale`: draftScale()'s choice when "draft"); each frame
-  // waits for the GPU by reading one pixel back.
-  api.frameTime = function (n, scale = 1) {
+  // Milliseconds per frame over `n` frames drawn as the page draws them, each with the
+  // lights where they are at that moment; each frame waits for the GPU by reading one pixel
+  // back. mode: 1 (default) full frames of a still light (its shadows drawn once, before);
+  // a number < 1, frames at that fraction of the pixels; "draft", the frames the page draws
+  // while a light moves (draftScale()); "drag", the key light moved 2° round the painting
+  // before each frame, drawn as while it is dragged (its shadows at shadowDraftScale(), the
+  // frame at draftScale()). → {ms, scale, shadowScale}
+  api.frameTime = function (n, mode = 1) {
     const one = new Uint8Array(4);
-    const s = scale === "draft" ? draftScale() : scale;
-    draw(s);
+    const drag = mode === "drag";
+    const s = mode === "draft" || drag ? draftScale() : mode;
+    const sh = drag ? shadowDraftScale() : 1;
+    const turn = (lt) => {
+      const [x, y, h] = lt.place, c = Math.cos(0.035), si = Math.sin(0.035);
+      lt.place = [c * x - si * y, si * x + c * y, h];
+    };
+    draw(s, 1);
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
     const start = performance.now();
     for (let i = 0; i < n; i++) {
-      draw(s);
+      if (drag && keyLight()) turn(keyLight());
+      draw(s, sh);
       gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
     }
-    return { ms: (performance.now() - start) / n, scale: s };
+    const ms = (performance.now() - start) / n;
+    state.dirty = true;
+    return { ms, scale: s, shadowScale: sh };
+  };
+
+  // The physical floor a benchmark compares the page with (issue 29): what the original
+  // research system's shader does per pixel, no shadows — seven hardware-filtered reads (normal,
+  // dark, bright, alpha control, reflected and refracted images, the background behind), a
+  // light's clamped N·L mixing dark and bright with a falloff, a Phong highlight, reflection and
+  // refraction offsets with a three-piece Fresnel blend, the alpha mix and the composite over
+  // the background — over the page's own images (used in turn where it has fewer than seven).
+  // Milliseconds per frame over `n` frames at the canvas's size, each waited for.
+  const FLOOR = "#version 300 es\nprecision highp float;\n" +
+    "uniform sampler2D t0, t1, t2, t3, t4, t5;\nuniform vec4 rect;\nuniform vec3 light;\n" +
+    "out vec4 o;\n" +
+    "vec2 mirror(vec2 c) { vec2 f = fract(c * 0.5) * 2.0; return mix(f, 2.0 - f, step(1.0, f)); }\n" +
+    "void main() {\n" +
+    "  vec2 uv = (gl_FragCoord.xy - rect.xy) / rect.zw;\n" +
+    "  vec4 nm = texture(t0, uv);\n" +
+    "  vec3 n = normalize(vec3(0.0, 0.0, 1.0) + normalize(nm.rgb * 2.0 - 1.0));\n" +
+    "  vec3 p = vec3(uv - 0.5, 0.0), toL = light - p;\n" +
+    "  vec3 l = normalize(toL);\n" +
+    "  float t = clamp((dot(n, l) - 0.1) / 0.8, 0.0, 1.0) / (1.0 + 0.5 * length(toL) * 4.0);\n" +
+    "  vec4 dark = texture(t1, uv), bright = texture(t2, uv);\n" +
+    "  vec4 diffuse = dark * (1.0 - t) + bright * t;\n" +
+    "  float spec = pow(max(dot(2.0 * dot(n, l) * n - l, vec3(0.0, 0.0, 1.0)), 0.0), 200.0);\n" +
+    "  vec3 alpha = texture(t3, uv).rgb;\n" +
+    "  vec3 r = 2.0 * n.z * n - vec3(0.0, 0.0, 1.0);\n" +
+    "  vec3 refl = texture(t4, mirror(uv + r.xy / r.z * 0.2)).rgb + spec;\n" +
+    "  float c1 = n.z, c2 = sqrt(max(1.0 - 0.5 * (1.0 - c1 * c1), 0.0));\n" +
+    "  vec3 f = -0.7 * vec3(0.0, 0.0, 1.0) + (0.7 * c1 - c2) * n;\n" +
+    "  vec3 refr = texture(t5, uv + f.xy / f.z * 0.2).rgb;\n" +
+    "  float a = c1 > 0.8 ? mix(0.0, 0.1, (c1 - 0.8) / 0.2) : c1 > 0.5 ?\n" +
+    "    mix(0.6, 0.0, (c1 - 0.5) / 0.3) : mix(1.0, 0.6, c1 / 0.5);\n" +
+    "  vec3 fresnel = refl * a + refr * (1.0 - a);\n" +
+    "  float k = diffuse.a * (1.0 - alpha.r * 0.5);\n" +
+    "  vec3 colour = fresnel * (1.0 - k) + diffuse.rgb * k;\n" +
+    "  vec3 back = texture(t5, uv).rgb;\n" +
+    "  o = vec4(back * (1.0 - nm.a) + colour * nm.a, 1.0);\n}\n";
+
+  api.floorTime = function (n) {
+    const names = Object.keys(DATA.textures).filter((c) => !DATA.textures[c].same_as &&
+                                                           !c.startsWith("shadow_"));
+    gl.getExtension("OES_texture_float_linear");
+    const floor = program(FLOOR), sampler = gl.createSampler();
+    gl.samplerParameteri(sampler, gl.TEXTURE_MIN_FILTER, gl.LINEAR);
+    gl.samplerParameteri(sampler, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
+    const one = new Uint8Array(4);
+    const frame = () => {
+      gl.useProgram(floor);
+      gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+      gl.viewport(0, 0, canvas.width, canvas.height);
+      for (let i = 0; i < 6; i++) {
+        gl.activeTexture(gl.TEXTURE0 + i);
+        gl.bindTexture(gl.TEXTURE_2D, textures[names[i % names.length]]);
+        gl.bindSampler(i, sampler);
+        gl.uniform1i(gl.getUniformLocation(floor, `t${i}`), i);
+      }
+      gl.uniform4f(gl.getUniformLocation(floor, "rect"), 0, 0, canvas.width, canvas.height);
+      gl.uniform3f(gl.getUniformLocation(floor, "light"), 0.3, 0.4, 0.8);
+      gl.drawArrays(gl.TRIANGLES, 0, 3);
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
+    };
+    frame();
+    const start = performance.now();
+    for (let i = 0; i < n; i++) frame();
+    const ms = (performance.now() - start) / n;
+    for (let i = 0; i < 6; i++) gl.bindSampler(i, null);
+    gl.deleteSampler(sampler);
+    gl.deleteProgram(floor);
+    state.dirty = true;
+    return { ms };
   };
 
   // -- layout: the canvas fits the stage (or, embedded, shows one image pixel per CSS pixel) --
@@ -543,9 +708,9 @@
       state.measure = false;
       measureFullFrame();
     } else if (prog && state.dirty) {
-      draw(moving ? draftScale() : 1);
-    } else if (prog && !moving && state.drawScale < 1) {
-      draw(1);                                   // the light stopped: the full frame
+      draw(moving ? draftScale() : 1, moving ? shadowDraftScale() : 1);
+    } else if (prog && !moving && (state.drawScale < 1 || !shadowState.final)) {
+      draw(1, 1);                                // the light stopped: the full frame
     }
     requestAnimationFrame(loop);
   }
@@ -568,6 +733,12 @@
       for (const [c, tex] of Object.entries(DATA.textures)) {
         if (tex.same_as) textures[c] = textures[tex.same_as];
         units[c] = unit++;
+      }
+      if (DATA.shadows) {
+        lights.forEach((lt, i) => {
+          shadowTarget(i, DATA.width, DATA.height);
+          units[`shadow_${i}`] = unit++;
+        });
       }
     } catch (err) {
       fail(String(err.message || err));
