@@ -6,8 +6,9 @@ through snippets/glsl/dp_words.glsl's #defines); here only the lookups (snippets
 and the pseudo nodes differ:
 
   dp.uv      the fragment's place in the painting's rectangle (`dp_rect`, framebuffer pixels)
-  dp.sample  dp_tex on a sampler2D uniform `tex_<channel>` with explicit texel taps (no GPU
-             filtering), `srgb_<channel>` saying whether it holds sRGB codes
+  dp.sample  dp_tex_hw on a sampler2D uniform `tex_<channel>`: one hardware-filtered fetch where
+             the page lets the GPU filter the image (`hw_<channel>`, the sampler's wrap that
+             of `wraps`), else explicit texel taps
   dp.param   a float uniform per parameter (text_codegen.param_name), set by the page
   dp.light   `light<n>_vector` (a sun's direction or a point light's position in the painting
              frame, §0) and `light<n>_weight` (k·c, §5), set by the page as the viewer drags
@@ -42,10 +43,13 @@ class GlslEmitter(Emitter):
                 n.props["kind"], uv)))
             self.bind(n, "alpha", FLOAT, "1.0")
             return
-        tex, srgb = self.program.image(channel)
+        extension, interpolation = n.props["extension"], n.props["interpolation"]
+        tex, hw = self.program.image(channel)
+        if interpolation != "Linear" or not self.program.wrap(channel, extension):
+            hw = "0"              # texel by texel: a Closest tap, or another extension
         self.lines.append(f"float n{n.id}_a;")
-        self.define(n, "color", VECTOR, f"dp_tex({tex}, {srgb}, {uv}, "
-                    f"{WRAPS[n.props['extension']]}, {INTERPS[n.props['interpolation']]}, n{n.id}_a)")
+        self.define(n, "color", VECTOR, f"dp_tex_hw({tex}, {hw}, {uv}, {WRAPS[extension]}, "
+                    f"{INTERPS[interpolation]}, n{n.id}_a)")
         self.bind(n, "alpha", FLOAT, f"n{n.id}_a")
 
     def op_dp_param(self, n):
@@ -69,6 +73,7 @@ class GlslProgram(Program):
         super().__init__(features)
         self.uniforms = {}           # name → GLSL type
         self.textures = {}           # channel → sampler uniform
+        self.wraps = {}              # channel → the extension its sampler wraps with
 
     def uniform(self, name, kind="float"):
         self.uniforms.setdefault(name, kind)
@@ -78,15 +83,24 @@ class GlslProgram(Program):
         return self.uniform(param_name(path, index))
 
     def image(self, channel):
-        """The sampler and sRGB flag uniforms of an image channel."""
+        """The sampler of an image channel and its `hw_<channel>` flag: 1 when the page lets
+        the GPU filter it (a filterable format, its sampler's wrap that of `wraps`)."""
         self.textures[channel] = self.uniform(f"tex_{channel}", "sampler2D")
-        return self.textures[channel], self.uniform(f"srgb_{channel}", "int")
+        return self.textures[channel], self.uniform(f"hw_{channel}", "int")
+
+    def wrap(self, channel, extension):
+        """Whether a Linear lookup of `channel` with `extension` may use the GPU's wrap: the
+        first extension a program reads an image with sets its sampler (`wraps`)."""
+        return self.wraps.setdefault(channel, extension) == extension
+
+    def image_arguments(self, channel):
+        """The march's image (dp_image_at: linear, edges extended) and its filter flag."""
+        tex, hw = self.image(channel)
+        return tex, hw if self.wrap(channel, "EXTEND") else "0"
 
     def light(self, i):
         return (self.uniform(f"light{i + 1}_vector", "vec3"),
                 self.uniform(f"light{i + 1}_weight", "vec3"))
-
-    image_arguments = image
 
     def bound(self, name):
         return self.uniform(name)

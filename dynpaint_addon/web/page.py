@@ -171,8 +171,8 @@ def _march_bounds(images, p, cache):
 
 
 def _variant(images, lights, p, steps, cache):
-    """One way to show the painting → (Features of its frame, {shader name: source}, uniforms,
-    textures, warnings). Shaders: 'frame' draws the painting; with shadows it reads each
+    """One way to show the painting → (Features of its frame, {shader name: (source, the
+    extension each image's sampler wraps with)}, uniforms, textures, warnings). Shaders: 'frame' draws the painting; with shadows it reads each
     light's cos-θ term from a texture (`tex_shadow_<i>`) that the page draws with the
     'shadow_<kind>' shader of that light's kind whenever the light moves (§6; the OSL
     shader's march, pipeline_graph.describe_shadow)."""
@@ -193,8 +193,8 @@ def _variant(images, lights, p, steps, cache):
     uniforms = {name: value for name, value in param_uniforms(p_page).items() if name in used}
     if features.shadows:
         uniforms.update(_march_bounds(images, p_page, cache.setdefault("bounds", {})))
-    return frame, {name: src for name, (src, _) in programs.items()}, uniforms, textures, \
-        warnings
+    return frame, {name: (src, program.wraps) for name, (src, program) in programs.items()}, \
+        uniforms, textures, warnings
 
 
 def page_data(images, lights, p, title="", credits="", steps=None, max_size=None,
@@ -213,14 +213,16 @@ def page_data(images, lights, p, title="", credits="", steps=None, max_size=None
     """
     images = {c: shrink(img, max_size) for c, img in images.items()}
     cache = {}
-    shaders = []
+    shaders, samplers = [], []
 
     def shader_indices(sources):
-        """{name: index in `shaders`} of a look's shaders, each source stored once."""
-        for src in sources.values():
+        """{name: index in `shaders`} of a look's shaders, each source stored once (with the
+        wrap of each image it lets the GPU filter, in `samplers`)."""
+        for src, wraps in sources.values():
             if src not in shaders:
                 shaders.append(src)
-        return {name: shaders.index(src) for name, src in sources.items()}
+                samplers.append(wraps)
+        return {name: shaders.index(src) for name, (src, _) in sources.items()}
     features, sources, uniforms, textures, warnings = _variant(images, lights, p, steps, cache)
     looks = [{"name": "As exported", "description": "The painting's own settings",
               "shaders": shader_indices(sources), "uniforms": uniforms}]
@@ -237,7 +239,7 @@ def page_data(images, lights, p, title="", credits="", steps=None, max_size=None
     w, h = images["shape"].size
     return {
         "title": title, "credits": credits, "width": w, "height": h,
-        "shaders": shaders, "looks": looks, "textures": textures,
+        "shaders": shaders, "samplers": samplers, "looks": looks, "textures": textures,
         "lights": [_light_entry(lt) for lt in lights], "shadows": bool(features.shadows),
         "steps": int(uniforms.get("p_shadows_steps", steps or p.shadows.steps)),
         "turntable_seconds": float(turntable_seconds), "animation": animation,

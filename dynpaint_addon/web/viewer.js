@@ -203,24 +203,56 @@
     return out;
   }
 
+  // sRGB codes → linear light (§0), for 16-bit colour images (no 16-bit sRGB texture exists).
+  function srgbToLinear(c) {
+    return c <= 0.04045 ? c / 12.92 : Math.pow((c + 0.055) / 1.055, 2.4);
+  }
+
+  // A texture of one image → {texture, filterable}. The GPU decodes 8-bit sRGB colour images
+  // itself (SRGB8_ALPHA8: each texel to linear before filtering, as the core decodes then
+  // interpolates); 16-bit colour images are decoded here, once; data stays as stored. Floats
+  // are filterable where the browser says so (OES_texture_float_linear), halves and bytes
+  // always.
+  const floatLinear = !!(gl && gl.getExtension("OES_texture_float_linear"));
   function texture(tex) {
     const rgba = rgbaOf(tex, codesOf(tex, inflate(tex.data)));
+    if (tex.srgb && tex.format === "u16") {
+      for (let i = 0; i < rgba.length; i++) if (i % 4 !== 3) rgba[i] = srgbToLinear(rgba[i]);
+    }
     const t = gl.createTexture();
     gl.bindTexture(gl.TEXTURE_2D, t);
     gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
-    const [internal, type] = tex.format === "u8" ? [gl.RGBA8, gl.UNSIGNED_BYTE]
+    const [internal, type] = tex.format === "u8" ? [tex.srgb ? gl.SRGB8_ALPHA8 : gl.RGBA8,
+                                                    gl.UNSIGNED_BYTE]
       : tex.format === "f16" ? [gl.RGBA16F, gl.HALF_FLOAT] : [gl.RGBA32F, gl.FLOAT];
     gl.texImage2D(gl.TEXTURE_2D, 0, internal, tex.width, tex.height, 0, gl.RGBA, type, rgba);
     for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, gl.NEAREST], [gl.TEXTURE_MAG_FILTER, gl.NEAREST],
                           [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]]) {
       gl.texParameteri(gl.TEXTURE_2D, k, v);
     }
-    return t;
+    return { texture: t, filterable: type !== gl.FLOAT || floatLinear };
+  }
+
+  // One sampler per wrap and filter: a program's lookups choose the wrap of each image
+  // (DATA.samplers, the generator's `wraps`), the texture's format whether it is filtered.
+  const WRAP_MODES = { REPEAT: "REPEAT", EXTEND: "CLAMP_TO_EDGE", MIRROR: "MIRRORED_REPEAT" };
+  const samplers = {};
+  function samplerFor(wrap, linear) {
+    const key = wrap + linear;
+    if (!samplers[key]) {
+      const s = samplers[key] = gl.createSampler();
+      const filter = linear ? gl.LINEAR : gl.NEAREST;
+      gl.samplerParameteri(s, gl.TEXTURE_MIN_FILTER, filter);
+      gl.samplerParameteri(s, gl.TEXTURE_MAG_FILTER, filter);
+      gl.samplerParameteri(s, gl.TEXTURE_WRAP_S, gl[WRAP_MODES[wrap]]);
+      gl.samplerParameteri(s, gl.TEXTURE_WRAP_T, gl[WRAP_MODES[wrap]]);
+    }
+    return samplers[key];
   }
 
   // -- drawing -------------------------------------------------------------------------------
-  let prog = null;
-  const programs = [], textures = {}, units = {};
+  let prog = null, progWraps = {};
+  const programs = [], textures = {}, filterable = {}, units = {};
 
   // A shader of the current look ('frame', 'shadow_sun', 'shadow_point'), compiled the first
   // time it is used.
@@ -230,9 +262,14 @@
     return programs[index];
   }
 
-  function useLook() {
-    prog = shaderOf("frame");
+  function useShader(name) {
+    prog = shaderOf(name);
+    progWraps = DATA.samplers[DATA.looks[state.look].shaders[name]];
     gl.useProgram(prog);
+  }
+
+  function useLook() {
+    useShader("frame");
   }
 
   // The uniforms of the program in use: the look's parameters, its images, the lights (or,
@@ -246,8 +283,9 @@
       gl.activeTexture(gl.TEXTURE0 + unit);
       gl.bindTexture(gl.TEXTURE_2D, textures[channel]);
       gl.uniform1i(loc("tex_" + channel), unit);
-      const tex = DATA.textures[channel];
-      gl.uniform1i(loc("srgb_" + channel), tex ? (DATA.textures[tex.same_as] || tex).srgb : 0);
+      const wrap = progWraps[channel], hw = !!wrap && filterable[channel];
+      gl.bindSampler(unit, samplerFor(wrap || "EXTEND", hw));
+      gl.uniform1i(loc("hw_" + channel), hw ? 1 : 0);
     }
     (only ? [only] : lights).forEach((lt, i) => {
       gl.uniform3fv(loc(`light${i + 1}_vector`), lightVector(lt));
@@ -285,6 +323,7 @@
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     target = shadows[i] = { tex, fb, w, h, float, key: "" };
     textures[`shadow_${i}`] = tex;
+    filterable[`shadow_${i}`] = !float || floatLinear;
     return target;
   }
 
@@ -309,8 +348,7 @@
                                   lightVector(lt), w, h]);
       const target = shadowTarget(i, w, h);
       if (target.key === key) return;
-      prog = shaderOf("shadow_" + lt.kind);
-      gl.useProgram(prog);
+      useShader("shadow_" + lt.kind);
       gl.bindFramebuffer(gl.FRAMEBUFFER, target.fb);
       gl.viewport(0, 0, w, h);
       setUniforms([0, 0, w, h], 0, lt);
@@ -728,10 +766,13 @@
       useLook();
       const names = Object.keys(DATA.textures).filter((c) => !DATA.textures[c].same_as);
       const made = names.map((c) => texture(DATA.textures[c]));
-      names.forEach((c, i) => { textures[c] = made[i]; });
+      names.forEach((c, i) => { textures[c] = made[i].texture; filterable[c] = made[i].filterable; });
       let unit = 0;
       for (const [c, tex] of Object.entries(DATA.textures)) {
-        if (tex.same_as) textures[c] = textures[tex.same_as];
+        if (tex.same_as) {
+          textures[c] = textures[tex.same_as];
+          filterable[c] = filterable[tex.same_as];
+        }
         units[c] = unit++;
       }
       if (DATA.shadows) {

@@ -4,22 +4,23 @@
 //
 // Shared by the OSL shader (Cycles) and the web page's fragment shader (WebGL2), in the words
 // of dp_nodes.h; each language defines DP_IMAGE (an image: a file name, a sampler) and
-// dp_image_at (an image at a UV, linear, edges extended), and the generated shader
+// dp_image_at(image, mode, u, v) (an image at a UV, linear, edges extended; `mode` is how the
+// language reads it: OSL's sRGB flag, GLSL's "the GPU filters it"), and the generated shader
 // DP_NORMAL_DECODE(color, flip, zmin, normal) (the §2 decode of its graph).
 //
 // Units are pixels inside, like the core. The relief is the pre-blurred height image (height
 // maps, × h·W), a normal map's integrated relief (image widths), or is rebuilt along the ray
 // from the normal map's implied slope −N.xy/N.z (normal maps, which may be non-conservative).
 
-float dp_relief_px(DP_IMAGE relief, float x, float y, float W, float H, float scale)
+float dp_relief_px(DP_IMAGE relief, int mode, float x, float y, float W, float H, float scale)
 {
-    vector c = dp_image_at(relief, 0, x / W, y / H);
+    vector c = dp_image_at(relief, mode, x / W, y / H);
     return c[0] * scale;
 }
 
-vector dp_slope(DP_IMAGE relief, int srgb, float x, float y, float W, float H, float flip, float zmin)
+vector dp_slope(DP_IMAGE relief, int mode, float x, float y, float W, float H, float flip, float zmin)
 {
-    vector c = dp_image_at(relief, srgb, x / W, y / H);
+    vector c = dp_image_at(relief, mode, x / W, y / H);
     vector n = vector(0.0, 0.0, 1.0);
     DP_NORMAL_DECODE(c, flip, zmin, n);
     return vector(-n[0] / n[2], -n[1] / n[2], 0.0);
@@ -51,13 +52,13 @@ float dp_occupancy(float d0, float d1)
 // the painting's centre), in the painting frame. relief_max: highest relief (image widths);
 // slope_max: steepest implied slope of a normal map.
 float dp_cos_theta(vector N, vector light, int is_point, float u, float v,
-                   DP_IMAGE relief, int relief_srgb, int normal_map, float flip, float zmin,
+                   DP_IMAGE relief, int relief_mode, int normal_map, float flip, float zmin,
                    float W, float H, float height_scale, float offset, float steps,
                    float reach, float relief_max, float slope_max)
 {
     float scale = height_scale * W;                          // H (0..1) → pixels
     float x = u * W, y = v * H;
-    float zs = normal_map != 0 ? 0.0 : dp_relief_px(relief, x, y, W, H, scale);
+    float zs = normal_map != 0 ? 0.0 : dp_relief_px(relief, relief_mode, x, y, W, H, scale);
     float d = max(0.0, offset) * W;
     float x0 = x - d * N[0], y0 = y - d * N[1], z0 = zs - d * N[2];
     vector L = vector(0.0, 0.0, 1.0);
@@ -75,7 +76,7 @@ float dp_cos_theta(vector N, vector light, int is_point, float u, float v,
     float delta = 0.0, ell_top = 0.0, h_rec = 0.0;
     float inf = 1e30;
     if (normal_map == 0) {
-        delta = dp_inside_box(x0, y0, W, H) != 0 ? dp_relief_px(relief, x0, y0, W, H, scale) - z0
+        delta = dp_inside_box(x0, y0, W, H) != 0 ? dp_relief_px(relief, relief_mode, x0, y0, W, H, scale) - z0
                                                  : d / N[2];
         ell_top = L[2] > 0.0 ? (relief_max * W - z0) / L[2] : inf;
     } else {
@@ -107,9 +108,9 @@ float dp_cos_theta(vector N, vector light, int is_point, float u, float v,
             float px = x0 + float(k) * ax, py = y0 + float(k) * ay;
             float here = 0.0;
             if (normal_map == 0) {
-                here = dp_relief_px(relief, px, py, W, H, scale);
+                here = dp_relief_px(relief, relief_mode, px, py, W, H, scale);
             } else {
-                vector g = dp_slope(relief, relief_srgb, px - 0.5 * ax, py - 0.5 * ay, W, H,
+                vector g = dp_slope(relief, relief_mode, px - 0.5 * ax, py - 0.5 * ay, W, H,
                                     flip, zmin);
                 h_rec += g[0] * ax + g[1] * ay;
                 here = h_rec;
