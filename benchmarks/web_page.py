@@ -1,17 +1,24 @@
-"""The web page (issue 17): frame time in a browser, size of the exported file, export time.
+"""The web page (issues 17, 29): frame time against the physical floor, parity, file size,
+export time.
 
-Frame time: the built-in test painting (its height map, a sun and a point light, shadows on)
-exported at each size and K, drawn by headless Chromium at one image pixel per screen pixel
-(`?embed`, device pixel ratio 1), each frame waited for by reading a pixel back; the baseline
-in the same run is the same page with shadows off (K = 0: no march). Without --gpu the
-browser renders with SwiftShader, its software WebGL2: a floor, not the goal (≥ 60 frames per
-second at 1024², K = 64, on a GPU). Sizes: every sample's page against its input images
-(goal ≤ 3×). Export: `export-web`'s own work (recipe to written file) and the add-on's File ›
-Export (a sample added to an empty scene), best of 3.
+Frame time: each sample (portrait, glass, impossible) exported with shadows on (K = 64) and
+off, drawn by headless Chromium at one image pixel per screen pixel scaled to a canvas whose
+long side is each --sizes (`?embed`, the device pixel ratio making up the rest), each frame
+waited for by reading a pixel back. In the same page and run: the **floor**
+(`floorTime`: what the original research system's shader does per pixel — seven
+hardware-filtered reads, a light, a highlight, reflection, refraction, Fresnel, the composite
+— no shadows), shadows **off**, a **still** light with final shadows (drawn once, then read),
+and a **dragged** light (`frameTime(n, 'drag')`: the key light moved before each frame, its
+shadows drawn at the draft size, the frame as the page draws it while a light moves). Goals
+(issue 29): off ≤ 1.2× the floor, dragged ≤ 2.5× the floor, still ≤ 1.05× off. Parity: the
+page with final shadows against the numpy core (mean |Δ| ≤ 2e-3). Without --gpu the browser
+renders with SwiftShader, its software WebGL2. Sizes: every sample's page against its input
+images (goal ≤ 3×). Export: `export-web`'s own work and the add-on's File › Export, best of 3.
 
     .venv/bin/python benchmarks/web_page.py --sizes 512 1024 --out docs/web-numbers.md
 """
 import argparse
+import base64
 import copy
 import os
 import sys
@@ -21,17 +28,17 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import bpy  # noqa: E402
+import numpy as np  # noqa: E402
 from report import publish  # noqa: E402
 
 from dynpaint_addon import blender  # noqa: E402
 
 from dynpaint_addon.recipe import image_bytes, load_images, load_recipe  # noqa: E402
 from dynpaint_addon.samples import list_samples, recipe_path  # noqa: E402
-from dynpaint_addon.testpainting import builtin_images, builtin_recipe  # noqa: E402
+from dynpaint_addon.core.pipeline import render  # noqa: E402
+from dynpaint_addon.web.page import page_data, shrink, write_page  # noqa: E402
 from testkit.chromium import Chromium  # noqa: E402
-from dynpaint_addon.web.page import page_data, write_page  # noqa: E402
 
-FPS_GOAL = 60
 SIZE_GOAL = 3.0
 RUNS = 3
 
@@ -42,25 +49,74 @@ def renderer(page):
         return info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : 'unknown'; })()""")
 
 
-def frame_ms(browser, folder, size, steps, frames):
-    """ms per frame of the test painting at size², K = steps (0: shadows off)."""
-    recipe = builtin_recipe()
+GOALS = {"off": 1.2, "drag": 2.5, "still": 1.05, "parity": 2e-3}
+
+
+def open_sample(browser, folder, name, size, shadows, steps):
+    """A sample's page (shadows on or off, K = steps) on a canvas whose long side is `size`
+    → (page, data, images, recipe)."""
+    recipe = load_recipe(recipe_path(name))
+    images = load_images(recipe)
     p = copy.deepcopy(recipe.params)
-    p.shadows.enabled = steps > 0
-    data, _ = page_data(builtin_images(size), recipe.lights, p, steps=max(steps, 1))
-    path = os.path.join(folder, f"frame_{size}_{steps}.html")
+    p.shadows.enabled = shadows
+    native = max(images["shape"].size)
+    data, _ = page_data(images, recipe.lights, p, steps=steps, max_size=min(size, native))
+    path = os.path.join(folder, f"{name}_{size}_{int(shadows)}.html")
     write_page(path, data)
-    page = browser.open("file://" + path + "?embed", size + 40, size + 40)
+    scale = max(1.0, size / native)
+    page = browser.open("file://" + path + "?embed", data["width"] + 40, data["height"] + 40,
+                        scale)
     page.evaluate("window.dynamicPainting.ready")
     error = page.evaluate("window.dynamicPainting.error")
     if error:
         raise RuntimeError(error)
     page.wait_for("window.dynamicPainting.state.fullFrameMs > 0")
-    full = min(page.evaluate(f"window.dynamicPainting.frameTime({frames}).ms")
-               for _ in range(RUNS))
-    drafts = [page.evaluate(f"window.dynamicPainting.frameTime({frames}, 'draft')")
-              for _ in range(RUNS)]
-    return full, min(d["ms"] for d in drafts), drafts[0]["scale"], page
+    return page, data, p, recipe
+
+
+def best(page, expression):
+    return min(page.evaluate(expression)["ms"] for _ in range(RUNS))
+
+
+def parity(page, data, p, recipe):
+    """Mean |page − core| of the premultiplied RGBA at the painting's size (1 px border out)."""
+    raw = base64.b64decode(page.evaluate("window.dynamicPainting.renderFloat()"))
+    got = np.frombuffer(raw, np.float32).reshape(data["height"], data["width"], 4)
+    images = {c: shrink(img, max(data["width"], data["height"]))
+              for c, img in load_images(recipe).items()}
+    want = render(images, recipe.lights, p).rgba
+    return float(np.abs(got - want)[1:-1, 1:-1].mean())
+
+
+def frame_rows(browser, folder, sizes, steps, frames):
+    """The frame-time table's rows, and who drew them."""
+    rows, who = [], ""
+    for name in (sample.id for sample in list_samples()):
+        for size in sizes:
+            page, data, _, _ = open_sample(browser, folder, name, size, False, steps)
+            who = who or renderer(page)
+            floor = best(page, f"window.dynamicPainting.floorTime({frames})")
+            off = best(page, f"window.dynamicPainting.frameTime({frames})")
+            page, data, p, recipe = open_sample(browser, folder, name, size, True, steps)
+            mean = parity(page, data, p, recipe) if size <= max(data["width"], data["height"]) \
+                else None                        # (before the dragged frames move the light)
+            floor_on = best(page, f"window.dynamicPainting.floorTime({frames})")
+            still = best(page, f"window.dynamicPainting.frameTime({frames})")
+            drags = [page.evaluate(f"window.dynamicPainting.frameTime({frames}, 'drag')")
+                     for _ in range(RUNS)]
+            drag = min(d["ms"] for d in drags)
+            floor = min(floor, floor_on)
+
+            def met(ratio, goal):
+                return f"{ratio:.2f}× ({'met' if ratio <= goal else 'not met'})"
+            rows.append(
+                f"| {name} | {size} | {floor:.1f} | {off:.1f} | {met(off / floor, GOALS['off'])}"
+                f" | {drag:.1f} (shadows at {drags[0]['shadowScale']:.2f}) | "
+                f"{met(drag / floor, GOALS['drag'])} | {still:.1f} | "
+                f"{met(still / off, GOALS['still'])} | "
+                + (f"{mean:.1e} ({'met' if mean <= GOALS['parity'] else 'not met'})"
+                   if mean is not None else "– (upscaled canvas)") + " |")
+    return rows, who
 
 
 def export_numbers(name, folder):
@@ -100,45 +156,37 @@ def addon_export_seconds(name, folder, animated=False):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--sizes", type=int, nargs="+", default=[512, 1024],
-                    help="painting sizes in pixels (square)")
-    ap.add_argument("--steps", type=int, nargs="+", default=[16, 64], help="march steps K")
+                    help="canvas sizes: the long side in pixels")
+    ap.add_argument("--steps", type=int, default=64, help="march steps K")
     ap.add_argument("--frames", type=int, default=3, help="frames per timing (best of 3)")
     ap.add_argument("--gpu", action="store_true",
                     help="let Chromium use the GPU (default: SwiftShader, software)")
     ap.add_argument("--out", help="also write the Markdown page here")
     args = ap.parse_args(argv)
     flags = ("--use-angle=default", "--enable-gpu", "--ignore-gpu-blocklist") if args.gpu else ()
-    lines = ["# The web page: frame time, file size, export time (issue 17)", "",
+    lines = ["# The web page: frame time, file size, export time (issues 17, 29)", "",
              f"`.venv/bin/python benchmarks/web_page.py --sizes {' '.join(map(str, args.sizes))}"
              f"{' --gpu' if args.gpu else ''}`: "]
     with tempfile.TemporaryDirectory() as folder, Chromium(gpu=args.gpu,
                                                            extra_flags=flags) as browser:
-        rows, who = [], ""
-        for size in args.sizes:
-            base, _, _, page = frame_ms(browser, folder, size, 0, args.frames)
-            who = who or renderer(page)
-            rows.append(f"| {size}² | off (baseline) | {base:.1f} | {1000 / base:.1f} | – | – |")
-            for k in args.steps:
-                ms, draft_ms, scale, _ = frame_ms(browser, folder, size, k, args.frames)
-                moving = "full frames" if scale >= 1 else \
-                    f"{draft_ms:.0f} ms (drafts at {scale:.2f}² of the pixels)"
-                goal = (f"≥ {FPS_GOAL} fps on a GPU: " + ("met" if 1000 / ms >= FPS_GOAL
-                                                            else "not met")
-                        if args.gpu else "GPU goal: not measured here") \
-                    if size == 1024 and k == 64 else "–"
-                rows.append(f"| {size}² | K = {k} | {ms:.1f} ({ms / base:.1f}× baseline) | "
-                            f"{1000 / ms:.2f} | {moving} | {goal} |")
-        lines[-1] += (f"the built-in test painting (height map, a sun and a point light, both "
-                      f"casting shadows), drawn at one image pixel per screen pixel by headless "
-                      f"Chromium on **{who}**; each time the best of {RUNS} × {args.frames} "
-                      f"frames, each frame waited for. The baseline is the same page without "
-                      f"shadows.")
-        lines += ["", "## Frame time", "",
-                  "Where full frames take longer than 33 ms the page draws drafts at a fraction "
-                  "of the pixels while the light moves (stretched onto the canvas) and the full "
-                  "frame once it stops: the column *while moving* times those drafts.", "",
-                  "| painting | shadows | ms per frame | frames per second | while moving | goal |",
-                  "|---|---|---|---|---|---|", *rows, ""]
+        rows, who = frame_rows(browser, folder, args.sizes, args.steps, args.frames)
+        lines[-1] += (f"the samples drawn by headless Chromium on **{who}**"
+                      f"{'' if args.gpu else ' (no GPU lent here: software WebGL2)'}; "
+                      f"each time the best of {RUNS} × {args.frames} frames, each frame waited "
+                      f"for; shadows K = {args.steps}.")
+        lines += ["", "## Frame time against the floor", "",
+                  "ms per frame. *floor*: the original research system's per-pixel work in the "
+                  "same page (seven hardware-filtered reads, one light, highlight, reflection, "
+                  "refraction, Fresnel, composite; no shadows). *off*: the page without "
+                  "shadows. *dragged*: a light moved before each frame (its shadows drawn at "
+                  "that fraction of the pixels, the frame as the page draws it while a light "
+                  "moves). *still*: final shadows, the light still (drawn once, then read). "
+                  f"Goals: off ≤ {GOALS['off']}× floor, dragged ≤ {GOALS['drag']}× floor, "
+                  f"still ≤ {GOALS['still']}× off, page = core ≤ {GOALS['parity']:g} mean "
+                  "(final shadows, at the painting's own size).", "",
+                  "| painting | canvas px | floor | off | off / floor | dragged | "
+                  "dragged / floor | still | still / off | page − core (mean) |",
+                  "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
         lines += ["## Exported file and export time", "",
                   f"Each sample exported with its recipe's settings (`export-web SAMPLE`), best "
                   f"of {RUNS}; the page holds every image the shader samples (derived ones "

@@ -20,16 +20,48 @@ The cos-θ term is marched in the shader (snippets/shared/cos_theta.h, the OSL s
 like any image — the page draws those textures with the shader of
 pipeline_graph.describe_shadow when a light moves.
 """
-from .graph import FLOAT, VECTOR
+from .graph import FLOAT, VECTOR, Ref
 from .text_codegen import Emitter, Program, indent, param_name, read_snippet
 
 WRAPS = {"REPEAT": 0, "EXTEND": 1, "MIRROR": 2}
 INTERPS = {"Linear": 0, "Closest": 1}
 
 
+ENCODE = "DP sRGB Encode (§5)"
+
+
 class GlslEmitter(Emitter):
-    """The graph's nodes as GLSL statements and its pseudo nodes as uniforms and lookups."""
+    """The graph's nodes as GLSL statements and its pseudo nodes as uniforms and lookups.
+
+    One shortcut of its own (issue 29): an image whose colour is read only to be sRGB-encoded
+    (the painted-space mix of dark and bright, §5) and that holds sRGB codes is read as its
+    codes — the texture the page binds for it then is not decoded — and the encode is
+    skipped: one decode after the mix instead of a decode per texel and an encode per image.
+    """
     VEC = "vec3"
+
+    def emit(self):
+        readers = {}
+        for n in self.graph.nodes:
+            for value in n.inputs.values():
+                if isinstance(value, Ref):
+                    readers.setdefault((value.node, value.output), []).append(n)
+        self.as_codes, self.skipped = set(), {}
+        for n in self.graph.nodes:
+            if n.op != "dp.sample" or n.props["channel"] not in self.program.srgb_channels:
+                continue
+            users = readers.get((n.id, "color"), [])
+            if users and all(u.op == "dp.group" and u.props["graph"].name == ENCODE
+                             for u in users):
+                self.as_codes.add(n.id)
+                self.skipped.update({u.id: n for u in users})
+        return super().emit()
+
+    def op_dp_group(self, n):
+        if n.id in getattr(self, "skipped", {}):      # its image is read as its codes
+            self.bind(n, "Color", VECTOR, self.values[(self.skipped[n.id].id, "color")])
+            return
+        super().op_dp_group(n)
 
     def op_dp_uv(self, n):
         self.define(n, 0, VECTOR, "dp_uv()")
@@ -44,6 +76,8 @@ class GlslEmitter(Emitter):
             self.bind(n, "alpha", FLOAT, "1.0")
             return
         extension, interpolation = n.props["extension"], n.props["interpolation"]
+        if n.id in self.as_codes:
+            self.program.codes.add(channel)
         tex, hw = self.program.image(channel)
         if interpolation != "Linear" or not self.program.wrap(channel, extension):
             hw = "0"              # texel by texel: a Closest tap, or another extension
@@ -69,8 +103,10 @@ class GlslProgram(Program):
     """The whole fragment shader: helpers, one function per sub-graph, uniforms, main."""
     OUT = "out"
 
-    def __init__(self, features):
+    def __init__(self, features, srgb_channels=frozenset()):
         super().__init__(features)
+        self.srgb_channels = srgb_channels   # images the page stores as sRGB codes
+        self.codes = set()           # of those, the ones read as codes (GlslEmitter)
         self.uniforms = {}           # name → GLSL type
         self.textures = {}           # channel → sampler uniform
         self.wraps = {}              # channel → the extension its sampler wraps with
@@ -106,10 +142,12 @@ class GlslProgram(Program):
         return self.uniform(name)
 
 
-def generate(graph, features):
+def generate(graph, features, srgb_channels=frozenset()):
     """GLSL ES 3.00 fragment shader of the whole pipeline for `features`
-    (graph = describe(features)) → (source, GlslProgram: its uniforms and textures)."""
-    prog = GlslProgram(features)
+    (graph = describe(features)) → (source, GlslProgram: its uniforms, textures, the wrap of
+    each image the GPU may filter, and the images it reads as their sRGB codes).
+    srgb_channels: the images the page stores as sRGB codes (colour images of 8 or 16 bits)."""
+    prog = GlslProgram(features, frozenset(srgb_channels))
     body = GlslEmitter(graph, prog).emit()
     functions = "\n".join(src for _, src in prog.functions.values())
     march_src = ""

@@ -172,7 +172,8 @@ def _march_bounds(images, p, cache):
 
 def _variant(images, lights, p, steps, cache):
     """One way to show the painting → (Features of its frame, {shader name: (source, the
-    extension each image's sampler wraps with)}, uniforms, textures, warnings). Shaders: 'frame' draws the painting; with shadows it reads each
+    extension each image's sampler wraps with, the images it reads as sRGB codes)}, uniforms,
+    textures, warnings). Shaders: 'frame' draws the painting; with shadows it reads each
     light's cos-θ term from a texture (`tex_shadow_<i>`) that the page draws with the
     'shadow_<kind>' shader of that light's kind whenever the light moves (§6; the OSL
     shader's march, pipeline_graph.describe_shadow)."""
@@ -182,19 +183,20 @@ def _variant(images, lights, p, steps, cache):
                                       for c, img in images.items()}, kinds)
     frame = dataclasses.replace(features, shadow_source="baked") if features.shadows \
         else features
-    programs = {"frame": glsl_codegen.generate(describe(frame), frame)}
-    if features.shadows:
-        programs.update({f"shadow_{kind}": glsl_codegen.generate(describe_shadow(features, kind),
-                                                                 features)
-                         for kind in sorted(set(kinds))})
     textures, warnings = page_textures(features, plan, p_page, images,
                                        cache.setdefault("images", {}))
+    srgb = {c for c, tex in textures.items() if textures.get(tex.get("same_as"), tex)["srgb"]}
+    programs = {"frame": glsl_codegen.generate(describe(frame), frame, srgb)}
+    if features.shadows:
+        programs.update({f"shadow_{kind}": glsl_codegen.generate(describe_shadow(features, kind),
+                                                                 features, srgb)
+                         for kind in sorted(set(kinds))})
     used = set().union(*(program.uniforms for _, program in programs.values()))
     uniforms = {name: value for name, value in param_uniforms(p_page).items() if name in used}
     if features.shadows:
         uniforms.update(_march_bounds(images, p_page, cache.setdefault("bounds", {})))
-    return frame, {name: (src, program.wraps) for name, (src, program) in programs.items()}, \
-        uniforms, textures, warnings
+    return frame, {name: (src, {"wraps": program.wraps, "codes": sorted(program.codes)})
+                   for name, (src, program) in programs.items()}, uniforms, textures, warnings
 
 
 def page_data(images, lights, p, title="", credits="", steps=None, max_size=None,

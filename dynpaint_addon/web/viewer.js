@@ -214,15 +214,16 @@
   // are filterable where the browser says so (OES_texture_float_linear), halves and bytes
   // always.
   const floatLinear = !!(gl && gl.getExtension("OES_texture_float_linear"));
-  function texture(tex) {
+  function texture(tex, asCodes = false) {
     const rgba = rgbaOf(tex, codesOf(tex, inflate(tex.data)));
-    if (tex.srgb && tex.format === "u16") {
+    const srgb = tex.srgb && !asCodes;     // asCodes: a shader mixes the codes themselves
+    if (srgb && tex.format === "u16") {
       for (let i = 0; i < rgba.length; i++) if (i % 4 !== 3) rgba[i] = srgbToLinear(rgba[i]);
     }
     const t = gl.createTexture();
     gl.bindTexture(gl.TEXTURE_2D, t);
     gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
-    const [internal, type] = tex.format === "u8" ? [tex.srgb ? gl.SRGB8_ALPHA8 : gl.RGBA8,
+    const [internal, type] = tex.format === "u8" ? [srgb ? gl.SRGB8_ALPHA8 : gl.RGBA8,
                                                     gl.UNSIGNED_BYTE]
       : tex.format === "f16" ? [gl.RGBA16F, gl.HALF_FLOAT] : [gl.RGBA32F, gl.FLOAT];
     gl.texImage2D(gl.TEXTURE_2D, 0, internal, tex.width, tex.height, 0, gl.RGBA, type, rgba);
@@ -231,6 +232,16 @@
       gl.texParameteri(gl.TEXTURE_2D, k, v);
     }
     return { texture: t, filterable: type !== gl.FLOAT || floatLinear };
+  }
+
+  // The sRGB codes of a colour image, not decoded: for shaders that mix the codes (made the
+  // first time one asks).
+  const codeTextures = {};
+  function codeTexture(channel) {
+    const tex = DATA.textures[channel];
+    const source = tex.same_as || channel;
+    codeTextures[source] = codeTextures[source] || texture(DATA.textures[source], true).texture;
+    return codeTextures[source];
   }
 
   // One sampler per wrap and filter: a program's lookups choose the wrap of each image
@@ -251,7 +262,7 @@
   }
 
   // -- drawing -------------------------------------------------------------------------------
-  let prog = null, progWraps = {};
+  let prog = null, progWraps = {}, progCodes = [];
   const programs = [], textures = {}, filterable = {}, units = {};
 
   // A shader of the current look ('frame', 'shadow_sun', 'shadow_point'), compiled the first
@@ -264,7 +275,7 @@
 
   function useShader(name) {
     prog = shaderOf(name);
-    progWraps = DATA.samplers[DATA.looks[state.look].shaders[name]];
+    ({ wraps: progWraps, codes: progCodes } = DATA.samplers[DATA.looks[state.look].shaders[name]]);
     gl.useProgram(prog);
   }
 
@@ -281,7 +292,8 @@
     }
     for (const [channel, unit] of Object.entries(units)) {
       gl.activeTexture(gl.TEXTURE0 + unit);
-      gl.bindTexture(gl.TEXTURE_2D, textures[channel]);
+      gl.bindTexture(gl.TEXTURE_2D, progCodes.includes(channel) ? codeTexture(channel)
+                                                                : textures[channel]);
       gl.uniform1i(loc("tex_" + channel), unit);
       const wrap = progWraps[channel], hw = !!wrap && filterable[channel];
       gl.bindSampler(unit, samplerFor(wrap || "EXTEND", hw));
