@@ -269,8 +269,20 @@
   // time it is used.
   function shaderOf(name) {
     const index = DATA.looks[state.look].shaders[name];
-    programs[index] = programs[index] || program(DATA.shaders[index]);
+    programs[index] = programs[index] || program(specialised(index));
     return programs[index];
+  }
+
+  // A shader's source with each `hw_<image>` made a constant: whether the GPU filters that
+  // image here (its format filterable in this browser, a wrap of the shader's for it), so
+  // the compiler drops the path not taken — software renderers do not skip a branch on a
+  // uniform for free.
+  function specialised(index) {
+    const { wraps, codes } = DATA.samplers[index];
+    return DATA.shaders[index].replace(/uniform int hw_(\w+);/g, (_, channel) => {
+      const t = codes.includes(channel) ? codeTexture(channel) : { filterable: filterable[channel] };
+      return `const int hw_${channel} = ${wraps[channel] && t.filterable ? 1 : 0};`;
+    });
   }
 
   function useShader(name) {
@@ -775,7 +787,6 @@
     }
     state.steps = DATA.steps;
     try {
-      useLook();
       const names = Object.keys(DATA.textures).filter((c) => !DATA.textures[c].same_as);
       const made = names.map((c) => texture(DATA.textures[c]));
       names.forEach((c, i) => { textures[c] = made[i].texture; filterable[c] = made[i].filterable; });
@@ -793,6 +804,7 @@
           units[`shadow_${i}`] = unit++;
         });
       }
+      useLook();                  // (compiled knowing which images the GPU may filter)
     } catch (err) {
       fail(String(err.message || err));
       return;
