@@ -326,7 +326,8 @@
   // its full size once it stops — and read by the frame like any image (issue 29). A frame
   // whose lights did not move marches nothing.
   const shadows = [];                  // per light: {tex, fb, w, h, key}
-  const shadowState = { passMs: 0, final: true };
+  const shadowState = { passes: 0, passMs: 0, final: true, scale: 1 };   // (scale: the least)
+  api.shadows = shadowState;
 
   function shadowTarget(i, w, h) {
     let target = shadows[i];
@@ -345,51 +346,60 @@
     gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
     gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, tex, 0);
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
-    target = shadows[i] = { tex, fb, w, h, float, key: "" };
+    target = shadows[i] = { tex, fb, w, h, float, what: "", scale: 1 };
     textures[`shadow_${i}`] = tex;
     filterable[`shadow_${i}`] = !float || floatLinear;
     return target;
   }
 
-  // The fraction of the painting's pixels a moving light's shadows are drawn at: a pass about
-  // as long as a frame (measured on the last full-size pass), never below 1/8 of the side.
+  // The fraction of the painting's pixels a moving light's shadows are drawn at: its pass
+  // about as long as a frame (measured on the last full-size pass, per light), never below
+  // 1/8 of the side.
   function shadowDraftScale() {
     const frame = Math.max(state.fullFrameMs, 1), pass = shadowState.passMs;
     return pass <= frame ? 1 : Math.max(0.125, Math.sqrt(frame / pass));
   }
 
-  // Draw the shadows of the lights that moved since their texture was drawn, at `scale` of
-  // the painting's pixels (1: final) → how many were drawn.
+  // Bring each light's shadow texture up to date: a light that moved (or whose look or K
+  // changed) is drawn at `scale` of the painting's pixels; with `scale` 1 (final) a light
+  // last drawn as a draft is drawn again at full size; the others are kept as they are.
+  // → how many passes were drawn.
   function updateShadows(scale) {
     if (!DATA.shadows) return 0;
     const look = DATA.looks[state.look];
-    const w = Math.max(1, Math.round(DATA.width * scale));
-    const h = Math.max(1, Math.round(DATA.height * scale));
-    let drawn = 0;
-    const start = performance.now();
+    let drawn = 0, finalMs = 0, final = true;
     lights.forEach((lt, i) => {
-      const key = JSON.stringify([look.shaders["shadow_" + lt.kind], look.uniforms, state.steps,
-                                  lightVector(lt), w, h]);
+      const what = JSON.stringify([look.shaders["shadow_" + lt.kind], look.uniforms,
+                                   state.steps, lightVector(lt)]);
+      const old = shadows[i];
+      if (old && old.what === what && (old.scale >= 1 || scale < 1)) {
+        final = final && old.scale >= 1;
+        return;
+      }
+      const s = old && old.what === what ? 1 : scale;
+      const w = Math.max(1, Math.round(DATA.width * s));
+      const h = Math.max(1, Math.round(DATA.height * s));
+      useShader("shadow_" + lt.kind);             // (compiled before the clock starts)
       const target = shadowTarget(i, w, h);
-      if (target.key === key) return;
-      useShader("shadow_" + lt.kind);
+      const start = performance.now();
       gl.bindFramebuffer(gl.FRAMEBUFFER, target.fb);
       gl.viewport(0, 0, w, h);
       setUniforms([0, 0, w, h], 0, lt);
       gl.drawArrays(gl.TRIANGLES, 0, 3);
-      target.key = key;
+      if (s >= 1) {                      // wait for a full-size pass: its time sets the drafts'
+        gl.readPixels(0, 0, 1, 1, gl.RGBA, target.float ? gl.FLOAT : gl.UNSIGNED_BYTE,
+                      target.float ? new Float32Array(4) : new Uint8Array(4));
+        finalMs = Math.max(finalMs, performance.now() - start);
+      }
+      Object.assign(target, { what, scale: s });
+      final = final && s >= 1;
       drawn++;
+      shadowState.passes++;
     });
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
-    if (drawn && scale >= 1) {
-      const float = shadows[0].float;     // wait for the pass: its time sets the drafts'
-      gl.bindFramebuffer(gl.FRAMEBUFFER, shadows[0].fb);
-      gl.readPixels(0, 0, 1, 1, gl.RGBA, float ? gl.FLOAT : gl.UNSIGNED_BYTE,
-                    float ? new Float32Array(4) : new Uint8Array(4));
-      gl.bindFramebuffer(gl.FRAMEBUFFER, null);
-      shadowState.passMs = (performance.now() - start) / drawn * lights.length;
-    }
-    shadowState.final = scale >= 1;
+    if (finalMs) shadowState.passMs = finalMs;
+    shadowState.final = final;
+    shadowState.scale = Math.min(...shadows.map((t) => t.scale));
     return drawn;
   }
 
@@ -499,7 +509,7 @@
     };
     draw(s, 1);
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
-    const start = performance.now();
+    const passes = shadowState.passes, start = performance.now();
     for (let i = 0; i < n; i++) {
       if (drag && keyLight()) turn(keyLight());
       draw(s, sh);
@@ -507,7 +517,7 @@
     }
     const ms = (performance.now() - start) / n;
     state.dirty = true;
-    return { ms, scale: s, shadowScale: sh };
+    return { ms, scale: s, shadowScale: sh, passes: shadowState.passes - passes };
   };
 
   // The physical floor a benchmark compares the page with (issue 29): what the original
