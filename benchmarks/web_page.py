@@ -52,6 +52,46 @@ def renderer(page):
 GOALS = {"off": 1.2, "drag": 2.5, "still": 1.05, "parity": 2e-3}
 
 
+# The GPU's bilinear filter against the exact one at the worst edge (a texel of 0 beside one
+# of 1): 1024 positions between the two texel centres, each read by textureLod from an 8-bit,
+# an sRGB and a float texture; → the largest |filtered − exact| in linear values per format.
+FILTER_PROBE = """(() => {
+  const gl = document.createElement('canvas').getContext('webgl2');
+  gl.getExtension('EXT_color_buffer_float'); gl.getExtension('OES_texture_float_linear');
+  const N = 1024, vs = '#version 300 es\\nvoid main(){vec2 p=vec2(float((gl_VertexID<<1)&2),' +
+    'float(gl_VertexID&2));gl_Position=vec4(p*2.0-1.0,0.0,1.0);}';
+  const fs = '#version 300 es\\nprecision highp float;uniform sampler2D t;out vec4 o;void main(){' +
+    'float x=0.25+0.5*(gl_FragCoord.x-0.5)/1024.0;o=vec4(textureLod(t,vec2(x,0.5),0.0).r);}';
+  const sh = (k, src) => { const s = gl.createShader(k); gl.shaderSource(s, src);
+    gl.compileShader(s); return s; };
+  const prog = gl.createProgram();
+  gl.attachShader(prog, sh(gl.VERTEX_SHADER, vs)); gl.attachShader(prog, sh(gl.FRAGMENT_SHADER, fs));
+  gl.linkProgram(prog); gl.useProgram(prog);
+  const rb = gl.createRenderbuffer(); gl.bindRenderbuffer(gl.RENDERBUFFER, rb);
+  gl.renderbufferStorage(gl.RENDERBUFFER, gl.RGBA32F, N, 1);
+  const fb = gl.createFramebuffer(); gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
+  gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.RENDERBUFFER, rb);
+  gl.viewport(0, 0, N, 1);
+  const out = {};
+  for (const [name, internal, type, data, lin] of [
+      ['8-bit', gl.RGBA8, gl.UNSIGNED_BYTE, new Uint8Array([0,0,0,255,255,255,255,255]), (v) => v],
+      ['sRGB 8-bit', gl.SRGB8_ALPHA8, gl.UNSIGNED_BYTE, new Uint8Array([0,0,0,255,255,255,255,255]), (v) => v],
+      ['float', gl.RGBA32F, gl.FLOAT, new Float32Array([0,0,0,1,1,1,1,1]), (v) => v]]) {
+    const t = gl.createTexture(); gl.bindTexture(gl.TEXTURE_2D, t);
+    gl.texImage2D(gl.TEXTURE_2D, 0, internal, 2, 1, 0, gl.RGBA, type, data);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.LINEAR);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    const px = new Float32Array(4 * N); gl.readPixels(0, 0, N, 1, gl.RGBA, gl.FLOAT, px);
+    let worst = 0;
+    for (let i = 0; i < N; i++) worst = Math.max(worst, Math.abs(px[4 * i] - lin((i + 0.5) / N)));
+    out[name] = worst;
+  }
+  return out;
+})()"""
+
+
 def open_sample(browser, folder, name, size, shadows, steps):
     """A sample's page (shadows on or off, K = steps) on a canvas whose long side is `size`
     → (page, data, images, recipe)."""
@@ -174,6 +214,7 @@ def main(argv=None):
                       f"{'' if args.gpu else ' (no GPU lent here: software WebGL2)'}; "
                       f"each time the best of {RUNS} × {args.frames} frames, each frame waited "
                       f"for; shadows K = {args.steps}.")
+        probe = browser.open("about:blank", 64, 64).evaluate(FILTER_PROBE)
         lines += ["", "## Frame time against the floor", "",
                   "ms per frame. *floor*: the original research system's per-pixel work in the "
                   "same page (seven hardware-filtered reads, one light, highlight, reflection, "
@@ -186,7 +227,12 @@ def main(argv=None):
                   "(final shadows, at the painting's own size).", "",
                   "| painting | canvas px | floor | off | off / floor | dragged | "
                   "dragged / floor | still | still / off | page − core (mean) |",
-                  "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
+                  "|---|---|---|---|---|---|---|---|---|---|", *rows, "",
+                  "The GPU filters the page's images where it does what the core does (8-bit "
+                  "sRGB images as SRGB8_ALPHA8 textures: decoded, then filtered). What its "
+                  "filter weights cost at the worst edge (a texel of 0 beside a texel of 1, "
+                  "1024 positions between their centres, against the exact bilinear value): "
+                  + ", ".join(f"{k} {v:.1e}" for k, v in probe.items()) + ".", ""]
         lines += ["## Exported file and export time", "",
                   f"Each sample exported with its recipe's settings (`export-web SAMPLE`), best "
                   f"of {RUNS}; the page holds every image the shader samples (derived ones "

@@ -20,8 +20,8 @@ The cos-θ term is marched in the shader (snippets/shared/cos_theta.h, the OSL s
 like any image — the page draws those textures with the shader of
 pipeline_graph.describe_shadow when a light moves.
 """
-from .graph import FLOAT, VECTOR, Ref
-from .text_codegen import Emitter, Program, indent, param_name, read_snippet
+from .graph import FLOAT, VECTOR, Node, Ref
+from .text_codegen import Emitter, Program, ident, indent, param_name, read_snippet
 
 WRAPS = {"REPEAT": 0, "EXTEND": 1, "MIRROR": 2}
 INTERPS = {"Linear": 0, "Closest": 1}
@@ -33,10 +33,12 @@ ENCODE = "DP sRGB Encode (§5)"
 class GlslEmitter(Emitter):
     """The graph's nodes as GLSL statements and its pseudo nodes as uniforms and lookups.
 
-    One shortcut of its own (issue 29): an image whose colour is read only to be sRGB-encoded
+    Two shortcuts of its own (issue 29). An image whose colour is read only to be sRGB-encoded
     (the painted-space mix of dark and bright, §5) and that holds sRGB codes is read as its
     codes — the texture the page binds for it then is not decoded — and the encode is
     skipped: one decode after the mix instead of a decode per texel and an encode per image.
+    A bilinear lookup built of four texel taps (Graph.sample_bilinear: the warped lookups of
+    §8, §9) is one fetch: the GPU's filter where it may, else dp_tex's own bilinear.
     """
     VEC = "vec3"
 
@@ -47,6 +49,8 @@ class GlslEmitter(Emitter):
                 if isinstance(value, Ref):
                     readers.setdefault((value.node, value.output), []).append(n)
         self.as_codes, self.skipped = set(), {}
+        self.bilinear_at = {b.nodes[-1]: b for b in self.graph.bilinears}
+        self.inside_bilinear = {i for b in self.graph.bilinears for i in b.nodes[:-1]}
         for n in self.graph.nodes:
             if n.op != "dp.sample" or n.props["channel"] not in self.program.srgb_channels:
                 continue
@@ -55,7 +59,26 @@ class GlslEmitter(Emitter):
                              for u in users):
                 self.as_codes.add(n.id)
                 self.skipped.update({u.id: n for u in users})
-        return super().emit()
+        for n in self.graph.nodes:
+            if n.id in self.inside_bilinear:
+                continue
+            if n.id in self.bilinear_at:
+                self.bilinear(self.bilinear_at[n.id])
+                continue
+            getattr(self, "op_" + ident(n.op))(n)
+        return self.lines
+
+    def bilinear(self, b):
+        tex, hw = self.program.image(b.channel)
+        if not self.program.wrap(b.channel, b.extension):
+            hw = "0"
+        uv = self.vec(self.ref(b.u), self.ref(b.v), "0.0")
+        name = f"n{b.color.node}"
+        self.lines.append(f"float {name}_a;")
+        self.lines.append(f"vec3 {name}_bilinear = dp_tex_hw({tex}, {hw}, {uv}, "
+                          f"{WRAPS[b.extension]}, 0, {name}_a);")
+        self.bind(Node(b.color.node, ""), b.color.output, VECTOR, f"{name}_bilinear")
+        self.bind(Node(b.alpha.node, ""), b.alpha.output, FLOAT, f"{name}_a")
 
     def op_dp_group(self, n):
         if n.id in getattr(self, "skipped", {}):      # its image is read as its codes

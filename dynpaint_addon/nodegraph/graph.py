@@ -39,6 +39,21 @@ class Node:
     section: str = ""
 
 
+@dataclass(frozen=True)
+class Bilinear:
+    """A lookup Graph.sample_bilinear built: its image, where (u, v), how it wraps, the nodes
+    that make it (four Closest taps and their weights) and its outputs. A backend whose
+    lookups are exact bilinear filters without mipmaps (the web page's textureLod) may read it
+    in one fetch instead of those nodes."""
+    channel: str
+    u: object
+    v: object
+    extension: str
+    nodes: range
+    color: Ref
+    alpha: Ref
+
+
 # Output identifiers of the nodes whose first output is not the one we want.
 VMATH_VALUE_OPS = {"DOT_PRODUCT", "LENGTH", "DISTANCE"}
 
@@ -49,6 +64,7 @@ class Graph:
     def __init__(self, name="", inputs=(), outputs=()):
         self.name = name
         self.nodes = []
+        self.bilinears = []     # sample_bilinear's lookups (a backend may filter them itself)
         self.inputs = list(inputs)     # group interface: [(name, FLOAT|VECTOR)]
         self.outputs = list(outputs)
         self._section = ""
@@ -152,6 +168,7 @@ class Graph:
         in every backend. size: the image's (width, height) in pixels.
         """
         w, h = size
+        first = len(self.nodes)
         x = self.math("MULTIPLY_ADD", u, float(w), -0.5, label="x − ½")
         y = self.math("MULTIPLY_ADD", v, float(h), -0.5, label="y − ½")
         x0, y0 = self.math("FLOOR", x), self.math("FLOOR", y)
@@ -168,7 +185,10 @@ class Graph:
         top = self.mix_vector(fxv, taps[1, 0][0], taps[1, 1][0])
         alpha = self.mix_float(fy, self.mix_float(fx, taps[0, 0][1], taps[0, 1][1]),
                                self.mix_float(fx, taps[1, 0][1], taps[1, 1][1]))
-        return self.mix_vector(fyv, bottom, top, label=f"{channel} (bilinear)"), alpha
+        color = self.mix_vector(fyv, bottom, top, label=f"{channel} (bilinear)")
+        self.bilinears.append(Bilinear(channel, u, v, extension, range(first, len(self.nodes)),
+                                       color, alpha))
+        return color, alpha
 
     def param(self, path, label="", index=None):
         """A scalar parameter of params.py (e.g. 'diffuse.t0'), or component `index` of a
