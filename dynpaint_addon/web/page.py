@@ -241,11 +241,18 @@ def page_data(images, lights, p, title="", credits="", steps=None, max_size=None
     w, h = images["shape"].size
     return {
         "title": title, "credits": credits, "width": w, "height": h,
-        "shaders": shaders, "samplers": samplers, "looks": looks, "textures": textures,
+        "shaders": [_deflated(src) for src in shaders], "samplers": samplers, "looks": looks,
+        "textures": textures,
         "lights": [_light_entry(lt) for lt in lights], "shadows": bool(features.shadows),
         "steps": int(uniforms.get("p_shadows_steps", steps or p.shadows.steps)),
         "turntable_seconds": float(turntable_seconds), "animation": animation,
     }, warnings
+
+
+def _deflated(text):
+    """A shader's source deflated and base64-coded (the viewer inflates it as it inflates the
+    images): shader text is most of a small painting's page."""
+    return base64.b64encode(zlib.compress(text.encode("utf-8"), 9)).decode("ascii")
 
 
 def _asset(name):

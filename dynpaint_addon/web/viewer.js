@@ -279,7 +279,8 @@
   // uniform for free.
   function specialised(index) {
     const { wraps, codes } = DATA.samplers[index];
-    return DATA.shaders[index].replace(/uniform int hw_(\w+);/g, (_, channel) => {
+    const source = new TextDecoder().decode(inflate(DATA.shaders[index]));   // (deflated)
+    return source.replace(/uniform int hw_(\w+);/g, (_, channel) => {
       const t = codes.includes(channel) ? codeTexture(channel) : { filterable: filterable[channel] };
       return `const int hw_${channel} = ${wraps[channel] && t.filterable ? 1 : 0};`;
     });
