@@ -116,9 +116,31 @@ class Emitter:
         return self.lines
 
     # -- ordinary nodes -----------------------------------------------------------------
+    def positive(self, value):
+        """Whether a float input is > 0 by construction (a positive constant, the maximum with
+        one, sums, products and quotients of such): Blender's guards for zero and negative
+        operands are then not needed."""
+        if not isinstance(value, Ref):
+            return isinstance(value, (int, float)) and value > 0
+        node = self.graph.nodes[value.node]
+        if node.op != "ShaderNodeMath":
+            return False
+        op, a, b = node.props["operation"], node.inputs.get(0, 0.0), node.inputs.get(1, 0.0)
+        if op == "MAXIMUM":
+            return self.positive(a) or self.positive(b)
+        if op in ("ADD", "MULTIPLY", "DIVIDE"):
+            return self.positive(a) and self.positive(b)
+        return False
+
     def op_ShaderNodeMath(self, n):
         args = [self.ref(n.inputs.get(i, 0.0)) for i in range(3)]
-        expr = MATH[n.props["operation"]].format(*args)
+        op = n.props["operation"]
+        if op == "DIVIDE" and self.positive(n.inputs.get(1, 0.0)):
+            expr = f"({args[0]} / {args[1]})"          # no division by zero to guard
+        elif op == "POWER" and self.positive(n.inputs.get(0, 0.0)):
+            expr = f"pow({args[0]}, {args[1]})"        # a positive base: the plain power
+        else:
+            expr = MATH[op].format(*args)
         if n.props.get("use_clamp"):
             expr = f"clamp({expr}, 0.0, 1.0)"
         self.define(n, 0, FLOAT, expr)
