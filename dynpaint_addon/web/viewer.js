@@ -354,11 +354,12 @@
   }
 
   // The fraction of the painting's pixels a moving light's shadows are drawn at: its pass
-  // about as long as a frame (measured on the last full-size pass, per light), never below
-  // 1/8 of the side.
+  // about half as long as a frame (measured on the last full-size pass of one light), so a
+  // dragged light's frame costs about 1.5 still ones; never below 1/8 of the side.
+  const DRAFT_PASS_SHARE = 0.5;
   function shadowDraftScale() {
-    const frame = Math.max(state.fullFrameMs, 1), pass = shadowState.passMs;
-    return pass <= frame ? 1 : Math.max(0.125, Math.sqrt(frame / pass));
+    const budget = DRAFT_PASS_SHARE * Math.max(state.fullFrameMs, 1), pass = shadowState.passMs;
+    return pass <= budget ? 1 : Math.max(0.125, Math.sqrt(budget / pass));
   }
 
   // Bring each light's shadow texture up to date: a light that moved (or whose look or K
