@@ -9,7 +9,8 @@ Must never import bpy. Modules by job:
   (§0 lookups and transfer functions);
 - the cos-θ shadows (§6, §13): bake (quality levels), shadow (the reference march),
   crossings (the fast path at every level: the suns' and point lights' grids) and
-  crossing_search (the search along a grid's rows);
+  crossing_search (the search along a grid's rows); layers (§15: what the layers in front of
+  a pixel let through along its ray);
 - making the shape from the painting: integrate (normal map → height), laplace (its solver),
   inflate (silhouette → height), photometric (lighting profiles, red/green photos → normals),
   occlusion (ambient occlusion for exported maps).
