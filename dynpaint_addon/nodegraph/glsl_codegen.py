@@ -20,7 +20,7 @@ The cos-θ term is marched in the shader (snippets/shared/cos_theta.h, the OSL s
 like any image — the page draws those textures with the shader of
 pipeline_graph.describe_shadow when a light moves.
 """
-from .graph import FLOAT, VECTOR, Node, Ref
+from .graph import FLOAT, VECTOR, Ref
 from .text_codegen import Emitter, Program, ident, indent, param_name, read_snippet
 
 WRAPS = {"REPEAT": 0, "EXTEND": 1, "MIRROR": 2}
@@ -69,19 +69,17 @@ class GlslEmitter(Emitter):
         return self.lines
 
     def bilinear(self, b):
-        tex, hw = self.program.image(b.channel)
-        if not self.program.wrap(b.channel, b.extension):
-            hw = "0"
+        tex, hw = self.program.filtered(b.channel, b.extension)
         uv = self.vec(self.ref(b.u), self.ref(b.v), "0.0")
         name = f"n{b.color.node}"
         self.lines.append(f"float {name}_a;")
         self.lines.append(f"vec3 {name}_bilinear = dp_tex_hw({tex}, {hw}, {uv}, "
                           f"{WRAPS[b.extension]}, 0, {name}_a);")
-        self.bind(Node(b.color.node, ""), b.color.output, VECTOR, f"{name}_bilinear")
-        self.bind(Node(b.alpha.node, ""), b.alpha.output, FLOAT, f"{name}_a")
+        self.bind(self.graph.nodes[b.color.node], b.color.output, VECTOR, f"{name}_bilinear")
+        self.bind(self.graph.nodes[b.alpha.node], b.alpha.output, FLOAT, f"{name}_a")
 
     def op_dp_group(self, n):
-        if n.id in getattr(self, "skipped", {}):      # its image is read as its codes
+        if n.id in self.skipped:                      # its image is read as its codes
             self.bind(n, "Color", VECTOR, self.values[(self.skipped[n.id].id, "color")])
             return
         super().op_dp_group(n)
@@ -101,9 +99,10 @@ class GlslEmitter(Emitter):
         extension, interpolation = n.props["extension"], n.props["interpolation"]
         if n.id in self.as_codes:
             self.program.codes.add(channel)
-        tex, hw = self.program.image(channel)
-        if interpolation != "Linear" or not self.program.wrap(channel, extension):
-            hw = "0"              # texel by texel: a Closest tap, or another extension
+        if interpolation == "Linear":
+            tex, hw = self.program.filtered(channel, extension)
+        else:
+            tex, hw = self.program.image(channel)[0], "0"     # a Closest tap: texel by texel
         self.lines.append(f"float n{n.id}_a;")
         self.define(n, "color", VECTOR, f"dp_tex_hw({tex}, {hw}, {uv}, {WRAPS[extension]}, "
                     f"{INTERPS[interpolation]}, n{n.id}_a)")
@@ -147,15 +146,16 @@ class GlslProgram(Program):
         self.textures[channel] = self.uniform(f"tex_{channel}", "sampler2D")
         return self.textures[channel], self.uniform(f"hw_{channel}", "int")
 
-    def wrap(self, channel, extension):
-        """Whether a Linear lookup of `channel` with `extension` may use the GPU's wrap: the
-        first extension a program reads an image with sets its sampler (`wraps`)."""
-        return self.wraps.setdefault(channel, extension) == extension
+    def filtered(self, channel, extension):
+        """(sampler, filter flag) of a Linear lookup of `channel` with `extension`: the flag is
+        `hw_<channel>` where the GPU's wrap may serve it — the first extension a program reads
+        an image with sets its sampler (`wraps`) — else 0 (texel by texel)."""
+        tex, hw = self.image(channel)
+        return tex, hw if self.wraps.setdefault(channel, extension) == extension else "0"
 
     def image_arguments(self, channel):
         """The march's image (dp_image_at: linear, edges extended) and its filter flag."""
-        tex, hw = self.image(channel)
-        return tex, hw if self.wrap(channel, "EXTEND") else "0"
+        return self.filtered(channel, "EXTEND")
 
     def light(self, i):
         return (self.uniform(f"light{i + 1}_vector", "vec3"),
