@@ -227,11 +227,17 @@
                                                     gl.UNSIGNED_BYTE]
       : tex.format === "f16" ? [gl.RGBA16F, gl.HALF_FLOAT] : [gl.RGBA32F, gl.FLOAT];
     gl.texImage2D(gl.TEXTURE_2D, 0, internal, tex.width, tex.height, 0, gl.RGBA, type, rgba);
+    unfiltered();
+    return { texture: t, filterable: type !== gl.FLOAT || floatLinear };
+  }
+
+  // The bound texture read texel by texel, edges clamped: complete without mipmaps for any
+  // format (each draw binds a sampler of its own over this, samplerFor).
+  function unfiltered() {
     for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, gl.NEAREST], [gl.TEXTURE_MAG_FILTER, gl.NEAREST],
                           [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]]) {
       gl.texParameteri(gl.TEXTURE_2D, k, v);
     }
-    return { texture: t, filterable: type !== gl.FLOAT || floatLinear };
   }
 
   // The sRGB codes of a colour image, not decoded: for shaders that mix the codes (made the
@@ -240,8 +246,15 @@
   function codeTexture(channel) {
     const tex = DATA.textures[channel];
     const source = tex.same_as || channel;
-    codeTextures[source] = codeTextures[source] || texture(DATA.textures[source], true).texture;
+    codeTextures[source] = codeTextures[source] || texture(DATA.textures[source], true);
     return codeTextures[source];
+  }
+
+  // What a shader binds for an image — its codes where it mixes codes (`codes`), else the
+  // image — and whether the GPU may filter that texture: {texture, filterable}.
+  function boundTexture(channel, codes) {
+    return codes.includes(channel) ? codeTexture(channel)
+      : { texture: textures[channel], filterable: filterable[channel] };
   }
 
   // One sampler per wrap and filter: a program's lookups choose the wrap of each image
@@ -281,9 +294,15 @@
     const { wraps, codes } = DATA.samplers[index];
     const source = new TextDecoder().decode(inflate(DATA.shaders[index]));   // (deflated)
     return source.replace(/uniform int hw_(\w+);/g, (_, channel) => {
-      const t = codes.includes(channel) ? codeTexture(channel) : { filterable: filterable[channel] };
-      return `const int hw_${channel} = ${wraps[channel] && t.filterable ? 1 : 0};`;
+      return `const int hw_${channel} = ${usesFilter(wraps, codes, channel) ? 1 : 0};`;
     });
+  }
+
+  // Whether a shader's lookups of an image go through the GPU's filter: the shader wraps it
+  // (`wraps`) and the texture it binds for it is filterable here. One rule for the constant
+  // the shader is compiled with (specialised) and the sampler bound when it draws.
+  function usesFilter(wraps, codes, channel) {
+    return !!wraps[channel] && boundTexture(channel, codes).filterable;
   }
 
   function useShader(name) {
@@ -305,12 +324,10 @@
     }
     for (const [channel, unit] of Object.entries(units)) {
       gl.activeTexture(gl.TEXTURE0 + unit);
-      gl.bindTexture(gl.TEXTURE_2D, progCodes.includes(channel) ? codeTexture(channel)
-                                                                : textures[channel]);
+      gl.bindTexture(gl.TEXTURE_2D, boundTexture(channel, progCodes).texture);
       gl.uniform1i(loc("tex_" + channel), unit);
-      const wrap = progWraps[channel], hw = !!wrap && filterable[channel];
-      gl.bindSampler(unit, samplerFor(wrap || "EXTEND", hw));
-      gl.uniform1i(loc("hw_" + channel), hw ? 1 : 0);
+      gl.bindSampler(unit, samplerFor(progWraps[channel] || "EXTEND",
+                                      usesFilter(progWraps, progCodes, channel)));
     }
     (only ? [only] : lights).forEach((lt, i) => {
       gl.uniform3fv(loc(`light${i + 1}_vector`), lightVector(lt));
@@ -326,7 +343,7 @@
   // the look or K changes — at a fraction of the painting's pixels while the light moves, at
   // its full size once it stops — and read by the frame like any image (issue 29). A frame
   // whose lights did not move marches nothing.
-  const shadows = [];                  // per light: {tex, fb, w, h, key}
+  const shadows = [];      // per light: {tex, fb, w, h, float, what it shows, scale drawn at}
   const shadowState = { passes: 0, passMs: 0, final: true, scale: 1 };   // (scale: the least)
   api.shadows = shadowState;
 
@@ -339,10 +356,7 @@
     gl.bindTexture(gl.TEXTURE_2D, tex);
     if (float) gl.texImage2D(gl.TEXTURE_2D, 0, gl.R32F, w, h, 0, gl.RED, gl.FLOAT, null);
     else gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, w, h, 0, gl.RGBA, gl.UNSIGNED_BYTE, null);
-    for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, gl.NEAREST], [gl.TEXTURE_MAG_FILTER, gl.NEAREST],
-                          [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]]) {
-      gl.texParameteri(gl.TEXTURE_2D, k, v);
-    }
+    unfiltered();
     const fb = gl.createFramebuffer();
     gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
     gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, tex, 0);
@@ -499,7 +513,7 @@
   // a number < 1, frames at that fraction of the pixels; "draft", the frames the page draws
   // while a light moves (draftScale()); "drag", the key light moved 2° round the painting
   // before each frame, drawn as while it is dragged (its shadows at shadowDraftScale(), the
-  // frame at draftScale()). → {ms, scale, shadowScale}
+  // frame at draftScale()). → {ms, scale, shadowScale, passes drawn}
   api.frameTime = function (n, mode = 1) {
     const one = new Uint8Array(4);
     const drag = mode === "drag";
@@ -560,7 +574,6 @@
   api.floorTime = function (n) {
     const names = Object.keys(DATA.textures).filter((c) => !DATA.textures[c].same_as &&
                                                            !c.startsWith("shadow_"));
-    gl.getExtension("OES_texture_float_linear");
     const floor = program(FLOOR), sampler = gl.createSampler();
     gl.samplerParameteri(sampler, gl.TEXTURE_MIN_FILTER, gl.LINEAR);
     gl.samplerParameteri(sampler, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
