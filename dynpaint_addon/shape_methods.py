@@ -54,6 +54,9 @@ METHODS = {
                           "specular", "maps"),
 }
 
+# the methods that make a shape image from a painting (the add-on's menu; make_shape)
+SHAPE_MAKERS = [name for name, method in METHODS.items() if method.make is not None]
+
 
 @dataclass(frozen=True)
 class Option:
@@ -194,9 +197,8 @@ def make_shape(method, images, p, **values):
     lines : list of str
         What was done, for the report.
     """
-    if method not in METHODS or METHODS[method].make is None:
-        made = [k for k, m in METHODS.items() if m.make]
-        raise ShapeError(f"unknown method {method!r} (expected one of {', '.join(made)})")
+    if method not in SHAPE_MAKERS:
+        raise ShapeError(f"unknown method {method!r} (expected one of {', '.join(SHAPE_MAKERS)})")
     taken = options(method, "addon")
     unknown = set(values) - {o.name for o in taken}
     if unknown:

@@ -9,13 +9,11 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
 from ...core.photometric import SIDES
 from ...imageio import image_data_from_blender, read_image
 from ...shape_maker import read_as_made, sprite_lamp_siblings
-from ...shape_methods import METHODS, OPTIONS, make_shape, options
+from ...shape_methods import METHODS, OPTIONS, SHAPE_MAKERS, make_shape, options
 from ..images import made_shape_image
 from ..settings import channel_images, params_to_settings, settings_to_params
 from ..sync import batch, update
 from .common import PaintingOperator, active_painting, run_and_report
-
-ADDON_METHODS = [name for name, m in METHODS.items() if m.make is not None]
 
 
 def blender_property(option):
@@ -41,7 +39,7 @@ class DYNPAINT_OT_make_shape(PaintingOperator, bpy.types.Operator):
 
     __annotations__ = {
         "method": EnumProperty(name="Method", items=[(k, METHODS[k].label, METHODS[k].help)
-                                                     for k in ADDON_METHODS]),
+                                                     for k in SHAPE_MAKERS]),
         **{o.name: blender_property(o) for o in OPTIONS if o.where in ("both", "addon")},
     }
 
