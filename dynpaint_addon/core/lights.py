@@ -19,6 +19,8 @@ class Light:
     colour: tuple = (1.0, 1.0, 1.0)  # linear RGB
     strength: float = 1.0          # k_i of §5 (dimensionless)
     name: str = field(default="", compare=False)
+    size: float = 0.0              # §15: a sun's angular diameter (radians), a point's radius
+                                   # (image widths); 0 = the paper's lights
 
     def __post_init__(self):
         if self.kind not in LIGHT_KINDS:
@@ -32,6 +34,9 @@ class Light:
         self.vector = tuple(float(c) for c in v)
         self.colour = tuple(float(c) for c in self.colour)
         self.strength = float(self.strength)
+        if not (np.isfinite(self.size) and 0 <= self.size):
+            raise ValueError(f"light size must be a finite number ≥ 0, got {self.size!r}")
+        self.size = float(self.size)
 
     def position_px(self, height, width):
         """Point-light position in pixel units (origin at the bottom-left corner)."""

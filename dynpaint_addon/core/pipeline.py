@@ -92,12 +92,14 @@ def shadow_term(n, z_px, slopes, light, p, cancel=None, progress=None):
     return t.astype(n.dtype, copy=False)
 
 
-def light_terms(n, z_px, slopes, lights, p, dtype=np.float32, rows=None, shadows=None):
+def light_terms(n, z_px, slopes, lights, p, dtype=np.float32, rows=None, shadows=None,
+                through=None):
     """Per light: the raw light term (cos-θ or N·L, §4/§6), the specular term (§7) and the
     strength k reaching each pixel (§5: the light's strength, times a point light's falloff).
 
     rows: (r0, r1) to compute only those rows (n, z_px are then the full images); shadows:
-    the cos-θ terms already baked for the whole image, one per light.
+    the cos-θ terms already baked for the whole image, one per light; through: per light,
+    what the layers in front let through (§15, whole image), or None.
     """
     h, w = n.shape[:2]
     r0, r1 = rows or (0, h)
@@ -115,6 +117,8 @@ def light_terms(n, z_px, slopes, lights, p, dtype=np.float32, rows=None, shadows
             t = t[r0:r1]
         else:
             t = shading.n_dot_l(nb, lvec)
+        if through is not None:             # §15: t = t_own·T
+            t = t * through[i][r0:r1].astype(dtype, copy=False)
         raw.append(t)
         if p.specular.enabled:
             spec.append(shading.specular_term(nb, lvec, p.specular.s0, p.specular.s1,
@@ -167,15 +171,27 @@ def _warped_lookup(img_rgba, offset, painting_shape, extension, place, rows=None
     return sample_bilinear(img_rgba, u * ew, v * eh, extension)
 
 
-def render(images, lights, p, dtype=np.float32, cache=None, keep_passes=True):
-    """Render a painting (pipeline.md §2–§11) → RenderResult.
+@dataclass
+class Prepared:
+    """A painting's inputs as every render of it reads them: the images made finite and
+    per-pixel ones resampled to the shape's size (core/input_rules.py), the channel each mask
+    is read from, the decoded shape (§2) and what was noted on the way."""
+    imgs: dict
+    masks: dict
+    n: np.ndarray
+    z_px: object
+    slopes: object
+    warnings: list
 
-    images: {channel: ImageData} (§1); lights: [core.lights.Light]; p: params namespace
-    (params.defaults() and the recipe's values). dtype float32 by default, float64 for references.
-    keep_passes=False (the command line) drops the intermediate passes, which lets a large
-    image be shaded in bands of rows (bounded memory beyond the decoded shape and shadows).
-    """
-    cache = {} if cache is None else cache   # keep one across renders of the same images
+    @property
+    def size(self):
+        """(H, W) of the shape image: the painting's pixels."""
+        return self.n.shape[:2]
+
+
+def prepare(images, p, dtype=np.float32):
+    """The inputs of a render (§1, §2) → Prepared; raises ValueError for a painting that
+    cannot be rendered (no shape, no dark or bright image, no finite shape pixel)."""
     warnings = []
     if "shape" not in images:
         raise ValueError("a painting needs a shape image (normal or height map)")
@@ -194,12 +210,31 @@ def render(images, lights, p, dtype=np.float32, cache=None, keep_passes=True):
         if name in PER_PIXEL_CHANNELS and img.pixels.shape[:2] != (hs, ws):
             img = ImageData(resample(img.pixels.astype(dtype), hs, ws), img.bits, img.name)
         imgs[name] = img
-
-    masks = mask_channels(imgs, p)
     n, z_px, slopes = shape_normals(imgs["shape"], p, dtype, relief=p.shadows.enabled)
+    return Prepared(imgs, mask_channels(imgs, p), n, z_px, slopes, warnings)
+
+
+def render(images, lights, p, dtype=np.float32, cache=None, keep_passes=True, *,
+           prepared=None, through=None):
+    """Render a painting (pipeline.md §2–§11) → RenderResult.
+
+    images: {channel: ImageData} (§1); lights: [core.lights.Light]; p: params namespace
+    (params.defaults() and the recipe's values). dtype float32 by default, float64 for references.
+    keep_passes=False (the command line) drops the intermediate passes, which lets a large
+    image be shaded in bands of rows (bounded memory beyond the decoded shape and shadows).
+    prepared: `prepare(images, p, dtype)` when the caller has it already (layers, §15).
+    through: per light, what the layers in front let through (§15's T, (H, W)), multiplied
+    into that light's term; None: nothing in front.
+    """
+    cache = {} if cache is None else cache   # keep one across renders of the same images
+    ready = prepared or prepare(images, p, dtype)
+    n, z_px, slopes = ready.n, ready.z_px, ready.slopes
+    hs, ws = ready.size
     shadows = [shadow_term(n, z_px, slopes, light, p) for light in lights] \
         if p.shadows.enabled else None
-    ctx = _Shading(imgs, lights, p, dtype, cache, n, z_px, slopes, shadows, hs, ws, masks)
+    ctx = _Shading(ready.imgs, lights, p, dtype, cache, n, z_px, slopes, shadows, hs, ws,
+                   ready.masks, through)
+    warnings = list(ready.warnings)
     if keep_passes or hs * ws <= RENDER_BAND_PIXELS:
         rgba, passes = _shade(ctx, 0, hs)
         return RenderResult(rgba, passes, warnings)
@@ -214,6 +249,8 @@ def render(images, lights, p, dtype=np.float32, cache=None, keep_passes=True):
 
 
 RENDER_BAND_PIXELS = 1 << 20
+
+
 @dataclass
 class _Shading:
     """What every band of a render shares: the inputs, the decoded shape, the shadow terms."""
@@ -229,6 +266,7 @@ class _Shading:
     hs: int
     ws: int
     masks: dict            # transparency/gloss → the channel each is read from (whole image)
+    through: object = None  # per light: §15's T from the layers in front, or None
 
 
 def _rows(img, r0, r1):
@@ -309,7 +347,7 @@ def diffuse(b):
     c1 = np.where(np.isfinite(c1), c1, 0)
     ctx = b.ctx
     raw, spec, b.strengths = light_terms(ctx.n, ctx.z_px, ctx.slopes, lights, p, dtype,
-                                         (b.r0, b.r1), ctx.shadows)
+                                         (b.r0, b.r1), ctx.shadows, ctx.through)
     terms = [shading.clamp_step(t, p.diffuse.t0, p.diffuse.t1, p.diffuse.curve) for t in raw]
     if lights:
         w_mix = shading.light_weight(terms, [lt.colour for lt in lights], b.strengths)
@@ -343,14 +381,37 @@ def fresnel(n, p):
     return fr.fresnel_art(n, p.fresnel.x1, p.fresnel.x2, p.fresnel.kappa, p.fresnel.domain)
 
 
+def transparency_amount(p, has_map):
+    """§11: the slider's value, 'auto' read as 1 with a transparency map and 0 without."""
+    amount = p.transparency.amount
+    if amount == "auto":
+        return 1.0 if has_map else 0.0
+    return float(amount)
+
+
+def transparency_k(ready, p):
+    """§11's k = clip(map × amount) over the whole painting (H, W), for a Prepared painting:
+    what a layer lets through of the light that crosses it (§15)."""
+    imgs, (h, w) = ready.imgs, ready.size
+    amount = transparency_amount(p, "transparency" in imgs)
+    values = mask_values(imgs["transparency"].pixels, ready.masks["transparency"])[0] \
+        if "transparency" in imgs else np.ones((h, w))
+    return np.clip(values * amount, 0, 1)
+
+
+def silhouette_alpha(imgs, p):
+    """§1's silhouette α of a painting's images (H, W), non-finite values read as 0, or None
+    when the painting has none."""
+    alpha = _silhouette(imgs, p.silhouette.source)
+    return None if alpha is None else np.clip(np.where(np.isfinite(alpha), alpha, 0), 0, 1)
+
+
 @term
 def transparency(b):
     """§8–§11: reflection of E and refraction of B by UV warps, mixed by Fresnel (G), the
     highlight added (C2′ = clip(G + s·C_spec)) and shown by k: C = (1 − k)·C_s + k·C2′."""
     p, dtype, ctx = b.p, b.dtype, b.ctx
-    amount = p.transparency.amount
-    if amount == "auto":
-        amount = 1.0 if b.has("transparency") else 0.0
+    amount = transparency_amount(p, b.has("transparency"))
     k = np.clip(b.mask("transparency") * dtype(amount), 0, 1)
     if not (amount > 0 and np.any(k > 0)):
         return
@@ -391,11 +452,10 @@ def silhouette(b):
     """§11: outside the silhouette α the background shows: B·(1 − α) + C·α (B unwarped, placed
     where the refraction places it)."""
     ctx, dtype = b.ctx, b.dtype
-    alpha = _silhouette(ctx.imgs, b.p.silhouette.source)
+    alpha = silhouette_alpha(ctx.imgs, b.p)
     if alpha is None:
         return
-    alpha = alpha[b.r0:b.r1]
-    alpha = np.clip(np.where(np.isfinite(alpha), alpha, 0), 0, 1).astype(dtype)[..., None]
+    alpha = alpha[b.r0:b.r1].astype(dtype)[..., None]
     behind = _warped_lookup(_lookup_source(ctx.imgs, "background", 0.0, "extend", dtype,
                                            ctx.cache),
                             np.zeros(b.shape + (2,), dtype), (ctx.hs, ctx.ws),

@@ -3,9 +3,14 @@
 import numpy as np
 import pytest
 
-from dynpaint_addon.core.layers import Occluder, transmittance
+from dynpaint_addon import params
+from dynpaint_addon.core.input_rules import ImageData
+from dynpaint_addon.core.layers import Layer, Occluder, placement, render_scene, transmittance
 from dynpaint_addon.core.lights import Light
+from dynpaint_addon.core.pipeline import render
 from dynpaint_addon.core.sampling import pixel_centres
+from dynpaint_addon.recipe import load_images, load_recipe
+from dynpaint_addon.samples import recipe_path
 
 N = 64
 
@@ -81,3 +86,108 @@ def test_a_point_light_casts_a_central_projection_and_layers_behind_never_shade(
     assert behind.min() == 1.0
     low = Light("point", (0.0, 0.0, 10.0 / N))       # 10 px up: below the card at 14–16 px
     assert transmittance(plane_origins(), low, [card(28, 36, 16.0)]).min() == 1.0
+
+
+# -- a scene of layers (render_scene) ------------------------------------------------------
+
+def flat_painting(alpha=None, transparency=None, colour=0.6):
+    """A flat painting N×N (a height map of zeros, float), its dark and bright one grey, cut
+    out by `alpha` (on the dark image) where given, its transparency map where given."""
+    p = params.defaults()
+    p.shape.kind = "height"
+    p.shadows.enabled = True
+    grey = np.full((N, N, 3), colour, np.float32)
+    dark = grey if alpha is None else np.dstack([grey, alpha])
+    images = {"shape": ImageData(np.zeros((N, N, 1), np.float32), 32),
+              "dark": ImageData(dark, 32), "bright": ImageData(grey, 32)}
+    if transparency is not None:
+        images["transparency"] = ImageData(np.full((N, N, 1), transparency, np.float32), 32)
+        p.transparency.amount = 1.0
+    return images, p
+
+
+def square(lo, hi):
+    a = np.zeros((N, N), np.float32)
+    a[lo:hi, lo:hi] = 1.0
+    return a
+
+
+SUN = (0.5, 0.0, np.sqrt(0.75))      # 30° from the viewer's axis: cos θ = 0.866 on a plane
+
+
+def back_and_card(card_alpha, depth=0.25, **card):
+    back = Layer(*flat_painting(), name="back")
+    front = Layer(*flat_painting(card_alpha, **card), name="card", depth=depth)
+    return [back, front]
+
+
+def test_one_layer_renders_as_the_painting_does():
+    """§15: one layer is today's painting, bit for bit."""
+    recipe = load_recipe(recipe_path("portrait"))
+    images = load_images(recipe)
+    want = render(images, recipe.lights, recipe.params)
+    got = render_scene([Layer(images, recipe.params)], recipe.lights)
+    assert np.array_equal(got.rgba, want.rgba)
+    assert all(np.array_equal(a, b) for a, b in zip(got.t[0], want.passes["t"]))
+
+
+def test_an_opaque_card_over_a_plane_gives_zero_in_its_shadow_and_cos_theta_elsewhere():
+    scene = render_scene(back_and_card(square(24, 40)), [Light("sun", SUN)])
+    t = scene.t[0][0]
+    shadow, lit = card_shadow(24, 40, 16.0, 1.0, SUN)
+    assert shadow.sum() > 100 and lit.sum() > 1000
+    assert t[shadow].max() == 0.0
+    assert np.allclose(t[lit], np.sqrt(0.75), atol=1e-3)
+    assert np.allclose(scene.t[1][0], np.sqrt(0.75), atol=1e-3)     # nothing in front of it
+
+
+def test_a_glass_card_lets_k_cos_theta_through():
+    scene = render_scene(back_and_card(square(24, 40), transparency=0.6), [Light("sun", SUN)])
+    shadow, _ = card_shadow(24, 40, 16.0, 1.0, SUN)
+    assert np.allclose(scene.t[0][0][shadow], 0.6 * np.sqrt(0.75), atol=1e-3)
+
+
+def test_a_card_whose_shadow_misses_the_plane_changes_nothing():
+    """A card so far in front that its shadow lands beyond the canvas (128 px up, a 30° sun:
+    74 px to the left) leaves the plane's t as it is alone."""
+    layers = back_and_card(square(24, 40), depth=2.0)
+    alone = render_scene(layers[:1], [Light("sun", SUN)])
+    scene = render_scene(layers, [Light("sun", SUN)])
+    assert np.array_equal(scene.t[0][0], alone.t[0][0])
+
+
+def test_the_composite_puts_the_card_over_the_plane():
+    scene = render_scene(back_and_card(square(24, 40)), [Light("sun", SUN)])
+    card_px, back_px = scene.layers[1].rgba[32, 32], scene.layers[0].rgba[32, 60]
+    assert np.allclose(scene.rgba[32, 32], card_px) and np.allclose(scene.rgba[32, 60], back_px)
+
+
+def test_a_light_with_a_size_widens_the_penumbra_with_the_distance():
+    """A 10° sun: the half-shadow band on the plane (2 % … 98 % of the light) is at most
+    Δz·tan β wide (the whole disc's spread) and about twice as wide for a card twice as far;
+    a hard sun's is a pixel at most."""
+    def band(depth, size):
+        scene = render_scene(back_and_card(square(20, 44), depth=depth),
+                             [Light("sun", (0.0, 0.0, 1.0), size=size)])
+        row = scene.t[0][0][32] / scene.t[0][0][32].max()
+        return int(((row > 0.02) & (row < 0.98)).sum() / 2)    # one edge of two
+    beta = np.radians(10.0)
+    assert band(0.25, 0.0) <= 1
+    near, far = band(0.25, beta), band(0.5, beta)
+    assert 1 <= near <= 16 * np.tan(beta) + 1 and 2 * near - 1 <= far <= 32 * np.tan(beta) + 1
+
+
+def test_a_point_light_sees_a_placed_layer_from_where_it_is():
+    """A layer moved and scaled on the canvas is lit by a point light as if the light were
+    measured in its own frame: N·L at each of its pixels equals the direction from that
+    pixel's place on the canvas to the light."""
+    images, p = flat_painting()
+    p.shadows.enabled = False
+    layer = Layer(images, p, depth=0.1, offset=(0.2, -0.1), scale=0.5)
+    light = Light("point", (0.1, 0.2, 0.4))
+    scene = render_scene([Layer(*flat_painting()), layer], [light], canvas=(N, N))
+    place = placement(layer, (N, N), (N, N))
+    x, y = pixel_centres(N, N, np.float64)
+    cx, cy, cz = place.to_canvas(x, y, 0.0)
+    to = light.position_px(N, N)[None, None, :] - np.dstack([cx, cy, np.full_like(cx, cz)])
+    assert np.allclose(scene.t[1][0], to[..., 2] / np.linalg.norm(to, axis=-1), atol=1e-5)
