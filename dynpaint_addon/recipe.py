@@ -19,6 +19,7 @@
 Every section and key is listed by `python -m dynpaint_addon params` (generated from params.py).
 Unknown keys, wrong types and out-of-range values raise RecipeError naming the key.
 """
+import copy
 import difflib
 import math
 import os
@@ -27,12 +28,18 @@ from dataclasses import dataclass, field
 
 from . import params
 from .channel_names import IMAGE_EXTENSIONS
+from .core.layers import MAX_LAYERS, Layer
 from .core.lights import LIGHT_KINDS, Light
 from .errors import UserError
 from .imageio import read_image
 from .samples import list_samples, recipe_path
 
-LIGHT_KEYS = ("type", "direction", "position", "color", "strength", "name")
+LIGHT_KEYS = ("type", "direction", "position", "color", "strength", "name", "angle", "radius")
+# a light's size (§15) by its kind: a sun's angle (degrees, Blender's Sun Angle), a point
+# light's radius (image widths, Blender's Radius)
+LIGHT_SIZE_KEYS = {"sun": "angle", "point": "radius"}
+# what a [[layers]] table holds beside a one-painting recipe's keys (§15), with its check
+LAYER_KEYS = ("name", "depth", "thickness", "offset", "scale", "visible")
 
 
 class RecipeError(UserError):
@@ -48,6 +55,23 @@ class Recipe:
     path: str = ""
     description: str = ""   # one line for menus and tooltips
     credits: str = ""       # who made it: shown under the title of an exported web page
+    layers: list = field(default_factory=list)   # [RecipeLayer], back to front (§15)
+
+    @property
+    def layered(self):
+        return bool(self.layers)
+
+
+@dataclass
+class RecipeLayer:
+    """One [[layers]] table of a layered recipe (§15): a painting and where it lies."""
+    recipe: Recipe              # its images and parameters, as a one-painting recipe's
+    name: str = ""
+    depth: float = 0.0          # image widths of the canvas toward the viewer
+    thickness: object = None    # image widths of the canvas; None: its tallest relief
+    offset: tuple = (0.0, 0.0)  # its centre from the canvas's centre, image widths
+    scale: float = 1.0          # its width over the canvas's width
+    visible: bool = True
 
 
 def _suggest(key, options):
@@ -101,13 +125,60 @@ def _parse_light(i, table, where):
     name = table.get("name", "")
     if not isinstance(name, str):
         raise RecipeError(f"{where}.name: expected a string, got {name!r}")
-    return Light(kind, vec, colour, float(strength), name)
+    size_key = LIGHT_SIZE_KEYS[kind]
+    wrong = LIGHT_SIZE_KEYS["point" if kind == "sun" else "sun"]
+    if wrong in table:
+        raise RecipeError(f"{where}.{wrong}: a {kind} light's size is its '{size_key}'")
+    size = _number(table.get(size_key, 0.0), f"{where}.{size_key}", 0.0,
+                   180.0 if kind == "sun" else None)
+    return Light(kind, vec, colour, float(strength), name,
+                 size=math.radians(size) if kind == "sun" else size)
 
 
-def parse_recipe(data, base_dir=".", source="recipe", check_files=True):
-    """Validate a recipe dict (as read from TOML) → Recipe. Image paths resolve from base_dir."""
+def _number(value, where, minimum=None, maximum=None):
+    """A finite number within [minimum, maximum] → float, or RecipeError naming the key."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or \
+            not math.isfinite(value):
+        raise RecipeError(f"{where}: expected a number, got {value!r}")
+    if (minimum is not None and value < minimum) or (maximum is not None and value > maximum):
+        bounds = f"≥ {minimum:g}" if maximum is None else f"in {minimum:g} … {maximum:g}"
+        raise RecipeError(f"{where}: must be {bounds}, got {value!r}")
+    return float(value)
+
+
+def _parse_layer(i, table, base_dir, source, check_files, shared):
+    """A [[layers]] table → RecipeLayer: its own keys, and a one-painting recipe's (its
+    parameters starting from the scene's top-level sections, `shared`)."""
+    where = f"{source}: layers[{i}]"
+    if not isinstance(table, dict):
+        raise RecipeError(f"{where}: expected a table ([[layers]])")
+    if "lights" in table:
+        raise RecipeError(f"{where}.lights: the lights belong to the scene: put [[lights]] "
+                          f"at the top level")
+    if "layers" in table:
+        raise RecipeError(f"{where}.layers: a layer holds one painting, not layers of its own")
+    painting = {k: v for k, v in table.items() if k not in LAYER_KEYS or k == "name"}
+    recipe = parse_recipe(painting, base_dir, f"{source}: layers[{i}]", check_files, shared)
+    offset = table.get("offset", [0.0, 0.0])
+    if not isinstance(offset, list) or len(offset) != 2:
+        raise RecipeError(f"{where}.offset: expected two numbers [x, y], got {offset!r}")
+    thickness = table.get("thickness")
+    visible = table.get("visible", True)
+    if not isinstance(visible, bool):
+        raise RecipeError(f"{where}.visible: expected true or false, got {visible!r}")
+    return RecipeLayer(
+        recipe, recipe.name or f"Layer {i}", _number(table.get("depth", 0.0), f"{where}.depth"),
+        None if thickness is None else _number(thickness, f"{where}.thickness", 0.0),
+        tuple(_number(c, f"{where}.offset[{j}]") for j, c in enumerate(offset)),
+        _number(table.get("scale", 1.0), f"{where}.scale", 1e-6), visible)
+
+
+def parse_recipe(data, base_dir=".", source="recipe", check_files=True, base=None):
+    """Validate a recipe dict (as read from TOML) → Recipe. Image paths resolve from base_dir.
+    base: the parameters to start from (a layer's: the scene's top-level sections), else
+    the defaults. A recipe with [[layers]] is a scene (§15): its images are its layers'."""
     where = f"{source}: "
-    values = params.defaults()
+    values = copy.deepcopy(base) if base is not None else params.defaults()
     text = {"name": "", "description": "", "credits": ""}
     images, lights = {}, []
     for key, value in data.items():
@@ -128,6 +199,12 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True):
                 if check_files and not os.path.isfile(full):
                     raise RecipeError(f"{where}images.{ch}: file not found: {full}")
                 images[ch] = full
+        elif key == "layers":
+            if not isinstance(value, list) or not value:
+                raise RecipeError(f"{where}layers: expected an array of tables [[layers]]")
+            if len(value) > MAX_LAYERS:
+                raise RecipeError(f"{where}layers: {len(value)} layers; a scene holds at most "
+                                  f"{MAX_LAYERS} (the web page draws up to {MAX_LAYERS})")
         elif key == "lights":
             if not isinstance(value, list):
                 raise RecipeError(f"{where}lights: expected an array of tables [[lights]]")
@@ -143,8 +220,16 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True):
                     raise RecipeError(f"{where}{key}.{k}: unknown key{_suggest(k, keys)}")
                 setattr(section, k, _check_value(param, v, f"{where}{key}.{k}"))
         else:
-            options = (*text, "images", "lights") + params.SECTIONS
+            options = (*text, "images", "lights", "layers") + params.SECTIONS
             raise RecipeError(f"{where}{key}: unknown key{_suggest(key, options)}")
+    if "layers" in data:
+        if images:
+            raise RecipeError(f"{where}images: a layered recipe's images belong to its layers "
+                              f"([layers.images] under each [[layers]])")
+        layers = [_parse_layer(i, t, base_dir, source, check_files, values)
+                  for i, t in enumerate(data["layers"])]
+        return Recipe(values, lights, {}, text["name"], description=text["description"],
+                      credits=text["credits"], layers=layers)
     for ch in params.REQUIRED_CHANNELS:
         if ch not in images:
             raise RecipeError(f"{where}images.{ch}: missing (a painting needs a shape image)")
@@ -208,15 +293,17 @@ def recipe_to_toml(recipe, base_dir, only_changed=True):
         lines.append(f"description = {_toml_value(recipe.description)}")
     if recipe.credits:
         lines.append(f"credits = {_toml_value(recipe.credits)}")
-    lines += ["", "[images]"]
-    for ch, full in recipe.images.items():
-        rel = os.path.relpath(full, base_dir).replace(os.sep, "/")
-        lines.append(f"{ch} = {_toml_value(rel)}")
-    defaults = params.as_dict(params.defaults())
-    for section, values in params.as_dict(recipe.params).items():
-        changed = {k: v for k, v in values.items() if not only_changed or v != defaults[section][k]}
-        if changed:
-            lines += ["", f"[{section}]"] + [f"{k} = {_toml_value(v)}" for k, v in changed.items()]
+    lines += _painting_toml(recipe, base_dir, "", params.defaults(), only_changed)
+    for layer in recipe.layers:
+        lines += ["", "[[layers]]", f"name = {_toml_value(layer.name)}",
+                  f"depth = {_toml_value(layer.depth)}"]
+        if layer.thickness is not None:
+            lines.append(f"thickness = {_toml_value(layer.thickness)}")
+        lines += [f"offset = {_toml_value(list(layer.offset))}",
+                  f"scale = {_toml_value(layer.scale)}"]
+        if not layer.visible:
+            lines.append("visible = false")
+        lines += _painting_toml(layer.recipe, base_dir, "layers.", recipe.params, only_changed)
     for light in recipe.lights:
         lines += ["", "[[lights]]", f"type = {_toml_value(light.kind)}"]
         lines.append(f"{'direction' if light.kind == 'sun' else 'position'} = "
@@ -225,7 +312,29 @@ def recipe_to_toml(recipe, base_dir, only_changed=True):
         lines.append(f"strength = {_toml_value(light.strength)}")
         if light.name:
             lines.append(f"name = {_toml_value(light.name)}")
+        if light.size:
+            key = LIGHT_SIZE_KEYS[light.kind]
+            size = math.degrees(light.size) if light.kind == "sun" else light.size
+            lines.append(f"{key} = {_toml_value(size)}")
     return "\n".join(lines) + "\n"
+
+
+def _painting_toml(recipe, base_dir, prefix, base, only_changed):
+    """The [images] and parameter sections of a painting (prefix 'layers.' for a layer's),
+    parameters that differ from `base` only with only_changed."""
+    lines = []
+    if recipe.images:
+        lines += ["", f"[{prefix}images]"]
+        for ch, full in recipe.images.items():
+            rel = os.path.relpath(full, base_dir).replace(os.sep, "/")
+            lines.append(f"{ch} = {_toml_value(rel)}")
+    start = params.as_dict(base)
+    for section, values in params.as_dict(recipe.params).items():
+        changed = {k: v for k, v in values.items() if not only_changed or v != start[section][k]}
+        if changed:
+            lines += ["", f"[{prefix}{section}]"] + [f"{k} = {_toml_value(v)}"
+                                                     for k, v in changed.items()]
+    return lines
 
 
 def image_bytes(recipe):
@@ -235,4 +344,23 @@ def image_bytes(recipe):
 
 def load_images(recipe):
     """Read every image the recipe names → {channel: ImageData}."""
+    if recipe.layered:
+        raise RecipeError(f"{recipe.path or recipe.name}: a layered recipe (§15): its images "
+                          f"are its layers' (load_layers)")
     return {ch: read_image(path) for ch, path in recipe.images.items()}
+
+
+def load_layers(recipe):
+    """The visible layers of a recipe, back to front as listed → [core.layers.Layer] (a
+    one-painting recipe is one layer)."""
+    if not recipe.layered:
+        return [Layer(load_images(recipe), recipe.params, recipe.name)]
+    return [Layer(load_images(lay.recipe), lay.recipe.params, lay.name, lay.depth,
+                  lay.thickness, lay.offset, lay.scale)
+            for lay in recipe.layers if lay.visible]
+
+
+def hidden_notes(recipe):
+    """A line for each layer a layered recipe hides (visible = false): left out."""
+    return [f"{lay.name}: hidden (visible = false): left out" for lay in recipe.layers
+            if not lay.visible]

@@ -11,7 +11,7 @@ from .core.colour import linear_to_srgb
 from .core.lights import Light
 from .core.input_rules import ImageData
 from .imageio import write_png
-from .recipe import Recipe, recipe_to_toml
+from .recipe import Recipe, RecipeLayer, recipe_to_toml
 
 
 def _strokes(x, y, seed):
@@ -68,6 +68,70 @@ def write_test_painting(folder, size=256):
         write_png(path, img.pixels, bits=img.bits)
         recipe.images[channel] = os.path.abspath(path)
     path = os.path.join(folder, "painting.toml")
+    with open(path, "w") as fh:
+        fh.write(recipe_to_toml(recipe, folder))
+    return path
+
+
+def _cutout(inside, colour, seed, x, y):
+    """An 8-bit sRGB RGBA image of one painted colour with stroke variation, alpha = inside."""
+    s = _strokes(x, y, seed)[..., None]
+    rgb = np.clip(np.asarray(colour) * (1 + 0.08 * s), 0, 1)
+    rgb = np.round(linear_to_srgb(rgb) * 255) / 255
+    return np.dstack([rgb, inside.astype(np.float64)]).astype(np.float32)
+
+
+def test_scene_layers(size=128):
+    """The layers of a small scene made by code (§15), back to front → [(name, depth,
+    {channel: ImageData}, p)]: the test painting behind, a flat ring card in the middle and
+    a star with a dome's relief in front, both cut out by their dark image's alpha."""
+    w = h = int(size)
+    y, x = np.mgrid[0:h, 0:w].astype(np.float64)
+    x, y = (x + 0.5) / w, (y + 0.5) / w
+    r = np.hypot(x - 0.62, y - 0.6)
+    ring = (r > 0.12) & (r < 0.2)
+    ang = np.arctan2(y - 0.35, x - 0.35)
+    star_r = 0.13 + 0.06 * np.cos(5 * ang)
+    rs = np.hypot(x - 0.35, y - 0.35)
+    star = rs < star_r
+    dome = np.sqrt(np.clip(1 - (rs / 0.16) ** 2, 0, 1)) * star
+    back_p = builtin_recipe().params
+    card_p = params.defaults()
+    card_p.shape.kind = "height"
+    card_p.shadows.enabled = True
+    star_p = params.defaults()
+    star_p.shape.kind = "height"
+    star_p.shape.height_scale = 0.06
+    star_p.shadows.enabled = True
+    flat = ImageData(np.zeros((h, w), np.float32), 16, "flat.png")
+    grey = lambda c, name: ImageData(_cutout(np.ones((h, w), bool), c, 3, x, y)[..., :3], 8,
+                                     name)
+    return [("back", 0.0, builtin_images(size), back_p),
+            ("ring", 0.12, {"shape": flat,
+                            "dark": ImageData(_cutout(ring, (0.08, 0.2, 0.12), 4, x, y), 8,
+                                              "ring_dark.png"),
+                            "bright": grey((0.3, 0.85, 0.45), "ring_bright.png")}, card_p),
+            ("star", 0.25, {"shape": ImageData(np.round(dome * 65535).astype(np.float32)
+                                               / 65535, 16, "star_height.png"),
+                            "dark": ImageData(_cutout(star, (0.25, 0.05, 0.05), 5, x, y), 8,
+                                              "star_dark.png"),
+                            "bright": grey((1.0, 0.35, 0.25), "star_bright.png")}, star_p)]
+
+
+def write_test_scene(folder, size=128):
+    """Write the test scene's images and a layered painting.toml into folder → its path."""
+    os.makedirs(folder, exist_ok=True)
+    layers = []
+    for name, depth, images, p in test_scene_layers(size):
+        paths = {}
+        for channel, img in images.items():
+            path = os.path.join(folder, img.name)
+            write_png(path, img.pixels, bits=img.bits)
+            paths[channel] = os.path.abspath(path)
+        layers.append(RecipeLayer(Recipe(p, [], paths, name), name, depth))
+    recipe = Recipe(params.defaults(), [Light("sun", (0.55, 0.35, 0.76), name="Key")], {},
+                    "Built-in layered test scene", layers=layers)
+    path = os.path.join(folder, "scene.toml")
     with open(path, "w") as fh:
         fh.write(recipe_to_toml(recipe, folder))
     return path

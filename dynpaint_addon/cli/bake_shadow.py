@@ -1,5 +1,7 @@
 """`python -m dynpaint_addon bake-shadow SHAPE --kind K --light X Y Z --out T.exr`: the raw
-cos-θ term of one light (pipeline.md §6) at a quality level (§13), as a float EXR."""
+cos-θ term of one light (pipeline.md §6) at a quality level (§13), as a float EXR; with
+`--layers SCENE.toml --out DIR` the term of every layer of a scene, the layers in front
+casting their shadows (§15), as DIR/layer_<i>.exr."""
 import os
 import time
 
@@ -7,12 +9,14 @@ import numpy as np
 
 from .. import params
 from ..core.bake import QUALITY, bake, quality_level, quality_settings
+from ..core.layers import bake_scene, scene_notes
 from ..core.lights import Light
 from ..core.pipeline import shape_normals
 from ..core.shadow import ShadowStats
 from ..errors import CommandError
 from ..imageio import read_image, write_exr
-from .notes import check_and_print
+from ..recipe import hidden_notes, load_layers, load_recipe
+from .notes import check_and_print, print_notes
 
 
 # bake-shadow's options that are recipe parameters: flag → params.py path (default, unit,
@@ -75,14 +79,63 @@ def _bake_params(args):
     return p
 
 
+def _light(args):
+    """The light the options name, its size from --light-angle or --light-radius (§15)."""
+    if args.light_angle is not None and not args.light:
+        raise CommandError("--light-angle is a sun's size: give it with --light")
+    if args.light_radius is not None and not args.point_light:
+        raise CommandError("--light-radius is a point light's size: give it with --point-light")
+    if args.light_angle is not None and not 0 <= args.light_angle <= 180:
+        raise CommandError(f"--light-angle: degrees in 0 … 180, got {args.light_angle:g}")
+    try:
+        if args.light:
+            return Light("sun", args.light, size=np.radians(args.light_angle or 0.0))
+        return Light("point", args.point_light, size=args.light_radius or 0.0)
+    except ValueError as exc:
+        raise CommandError(f"{'--light' if args.light else '--point-light'}: {exc}") from None
+
+
+def cmd_bake_layers(args):
+    """bake-shadow --layers: each layer's t = t_own·T (§15) as DIR/layer_<i>.exr, i = 0 at
+    the back (the recipe's order); --quality, when given, sets every layer's level."""
+    if args.shape or args.kind:
+        raise CommandError("--layers bakes the layers of a scene: give no SHAPE or --kind "
+                           "(each layer's recipe says its own)")
+    if os.path.splitext(args.out)[1]:
+        raise CommandError(f"--out {args.out}: with --layers, a folder (it gets layer_0.exr, "
+                           f"layer_1.exr, …)")
+    _check_ranges(args, BAKE_OPTIONS)
+    light = _light(args)
+    recipe = load_recipe(args.layers)
+    layers = load_layers(recipe)
+    for layer in layers:
+        for flag, path in BAKE_OPTIONS.items():
+            value = getattr(args, _dest(flag))
+            if value is not None and value is not False:
+                section, key = path.split(".")
+                setattr(getattr(layer.p, section), key, value)
+    print_notes(scene_notes(layers) + hidden_notes(recipe))
+    t0 = time.perf_counter()
+    terms = bake_scene(layers, light)
+    ms = (time.perf_counter() - t0) * 1000
+    os.makedirs(args.out, exist_ok=True)
+    for i, t in enumerate(terms):
+        write_exr(os.path.join(args.out, f"layer_{i}.exr"), t)
+    if args.verbose:
+        sizes = ", ".join(f"{t.shape[1]}×{t.shape[0]}" for t in terms)
+        print(f"bake: {ms:.1f} ms for {len(terms)} layers ({sizes}), {light.kind} light")
+    print(f"wrote {len(terms)} layers to {args.out} (layer_0.exr at the back)")
+
+
 def cmd_bake_shadow(args):
+    if args.layers:
+        return cmd_bake_layers(args)
+    if not args.shape or not args.kind:
+        raise CommandError("bake-shadow needs SHAPE and --kind (or --layers SCENE.toml)")
     if not os.path.splitext(args.out)[1].lower() == ".exr":
         raise CommandError(f"--out {args.out}: the shadow term is written as a float EXR (.exr)")
     _check_ranges(args, BAKE_OPTIONS)
-    try:
-        light = Light("sun", args.light) if args.light else Light("point", args.point_light)
-    except ValueError as exc:
-        raise CommandError(str(exc)) from None
+    light = _light(args)
     p = _bake_params(args)
     quality = quality_level(args.quality, args.steps, args.scale)
     level = QUALITY.get(args.quality, {"steps": params.BY_PATH["shadows.steps"].default,
@@ -116,16 +169,26 @@ def add_parser(sub):
     b = sub.add_parser("bake-shadow", help="bake the raw cos-θ shadow term t = d/max(r, d) to EXR",
                        description="Bake the raw cos-θ term (pipeline.md §6) of one light as a "
                                    "one-channel float EXR of the shape image's size.")
-    b.add_argument("shape", metavar="SHAPE", help="normal map or height map image")
-    b.add_argument("--kind", required=True, choices=("height", "normal"), help="what SHAPE holds")
+    b.add_argument("shape", metavar="SHAPE", nargs="?", help="normal map or height map image")
+    b.add_argument("--kind", choices=("height", "normal"), help="what SHAPE holds")
+    b.add_argument("--layers", metavar="SCENE.toml",
+                   help="bake every layer of a layered recipe instead (§15): the layers in "
+                        "front cast their shadows; --out is then a folder")
     lg = b.add_mutually_exclusive_group(required=True)
     lg.add_argument("--light", nargs=3, type=float, metavar=("X", "Y", "Z"),
                     help="sun: direction toward the light in the painting frame (any length)")
     lg.add_argument("--point-light", nargs=3, type=float, metavar=("X", "Y", "Z"),
                     help="point light position, image widths from the painting's centre")
+    size = b.add_mutually_exclusive_group()
+    size.add_argument("--light-angle", type=float, metavar="DEG",
+                      help="the sun's angular diameter in degrees (Blender's Sun Angle): "
+                           "softens the shadows layers cast (default 0, hard)")
+    size.add_argument("--light-radius", type=float, metavar="R",
+                      help="the point light's radius in image widths (Blender's Radius)")
     for flag, path in BAKE_OPTIONS.items():
         add_param_option(b, flag, path)
-    b.add_argument("--out", required=True, help="output .exr (one channel, Y)")
+    b.add_argument("--out", required=True,
+                   help="output .exr (one channel, Y); with --layers a folder")
     b.add_argument("-v", "--verbose", action="store_true",
                    help="print the bake's own time (ms, no process start or file I/O) and settings")
     b.set_defaults(func=cmd_bake_shadow)

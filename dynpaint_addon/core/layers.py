@@ -20,22 +20,24 @@ the viewer from the plane of depth 0.
     >>> float(transmittance(origins, Light("sun", (0, 0, 1)), [card]).max())
     0.0
 """
+import copy
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from .pipeline import (normal_map_relief_px, prepare, render, silhouette_alpha,
-                       transparency_k)
-from .sampling import pixel_centres, sample_bilinear
+from .input_rules import input_notes, silhouette_channel
+from .pipeline import (normal_map_relief_px, prepare, render, shadow_term,
+                       silhouette_alpha, transparency_k)
+from .sampling import pixel_centres, sample_bilinear, sample_bilinear_extend
 
 # §15 for each quality level (§13): the march's spacing along a ray, in pixels of the layer
 # that is crossed, and how many points of a light's disc a light with a size is sampled at.
 # The slab of a flat card is crossed in a few pixels, so few samples are exact enough; a
 # relief's slab takes one sample per `spacing` pixels of its crossing, at most `steps`.
 LAYER_QUALITY = {
-    "draft": {"spacing": 2.0, "disc": 4},
-    "preview": {"spacing": 1.0, "disc": 8},
-    "final": {"spacing": 0.5, "disc": 16},
+    "draft": {"spacing": 4.0, "disc": 4},
+    "preview": {"spacing": 2.0, "disc": 8},
+    "final": {"spacing": 1.0, "disc": 16},
     "reference": {"spacing": 0.25, "disc": 64},
 }
 MAX_LAYERS = 8           # documented limit: the web page draws up to 8 (issue 30)
@@ -92,8 +94,12 @@ class Occluder:
     thickness_px: float       # τ: how far the solid reaches behind its plane
     opacity: np.ndarray       # (H, W): ρ = 1 − k (§11's transparency): 1 opaque, 0 clear
     place: Placement = field(default_factory=Placement)
+    maps: dict = field(default_factory=dict, repr=False)   # line_map's cache
 
     def __post_init__(self):
+        self.alpha, self.relief_px, self.opacity = (
+            _at_least_2x2(np.asarray(a, np.float32)) for a in (self.alpha, self.relief_px,
+                                                                self.opacity))
         self.top = self.z_px + float(np.max(self.relief_px, initial=0.0))
         self.bottom = self.z_px - self.thickness_px
         # the canvas box of its solid (where α ≥ ½): rays that miss it skip the layer
@@ -104,6 +110,11 @@ class Occluder:
             self.box = (x0, y0, x1, y1)
         else:
             self.box = None
+
+
+def _at_least_2x2(img):
+    """The fast sampler reads 2×2 neighbours: a 1-pixel-wide image is repeated."""
+    return np.pad(img, [(0, max(0, 2 - img.shape[0])), (0, max(0, 2 - img.shape[1]))], "edge")
 
 
 def disc_points(n):
@@ -117,81 +128,192 @@ def disc_points(n):
 
 
 def _basis(d):
-    """Two unit vectors perpendicular to the unit vectors d (..., 3) and to each other."""
-    helper = np.where(np.abs(d[..., 2:3]) < 0.9, [0.0, 0.0, 1.0], [1.0, 0.0, 0.0])
+    """Two unit vectors perpendicular to the unit vector d and to each other."""
+    helper = np.array([0.0, 0.0, 1.0]) if abs(d[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
     u = np.cross(d, helper)
-    u /= np.linalg.norm(u, axis=-1, keepdims=True)
+    u /= np.linalg.norm(u)
     return u, np.cross(d, u)
 
 
-def _rays(origins, light, canvas, disc):
-    """The rays toward a light from each origin: [(unit directions (H, W, 3), lengths
-    (H, W))], one per point of the light's disc (one for a light without size)."""
-    o = origins
+def light_points(light, canvas, disc):
+    """The points a light is sampled at (§15 "Light size") → [(kind, vector)]: a sun's
+    directions (unit) over its angular disc, a point light's positions (canvas pixels) over
+    its disc facing the canvas's centre; the light itself when it has no size."""
     points = disc_points(disc if light.size > 0 else 1)
     if light.kind == "sun":
         d = np.asarray(light.vector, np.float64)
-        d = d / np.linalg.norm(d)
+        d /= np.linalg.norm(d)
         u, v = _basis(d)
         spread = np.tan(light.size / 2)
-        out = []
-        for a, b in points:
-            dj = d + spread * (a * u + b * v)
-            out.append((np.broadcast_to(dj / np.linalg.norm(dj), o.shape),
-                        np.full(o.shape[:2], np.inf)))
-        return out
+        return [("sun", (d + spread * (a * u + b * v)) / np.linalg.norm(d + spread * (a * u + b * v)))
+                for a, b in points]
     centre = light.position_px(*canvas)
-    to = centre[None, None, :] - o
-    u, v = _basis(to / np.maximum(np.linalg.norm(to, axis=-1, keepdims=True), 1e-12))
+    axis = centre - np.array([canvas[1] / 2, canvas[0] / 2, 0.0])
+    u, v = _basis(axis / max(np.linalg.norm(axis), 1e-12))
     radius = light.size * canvas[1]
-    out = []
-    for a, b in points:                 # the disc of a sphere light as each origin sees it
-        toj = to + radius * (a * u + b * v)
-        length = np.linalg.norm(toj, axis=-1)
-        out.append((toj / np.maximum(length, 1e-12)[..., None], length))
-    return out
+    return [("point", centre + radius * (a * u + b * v)) for a, b in points]
 
 
-def _passes_through(o, d, length, k, spacing, steps):
-    """(v, ρ) of one occluder for rays from o along d up to length: whether each ray passes
-    through its solid, and the opacity where it first does."""
-    h, w = o.shape[:2]
-    hit, rho = np.zeros((h, w), bool), np.zeros((h, w))
+def _toward(o, kind, vector):
+    """Unit directions (N, 3) from origins o (N, 3) toward a light point, and the rays'
+    lengths (a sun's never end)."""
+    if kind == "sun":
+        return np.broadcast_to(vector, o.shape), np.full(len(o), np.inf)
+    to = vector[None, :] - o
+    length = np.linalg.norm(to, axis=-1)
+    return to / np.maximum(length, 1e-12)[:, None], length
+
+
+def _march(o, d, length, k, spacing, steps):
+    """(v, ρ) of one occluder for rays (N, 3) from o along d up to length, marched: whether
+    each ray passes through its solid, and the opacity where it first does."""
+    hit, rho = np.zeros(len(o), bool), np.zeros(len(o), np.float32)
     with np.errstate(divide="ignore", invalid="ignore"):
-        s0 = np.where(d[..., 2] > 0, (k.bottom - o[..., 2]) / d[..., 2], np.inf)
-        s1 = np.where(d[..., 2] > 0, (k.top - o[..., 2]) / d[..., 2], -np.inf)
+        s0 = np.where(d[:, 2] > 0, (k.bottom - o[:, 2]) / d[:, 2], np.inf)
+        s1 = np.where(d[:, 2] > 0, (k.top - o[:, 2]) / d[:, 2], -np.inf)
     s0, s1 = np.maximum(s0, 0.0), np.minimum(s1, length)
     live = s1 > s0
     if k.box is None or not live.any():
         return hit, rho
     # rays whose crossing of the slab misses the solid's box never meet it
-    ends = [o[..., :2] + np.where(live, s, 0.0)[..., None] * d[..., :2] for s in (s0, s1)]
+    ends = [o[:, :2] + np.where(live, s, 0.0)[:, None] * d[:, :2] for s in (s0, s1)]
     lo, hi = np.minimum(*ends), np.maximum(*ends)
     x0, y0, x1, y1 = k.box
-    live &= (hi[..., 0] >= x0) & (lo[..., 0] <= x1) & (hi[..., 1] >= y0) & (lo[..., 1] <= y1)
-    idx = np.nonzero(live)
-    if not idx[0].size:
+    live &= (hi[:, 0] >= x0) & (lo[:, 0] <= x1) & (hi[:, 1] >= y0) & (lo[:, 1] <= y1)
+    idx = np.flatnonzero(live)
+    if not idx.size:
         return hit, rho
     o, d, s0, s1 = o[idx], d[idx], s0[idx], s1[idx]
     # samples: one per `spacing` pixels of the layer crossed, at least one, at most `steps`
     across = float(np.max((s1 - s0) * np.hypot(d[:, 0], d[:, 1]))) / k.place.px
     n = int(min(max(steps, 1), max(1, np.ceil(across / spacing) + 1)))
-    got, r = np.zeros(s0.shape, bool), np.zeros(s0.shape)
     lh, lw = k.alpha.shape
-    for j in range(n):                          # midpoints of n equal parts of the crossing
-        s = s0 + (s1 - s0) * ((j + 0.5) / n)
-        p = o + s[:, None] * d
+    # the rays not yet inside, as positions into idx; each step samples only those, the
+    # relief only where the silhouette covers, the opacity only where the ray is inside
+    todo = np.arange(idx.size)
+    for j in range(n):                          # midpoints of n equal parts, from below
+        s = s0[todo] + (s1[todo] - s0[todo]) * ((j + 0.5) / n)
+        p = o[todo] + s[:, None] * d[todo]
         x, y = k.place.to_layer(p[:, 0], p[:, 1])
-        on = ~got & (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
-        inside = on & (sample_bilinear(k.alpha, x, y) >= 0.5) & \
-            (p[:, 2] <= k.z_px + sample_bilinear(k.relief_px, x, y))
-        r = np.where(inside, sample_bilinear(k.opacity, x, y), r)
-        got |= inside
-    hit[idx], rho[idx] = got, r
+        over = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
+        over[over] = _sample(k.alpha, x[over], y[over]) >= 0.5
+        over[over] = p[over, 2] <= k.z_px + _sample(k.relief_px, x[over], y[over])
+        if over.any():
+            hit[idx[todo[over]]] = True
+            rho[idx[todo[over]]] = _sample(k.opacity, x[over], y[over])
+            todo = todo[~over]
+            if not todo.size:
+                break
     return hit, rho
 
 
-def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=None, disc=16):
+def _sample(img, x, y):
+    """An occluder's image (float32, at least 2×2) at layer pixels x, y (finite): bilinear,
+    edges extended."""
+    return sample_bilinear_extend(img, x.astype(np.float32), y.astype(np.float32))
+
+
+def line_map(k, kind, vector, spacing, steps):
+    """Which lines toward a light point pass through occluder k's solid, by where they cross
+    its plane: (hit, ρ) images on its pixel grid (float32; hit 1 or 0, ρ the opacity where
+    the line first meets the solid from below). Every ray that starts below the solid's
+    slab and ends above it is decided by its line alone, so one march on the occluder's own
+    pixels serves every pixel of every layer behind it (a shadow map of the solid, cached
+    on the occluder per light point)."""
+    key = (kind, tuple(np.round(vector, 9)), spacing, steps)
+    if key not in k.maps:
+        lh, lw = k.alpha.shape
+        hmap, rmap = np.zeros((lh, lw), np.float32), np.zeros((lh, lw), np.float32)
+        rows, cols = _lines_near(k, kind, vector)
+        if rows.stop > rows.start and cols.stop > cols.start:
+            x, y = pixel_centres(lh, lw, np.float64)
+            qx, qy, _ = k.place.to_canvas(x[rows, cols], y[rows, cols], 0.0)
+            q = np.stack([qx.ravel(), qy.ravel(), np.full(qx.size, k.z_px)], axis=1)
+            d, _ = _toward(q, kind, vector)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                back = np.where(d[:, 2] > 0, (k.z_px - k.bottom) / d[:, 2], 0.0)
+                length = np.where(d[:, 2] > 0, (k.top - k.bottom) / d[:, 2], 0.0)
+            start = q - back[:, None] * d                 # where the line enters the slab
+            hit, rho = _march(start - 1e-9 * d, d, length + 2e-9, k, spacing, steps)
+            shape = (rows.stop - rows.start, cols.stop - cols.start)
+            hmap[rows, cols], rmap[rows, cols] = hit.reshape(shape), rho.reshape(shape)
+        k.maps[key] = (hmap, rmap)
+    return k.maps[key]
+
+
+def _lines_near(k, kind, vector):
+    """The rows and columns (slices) of occluder k's pixels whose lines toward a light point
+    can meet its solid: its solid's box grown by how far a line moves sideways across the
+    slab (a sun's once; a point light's the most at any corner of the layer)."""
+    lh, lw = k.alpha.shape
+    if k.box is None:
+        return slice(0, 0), slice(0, 0)
+    if kind == "sun":
+        tan = np.hypot(vector[0], vector[1]) / max(vector[2], 1e-12)
+    else:
+        corners = np.array([k.place.to_canvas(cx, cy, 0.0)[:2] for cx in (0, lw) for cy in (0, lh)])
+        rise = vector[2] - k.top
+        tan = np.inf if rise <= 0 else np.max(np.hypot(*(corners - vector[:2]).T)) / rise
+    grow = min((k.top - k.bottom) * tan, 1e12) / k.place.px + 1.0
+    x0, y0 = k.place.to_layer(k.box[0], k.box[1])
+    x1, y1 = k.place.to_layer(k.box[2], k.box[3])
+    cols = slice(int(max(0, np.floor(x0 - grow))), int(min(lw, np.ceil(x1 + grow))))
+    rows = slice(int(max(0, np.floor(y0 - grow))), int(min(lh, np.ceil(y1 + grow))))
+    return rows, cols
+
+
+@dataclass
+class _Receiver:
+    """The rays of one receiving layer as one occluder sees them: those that start below its
+    slab (decided by its line map) and the rest (marched)."""
+    below: np.ndarray         # (N,) bool: the origin lies below the occluder's slab
+    xy: np.ndarray            # (M, 2) float32: the origins below, x and y
+    rise: np.ndarray          # (M,) float32: from each to the occluder's plane
+
+
+def _receiver(o, k):
+    below = o[:, 2] < k.bottom
+    return _Receiver(below, o[below, :2].astype(np.float32),
+                     (k.z_px - o[below, 2]).astype(np.float32))
+
+
+def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre):
+    """(v, ρ) of occluder k for rays from o (N, 3) toward one light point: by the line map
+    toward the light's centre point (`centre`), read where the ray crosses the occluder's
+    plane, where a ray starts below the solid's slab and its light lies above it (`maps`,
+    r: _receiver(o, k)); by a march of the ray itself elsewhere. (For a point of a light's
+    disc the centre's map stands in for its own: the lines differ in slope by at most half
+    the light's angle, which moves where they cross a slab of thickness τ by τ·tan(β/2) —
+    the light-size filtering of a shadow map.)"""
+    hit, rho = np.zeros(len(o), bool), np.zeros(len(o), np.float32)
+    by_line = r.below if maps and (kind == "sun" or vector[2] > k.top) else \
+        np.zeros(len(o), bool)
+    if by_line.any():
+        hmap, rmap = line_map(k, kind, centre, spacing, steps)
+        if kind == "sun":           # where each line crosses the occluder's plane
+            q = r.xy + r.rise[:, None] * np.float32(1 / vector[2]) * \
+                vector[:2].astype(np.float32)
+        else:
+            reach = r.rise / (np.float32(vector[2] - k.z_px) + r.rise)
+            q = r.xy + reach[:, None] * (vector[:2].astype(np.float32) - r.xy)
+        x, y = k.place.to_layer(q[:, 0], q[:, 1])
+        lh, lw = hmap.shape
+        on = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
+        cover = np.zeros(len(x), np.float32)
+        cover[on] = _sample(hmap, x[on], y[on])
+        got = cover >= 0.5
+        r_got = np.zeros(len(x), np.float32)
+        r_got[got] = _sample(rmap, x[got], y[got]) / cover[got]   # ρ of the covering lines
+        hit[by_line], rho[by_line] = got, r_got
+    rest = ~by_line
+    if rest.any():
+        d, length = _toward(o[rest], kind, vector)
+        hit[rest], rho[rest] = _march(o[rest], d, length, k, spacing, steps)
+    return hit, rho
+
+
+def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=None, disc=16,
+                  maps=True):
     """T (H, W) of §15: what `occluders` (the layers in front) let through along each ray.
 
     Parameters
@@ -214,7 +336,10 @@ def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=N
         Samples along a crossing this many pixels of the crossed layer apart (default: one
         sample per pixel of the crossing's length over `steps`, as a plain K-step march).
     disc : int
-        Points of the light's disc sampled for a light with a size.
+        Points of the light's disc sampled for a light with a size (light_points).
+    maps : bool
+        Decide rays that start below an occluder by its line map (line_map) rather than
+        each by its own march: the same solid, sampled on the occluder's pixels.
 
     Returns
     -------
@@ -223,17 +348,21 @@ def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=N
         averaged over the light's disc.
     """
     o = np.asarray(origins, np.float64)
-    canvas = canvas or o.shape[:2]
-    total = np.zeros(o.shape[:2])
-    rays = _rays(o, light, canvas, disc)
-    for d, length in rays:
-        t = np.ones(o.shape[:2])
-        for k in occluders:
-            gap = spacing if spacing is not None else 1e-9   # None: always `steps` samples
-            hit, rho = _passes_through(o, d, length, k, gap, steps)
+    shape = o.shape[:2]
+    o = o.reshape(-1, 3)
+    canvas = canvas or shape
+    gap = spacing if spacing is not None else 1e-9   # None: always `steps` samples
+    points = light_points(light, canvas, disc)
+    _, centre = light_points(light, canvas, 1)[0]
+    receivers = [_receiver(o, k) for k in occluders]
+    total = np.zeros(len(o))
+    for kind, vector in points:
+        t = np.ones(len(o))
+        for k, r in zip(occluders, receivers):
+            hit, rho = _through_one(o, r, kind, vector, k, gap, steps, maps, centre)
             t *= 1.0 - np.clip(rho, 0.0, 1.0) * hit
         total += t
-    return total / len(rays)
+    return (total / len(points)).reshape(shape)
 
 
 # -- a scene of layers ---------------------------------------------------------------------
@@ -289,54 +418,129 @@ def _occluder(ready, p, place, thickness):
                     1.0 - transparency_k(ready, p), place)
 
 
+class Scene:
+    """A scene of layers made ready to light (§15): each layer's inputs prepared once, its
+    placement on the canvas, and (on first use) each layer as an occluder.
+
+    layers: [Layer] (equal depths keep their order); canvas: (H, W) in pixels (default: the
+    back layer's shape image's size)."""
+
+    def __init__(self, layers, canvas=None, dtype=np.float32):
+        if not layers:
+            raise ValueError("a layered scene needs at least one layer")
+        if len(layers) > MAX_LAYERS:
+            raise ValueError(f"{len(layers)} layers: a scene holds at most {MAX_LAYERS}")
+        self.layers, self.canvas = layers, canvas_size(layers, canvas)
+        self.order = sorted(range(len(layers)), key=lambda i: float(layers[i].depth))
+        self.ready = {i: prepare(layers[i].images, layers[i].p, dtype) for i in self.order}
+        self.places = {i: placement(layers[i], self.ready[i].size, self.canvas)
+                       for i in self.order}
+        self._occluders = {}
+
+    def occluder(self, k):
+        if k not in self._occluders:
+            tau = self.layers[k].thickness
+            self._occluders[k] = _occluder(self.ready[k], self.layers[k].p, self.places[k],
+                                           None if tau is None else float(tau) * self.canvas[1])
+        return self._occluders[k]
+
+    def own_lights(self, i, lights):
+        """The scene's lights as layer i sees them (light_in_layer)."""
+        return [light_in_layer(lt, self.places[i], self.ready[i].size, self.canvas)
+                for lt in lights]
+
+    def through(self, i, lights):
+        """Per light, T of layer i (§15): what the layers in front let through along its
+        rays, at its own shadows' quality level; None when nothing is in front."""
+        front = [self.occluder(k) for k in self.order[self.order.index(i) + 1:]]
+        if not front:
+            return None
+        p = self.layers[i].p
+        q = LAYER_QUALITY.get(p.shadows.quality, LAYER_QUALITY["final"])
+        origins = _origins(self.ready[i], p, self.places[i])
+        return [transmittance(origins, lt, front, p.shadows.steps, canvas=self.canvas,
+                              spacing=q["spacing"], disc=q["disc"],
+                              maps=p.shadows.quality != "reference") for lt in lights]
+
+
 def render_scene(layers, lights, canvas=None, dtype=np.float32, progress=None):
     """Render a scene of layers (§15) → SceneResult.
 
     layers: [Layer], back to front by depth (equal depths keep their order); lights: the
     scene's [Light] (positions in image widths from the canvas's centre); canvas: (H, W) in
     pixels (default: the back layer's shape image's size). Each layer is rendered by
-    pipeline.render in its own pixels with its lights' terms times T (`transmittance` through
-    the layers in front, at its own shadows' quality level), then the layers are placed on
-    the canvas and composited back to front by their alpha (orthographic). progress:
-    optional callable(fraction done), once per layer. One layer at offset 0 and scale 1 on
-    its own canvas renders exactly as pipeline.render.
+    pipeline.render in its own pixels with its lights' terms times T (Scene.through), then
+    the layers are placed on the canvas and composited back to front by their alpha
+    (orthographic). progress: optional callable(fraction done), once per layer. One layer at
+    offset 0 and scale 1 on its own canvas renders exactly as pipeline.render.
     """
-    if not layers:
-        raise ValueError("a layered scene needs at least one layer")
-    canvas = canvas_size(layers, canvas)
-    order = sorted(range(len(layers)), key=lambda i: float(layers[i].depth))
-    ready = {i: prepare(layers[i].images, layers[i].p, dtype) for i in order}
-    places = {i: placement(layers[i], ready[i].size, canvas) for i in order}
-    occluders = {}
-
-    def occluder(k):
-        if k not in occluders:
-            tau = layers[k].thickness
-            occluders[k] = _occluder(ready[k], layers[k].p, places[k],
-                                     None if tau is None else float(tau) * canvas[1])
-        return occluders[k]
+    scene = Scene(layers, canvas, dtype)
     results, terms, warnings = [None] * len(layers), [None] * len(layers), []
-    for position, i in enumerate(order):
-        layer, place = layers[i], places[i]
-        own = [light_in_layer(lt, place, ready[i].size, canvas) for lt in lights]
-        front = [occluder(k) for k in order[position + 1:]]
-        through = None
-        if front:
-            q = LAYER_QUALITY.get(layer.p.shadows.quality, LAYER_QUALITY["final"])
-            origins = _origins(ready[i], layer.p, place)
-            through = [transmittance(origins, lt, front, layer.p.shadows.steps, canvas=canvas,
-                                     spacing=q["spacing"], disc=q["disc"]) for lt in lights]
-        results[i] = render(layer.images, own, layer.p, dtype, prepared=ready[i],
-                            through=through)
+    for position, i in enumerate(scene.order):
+        layer = layers[i]
+        results[i] = render(layer.images, scene.own_lights(i, lights), layer.p, dtype,
+                            prepared=scene.ready[i], through=scene.through(i, lights))
         terms[i] = results[i].passes.get("t", [])
         warnings += [f"layer {layer.name or i}: {w}" for w in results[i].warnings]
         if progress is not None:
-            progress((position + 1) / len(order))
-    rgba = np.zeros(canvas + (4,), dtype)
-    for i in order:                                   # back to front, each over the rest
-        top = _on_canvas(results[i].rgba, places[i], canvas)
+            progress((position + 1) / len(scene.order))
+    rgba = np.zeros(scene.canvas + (4,), dtype)
+    for i in scene.order:                             # back to front, each over the rest
+        top = _on_canvas(results[i].rgba, scene.places[i], scene.canvas)
         rgba = top + rgba * (1 - top[..., 3:4])
     return SceneResult(rgba, results, terms, warnings)
+
+
+def bake_scene(layers, light, canvas=None, progress=None):
+    """The cos-θ term t = t_own·T of one light on every layer (§15) → [(H_i, W_i)], one per
+    layer in the order given, each the size of that layer's shape image; each layer's own
+    term at its shadows' quality level (§13), shadows on whatever its recipe says."""
+    layers = [replace(layer, p=_with_shadows(layer.p)) for layer in layers]
+    scene = Scene(layers, canvas)
+    out = [None] * len(layers)
+    for position, i in enumerate(scene.order):
+        ready, p = scene.ready[i], layers[i].p
+        own = shadow_term(ready.n, ready.z_px, ready.slopes, scene.own_lights(i, [light])[0], p)
+        through = scene.through(i, [light])
+        out[i] = own if through is None else own * through[0].astype(own.dtype)
+        if progress is not None:
+            progress((position + 1) / len(scene.order))
+    return out
+
+
+def scene_notes(layers, canvas=None):
+    """What a scene's layers make the core guess (§15), one line each: a layer resampled to
+    its place on the canvas, a layer without alpha that hides every layer behind it, layers
+    at one depth (kept in their order), and each layer's own input notes."""
+    notes, canvas = [], canvas_size(layers, canvas)
+    order = sorted(range(len(layers)), key=lambda i: float(layers[i].depth))
+    for position, i in enumerate(order):
+        layer = layers[i]
+        name = layer.name or f"layer {i}"
+        notes += [f"{name}: {note}" for note in input_notes(layer.images, layer.p)]
+        size = layer.images["shape"].pixels.shape[:2]
+        place = placement(layer, size, canvas)
+        if abs(place.px - 1.0) > 1e-9:
+            notes.append(f"{name}: its {size[1]}×{size[0]} pixels are drawn {place.px:.3g}× "
+                         f"on the {canvas[1]}×{canvas[0]} canvas (resampled)")
+        if position and _silhouette_of(layer) is None:
+            notes.append(f"{name} has no alpha: it covers every layer behind it, and shadows "
+                         f"them wherever the light comes through it")
+        if position + 1 < len(order) and layers[order[position + 1]].depth == layer.depth:
+            notes.append(f"{name} and {layers[order[position + 1]].name or 'the next layer'} "
+                         f"are at the same depth: the first listed is behind")
+    return notes
+
+
+def _silhouette_of(layer):
+    return silhouette_channel(layer.p.silhouette.source,
+                              lambda c: c in layer.images and layer.images[c].has_alpha) or None
+
+
+def _with_shadows(p):
+    q = copy.deepcopy(p)
+    q.shadows.enabled = True
+    return q
 
 
 def _on_canvas(rgba, place, canvas):

@@ -1,10 +1,12 @@
 """The painting recipe: validation names the key; writing and reading round-trips."""
 import os
 
+import numpy as np
 import pytest
 
 from dynpaint_addon import params
-from dynpaint_addon.recipe import RecipeError, load_recipe, parse_recipe, recipe_to_toml
+from dynpaint_addon.recipe import (RecipeError, load_layers, load_recipe, parse_recipe,
+                                   recipe_to_toml)
 from dynpaint_addon.testpainting import write_test_painting
 
 
@@ -105,3 +107,58 @@ def test_enum_choices_keep_the_numbers_saved_files_hold():
     'auto')."""
     assert params.BY_PATH["shadows.relief"].choices == ("integrated", "along_ray", "auto")
     assert params.BY_PATH["shape.encoding"].choices == ("auto", "rgb", "rg")
+
+
+# -- layered recipes (§15) -----------------------------------------------------------------
+
+LAYER = {"images": {"shape": "height.png", "dark": "dark.png"}}
+
+
+@pytest.mark.parametrize("data,message", [
+    ({**BASE, "layers": [LAYER]}, "r.toml: images: a layered recipe's images belong to its layers"),
+    ({"layers": []}, "r.toml: layers: expected an array of tables"),
+    ({"layers": [LAYER] * 9}, "r.toml: layers: 9 layers; a scene holds at most 8"),
+    ({"layers": [{**LAYER, "lights": []}]}, "r.toml: layers[0].lights: the lights belong to the scene"),
+    ({"layers": [{**LAYER, "layers": []}]}, "r.toml: layers[0].layers: a layer holds one painting"),
+    ({"layers": [{**LAYER, "depth": "far"}]}, "r.toml: layers[0].depth: expected a number, got 'far'"),
+    ({"layers": [{**LAYER, "thickness": -1}]}, "r.toml: layers[0].thickness: must be ≥ 0"),
+    ({"layers": [{**LAYER, "offset": [1]}]}, "r.toml: layers[0].offset: expected two numbers"),
+    ({"layers": [{**LAYER, "scale": 0}]}, "r.toml: layers[0].scale: must be ≥ 1e-06"),
+    ({"layers": [{**LAYER, "visible": "no"}]}, "r.toml: layers[0].visible: expected true or false"),
+    ({"layers": [{"images": {"dark": "dark.png"}}]}, "r.toml: layers[0]: images.shape: missing"),
+    ({"layers": [{**LAYER, "shadows": {"stpes": 3}}]}, "r.toml: layers[0]: shadows.stpes: unknown key (did you mean 'steps'?)"),
+    ({"layers": [LAYER], "lights": [{"direction": [0, 0, 1], "radius": 0.1}]}, "r.toml: lights[0].radius: a sun light's size is its 'angle'"),
+    ({"layers": [LAYER], "lights": [{"direction": [0, 0, 1], "angle": 200}]}, "r.toml: lights[0].angle: must be in 0 … 180"),
+])
+def test_bad_layered_recipes_name_the_key(painting, data, message):
+    with pytest.raises(RecipeError) as err:
+        parse_recipe(data, os.path.dirname(painting), "r.toml")
+    assert str(err.value).startswith(message)
+
+
+def test_a_layered_recipe_round_trips_and_its_layers_start_from_the_scene_sections(painting):
+    folder = os.path.dirname(painting)
+    data = {"name": "Window", "shadows": {"offset": 0.02},
+            "layers": [{**LAYER, "name": "back"},
+                       {**LAYER, "name": "front", "depth": 0.2, "thickness": 0.01,
+                        "offset": [0.1, -0.05], "scale": 0.5, "visible": False,
+                        "shadows": {"steps": 16}}],
+            "lights": [{"direction": [0.3, 0.2, 0.9], "angle": 5.0},
+                       {"type": "point", "position": [0, 0, 1], "radius": 0.05}]}
+    r = parse_recipe(data, folder, "r.toml")
+    assert r.layered and [lay.name for lay in r.layers] == ["back", "front"]
+    front = r.layers[1]
+    assert front.recipe.params.shadows.offset == 0.02 and front.recipe.params.shadows.steps == 16
+    assert (front.depth, front.thickness, front.offset, front.scale, front.visible) == \
+        (0.2, 0.01, (0.1, -0.05), 0.5, False)
+    assert r.lights[0].size == pytest.approx(np.radians(5.0)) and r.lights[1].size == 0.05
+    out = os.path.join(folder, "scene.toml")
+    with open(out, "w", encoding="utf-8") as fh:
+        fh.write(recipe_to_toml(r, folder))
+    back = load_recipe(out)
+    assert back.lights == r.lights and back.layers[1].depth == 0.2
+    for a, b in zip(back.layers, r.layers):
+        assert params.as_dict(a.recipe.params) == params.as_dict(b.recipe.params)
+        assert (a.name, a.depth, a.thickness, a.offset, a.scale, a.visible, a.recipe.images) == \
+            (b.name, b.depth, b.thickness, b.offset, b.scale, b.visible, b.recipe.images)
+    assert [lay.name for lay in load_layers(back)] == ["back"]       # hidden layers skipped
