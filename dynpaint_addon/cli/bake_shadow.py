@@ -35,46 +35,55 @@ def _dest(flag):
 
 
 def add_param_option(parser, flag, path):
-    """An option for the parameter at `path`, with the table's default, unit and help.
-    Options whose default depends on others (K and the resolution follow --quality, the
-    pre-blur the image's bit depth) default to None: 'from …'."""
+    """An option for the parameter at `path`, with the table's default, unit and help. Its
+    value is None unless given (the parameters' own defaults then apply, and --layers
+    leaves each layer's recipe as it is); options whose default depends on others say so
+    (K and the resolution follow --quality, the pre-blur the image's bit depth)."""
     prm = params.BY_PATH[path]
     unit = f" {prm.unit}" if prm.unit else ""
-    follows = path in ("shadows.steps", "shadows.resolution") or prm.kind == "auto_float"
-    default = None if follows else prm.default
     if path in ("shadows.steps", "shadows.resolution"):
         shown = "from --quality"
+    elif prm.kind == "auto_float":
+        shown = "from the image's bit depth"
     else:
         shown = str(prm.default)
     text = f"{prm.help}{unit and f' (in{unit})'}; default: {shown}"
     if prm.kind is bool:
-        parser.add_argument(flag, action="store_true", help=text)
+        parser.add_argument(flag, action="store_true", default=None, help=text)
     elif prm.kind == "enum":
-        parser.add_argument(flag, choices=prm.choices, default=default, help=text)
+        parser.add_argument(flag, choices=prm.choices, help=text)
     else:
-        parser.add_argument(flag, type=int if prm.kind is int else float, default=default,
-                            help=text)
+        parser.add_argument(flag, type=int if prm.kind is int else float, help=text)
+
+
+def _given(args, options):
+    """{params.py path: value} of the parameter options given on the command line."""
+    return {path: getattr(args, _dest(flag)) for flag, path in options.items()
+            if getattr(args, _dest(flag)) is not None}
 
 
 def _check_ranges(args, options):
     """Every parameter option as its params.py entry allows (Param.check), or one clear line."""
     for flag, path in options.items():
         value = getattr(args, _dest(flag))
-        if value is not None and value is not False:
+        if value is not None:
             try:
                 params.BY_PATH[path].check(value)
             except ValueError as exc:
                 raise CommandError(f"{flag}: {exc}") from None
 
 
+def _set(p, given):
+    """p with the parameters `given` ({path: value}) set."""
+    for path, value in given.items():
+        section, key = path.split(".")
+        setattr(getattr(p, section), key, value)
+    return p
+
+
 def _bake_params(args):
     """The recipe parameters bake-shadow's options set (the rest at their defaults)."""
-    p = params.defaults()
-    for flag, path in BAKE_OPTIONS.items():
-        value = getattr(args, _dest(flag))
-        if value is not None:
-            section, key = path.split(".")
-            setattr(getattr(p, section), key, value)
+    p = _set(params.defaults(), _given(args, BAKE_OPTIONS))
     p.shape.kind = args.kind
     return p
 
@@ -108,12 +117,8 @@ def cmd_bake_layers(args):
     light = _light(args)
     recipe = load_recipe(args.layers)
     layers = load_layers(recipe)
-    for layer in layers:
-        for flag, path in BAKE_OPTIONS.items():
-            value = getattr(args, _dest(flag))
-            if value is not None and value is not False:
-                section, key = path.split(".")
-                setattr(getattr(layer.p, section), key, value)
+    for layer in layers:                   # what the command line gives, every layer takes
+        _set(layer.p, _given(args, BAKE_OPTIONS))
     print_notes(scene_notes(layers) + hidden_notes(recipe))
     t0 = time.perf_counter()
     terms = bake_scene(layers, light)
@@ -137,9 +142,9 @@ def cmd_bake_shadow(args):
     _check_ranges(args, BAKE_OPTIONS)
     light = _light(args)
     p = _bake_params(args)
-    quality = quality_level(args.quality, args.steps, args.scale)
-    level = QUALITY.get(args.quality, {"steps": params.BY_PATH["shadows.steps"].default,
-                                       "scale": params.BY_PATH["shadows.resolution"].default})
+    quality = quality_level(p.shadows.quality, args.steps, args.scale)
+    level = QUALITY.get(p.shadows.quality, {"steps": params.BY_PATH["shadows.steps"].default,
+                                            "scale": params.BY_PATH["shadows.resolution"].default})
     steps, scale, dtype = quality_settings(
         quality, level["steps"] if args.steps is None else args.steps,
         level["scale"] if args.scale is None else args.scale)

@@ -6,10 +6,11 @@ import time
 import numpy as np
 
 from ..core.input_rules import resample_painting
+from ..core.layers import render_scene, scene_notes
 from ..core.pipeline import render
 from ..errors import CommandError
 from ..imageio import write_render
-from ..recipe import load_images, load_recipe
+from ..recipe import hidden_notes, load_images, load_layers, load_recipe
 from ..samples import recipe_help
 from .notes import print_notes
 
@@ -21,6 +22,8 @@ def cmd_render(args):
     if args.width is not None and args.width < 1:
         raise CommandError(f"--width must be at least 1 pixel, got {args.width}")
     recipe = load_recipe(args.recipe)
+    if recipe.layered:
+        return _render_layers(args, recipe)
     if args.engine != "numpy":
         return _render_blender(args, recipe)
     if args.frame is not None:
@@ -41,6 +44,23 @@ def cmd_render(args):
     write_render(args.out, result.rgba)
     h, w = result.rgba.shape[:2]
     print(f"rendered {w}×{h} in {ms:.0f} ms → {args.out}")
+
+
+def _render_layers(args, recipe):
+    """A layered recipe (§15) by the numpy core: each layer lit through the layers in front
+    of it, composited back to front on the canvas."""
+    if args.engine != "numpy" or args.frame is not None or args.width:
+        raise CommandError("a layered recipe renders with the numpy engine at its canvas's "
+                           "size for now (no --engine eevee/cycles, --frame or --width)")
+    layers = load_layers(recipe)
+    print_notes(scene_notes(layers) + hidden_notes(recipe))
+    t = time.perf_counter()
+    result = render_scene(layers, recipe.lights, dtype=np.float64 if args.float64 else
+                          np.float32)
+    ms = (time.perf_counter() - t) * 1000
+    write_render(args.out, result.rgba)
+    h, w = result.rgba.shape[:2]
+    print(f"rendered {len(layers)} layers on {w}×{h} in {ms:.0f} ms → {args.out}")
 
 
 def _render_blender(args, recipe):

@@ -6,13 +6,14 @@ import numpy as np
 import pytest
 
 from conftest import REPO, run_cli, unit
+from dynpaint_addon.core.layers import bake_scene, render_scene
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.shadow import cos_theta_shadow
 from dynpaint_addon.core.shape import height_field_px, normals_from_height_px
 from dynpaint_addon.core.pipeline import render
 from dynpaint_addon.imageio import read_image, write_png
-from dynpaint_addon.recipe import load_images, load_recipe
-from dynpaint_addon.testpainting import write_test_painting
+from dynpaint_addon.recipe import load_images, load_layers, load_recipe
+from dynpaint_addon.testpainting import write_test_painting, write_test_scene
 
 
 @pytest.fixture(scope="module")
@@ -177,3 +178,51 @@ def test_bake_shadow_chooses_the_relief_and_its_reach(tmp_path):
     np.testing.assert_array_equal(bake("n.png"), along)
     np.testing.assert_array_equal(bake("na.png"), bake("na.png", "--relief", "integrated"))
     assert np.abs(bake("n.png", "--relief", "along_ray", "--reach", 0.01) - along).max() > 0.05
+
+
+# -- layered recipes (§15) -----------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def scene(tmp_path_factory):
+    return write_test_scene(str(tmp_path_factory.mktemp("scene")), size=48)
+
+
+def test_bake_shadow_layers_writes_each_layers_term_as_the_core_bakes_it(scene, tmp_path):
+    out = tmp_path / "t"
+    res = run_cli("bake-shadow", "--layers", scene, "--light", 0.55, 0.35, 0.76,
+                  "--light-angle", 4, "--out", out, "-v")
+    assert res.returncode == 0, res.stderr
+    assert "for 3 layers (48×48, 48×48, 48×48), sun light" in res.stdout
+    want = bake_scene(load_layers(load_recipe(scene)),
+                      Light("sun", (0.55, 0.35, 0.76), size=np.radians(4)))
+    for i, t in enumerate(want):
+        got = read_image(str(out / f"layer_{i}.exr")).pixels[..., 0]
+        np.testing.assert_allclose(got, t, atol=1e-6)
+    assert want[0].min() < 0.05 < want[2].min()       # the back is shadowed, the front is not
+
+
+def test_render_of_a_layered_recipe_is_the_core_composite(scene, tmp_path):
+    out = tmp_path / "scene.exr"
+    res = run_cli("render", scene, "--out", out)
+    assert res.returncode == 0, res.stderr
+    assert "rendered 3 layers on 48×48" in res.stdout
+    recipe = load_recipe(scene)
+    want = render_scene(load_layers(recipe), recipe.lights).rgba
+    np.testing.assert_array_equal(read_image(str(out)).pixels, want)
+
+
+@pytest.mark.parametrize("args,message", [
+    (("--light", 0, 0, 1, "--out", "t.exr"), "with --layers, a folder"),
+    (("--point-light", 0, 0, 1, "--light-angle", 3, "--out", "t"),
+     "--light-angle is a sun's size: give it with --light"),
+    (("--light", 0, 0, 1, "--light-radius", 0.1, "--out", "t"),
+     "--light-radius is a point light's size: give it with --point-light"),
+    (("--light", 0, 0, 1, "--light-angle", 270, "--out", "t"), "--light-angle: degrees in 0 … 180"),
+    (("--light", 0, 0, 1, "--kind", "height", "--out", "t"), "give no SHAPE or --kind"),
+])
+def test_layered_mistakes_give_one_clear_line(scene, tmp_path, args, message):
+    res = run_cli("bake-shadow", "--layers", scene, *args, cwd=tmp_path)
+    lines = [ln for ln in res.stderr.splitlines() if ln.startswith("error:")]
+    assert res.returncode == 1 and len(lines) == 1 and message in lines[0], res.stderr
+    res = run_cli("render", scene, "--out", tmp_path / "x.png", "--engine", "eevee")
+    assert res.returncode == 1 and "renders with the numpy engine" in res.stderr
