@@ -2,8 +2,8 @@
 
 Each layer is a whole painting on the plane z = z_i of one shared canvas, placed by an offset
 and a scale (`Placement`). It is shaded by §2–§11 in its own pixels, except that its cos-θ
-term is t = t_own·T, where T is what the layers in front let through along its §6 ray
-(`transmittance`); the scene is then composited back to front (`render_scene`).
+term is t = t_own·T, where T is what the layers in front let through along the ray from
+each pixel's surface point toward the light (`transmittance`); the scene is then composited back to front (`render_scene`).
 
 Layer k, seen from the layers behind it, is the solid
 S_k = {(x, y, z): α_k(x, y) ≥ ½, z_k − τ_k ≤ z ≤ z_k + relief_k(x, y)} of opacity
@@ -184,15 +184,34 @@ def _march(o, d, length, k, spacing, steps):
     if not idx.size:
         return hit, rho
     o, d, s0, s1 = o[idx], d[idx], s0[idx], s1[idx]
-    # samples: one per `spacing` pixels of the layer crossed, at least one, at most `steps`
-    across = float(np.max((s1 - s0) * np.hypot(d[:, 0], d[:, 1]))) / k.place.px
+    # The slab in two parts, each sampled on its own: the card below the plane (τ thin: a
+    # march over the whole slab could step over it) and the relief above it, each with one
+    # sample per `spacing` pixels of the layer it crosses, at least one, at most `steps`.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s_plane = np.clip((k.z_px - o[:, 2]) / d[:, 2], s0, s1)
+    todo = np.arange(idx.size)       # the rays not yet inside, as positions into idx
+    for a, b in ((s0, s_plane), (s_plane, s1)):
+        todo = _march_part(o, d, a, b, k, spacing, steps, todo, idx, hit, rho)
+        if not todo.size:
+            break
+    return hit, rho
+
+
+def _march_part(o, d, a, b, k, spacing, steps, todo, idx, hit, rho):
+    """March rays `todo` (positions into idx) over [a, b] of their crossing, from below:
+    each step samples the silhouette of the rays not yet inside, the relief only where it
+    covers, the opacity only where the ray is inside; marks hit and ρ (arrays over all
+    rays, indexed by idx) → the rays still not inside."""
+    if not todo.size:
+        return todo
+    across = float(np.max((b[todo] - a[todo]) * np.hypot(d[todo, 0], d[todo, 1]))) / k.place.px
     n = int(min(max(steps, 1), max(1, np.ceil(across / spacing) + 1)))
     lh, lw = k.alpha.shape
-    # the rays not yet inside, as positions into idx; each step samples only those, the
-    # relief only where the silhouette covers, the opacity only where the ray is inside
-    todo = np.arange(idx.size)
+    todo = todo[b[todo] > a[todo]] if n else todo
     for j in range(n):                          # midpoints of n equal parts, from below
-        s = s0[todo] + (s1[todo] - s0[todo]) * ((j + 0.5) / n)
+        if not todo.size:
+            break
+        s = a[todo] + (b[todo] - a[todo]) * ((j + 0.5) / n)
         p = o[todo] + s[:, None] * d[todo]
         x, y = k.place.to_layer(p[:, 0], p[:, 1])
         over = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
@@ -202,9 +221,7 @@ def _march(o, d, length, k, spacing, steps):
             hit[idx[todo[over]]] = True
             rho[idx[todo[over]]] = _sample(k.opacity, x[over], y[over])
             todo = todo[~over]
-            if not todo.size:
-                break
-    return hit, rho
+    return todo
 
 
 def _sample(img, x, y):
@@ -319,8 +336,7 @@ def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=N
     Parameters
     ----------
     origins : ndarray (H, W, 3)
-        Each pixel's P0 (§6: its surface point moved back by d along its normal), canvas
-        pixels, z toward the viewer.
+        Each pixel's surface point P_S (on its relief), canvas pixels, z toward the viewer.
     light : core.lights.Light
         A sun (direction toward the light) or a point light (position, image widths from the
         canvas's centre, §0); its `size` (a sun's angular diameter in radians, a point
@@ -394,14 +410,14 @@ def light_in_layer(light, place, size, canvas):
                                   (z - place.z) / place.px / w))
 
 
-def _origins(ready, p, place):
-    """Each pixel's P0 (§6) in canvas pixels → (H, W, 3)."""
+def _origins(ready, place):
+    """Each pixel's surface point P_S on its relief (§15: T's rays start there, not at §6's
+    P0 — d below the surface would move every cast shadow by d·cot of the light's
+    elevation) in canvas pixels → (H, W, 3)."""
     h, w = ready.size
-    n = ready.n.astype(np.float64)
     x, y = pixel_centres(h, w, np.float64)
-    zs = ready.z_px if ready.z_px is not None and p.shape.kind == "height" else 0.0
-    d = max(0.0, float(p.shadows.offset)) * w
-    return np.dstack(place.to_canvas(x - d * n[..., 0], y - d * n[..., 1], zs - d * n[..., 2]))
+    zs = np.zeros((h, w)) if ready.z_px is None else np.nan_to_num(ready.z_px.astype(np.float64))
+    return np.dstack(place.to_canvas(x, y, zs))
 
 
 def _occluder(ready, p, place, thickness):
@@ -457,7 +473,7 @@ class Scene:
             return None
         p = self.layers[i].p
         q = LAYER_QUALITY.get(p.shadows.quality, LAYER_QUALITY["final"])
-        origins = _origins(self.ready[i], p, self.places[i])
+        origins = _origins(self.ready[i], self.places[i])
         return [transmittance(origins, lt, front, p.shadows.steps, canvas=self.canvas,
                               spacing=q["spacing"], disc=q["disc"],
                               maps=p.shadows.quality != "reference") for lt in lights]

@@ -16,7 +16,7 @@ N = 64
 
 
 def plane_origins(z=0.0):
-    """P0 of a flat layer at depth z (pixels): its pixel centres."""
+    """P_S of a flat layer at depth z (pixels): its pixel centres."""
     x, y = pixel_centres(N, N, np.float64)
     return np.dstack([x, y, np.full((N, N), z)])
 
