@@ -81,7 +81,7 @@ def _cutout(inside, colour, seed, x, y):
     return np.dstack([rgb, inside.astype(np.float64)]).astype(np.float32)
 
 
-def test_scene_layers(size=128):
+def builtin_scene_layers(size=128):
     """The layers of a small scene made by code (§15), back to front → [(name, depth,
     {channel: ImageData}, p)]: the test painting behind, a flat ring card in the middle and
     a star with a dome's relief in front, both cut out by their dark image's alpha."""
@@ -122,7 +122,7 @@ def write_test_scene(folder, size=128):
     """Write the test scene's images and a layered painting.toml into folder → its path."""
     os.makedirs(folder, exist_ok=True)
     layers = []
-    for name, depth, images, p in test_scene_layers(size):
+    for name, depth, images, p in builtin_scene_layers(size):
         paths = {}
         for channel, img in images.items():
             path = os.path.join(folder, img.name)

@@ -28,19 +28,23 @@ import numpy as np
 from .input_rules import input_notes, silhouette_channel
 from .pipeline import (normal_map_relief_px, prepare, render, shadow_term,
                        silhouette_alpha, transparency_k)
-from .sampling import pixel_centres, sample_bilinear, sample_bilinear_extend
+from .sampling import (pixel_centres, resample_separable, sample_bilinear,
+                       sample_bilinear_extend)
 
-# §15 for each quality level (§13): the march's spacing along a ray, in pixels of the layer
-# that is crossed, and how many points of a light's disc a light with a size is sampled at.
+# §15 for each quality level (§13): the resolution T is found at (receivers and occluders
+# alike, then resampled to each layer's pixels, as §13's bakes), the march's spacing along
+# a ray in pixels of the layer crossed at that resolution, and how many points of a light's
+# disc a light with a size is sampled at.
 # The slab of a flat card is crossed in a few pixels, so few samples are exact enough; a
 # relief's slab takes one sample per `spacing` pixels of its crossing, at most `steps`.
 LAYER_QUALITY = {
-    "draft": {"spacing": 4.0, "disc": 4},
-    "preview": {"spacing": 2.0, "disc": 8},
-    "final": {"spacing": 1.0, "disc": 16},
-    "reference": {"spacing": 0.25, "disc": 64},
+    "draft": {"scale": 0.125, "spacing": 1.0, "disc": 4},
+    "preview": {"scale": 0.5, "spacing": 1.0, "disc": 8},
+    "final": {"scale": 1.0, "spacing": 1.0, "disc": 16},
+    "reference": {"scale": 1.0, "spacing": 0.25, "disc": 64},
 }
 MAX_LAYERS = 8           # documented limit: the web page draws up to 8 (issue 30)
+MAPS_KEPT = 4            # line maps an occluder keeps (per light point; a drag makes new ones)
 
 
 @dataclass(frozen=True)
@@ -103,7 +107,12 @@ class Occluder:
         self.top = self.z_px + float(np.max(self.relief_px, initial=0.0))
         self.bottom = self.z_px - self.thickness_px
         # the canvas box of its solid (where α ≥ ½): rays that miss it skip the layer
-        rows, cols = np.nonzero(np.asarray(self.alpha) >= 0.5)
+        solid = np.asarray(self.alpha) >= 0.5
+        rows, cols = np.nonzero(solid)
+        # one opacity over the whole solid (no transparency map): ρ needs no first hit
+        inside = self.opacity[solid]
+        self.uniform = float(inside[0]) if inside.size and np.all(inside == inside[0]) \
+            else None
         if rows.size:
             x0, y0, _ = self.place.to_canvas(cols.min(), rows.min(), 0.0)
             x1, y1, _ = self.place.to_canvas(cols.max() + 1.0, rows.max() + 1.0, 0.0)
@@ -238,6 +247,8 @@ def line_map(k, kind, vector, spacing, steps):
     pixels serves every pixel of every layer behind it (a shadow map of the solid, cached
     on the occluder per light point)."""
     key = (kind, tuple(np.round(vector, 9)), spacing, steps)
+    if key not in k.maps and len(k.maps) >= MAPS_KEPT:      # a dragged light: the newest
+        k.maps.clear()
     if key not in k.maps:
         lh, lw = k.alpha.shape
         hmap, rmap = np.zeros((lh, lw), np.float32), np.zeros((lh, lw), np.float32)
@@ -294,6 +305,80 @@ def _receiver(o, k):
                      (k.z_px - o[below, 2]).astype(np.float32))
 
 
+class SunTable:
+    """Which lines along a sun meet occluder k's solid, for any line at once (§15): the
+    solid's relief H resampled on a grid whose rows run along the light's horizontal
+    direction e (u along it, v across, one occluder pixel apart; H = −∞ outside the
+    silhouette), G = H − m·u (m: the line's rise per pixel of u) and its suffix maximum
+    S(u) = max_{u' ≥ u} G(u'). The line crossing the occluder's plane at (u_q, v_q) rises
+    from z_k − τ at u_q − τ/m toward the light: it meets the solid where some
+    H(u') ≥ m·(u' − u_q) with u' ≥ u_q − τ/m, i.e. S(u_q − τ/m) ≥ −m·u_q — one lookup per
+    ray. Columns are STEP_U pixels apart and each stands for its whole width (the line's
+    lowest point over it), so a card thinner than a column is never stepped over; edges
+    move by at most half a column along e and half a pixel across."""
+    STEP_U = 0.25
+
+    def __init__(self, k, direction):
+        self.k = k
+        flat = float(np.hypot(direction[0], direction[1]))
+        self.vertical = flat < 1e-9
+        if self.vertical:
+            return
+        self.e = np.array(direction[:2]) / flat
+        self.n = np.array([-self.e[1], self.e[0]])
+        self.m = direction[2] / flat * k.place.px   # canvas px of rise per occluder px of u
+        (x0, y0), (x1, y1) = (k.place.to_layer(*k.box[:2]), k.place.to_layer(*k.box[2:]))
+        corners = np.array([[x0, y0], [x0, y1], [x1, y0], [x1, y1]])
+        u, v = corners @ self.e, corners @ self.n
+        self.u0, self.v0 = np.floor(u.min()) - 1, np.floor(v.min()) - 1
+        cols = int(np.ceil((u.max() - self.u0) / self.STEP_U)) + 2
+        rows = int(np.ceil(v.max() - self.v0)) + 2
+        uu = self.u0 + self.STEP_U * np.arange(cols, dtype=np.float64)
+        vv = self.v0 + np.arange(rows, dtype=np.float64)
+        gu, gv = np.meshgrid(uu, vv)
+        x, y = gu * self.e[0] + gv * self.n[0], gu * self.e[1] + gv * self.n[1]
+        lh, lw = k.alpha.shape
+        on = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
+        h = np.full(x.shape, -np.inf, np.float32)
+        cover = np.zeros(x.shape, np.float32)
+        cover[on] = _sample(k.alpha, x[on], y[on])
+        solid = cover >= 0.5
+        h[solid] = _sample(k.relief_px, x[solid], y[solid])
+        g = h - (self.m * (gu - self.STEP_U / 2)).astype(np.float32)   # lowest over its width
+        self.suffix = np.maximum.accumulate(g[:, ::-1], axis=1)[:, ::-1]
+
+    def meets(self, x, y):
+        """Whether the lines crossing the occluder's plane at its pixels (x, y) meet it."""
+        k = self.k
+        if self.vertical:
+            lh, lw = k.alpha.shape
+            on = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
+            out = np.zeros(len(x), bool)
+            out[on] = _sample(k.alpha, x[on], y[on]) >= 0.5
+            return out
+        uq = x * self.e[0] + y * self.e[1]
+        vq = x * self.n[0] + y * self.n[1]
+        rows, cols = self.suffix.shape
+        r = np.rint(vq - self.v0).astype(np.int64)
+        start = uq - k.thickness_px / self.m - self.STEP_U / 2      # columns reaching it
+        c = np.ceil((start - self.u0) / self.STEP_U - 1e-6).astype(np.int64)
+        c = np.maximum(c, 0)
+        ok = (r >= 0) & (r < rows) & (c < cols)
+        out = np.zeros(len(x), bool)
+        out[ok] = self.suffix[r[ok], c[ok]] >= -self.m * uq[ok]
+        return out
+
+
+def sun_table(k, direction):
+    """The SunTable of occluder k for a sun along `direction`, cached on the occluder."""
+    key = ("table", tuple(np.round(direction, 9)))
+    if key not in k.maps and len(k.maps) >= MAPS_KEPT:      # a dragged light: the newest
+        k.maps.clear()
+    if key not in k.maps:
+        k.maps[key] = SunTable(k, np.asarray(direction, np.float64))
+    return k.maps[key]
+
+
 def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre):
     """(v, ρ) of occluder k for rays from o (N, 3) toward one light point: by the line map
     toward the light's centre point (`centre`), read where the ray crosses the occluder's
@@ -305,7 +390,12 @@ def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre):
     hit, rho = np.zeros(len(o), bool), np.zeros(len(o), np.float32)
     by_line = r.below if maps and (kind == "sun" or vector[2] > k.top) else \
         np.zeros(len(o), bool)
-    if by_line.any():
+    if by_line.any() and kind == "sun" and k.uniform is not None:
+        q = r.xy + r.rise[:, None] * np.float32(1 / vector[2]) * vector[:2].astype(np.float32)
+        got = sun_table(k, centre).meets(*k.place.to_layer(q[:, 0].astype(np.float64),
+                                                            q[:, 1].astype(np.float64)))
+        hit[by_line], rho[by_line] = got, np.float32(k.uniform) * got
+    elif by_line.any():
         hmap, rmap = line_map(k, kind, centre, spacing, steps)
         if kind == "sun":           # where each line crosses the occluder's plane
             q = r.xy + r.rise[:, None] * np.float32(1 / vector[2]) * \
@@ -410,14 +500,30 @@ def light_in_layer(light, place, size, canvas):
                                   (z - place.z) / place.px / w))
 
 
-def _origins(ready, place):
+def _origins(ready, place, scale=1.0):
     """Each pixel's surface point P_S on its relief (§15: T's rays start there, not at §6's
     P0 — d below the surface would move every cast shadow by d·cot of the light's
-    elevation) in canvas pixels → (H, W, 3)."""
+    elevation) in canvas pixels → (H, W, 3); at `scale`, the centres of a grid of that
+    share of the layer's pixels."""
     h, w = ready.size
-    x, y = pixel_centres(h, w, np.float64)
-    zs = np.zeros((h, w)) if ready.z_px is None else np.nan_to_num(ready.z_px.astype(np.float64))
-    return np.dstack(place.to_canvas(x, y, zs))
+    hs, ws = _scaled(h, scale), _scaled(w, scale)
+    x, y = pixel_centres(hs, ws, np.float64)
+    zs = np.zeros((hs, ws)) if ready.z_px is None else \
+        resample_separable(np.nan_to_num(ready.z_px.astype(np.float32)), hs, ws)
+    return np.dstack(place.to_canvas(x * (w / ws), y * (h / hs), zs.astype(np.float64)))
+
+
+def _scaled(n, scale):
+    return max(2, int(round(n * scale)))
+
+
+def _reduced(occ, scale):
+    """An occluder's images at `scale` of its pixels (its place's pixels grown to match)."""
+    h, w = occ.alpha.shape
+    hs, ws = _scaled(h, scale), _scaled(w, scale)
+    place = Placement(occ.place.corner, occ.place.px * w / ws, occ.place.z)
+    return Occluder(*(resample_separable(a, hs, ws) for a in (occ.alpha, occ.relief_px)),
+                    occ.z_px, occ.thickness_px, resample_separable(occ.opacity, hs, ws), place)
 
 
 def _occluder(ready, p, place, thickness):
@@ -451,32 +557,62 @@ class Scene:
         self.ready = {i: prepare(layers[i].images, layers[i].p, dtype) for i in self.order}
         self.places = {i: placement(layers[i], self.ready[i].size, self.canvas)
                        for i in self.order}
-        self._occluders = {}
+        self._occluders, self._origins = {}, {}
 
-    def occluder(self, k):
-        if k not in self._occluders:
-            tau = self.layers[k].thickness
-            self._occluders[k] = _occluder(self.ready[k], self.layers[k].p, self.places[k],
-                                           None if tau is None else float(tau) * self.canvas[1])
-        return self._occluders[k]
+    def occluder(self, k, scale=1.0):
+        """Layer k as the layers behind it meet it, its images at `scale` of its pixels."""
+        if (k, scale) not in self._occluders:
+            if scale == 1.0:
+                tau = self.layers[k].thickness
+                self._occluders[k, scale] = _occluder(
+                    self.ready[k], self.layers[k].p, self.places[k],
+                    None if tau is None else float(tau) * self.canvas[1])
+            else:
+                self._occluders[k, scale] = _reduced(self.occluder(k), scale)
+        return self._occluders[k, scale]
 
     def own_lights(self, i, lights):
         """The scene's lights as layer i sees them (light_in_layer)."""
         return [light_in_layer(lt, self.places[i], self.ready[i].size, self.canvas)
                 for lt in lights]
 
-    def through(self, i, lights):
+    def bake(self, light, quality=None, progress=None):
+        """t = t_own·T of one light on every layer → [(H_i, W_i)] in the layers' order;
+        each at its own shadows' quality level, or at `quality` for all (a live bake while
+        a light is dragged: 'draft'). The inputs stay prepared: a scene made once serves
+        every light of a drag."""
+        out = [None] * len(self.layers)
+        for position, i in enumerate(self.order):
+            ready, p = self.ready[i], self.layers[i].p
+            if quality is not None:
+                p = copy.deepcopy(p)
+                p.shadows.quality = quality
+            own = shadow_term(ready.n, ready.z_px, ready.slopes, self.own_lights(i, [light])[0],
+                              p)
+            through = self.through(i, [light], p.shadows.quality)
+            out[i] = own if through is None else own * through[0].astype(own.dtype)
+            if progress is not None:
+                progress((position + 1) / len(self.order))
+        return out
+
+    def through(self, i, lights, quality=None):
         """Per light, T of layer i (§15): what the layers in front let through along its
         rays, at its own shadows' quality level; None when nothing is in front."""
-        front = [self.occluder(k) for k in self.order[self.order.index(i) + 1:]]
+        p = self.layers[i].p
+        level = quality or p.shadows.quality
+        q = LAYER_QUALITY.get(level, LAYER_QUALITY["final"])
+        front = [self.occluder(k, q["scale"]) for k in self.order[self.order.index(i) + 1:]]
         if not front:
             return None
-        p = self.layers[i].p
-        q = LAYER_QUALITY.get(p.shadows.quality, LAYER_QUALITY["final"])
-        origins = _origins(self.ready[i], self.places[i])
-        return [transmittance(origins, lt, front, p.shadows.steps, canvas=self.canvas,
-                              spacing=q["spacing"], disc=q["disc"],
-                              maps=p.shadows.quality != "reference") for lt in lights]
+        h, w = self.ready[i].size
+        if (i, q["scale"]) not in self._origins:         # a drag moves the light only
+            self._origins[i, q["scale"]] = _origins(self.ready[i], self.places[i], q["scale"])
+        origins = self._origins[i, q["scale"]]
+        return [resample_separable(
+                    transmittance(origins, lt, front, p.shadows.steps, canvas=self.canvas,
+                                  spacing=q["spacing"], disc=q["disc"],
+                                  maps=level != "reference").astype(np.float32), h, w)
+                for lt in lights]
 
 
 def render_scene(layers, lights, canvas=None, dtype=np.float32, progress=None):
@@ -512,16 +648,7 @@ def bake_scene(layers, light, canvas=None, progress=None):
     layer in the order given, each the size of that layer's shape image; each layer's own
     term at its shadows' quality level (§13), shadows on whatever its recipe says."""
     layers = [replace(layer, p=_with_shadows(layer.p)) for layer in layers]
-    scene = Scene(layers, canvas)
-    out = [None] * len(layers)
-    for position, i in enumerate(scene.order):
-        ready, p = scene.ready[i], layers[i].p
-        own = shadow_term(ready.n, ready.z_px, ready.slopes, scene.own_lights(i, [light])[0], p)
-        through = scene.through(i, [light])
-        out[i] = own if through is None else own * through[0].astype(own.dtype)
-        if progress is not None:
-            progress((position + 1) / len(scene.order))
-    return out
+    return Scene(layers, canvas).bake(light, progress=progress)
 
 
 def scene_notes(layers, canvas=None):

@@ -5,12 +5,14 @@ import pytest
 
 from dynpaint_addon import params
 from dynpaint_addon.core.input_rules import ImageData
-from dynpaint_addon.core.layers import Layer, Occluder, placement, render_scene, transmittance
+from dynpaint_addon.core.layers import (Layer, Occluder, Scene, placement, render_scene,
+                                        transmittance)
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.pipeline import render
 from dynpaint_addon.core.sampling import pixel_centres
 from dynpaint_addon.recipe import load_images, load_recipe
 from dynpaint_addon.samples import recipe_path
+from dynpaint_addon.testpainting import builtin_scene_layers
 
 N = 64
 
@@ -191,3 +193,21 @@ def test_a_point_light_sees_a_placed_layer_from_where_it_is():
     cx, cy, cz = place.to_canvas(x, y, 0.0)
     to = light.position_px(N, N)[None, None, :] - np.dstack([cx, cy, np.full_like(cx, cz)])
     assert np.allclose(scene.t[1][0], to[..., 2] / np.linalg.norm(to, axis=-1), atol=1e-5)
+
+
+def test_the_fast_paths_find_the_shadows_the_march_finds():
+    """Sun tables (a sun over one-opacity layers), line maps (a point light, a glass layer of
+    two opacities) and the march of rays that start inside a slab, against every ray marched
+    (the reference): the same shadows but for a few edge pixels."""
+    layers = [Layer(images, p, name, depth) for name, depth, images, p in builtin_scene_layers(96)]
+    half = np.full((96, 96, 1), 0.5, np.float32)
+    half[:, :48] = 0.2
+    layers[1].images = {**layers[1].images, "transparency": ImageData(half, 32)}
+    layers[1].p.transparency.amount = 1.0
+    scene = Scene(layers)
+    for light in (Light("sun", SUN), Light("point", (0.2, 0.1, 0.6)),
+                  Light("sun", (0.0, 0.0, 1.0))):
+        for i in (0, 1):
+            fast = scene.through(i, [light])[0]
+            slow = scene.through(i, [light], "reference")[0]
+            assert np.mean(np.abs(fast - slow) > 0.1) < 0.02, (light, i)
