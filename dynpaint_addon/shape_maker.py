@@ -31,6 +31,16 @@ class ShapeError(UserError):
     """A make-shape input that cannot be used; the message says what to change."""
 
 
+def looks_like_height(img):
+    """Whether a shape image (ImageData) is a height map: grey (R = G = B), else a normal map
+    (Add › From Images' Detect, layered files)."""
+    px = img.pixels
+    if px.shape[2] < 3:
+        return True
+    return bool(np.allclose(px[..., 0], px[..., 1], atol=2e-3)
+                and np.allclose(px[..., 1], px[..., 2], atol=2e-3))
+
+
 def linear_luminance(img):
     """Rec.709 luminance of an image's linear light (8/16-bit files are sRGB, floats linear)."""
     rgb = np.asarray(img.rgb(), np.float64)

@@ -9,13 +9,13 @@ import numpy as np
 
 from .. import params
 from ..core.bake import QUALITY, bake, quality_level, quality_settings
-from ..core.layers import bake_scene, scene_notes
+from ..core.layers import bake_scene
 from ..core.lights import Light
 from ..core.pipeline import shape_normals
 from ..core.shadow import ShadowStats
 from ..errors import CommandError
 from ..imageio import read_image, write_exr
-from ..recipe import hidden_notes, load_layers, load_recipe
+from ..layered_files import load_layered
 from .notes import check_and_print, print_notes
 
 
@@ -115,11 +115,10 @@ def cmd_bake_layers(args):
                            f"layer_1.exr, …)")
     _check_ranges(args, BAKE_OPTIONS)
     light = _light(args)
-    recipe = load_recipe(args.layers)
-    layers = load_layers(recipe)
+    layers, _, notes = load_layered(args.layers)
     for layer in layers:                   # what the command line gives, every layer takes
         _set(layer.p, _given(args, BAKE_OPTIONS))
-    print_notes(scene_notes(layers) + hidden_notes(recipe))
+    print_notes(notes)
     t0 = time.perf_counter()
     terms = bake_scene(layers, light)
     ms = (time.perf_counter() - t0) * 1000
@@ -176,9 +175,10 @@ def add_parser(sub):
                                    "one-channel float EXR of the shape image's size.")
     b.add_argument("shape", metavar="SHAPE", nargs="?", help="normal map or height map image")
     b.add_argument("--kind", choices=("height", "normal"), help="what SHAPE holds")
-    b.add_argument("--layers", metavar="SCENE.toml",
-                   help="bake every layer of a layered recipe instead (§15): the layers in "
-                        "front cast their shadows; --out is then a folder")
+    b.add_argument("--layers", metavar="SCENE",
+                   help="bake every layer of a layered recipe, an .ora file or a folder of "
+                        "layer images instead (§15): the layers in front cast their shadows; "
+                        "--out is then a folder")
     lg = b.add_mutually_exclusive_group(required=True)
     lg.add_argument("--light", nargs=3, type=float, metavar=("X", "Y", "Z"),
                     help="sun: direction toward the light in the painting frame (any length)")

@@ -6,11 +6,12 @@ import time
 import numpy as np
 
 from ..core.input_rules import resample_painting
-from ..core.layers import render_scene, scene_notes
+from ..core.layers import render_scene
 from ..core.pipeline import render
 from ..errors import CommandError
 from ..imageio import write_render
-from ..recipe import hidden_notes, load_images, load_layers, load_recipe
+from ..layered_files import is_layered_file, load_layered
+from ..recipe import load_images, load_recipe
 from ..samples import recipe_help
 from .notes import print_notes
 
@@ -21,9 +22,11 @@ ENGINES = ("numpy", "cycles", "eevee")
 def cmd_render(args):
     if args.width is not None and args.width < 1:
         raise CommandError(f"--width must be at least 1 pixel, got {args.width}")
+    if is_layered_file(args.recipe):
+        return _render_layers(args)
     recipe = load_recipe(args.recipe)
     if recipe.layered:
-        return _render_layers(args, recipe)
+        return _render_layers(args)
     if args.engine != "numpy":
         return _render_blender(args, recipe)
     if args.frame is not None:
@@ -46,17 +49,16 @@ def cmd_render(args):
     print(f"rendered {w}×{h} in {ms:.0f} ms → {args.out}")
 
 
-def _render_layers(args, recipe):
-    """A layered recipe (§15) by the numpy core: each layer lit through the layers in front
-    of it, composited back to front on the canvas."""
+def _render_layers(args):
+    """A layered recipe, .ora or folder (§15) by the numpy core: each layer lit through the
+    layers in front of it, composited back to front on the canvas."""
     if args.engine != "numpy" or args.frame is not None or args.width:
         raise CommandError("a layered recipe renders with the numpy engine at its canvas's "
                            "size for now (no --engine eevee/cycles, --frame or --width)")
-    layers = load_layers(recipe)
-    print_notes(scene_notes(layers) + hidden_notes(recipe))
+    layers, lights, notes = load_layered(args.recipe)
+    print_notes(notes)
     t = time.perf_counter()
-    result = render_scene(layers, recipe.lights, dtype=np.float64 if args.float64 else
-                          np.float32)
+    result = render_scene(layers, lights, dtype=np.float64 if args.float64 else np.float32)
     ms = (time.perf_counter() - t) * 1000
     write_render(args.out, result.rgba)
     h, w = result.rgba.shape[:2]
@@ -79,7 +81,8 @@ def add_parser(sub):
     r = sub.add_parser("render", help="render a recipe to an image",
                        description="Render a painting recipe (painting.toml) to PNG (8-bit sRGB) "
                                    "or EXR (linear float, premultiplied RGBA).")
-    r.add_argument("recipe", help=recipe_help())
+    r.add_argument("recipe", help=recipe_help() + "; or a layered painting: an .ora file or a "
+                                                  "folder of layer images (§15)")
     r.add_argument("--out", required=True, help="output image (.png or .exr)")
     r.add_argument("--engine", default="numpy", choices=ENGINES,
                    help="numpy (the reference core, default), or cycles / eevee (the add-on's "

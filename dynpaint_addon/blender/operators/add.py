@@ -1,8 +1,6 @@
 """Add › Dynamic Painting: from images or a recipe, a sample, a recipe import; the Add menu."""
 import os
 
-import numpy as np
-
 import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty,
                        StringProperty)
@@ -14,20 +12,11 @@ from ...channel_names import IMAGE_EXTENSIONS, common_name, guess_channels
 from ...imageio import image_data_from_blender
 from ...recipe import RecipeError, load_recipe
 from ...samples import list_samples
-from ...shape_maker import read_as_made
+from ...shape_maker import looks_like_height, read_as_made
 from ...shape_methods import make_shape
 from ..images import load_image, made_shape_image
 from ..scene import create_painting, unchanged_images_on_failure
 from .common import run_and_report
-
-
-def looks_like_height(img):
-    """A shape image is a height map if it is grey (R = G = B), else a normal map."""
-    px = image_data_from_blender(img).pixels
-    if px.shape[2] < 3:
-        return True
-    return bool(np.allclose(px[..., 0], px[..., 1], atol=2e-3)
-                and np.allclose(px[..., 1], px[..., 2], atol=2e-3))
 
 
 SHAPE_KINDS = (("AUTO", "Detect", "Grey images are height maps, coloured ones normal maps"),
@@ -152,7 +141,7 @@ def painting_from_images(context, channels, rest, shape_kind, size, location, ro
     if "shape" in channels:
         shape = load_image(channels["shape"], "shape")
         p.shape.kind = shape_kind.lower() if shape_kind != "AUTO" else \
-            ("height" if looks_like_height(shape) else "normal")
+            ("height" if looks_like_height(image_data_from_blender(shape)) else "normal")
         notes.append(f"shape image read as a {p.shape.kind} map")
     else:
         shape, note = inflated_shape(channels, name, p)
