@@ -22,8 +22,9 @@ import bpy
 from bpy.app.handlers import persistent
 
 from .frame_sampling import only_reading_lights
+from .layers import bake_painting, forget_scenes
 from .live_bake import rendering
-from .shadow_images import bake_shadows, forget_cached_shapes
+from .shadow_images import forget_cached_shapes
 from .status import problems, report
 from .sync import invalidate_generated, update
 from .tree import rebuild_tree, tree_is_stale
@@ -69,7 +70,7 @@ def on_frame_change(scene, depsgraph):
             continue         # Cycles marches in its OSL shader: nothing to bake per frame
         try:
             if rendering():
-                bake_shadows(mat, scene, depsgraph, force=False)
+                bake_painting(mat, scene, depsgraph, force=False)
             else:
                 update(mat, scene, depsgraph, bake="live")
         except Exception as exc:     # never into the render loop; the last bake stays
@@ -106,6 +107,7 @@ def remake_generated_images(*_):
     undo restores settings, lights and bake keys but not necessarily those pixels. Remake them
     so the painting matches what is loaded."""
     forget_cached_shapes()
+    forget_scenes()
     paintings_ = [m for m in bpy.data.materials if m.dynamic_painting.is_painting]
     if paintings_ and getattr(bpy.context, "view_layer", None) is not None:
         bpy.context.view_layer.update()     # after undo, world matrices are not evaluated yet

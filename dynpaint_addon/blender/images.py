@@ -124,6 +124,25 @@ def _store(settings, channel, image, key):
     item.image, item.key = image, key
 
 
+def packed_image(name, data, channel):
+    """An image numpy holds (core ImageData: a layer of an .ora file, a shaded copy) → a new
+    image packed into the .blend, as the channel reads it (§0): 8- and 16-bit values stay
+    file values (sRGB codes for colour), floats are linear or data."""
+    px = data.pixels
+    rgba = np.concatenate([px[..., :1].repeat(3, -1) if px.shape[2] < 3 else px[..., :3],
+                           px[..., -1:] if data.has_alpha else np.ones(px.shape[:2] + (1,))],
+                          axis=2).astype(np.float32)
+    if data.bits == 32:
+        return made_shape_image(name, rgba)
+    h, w = rgba.shape[:2]
+    img = bpy.data.images.new(name, w, h, alpha=True)
+    prepare_channel_image(img, channel)
+    img.pixels.foreach_set(np.ascontiguousarray(rgba).ravel())
+    img.file_format = "PNG"
+    img.pack()
+    return img
+
+
 def made_shape_image(name, rgba):
     """A shape image numpy made (Make Shape) → a new float image packed into the .blend: undo
     removes it with the rest of the step, and no file appears beside the artist's images

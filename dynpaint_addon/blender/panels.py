@@ -9,6 +9,7 @@ import bpy
 
 from .. import params
 from ..looks import LOOKS
+from .layers import layer_parent
 from .live_bake import LIVE
 from .operators.add import draw_add_menu
 from .operators.common import active_painting
@@ -87,6 +88,30 @@ def _draw_lights(layout, context, mat):
     layout.operator("dynpaint.add_light_turntable", icon="ORIENTATION_GIMBAL")
 
 
+def _draw_layers(layout, mat):
+    """The layers of the scene this painting belongs to (§15), back to front: depth (its
+    plane's height over the parent), thickness, shown in renders and the viewport."""
+    parent = layer_parent(mat)
+    if parent is None:
+        layout.label(text="Not a layer: add one with Add › Dynamic Painting › Layered…",
+                     icon="INFO")
+        return
+    layout.label(text=f"Scene: {parent.name}", icon="RENDERLAYERS")
+    col = layout.column(align=True)
+    layers = sorted((c for c in parent.children if c.active_material is not None
+                     and c.active_material.dynamic_painting.is_painting),
+                    key=lambda o: o.location.z)
+    for plane in layers:
+        row = col.row(align=True)
+        current = plane.active_material == mat
+        row.label(text=plane.name, icon="RADIOBUT_ON" if current else "RADIOBUT_OFF")
+        row.prop(plane, "location", index=2, text="Depth")
+        row.prop(plane.active_material.dynamic_painting, "layer_thickness", text="")
+        row.prop(plane, "hide_render", text="", emboss=False)
+        row.prop(plane, "hide_viewport", text="", emboss=False)
+    layout.label(text="The layers in front shadow those behind (pipeline.md §15)", icon="INFO")
+
+
 class _Base:
     bl_options = {"DEFAULT_CLOSED"}
 
@@ -148,6 +173,8 @@ def _make_panels(space, region, context_name, category, prefix):
         self.layout, active_painting(context).dynamic_painting))
     sub("lights", "Lights", lambda self, context: _draw_lights(
         self.layout, context, active_painting(context)))
+    sub("layers", "Layers", lambda self, context: _draw_layers(
+        self.layout, active_painting(context)))
     for idname, (label, sections) in params.PANELS.items():
         header = next((prm.path for prm in params.PARAMS if prm.header and prm.panel == idname), None)
         sub(idname, label, _section_drawer(sections), header)

@@ -103,6 +103,12 @@ SETTINGS_ANNOTATIONS = {
     "lights": CollectionProperty(type=DYNPAINT_PG_light),
     "derived": CollectionProperty(type=DYNPAINT_PG_derived),
     "signature": StringProperty(options={"HIDDEN"}),
+    "layer_thickness": FloatProperty(
+        name="Thickness", default=0.0, min=0.0, soft_max=0.2, precision=3, step=0.1,
+        description="How far this layer reaches behind its plane when it shadows the layers "
+                    "behind it, in image widths of the back layer (0: its tallest relief, at "
+                    "least a pixel). pipeline.md §15",
+        update=_on_change("layer.thickness")),
     "shadows_stale": BoolProperty(default=False, options={"HIDDEN"}),
     **{f"image_{c}": _image_pointer(c) for c in params.CHANNELS},
     **{s: PointerProperty(type=cls) for s, cls in zip(params.SECTIONS, SECTION_CLASSES)},

@@ -22,8 +22,13 @@ def light_key(light):
 
 def bake_key(light, p, s):
     """What a bake depends on: the light's place, the bake's parameters, the shape image."""
+    return light_key(light) + "|" + settings_key(p, s)
+
+
+def settings_key(p, s):
+    """What a bake depends on besides its light: the bake's parameters, the shape image."""
     values = [getattr(getattr(p, prm.section), prm.key) for prm in BAKE_PARAMS]
-    return light_key(light) + "|" + repr((values, s.image_shape.name if s.image_shape else None))
+    return repr((values, s.image_shape.name if s.image_shape else None))
 
 
 _SHAPES = {}   # material name → (key, (normals, heights_px, slopes)): the bakes' decoded shape

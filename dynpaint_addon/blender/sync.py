@@ -13,6 +13,7 @@ import bpy
 
 from ..core.bake import QUALITY, quality_level
 from .images import prepare_channel_image, update_derived_images
+from .layers import bake_group, bake_group_live, layer_parent
 from .live_bake import LIVE, rendering
 from .shadow_images import bake_shadows, forget_cached_shape, stale_lights
 from .status import clear_errors, report
@@ -92,6 +93,13 @@ def update(mat, scene=None, depsgraph=None, progress=None, bake="now", rebake=Fa
 
 
 def _bake(mat, scene, depsgraph, progress, when, everything, p):
+    parent = layer_parent(mat)
+    if parent is not None:            # a layer: the whole group bakes at once (§15)
+        if when == "live" and not rendering() and not everything:
+            bake_group_live(parent, depsgraph)
+        else:
+            bake_group(parent, depsgraph, force=everything)
+        return
     s = mat.dynamic_painting
     stale = everything or stale_lights(mat, depsgraph, p)
     if not stale:

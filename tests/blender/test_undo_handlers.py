@@ -99,7 +99,7 @@ def test_a_bake_failing_inside_an_animation_render_never_reaches_the_render_loop
 
     def broken(*args, **kwargs):
         raise RuntimeError("the bake broke (test)")
-    monkeypatch.setattr(handlers, "bake_shadows", broken)   # what the handler calls
+    monkeypatch.setattr(handlers, "bake_painting", broken)  # what the handler calls
     status.LAST_ERRORS.clear()
     exact_render_settings(scene, "cycles")
     output_settings(scene, str(tmp_path / "x.exr"))

@@ -5,9 +5,9 @@ classes in CLASSES.
 """
 import bpy
 
-from . import add, compositor, export, image_slots, painting, shape, turntable, web
+from . import add, compositor, export, image_slots, layers, painting, shape, turntable, web
 
-CLASSES = (*add.CLASSES, *turntable.CLASSES, *compositor.CLASSES, *painting.CLASSES,
+CLASSES = (*add.CLASSES, *layers.CLASSES, *turntable.CLASSES, *compositor.CLASSES, *painting.CLASSES,
            *image_slots.CLASSES, *export.CLASSES, *shape.CLASSES, *web.CLASSES)
 
 

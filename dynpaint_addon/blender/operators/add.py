@@ -276,6 +276,7 @@ class VIEW3D_MT_dynpaint_add(bpy.types.Menu):
 def draw_add_menu(layout):
     layout.operator(DYNPAINT_OT_add.bl_idname, text="From Images or Recipe…",
                     icon="FILEBROWSER")
+    layout.operator("dynpaint.add_layered", text="Layered…", icon="RENDERLAYERS")
     samples = list_samples()
     if samples:
         layout.separator()

@@ -4,7 +4,7 @@ from bpy.props import EnumProperty
 
 from ...looks import LOOKS
 from ..scene import face_camera
-from ..shadow_images import bake_shadows
+from ..layers import bake_painting
 from ..sync import batch, update
 from ..tree import rebuild_tree
 from .common import PaintingOperator, active_painting, run_and_report
@@ -23,8 +23,8 @@ class DYNPAINT_OT_bake_shadows(PaintingOperator, bpy.types.Operator):
             return {"CANCELLED"}
 
         def work(progress):     # the cursor shows it; long bakes report per band
-            ms = bake_shadows(mat, context.scene, context.evaluated_depsgraph_get(),
-                              progress=progress)
+            ms = bake_painting(mat, context.scene, context.evaluated_depsgraph_get(),
+                               progress=progress)
             rebuild_tree(mat, context.scene)
             n = len(mat.dynamic_painting.lights)
             w, h = mat.dynamic_painting.image_shape.size

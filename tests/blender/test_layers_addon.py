@@ -1,0 +1,137 @@
+"""Add › Dynamic Painting › Layered… (issue 30): an .ora file and a layered recipe become one
+plane per layer under a parent; the layers in front shadow those behind — the same t as the
+core's bake of the same scene — and the shadows follow a dragged light, a moved layer, undo,
+a saved and reopened file, and a render frame by frame."""
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from dynpaint_addon.blender.layers import (LAYERED, core_scene, forget_scenes,  # noqa: E402
+                                           group_materials, layer_parent, settle)
+from dynpaint_addon.blender.lights import painting_frame_light  # noqa: E402
+from dynpaint_addon.core.layers import bake_scene  # noqa: E402
+from dynpaint_addon.imageio import image_data_from_blender  # noqa: E402
+from dynpaint_addon.recipe import load_layers, load_recipe  # noqa: E402
+from dynpaint_addon.testpainting import write_test_scene  # noqa: E402
+from mathutils import Matrix  # noqa: E402
+from test_addon import render_cycles  # noqa: E402
+from testkit.layered_files import window_scene, write_ora  # noqa: E402
+
+SIZE = 64
+
+
+@pytest.fixture(scope="module")
+def recipe(tmp_path_factory):
+    return write_test_scene(str(tmp_path_factory.mktemp("scene")), size=SIZE)
+
+
+def shadow_of(mat):
+    """The painting's first light's cos-θ image (H, W)."""
+    return image_data_from_blender(mat.dynamic_painting.lights[0].shadow).pixels[..., 0]
+
+
+def add_layered(path, **kw):
+    assert bpy.ops.dynpaint.add_layered(filepath=str(path), **kw) == {"FINISHED"}
+    parent = bpy.context.object
+    assert parent.get(LAYERED)
+    return parent
+
+
+def test_a_layered_recipe_becomes_planes_whose_shadows_are_the_cores(empty_scene, recipe):
+    parent = add_layered(recipe)
+    mats = group_materials(parent)
+    assert [m.name for m in mats] == ["scene back", "scene ring", "scene star"]
+    assert all(layer_parent(m) == parent for m in mats)
+    depths = [m.dynamic_painting.plane.location.z for m in mats]
+    assert depths == pytest.approx([0.0, 0.12, 0.25])
+    # the core's bake of the recipe's layers with the light where the scene has it
+    back = mats[0].dynamic_painting.plane
+    sun = painting_frame_light(mats[0].dynamic_painting.lights[0].object, back.matrix_world)
+    want = bake_scene(load_layers(load_recipe(recipe)), sun)
+    for mat, t in zip(mats, want):
+        np.testing.assert_allclose(shadow_of(mat), t, atol=2e-3)
+    assert shadow_of(mats[0]).min() < 0.05 < shadow_of(mats[2]).min()
+
+
+def consistent(parent_name):
+    """Every layer's shadow image equals a fresh core bake of the group as the scene has it
+    now (its planes' places, its light) → the back layer's t."""
+    parent = bpy.data.objects[parent_name]
+    mats = group_materials(parent)
+    back = mats[0].dynamic_painting.plane
+    sun = painting_frame_light(mats[0].dynamic_painting.lights[0].object, back.matrix_world)
+    forget_scenes()
+    want = core_scene(parent, mats).bake(sun)
+    for mat, t in zip(mats, want):
+        np.testing.assert_allclose(shadow_of(mat), t, atol=1e-6, err_msg=mat.name)
+    return shadow_of(mats[0]).copy()
+
+
+def turn(obj, angle):
+    obj.matrix_world = Matrix.Rotation(angle, 4, "X") @ obj.matrix_world
+
+
+def test_a_moved_light_or_layer_rebakes_the_group_and_undo_brings_it_back(empty_scene, recipe):
+    parent = add_layered(recipe)
+    name = parent.name
+    bpy.ops.ed.undo_push(message="layered")
+    start = consistent(name)
+    star = bpy.data.objects["scene star"]
+    star.location.x += 0.1                       # move the front layer: its shadow moves
+    bpy.context.view_layer.update()
+    settle()
+    bpy.ops.ed.undo_push(message="move layer")
+    moved = consistent(name)
+    assert np.abs(moved - start).mean() > 1e-3
+    turn(bpy.data.objects["Key"], 0.2)           # drag the light: draft now, final once still
+    bpy.context.view_layer.update()
+    settle()
+    bpy.ops.ed.undo_push(message="move light")
+    lit = consistent(name)
+    assert np.abs(lit - moved).mean() > 1e-3
+    bpy.ops.ed.undo()                            # the light back
+    np.testing.assert_allclose(consistent(name), moved, atol=1e-6)
+    bpy.ops.ed.undo()                            # the layer back
+    np.testing.assert_allclose(consistent(name), start, atol=1e-6)
+
+
+def test_saved_and_reopened_and_rendered_frame_by_frame(empty_scene, recipe, tmp_path):
+    parent = add_layered(recipe)
+    name = parent.name
+    scene = bpy.context.scene
+    sun = bpy.data.objects["Key"]
+    for frame, angle in ((1, 0.0), (3, 0.4)):
+        sun.rotation_mode = "XYZ"
+        sun.rotation_euler = (angle, 0.2, 0.5)
+        sun.keyframe_insert("rotation_euler", frame=frame)
+    blend = str(tmp_path / "layers.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=blend)
+    bpy.ops.wm.open_mainfile(filepath=blend)
+    consistent(name)                              # the pixels remade as the file opened
+    scene = bpy.context.scene
+    scene.frame_set(2)                            # frame 2 alone …
+    alone = consistent(name)
+    scene.frame_set(1)
+    scene.frame_set(3)
+    scene.frame_set(2)                            # … and after others: bit for bit
+    np.testing.assert_array_equal(consistent(name), alone)
+    back = bpy.data.materials["scene back"].dynamic_painting.plane
+    render_cycles(scene, back, str(tmp_path / "frame2.exr"))   # renders, never raises
+
+
+def test_an_ora_file_adds_with_parallax_for_a_perspective_camera(empty_scene, tmp_path):
+    cam = bpy.data.objects.new("cam", bpy.data.cameras.new("cam"))
+    bpy.context.scene.collection.objects.link(cam)
+    cam.location = (0.0, 0.0, 4.0)
+    bpy.context.scene.camera = cam
+    path = write_ora(str(tmp_path / "window.ora"), SIZE, window_scene(SIZE))
+    parent = add_layered(path, spacing=0.1)
+    mats = group_materials(parent)
+    assert [m.dynamic_painting.plane.name for m in mats] == [
+        "window sky", "window hill", "window figure"]
+    for mat in mats:     # each layer scaled by (D − z)/D: the camera sees the composition
+        plane = mat.dynamic_painting.plane
+        assert plane.scale.x == pytest.approx((4.0 - plane.location.z) / 4.0, rel=1e-3)
+    figure = mats[2].dynamic_painting
+    assert figure.shape.kind == "normal" and figure.image_shape.packed_file is not None
