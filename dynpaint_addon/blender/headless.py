@@ -13,18 +13,28 @@ from ..imageio import quiet_native
 from . import register_once
 from .scene import create_painting, exact_camera, exact_render_settings, output_settings
 from . import turntable
+from .layered_build import add_layered
+from .layers import group_materials
 from .lights import linked_lights
 
 
 def build_recipe_scene(recipe, size=1.0, notes=None):
     """Empty scene → the recipe's painting, lights and an exact camera → (plane, material).
-    notes: called with what Add says about the painting (a list of lines), if given."""
+    A layered source (a layered recipe, or an .ora file or folder given as its path) is
+    built as Add › Layered… builds it, the camera framing its back layer. notes: called with
+    what Add says about the painting (a list of lines), if given."""
     bpy.ops.wm.read_homefile(use_empty=True)
     register_once()
     context = bpy.context
-    plane, mat, messages = create_painting(context, recipe.images, recipe.params, recipe.lights,
-                                      name=recipe.name or "Dynamic Painting", size=size,
-                                      default_sun=False)
+    if isinstance(recipe, str) or recipe.layered:
+        parent, messages = add_layered(context, recipe if isinstance(recipe, str) else
+                                       recipe.path, size=size, lights="all")
+        mat = group_materials(parent)[0]
+        plane = mat.dynamic_painting.plane
+    else:
+        plane, mat, messages = create_painting(context, recipe.images, recipe.params,
+                                               recipe.lights, name=recipe.name or
+                                               "Dynamic Painting", size=size, default_sun=False)
     if notes is not None:
         notes(messages)
     exact_camera(context.scene, plane)

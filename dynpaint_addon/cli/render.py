@@ -23,12 +23,13 @@ def cmd_render(args):
     if args.width is not None and args.width < 1:
         raise CommandError(f"--width must be at least 1 pixel, got {args.width}")
     if is_layered_file(args.recipe):
-        return _render_layers(args)
+        return _render_blender(args, args.recipe) if args.engine != "numpy" else \
+            _render_layers(args)
     recipe = load_recipe(args.recipe)
-    if recipe.layered:
-        return _render_layers(args)
     if args.engine != "numpy":
         return _render_blender(args, recipe)
+    if recipe.layered:
+        return _render_layers(args)
     if args.frame is not None:
         raise CommandError("--frame needs --engine eevee or cycles (the numpy engine renders "
                            "the recipe's lights as written)")
@@ -52,9 +53,10 @@ def cmd_render(args):
 def _render_layers(args):
     """A layered recipe, .ora or folder (§15) by the numpy core: each layer lit through the
     layers in front of it, composited back to front on the canvas."""
-    if args.engine != "numpy" or args.frame is not None or args.width:
-        raise CommandError("a layered recipe renders with the numpy engine at its canvas's "
-                           "size for now (no --engine eevee/cycles, --frame or --width)")
+    if args.frame is not None or args.width:
+        raise CommandError("the numpy engine renders a layered painting at its canvas's size "
+                           "with the lights as written (no --frame or --width; --engine eevee "
+                           "or cycles take --frame)")
     layers, lights, notes = load_layered(args.recipe)
     print_notes(notes)
     t = time.perf_counter()

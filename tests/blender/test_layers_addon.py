@@ -10,8 +10,10 @@ bpy = pytest.importorskip("bpy")
 from dynpaint_addon.blender.layers import (LAYERED, core_scene, forget_scenes,  # noqa: E402
                                            group_materials, layer_parent, settle)
 from dynpaint_addon.blender.lights import painting_frame_light  # noqa: E402
-from dynpaint_addon.core.layers import bake_scene  # noqa: E402
-from dynpaint_addon.imageio import image_data_from_blender  # noqa: E402
+from dynpaint_addon.blender.headless import build_recipe_scene  # noqa: E402
+from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.core.layers import bake_scene, render_scene  # noqa: E402
+from dynpaint_addon.imageio import image_data_from_blender, read_image  # noqa: E402
 from dynpaint_addon.recipe import load_layers, load_recipe  # noqa: E402
 from dynpaint_addon.testpainting import write_test_scene  # noqa: E402
 from mathutils import Matrix  # noqa: E402
@@ -135,3 +137,30 @@ def test_an_ora_file_adds_with_parallax_for_a_perspective_camera(empty_scene, tm
         assert plane.scale.x == pytest.approx((4.0 - plane.location.z) / 4.0, rel=1e-3)
     figure = mats[2].dynamic_painting
     assert figure.shape.kind == "normal" and figure.image_shape.packed_file is not None
+
+
+@pytest.mark.parametrize("engine", ["cycles", "eevee"])
+def test_every_layer_renders_as_the_core_draws_it(recipe, tmp_path, engine):
+    """The material of each layer (its shadow image holding t_own·T) in Cycles and EEVEE
+    against the core's render of that layer in the scene (§15), ≤ 1e-3; and the composite of
+    the whole scene (an orthographic camera: the core's back-to-front over) as well."""
+    plane, _ = build_recipe_scene(load_recipe(recipe))
+    scene = bpy.context.scene
+    exact_render_settings(scene, engine)
+    want = render_scene(load_layers(load_recipe(recipe)), load_recipe(recipe).lights)
+    parent = plane.parent
+    mats = group_materials(parent)
+    for i, mat in enumerate(mats):
+        for j, other in enumerate(mats):
+            other.dynamic_painting.plane.visible_camera = i == j   # still shadowing
+        output_settings(scene, str(tmp_path / f"{engine}_{i}.exr"))
+        bpy.ops.render.render(write_still=True)
+        got = read_image(str(tmp_path / f"{engine}_{i}.exr")).pixels
+        err = np.abs(got - want.layers[i].rgba)[1:-1, 1:-1]
+        assert err.mean() <= 1e-3, (engine, mat.name, err.mean())
+    for other in mats:
+        other.dynamic_painting.plane.visible_camera = True
+    output_settings(scene, str(tmp_path / f"{engine}_all.exr"))
+    bpy.ops.render.render(write_still=True)
+    got = read_image(str(tmp_path / f"{engine}_all.exr")).pixels
+    assert np.abs(got - want.rgba)[1:-1, 1:-1].mean() <= 1e-3

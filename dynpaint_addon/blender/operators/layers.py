@@ -1,20 +1,14 @@
 """Add › Dynamic Painting › Layered…: a scene of layers (pipeline.md §15) from an .ora file,
-a folder of layer images or a layered recipe — one plane per layer under one parent, each
-at its depth, each with today's material, the layers in front shadowing those behind."""
+a folder of layer images or a layered recipe (built by blender/layered_build.py)."""
 import os
 
 import bpy
 from bpy.props import BoolProperty, FloatProperty, StringProperty
 from bpy_extras.io_utils import ImportHelper
-from mathutils import Matrix, Vector
 
-from ...layered_files import DEFAULT_SHADE, DEFAULT_SPACING, is_layered_file, load_scene
-from ...recipe import hidden_notes, load_recipe
-from ..images import packed_image
-from ..layers import LAYERED, bake_group
-from ..lights import add_light, linked_lights
-from ..scene import FACE_CAMERA, create_painting, face_camera, unchanged_images_on_failure
-from ..sync import update
+from ...layered_files import DEFAULT_SHADE, DEFAULT_SPACING
+from ..layered_build import add_layered
+from ..scene import unchanged_images_on_failure
 from .add import DYNPAINT_OT_add, select_only
 from .common import run_and_report
 
@@ -51,111 +45,15 @@ class DYNPAINT_OT_add_layered(bpy.types.Operator, ImportHelper):
 
         def work(progress):
             with unchanged_images_on_failure():
-                parent, messages = add_layered(context, path, self.spacing, self.shade,
-                                               self.size, self.parallax, progress)
+                parent, messages = add_layered(
+                    context, path, self.spacing, self.shade, self.size, self.parallax,
+                    DYNPAINT_OT_add._view_rotation(context), progress)
             select_only(context, parent)
             return [("WARNING", m) for m in messages] + \
                 [("INFO", f"Added layered painting '{parent.name}' "
                           f"({len(parent.children)} layers)")]
         return run_and_report(self, context, work, progress=True,
                               catch=(ValueError, OSError, MemoryError))
-
-
-def scene_layers(path, spacing, shade):
-    """The layers of `path` → ([(name, depth, offset, scale, thickness, images, p)], lights,
-    notes): images as file paths (a recipe) or bpy images packed from the file's layers."""
-    if is_layered_file(path):
-        layers, lights, notes = load_scene(path, spacing, shade)
-        return [(lay.name, lay.depth, lay.offset, lay.scale, lay.thickness,
-                 {c: packed_image(f"{lay.name} {c}", img, c) for c, img in lay.images.items()},
-                 lay.p) for lay in layers], lights, notes
-    recipe = load_recipe(path)
-    if not recipe.layered:
-        raise ValueError(f"{path}: a one-painting recipe: use From Images or Recipe…")
-    return [(lay.name, lay.depth, lay.offset, lay.scale, lay.thickness, lay.recipe.images,
-             lay.recipe.params) for lay in recipe.layers if lay.visible], recipe.lights, \
-        hidden_notes(recipe)
-
-
-def add_layered(context, path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE, size=1.0,
-                parallax=True, progress=None):
-    """Build a layered painting → (parent Empty, messages). The parent faces the camera at
-    the 3D cursor; each layer's plane is its child at (offset, depth) × size, scaled by its
-    scale (and by (D − z)/D about the camera's axis with `parallax` and a perspective
-    camera); the scene's lights are added in the back layer's frame when it has none."""
-    scene = context.scene
-    layers, lights, messages = scene_layers(path, spacing, shade)
-    stem = os.path.splitext(os.path.basename(path.rstrip(os.sep)))[0]
-    parent = bpy.data.objects.new(stem, None)
-    parent.empty_display_type = "PLAIN_AXES"
-    parent.empty_display_size = 0.25 * size
-    parent[LAYERED] = 1
-    context.collection.objects.link(parent)
-    parent.location = scene.cursor.location
-    rotation = DYNPAINT_OT_add._view_rotation(context)    # None: the camera's, below
-    if rotation is not None:
-        parent.rotation_euler = rotation
-    if scene.camera is not None:
-        face_camera(parent, scene.camera)
-    else:
-        messages.append("no camera in the scene: the layers face the view (give the parent "
-                        "a Copy Rotation constraint to a camera to keep them facing it)")
-    context.view_layer.update()
-    camera = _camera_in(parent, scene.camera) if parallax else None
-    planes = []
-    try:
-        for i, (name, depth, offset, scale, thickness, images, p) in enumerate(layers):
-            shadows = p.shadows.enabled
-            p.shadows.enabled = False         # the group bakes once, when all are placed
-            plane, mat, notes = create_painting(context, images, p, None, f"{stem} {name}",
-                                                size, default_sun=False)
-            planes.append(plane)
-            messages += [f"{name}: {n}" for n in notes if "no camera" not in n]
-            if FACE_CAMERA in plane.constraints:      # the parent faces the camera instead
-                plane.constraints.remove(plane.constraints[FACE_CAMERA])
-            plane.parent = parent
-            plane.matrix_parent_inverse = Matrix.Identity(4)
-            plane.rotation_euler = (0.0, 0.0, 0.0)
-            x, y, z = offset[0] * size, offset[1] * size, depth * size
-            k = 1.0
-            if camera is not None and camera[2] > z:       # keep the composition (§15)
-                k = (camera[2] - z) / camera[2]
-                x, y = camera[0] + (x - camera[0]) * k, camera[1] + (y - camera[1]) * k
-            plane.location = (x, y, z)
-            plane.scale = (size * scale * k,) * 3
-            s = mat.dynamic_painting
-            s.layer_thickness = thickness or 0.0
-            s.shadows.enabled = shadows
-            if progress is not None:
-                progress((i + 1) / (len(layers) + 1))
-        context.view_layer.update()
-        if not any(linked_lights(plane.active_material, scene) for plane in planes[:1]):
-            back = planes[0].matrix_world
-            for light in lights:
-                add_light(scene, light, back, context.collection)
-            messages.append(f"the scene had no light: added {len(lights)}")
-            context.view_layer.update()
-        for plane in planes:
-            messages += update(plane.active_material, scene)
-        bake_group(parent, force=True)
-    except Exception:
-        for obj in planes + [parent]:
-            mesh = obj.data
-            mats = list(mesh.materials) if mesh is not None else []
-            bpy.data.objects.remove(obj)
-            if mesh is not None:
-                bpy.data.meshes.remove(mesh)
-            for mat in mats:
-                bpy.data.materials.remove(mat)
-        raise
-    return parent, messages
-
-
-def _camera_in(parent, camera):
-    """A perspective camera's position in the parent's frame (None: none, or orthographic)."""
-    if camera is None or camera.data.type != "PERSP":
-        return None
-    return tuple(parent.matrix_world.inverted() @ Vector(camera.matrix_world.translation))
 
 
 CLASSES = (DYNPAINT_OT_add_layered,)
