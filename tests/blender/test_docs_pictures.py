@@ -12,6 +12,7 @@ from dynpaint_addon.imageio import read_image
 @pytest.mark.parametrize("generator, page, pictures", [
     ("make_real_paintings", "real-paintings.md", "real"),       # issue 15's before/after
     ("make_shape_pictures", "shape-from-painting.md", "shape"),  # issue 16's methods
+    ("make_layer_pictures", "layers.md", "layers"),  # issue 30: layers that shadow each other
 ])
 def test_page_and_pictures_are_current(generator, page, pictures, tmp_path):
     """The page regenerates as committed, its pictures within ±2/255."""
