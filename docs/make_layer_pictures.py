@@ -128,13 +128,14 @@ distance between layers.*
 
   ![a camera trucking past the layers: left, centre, right](img/layers/parallax.png)
 
-- **Command line:** `render` and `bake-shadow --layers` take a layered recipe, an `.ora` file
-  or a folder:
+- **Command line:** `render`, `bake-shadow --layers` and `export-web` take a layered recipe,
+  an `.ora` file or a folder:
 
   ```sh
   python -m dynpaint_addon render scene.ora --out scene.png
   python -m dynpaint_addon render scene.toml --engine eevee --out scene.png
   python -m dynpaint_addon bake-shadow --layers scene.toml --light 0.5 0.3 0.8 --light-angle 5 --out shadows/
+  python -m dynpaint_addon export-web scene.ora --out scene.html
   ```
 
   `bake-shadow --layers` writes each layer's cos-θ term t as `shadows/layer_<i>.exr` (i = 0 at
@@ -214,8 +215,8 @@ images baked alone, a dragged light's update about 50–60 ms, at most {MAX_LAYE
   without the front one's shadow only where its rays do not cross it.
 - **Parallax is a camera's**: moving the camera shows the layers at their depths, but each
   stays a flat painting facing the parent; a camera that turns far to the side sees their edges.
-- **The web page** (`export-web`) draws one painting; a layered scene in the page is the next
-  step of issue 30.
+- **The web page** draws a scene of up to {MAX_LAYERS} layers with the shadows between them
+  (docs/web.md); its parallax is a shift of each layer by its depth, not a perspective camera.
 """
     with open(os.path.join(out, "layers.md"), "w", encoding="utf-8") as fh:
         fh.write(page)

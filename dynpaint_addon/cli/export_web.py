@@ -3,13 +3,15 @@
 The page (web/page.py) draws the painting with WebGL2 from a shader generated from the graph
 description; the viewer drags the light. Problems end as one `error: …` line (cli.main).
 """
+import os
 import time
 
 from .. import params
 from ..errors import UserError
+from ..layered_files import is_layered_file, load_layered
 from ..recipe import image_bytes, load_images, load_recipe
 from ..samples import recipe_help
-from ..web.page import TURNTABLE_SECONDS, page_data, write_page
+from ..web.page import TURNTABLE_SECONDS, page_data, scene_data, write_page
 from .notes import check_and_print, print_notes
 
 STEPS = params.BY_PATH["shadows.steps"]
@@ -32,6 +34,8 @@ def cmd_export_web(args):
     if args.turntable_seconds <= 0:
         raise ExportError(f"--turntable-seconds {args.turntable_seconds}: must be positive")
     start = time.perf_counter()
+    if is_layered_file(args.recipe) or load_recipe(args.recipe).layered:
+        return _export_layers(args, start)
     recipe = load_recipe(args.recipe)
     images = load_images(recipe)
     check_and_print(images, recipe.params)
@@ -47,6 +51,23 @@ def cmd_export_web(args):
     print(f"export-web: wrote {args.out} ({size / 1e6:.2f} MB, {size / inputs:.2f}× its input "
           f"images; {data['width']}×{data['height']}, {len(data['lights'])} light(s)"
           f"{', shadows K = %d' % data['steps'] if data['shadows'] else ''}) in {seconds:.1f} s")
+
+
+def _export_layers(args, start):
+    """export-web of a layered recipe, .ora file or folder (§15): each layer drawn at its
+    place, the shadows between layers marched in the page."""
+    layers, lights, notes = load_layered(args.recipe)
+    print_notes(notes)
+    name = os.path.splitext(os.path.basename(os.fspath(args.recipe).rstrip(os.sep)))[0]
+    data, warnings = scene_data(layers, lights, title=name if args.title is None else args.title,
+                                credits=args.credits or "", steps=args.steps,
+                                max_size=args.max_size,
+                                turntable_seconds=args.turntable_seconds)
+    size = write_page(args.out, data)
+    print_notes(warnings)
+    print(f"export-web: wrote {args.out} ({size / 1e6:.2f} MB; {len(layers)} layers on "
+          f"{data['width']}×{data['height']}, {len(data['lights'])} light(s)) in "
+          f"{time.perf_counter() - start:.1f} s")
 
 
 def add_parser(sub):

@@ -27,13 +27,14 @@ import numpy as np
 
 from .. import params
 from ..core.input_rules import ImageData, pixel_role
+from ..core.layers import LAYER_QUALITY, Scene
 from ..core.pipeline import shape_normals
 from ..core.sampling import resample
 from ..looks import LOOKS, with_look
 from ..nodegraph import glsl_codegen
 from ..nodegraph.derived_inputs import Source, make_derived, march_bounds, prepare
 from ..nodegraph.pipeline_graph import describe, describe_shadow
-from ..nodegraph.text_codegen import param_name
+from ..nodegraph.text_codegen import param_name, read_snippet
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 COLOUR_CHANNELS = {c for c, (_, kind) in params.CHANNELS.items() if kind == "colour"}
@@ -158,7 +159,8 @@ def page_textures(features, plan, p, images, cache=None):
 
 def _light_entry(light):
     return {"kind": light.kind, "vector": list(light.vector), "colour": list(light.colour),
-            "strength": light.strength, "name": light.name or light.kind.title()}
+            "strength": light.strength, "name": light.name or light.kind.title(),
+            "size": light.size}
 
 
 def _march_bounds(images, p, cache):
@@ -200,7 +202,7 @@ def _variant(images, lights, p, steps, cache):
 
 
 def page_data(images, lights, p, title="", credits="", steps=None, max_size=None,
-              animation=None, turntable_seconds=TURNTABLE_SECONDS):
+              animation=None, turntable_seconds=TURNTABLE_SECONDS, looks=True):
     """Everything the viewer needs, as JSON-ready data.
 
     images: {channel: ImageData}; lights: [core Light]; p: the parameters. steps: the march's
@@ -226,9 +228,10 @@ def page_data(images, lights, p, title="", credits="", steps=None, max_size=None
                 samplers.append(wraps)
         return {name: shaders.index(src) for name, (src, _) in sources.items()}
     features, sources, uniforms, textures, warnings = _variant(images, lights, p, steps, cache)
+    other_looks = LOOKS.items() if looks else ()
     looks = [{"name": "As exported", "description": "The painting's own settings",
               "shaders": shader_indices(sources), "uniforms": uniforms}]
-    for key, (label, description, _) in LOOKS.items():
+    for key, (label, description, _) in other_looks:
         _, srcs, u, tex, _ = _variant(images, lights, with_look(p, key), steps, cache)
         if any(c in textures and textures[c] != t for c, t in tex.items()):
             continue
@@ -247,6 +250,69 @@ def page_data(images, lights, p, title="", credits="", steps=None, max_size=None
         "steps": int(uniforms.get("p_shadows_steps", steps or p.shadows.steps)),
         "turntable_seconds": float(turntable_seconds), "animation": animation,
     }, warnings
+
+
+def scene_data(layers, lights, title="", credits="", steps=None, max_size=None,
+               turntable_seconds=TURNTABLE_SECONDS):
+    """A scene of layers (§15) as JSON-ready data → (data, warnings): each layer's page data
+    (its own images and shaders, as a painting's, without the other looks), where it lies on
+    the canvas, and what the pass of the shadows between layers reads — the layer as the
+    layers behind it meet it (alpha, relief, opacity), its surface height, and the pass's
+    shader for the number of layers in front of it. The canvas is the back layer's image, at
+    most `max_size` pixels on its longer side (every layer shrunk alike)."""
+    canvas = layers[0].images["shape"].pixels.shape[:2]
+    factor = 1.0 if not max_size else min(1.0, max_size / max(canvas))
+    layers = [dataclasses.replace(layer, images={
+        c: shrink(img, round(max(img.size) * factor)) for c, img in layer.images.items()})
+        for layer in layers]
+    scene = Scene(layers)
+    out, warnings = [], []
+    for position, i in enumerate(scene.order):
+        layer, place = layers[i], scene.places[i]
+        data, warns = page_data(layer.images, lights, layer.p, steps=steps, looks=False)
+        warnings += [f"{layer.name}: {w}" for w in warns]
+        (h, w) = scene.ready[i].size
+        front = scene.order[position + 1:]
+        data.update(name=layer.name, place=[place.corner[0], place.corner[1], place.px, place.z])
+        if position:
+            occ = scene.occluder(i)
+            data["occluder"] = encode_pixels(np.dstack([occ.alpha, occ.relief_px, occ.opacity,
+                                                        np.zeros_like(occ.alpha)]), "f32")
+            data["slab"] = [occ.bottom, occ.top, float(w), float(h)]
+        if front and data["shadows"]:
+            surface = scene_surface(scene, i)
+            data["surface"] = encode_pixels(surface[..., None], "f32")
+            data["through"] = _deflated(through_shader(len(front)))
+            data["front"] = [scene.order.index(k) for k in front]
+        out.append(data)
+    ch, cw = scene.canvas
+    return {"title": title, "credits": credits, "width": cw, "height": ch, "layers": out,
+            "lights": [_light_entry(lt) for lt in lights],
+            "shadows": any(d["shadows"] for d in out),
+            "steps": max(d["steps"] for d in out), "looks": [{"name": "As exported"}],
+            "turntable_seconds": float(turntable_seconds), "animation": None,
+            "layer_quality": LAYER_QUALITY["final"]}, warnings
+
+
+def scene_surface(scene, i):
+    """Layer i's surface height above its plane (canvas pixels) at each of its pixels: where
+    the rays of the shadows between layers start (§15)."""
+    z = scene.ready[i].z_px
+    h, w = scene.ready[i].size
+    return np.zeros((h, w), np.float32) if z is None else \
+        np.nan_to_num(np.asarray(z, np.float32)) * np.float32(scene.places[i].px)
+
+
+def through_shader(n):
+    """The fragment shader of the pass of the shadows between layers for a layer with `n`
+    layers in front (snippets/glsl/dp_layers.glsl, and its dp_front for them)."""
+    uniforms = "".join(f"uniform sampler2D dp_occ{k};\nuniform vec4 dp_occ_place{k};\n"
+                       f"uniform vec4 dp_occ_slab{k};\n" for k in range(n))
+    calls = "".join(f"    t *= 1.0 - dp_layer(dp_occ{k}, dp_occ_place{k}, dp_occ_slab{k}, o, d, "
+                    f"len);\n" for k in range(n))
+    return ("#version 300 es\n" + read_snippet("glsl", "dp_layers.glsl") + "\n" + uniforms +
+            "float dp_front(vec3 o, vec3 d, float len)\n{\n    float t = 1.0;\n" + calls +
+            "    return t;\n}\n")
 
 
 def _deflated(text):

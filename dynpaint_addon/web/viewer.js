@@ -41,6 +41,7 @@
     api.error = text;
   }
   const api = { ready: null, error: null, frames: 0, state, lights };
+  const paintings = [];           // the painting, or each layer of a scene (back first)
   window.dynamicPainting = api;
 
   const VERTEX = "#version 300 es\nvoid main() {\n" +
@@ -240,23 +241,6 @@
     }
   }
 
-  // The sRGB codes of a colour image, not decoded: for shaders that mix the codes (made the
-  // first time one asks).
-  const codeTextures = {};
-  function codeTexture(channel) {
-    const tex = DATA.textures[channel];
-    const source = tex.same_as || channel;
-    codeTextures[source] = codeTextures[source] || texture(DATA.textures[source], true);
-    return codeTextures[source];
-  }
-
-  // What a shader binds for an image — its codes where it mixes codes (`codes`), else the
-  // image — and whether the GPU may filter that texture: {texture, filterable}.
-  function boundTexture(channel, codes) {
-    return codes.includes(channel) ? codeTexture(channel)
-      : { texture: textures[channel], filterable: filterable[channel] };
-  }
-
   // One sampler per wrap and filter: a program's lookups choose the wrap of each image
   // (DATA.samplers, the generator's `wraps`), the texture's format whether it is filtered.
   const WRAP_MODES = { REPEAT: "REPEAT", EXTEND: "CLAMP_TO_EDGE", MIRROR: "MIRRORED_REPEAT" };
@@ -274,83 +258,16 @@
     return samplers[key];
   }
 
-  // -- drawing -------------------------------------------------------------------------------
-  let prog = null, progWraps = {}, progCodes = [];
-  const programs = [], textures = {}, filterable = {}, units = {};
-
-  // A shader of the current look ('frame', 'shadow_sun', 'shadow_point'), compiled the first
-  // time it is used.
-  function shaderOf(name) {
-    const index = DATA.looks[state.look].shaders[name];
-    programs[index] = programs[index] || program(specialised(index));
-    return programs[index];
-  }
-
-  // A shader's source with each `hw_<image>` made a constant: whether the GPU filters that
-  // image here (its format filterable in this browser, a wrap of the shader's for it), so
-  // the compiler drops the path not taken — software renderers do not skip a branch on a
-  // uniform for free.
-  function specialised(index) {
-    const { wraps, codes } = DATA.samplers[index];
-    const source = new TextDecoder().decode(inflate(DATA.shaders[index]));   // (deflated)
-    return source.replace(/uniform int hw_(\w+);/g, (_, channel) => {
-      return `const int hw_${channel} = ${usesFilter(wraps, codes, channel) ? 1 : 0};`;
-    });
-  }
-
-  // Whether a shader's lookups of an image go through the GPU's filter: the shader wraps it
-  // (`wraps`) and the texture it binds for it is filterable here. One rule for the constant
-  // the shader is compiled with (specialised) and the sampler bound when it draws.
-  function usesFilter(wraps, codes, channel) {
-    return !!wraps[channel] && boundTexture(channel, codes).filterable;
-  }
-
-  function useShader(name) {
-    prog = shaderOf(name);
-    ({ wraps: progWraps, codes: progCodes } = DATA.samplers[DATA.looks[state.look].shaders[name]]);
-    gl.useProgram(prog);
-  }
-
-  function useLook() {
-    useShader("frame");
-  }
-
-  // The uniforms of the program in use: the look's parameters, its images, the lights (or,
-  // for a shadow pass, light `only` as the shader's one light), where it draws.
-  function setUniforms(rect, display, only = null) {
-    const loc = (name) => gl.getUniformLocation(prog, name);
-    for (const [name, value] of Object.entries(DATA.looks[state.look].uniforms)) {
-      gl.uniform1f(loc(name), name === "p_shadows_steps" ? state.steps : value);
-    }
-    for (const [channel, unit] of Object.entries(units)) {
-      gl.activeTexture(gl.TEXTURE0 + unit);
-      gl.bindTexture(gl.TEXTURE_2D, boundTexture(channel, progCodes).texture);
-      gl.uniform1i(loc("tex_" + channel), unit);
-      gl.bindSampler(unit, samplerFor(progWraps[channel] || "EXTEND",
-                                      usesFilter(progWraps, progCodes, channel)));
-    }
-    (only ? [only] : lights).forEach((lt, i) => {
-      gl.uniform3fv(loc(`light${i + 1}_vector`), lightVector(lt));
-      const k = lt.on ? lt.strength : 0;
-      gl.uniform3fv(loc(`light${i + 1}_weight`), lt.colour.map((c) => c * k));
-    });
-    gl.uniform4f(loc("dp_rect"), ...rect);
-    gl.uniform1i(loc("dp_display"), display);
-    gl.uniform3fv(loc("dp_backdrop"), BACKDROP);
-  }
-
   // -- shadows: each light's cos-θ term (§6) drawn into a texture of its own when that light,
   // the look or K changes — at a fraction of the painting's pixels while the light moves, at
   // its full size once it stops — and read by the frame like any image (issue 29). A frame
-  // whose lights did not move marches nothing.
-  const shadows = [];      // per light: {tex, fb, w, h, float, what it shows, scale drawn at}
+  // whose lights did not move marches nothing. In a scene of layers (§15) the pass also
+  // multiplies in what the layers in front let through.
   const shadowState = { passes: 0, passMs: 0, final: true, scale: 1 };   // (scale: the least)
   api.shadows = shadowState;
 
-  function shadowTarget(i, w, h) {
-    let target = shadows[i];
-    if (target && target.w === w && target.h === h) return target;
-    if (target) { gl.deleteFramebuffer(target.fb); gl.deleteTexture(target.tex); }
+  // A float (or 8-bit) one-channel render target of w × h → {tex, fb, w, h, float}.
+  function target(w, h) {
     const float = !!gl.getExtension("EXT_color_buffer_float");
     const tex = gl.createTexture();
     gl.bindTexture(gl.TEXTURE_2D, tex);
@@ -361,10 +278,230 @@
     gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
     gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, tex, 0);
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
-    target = shadows[i] = { tex, fb, w, h, float, what: "", scale: 1 };
-    textures[`shadow_${i}`] = tex;
-    filterable[`shadow_${i}`] = !float || floatLinear;
-    return target;
+    return { tex, fb, w, h, float };
+  }
+  function dropTarget(t) {
+    if (t) { gl.deleteFramebuffer(t.fb); gl.deleteTexture(t.tex); }
+  }
+
+  // -- a painting: its images, its shaders, its lights' shadow textures ----------------------
+  // The page shows one painting, or (a scene of layers, §15) one per layer: `PD` is its data
+  // (page.py's page_data), `index` its place in the scene (back first).
+  function makePainting(PD, index) {
+    const P = { data: PD, index, textures: {}, filterable: {}, units: {}, programs: [],
+                codeTextures: {}, shadows: [], through: [], prog: null, progWraps: {},
+                progCodes: [] };
+    const { textures, filterable, units, programs, codeTextures, shadows } = P;
+
+    // The sRGB codes of a colour image, not decoded: for shaders that mix the codes (made
+    // the first time one asks).
+    function codeTexture(channel) {
+      const tex = PD.textures[channel];
+      const source = tex.same_as || channel;
+      codeTextures[source] = codeTextures[source] || texture(PD.textures[source], true);
+      return codeTextures[source];
+    }
+
+    // What a shader binds for an image — its codes where it mixes codes (`codes`), else the
+    // image — and whether the GPU may filter that texture: {texture, filterable}.
+    function boundTexture(channel, codes) {
+      return codes.includes(channel) ? codeTexture(channel)
+        : { texture: textures[channel], filterable: filterable[channel] };
+    }
+
+    // A shader of the current look ('frame', 'shadow_sun', 'shadow_point'), compiled the
+    // first time it is used.
+    function shaderOf(name) {
+      const i = PD.looks[state.look].shaders[name];
+      programs[i] = programs[i] || program(specialised(i));
+      return programs[i];
+    }
+
+    // A shader's source with each `hw_<image>` made a constant: whether the GPU filters that
+    // image here (its format filterable in this browser, a wrap of the shader's for it), so
+    // the compiler drops the path not taken — software renderers do not skip a branch on a
+    // uniform for free.
+    function specialised(i) {
+      const { wraps, codes } = PD.samplers[i];
+      const source = new TextDecoder().decode(inflate(PD.shaders[i]));   // (deflated)
+      return source.replace(/uniform int hw_(\w+);/g, (_, channel) => {
+        return `const int hw_${channel} = ${usesFilter(wraps, codes, channel) ? 1 : 0};`;
+      });
+    }
+
+    // Whether a shader's lookups of an image go through the GPU's filter: the shader wraps
+    // it (`wraps`) and the texture it binds for it is filterable here. One rule for the
+    // constant the shader is compiled with (specialised) and the sampler bound when it draws.
+    function usesFilter(wraps, codes, channel) {
+      return !!wraps[channel] && boundTexture(channel, codes).filterable;
+    }
+
+    P.useShader = function (name) {
+      P.prog = shaderOf(name);
+      ({ wraps: P.progWraps, codes: P.progCodes } =
+        PD.samplers[PD.looks[state.look].shaders[name]]);
+      gl.useProgram(P.prog);
+    };
+    P.useLook = () => P.useShader("frame");
+
+    // A light as this painting sees it (§0 in its own frame): a scene's point light moved
+    // into the layer's pixels and measured in its image widths; a sun as it is.
+    P.lightVector = function (lt) {
+      const v = lightVector(lt);
+      if (!PD.place || lt.kind !== "point") return v;
+      const [x, y, z] = canvasPoint(v), [cx, cy, px, depth] = PD.place;
+      const lx = (x - cx) / px, ly = (y - cy) / px;
+      return [(lx - PD.width / 2) / PD.width, (ly - PD.height / 2) / PD.width,
+              (z - depth) / px / PD.width];
+    };
+
+    // The uniforms of the program in use: the look's parameters, its images, the lights
+    // (or, for a shadow pass, light `only` as the shader's one light), where it draws.
+    P.setUniforms = function (rect, display, only = null) {
+      const loc = (name) => gl.getUniformLocation(P.prog, name);
+      for (const [name, value] of Object.entries(PD.looks[state.look].uniforms)) {
+        gl.uniform1f(loc(name), name === "p_shadows_steps" ? state.steps : value);
+      }
+      for (const [channel, unit] of Object.entries(units)) {
+        gl.activeTexture(gl.TEXTURE0 + unit);
+        gl.bindTexture(gl.TEXTURE_2D, boundTexture(channel, P.progCodes).texture);
+        gl.uniform1i(loc("tex_" + channel), unit);
+        gl.bindSampler(unit, samplerFor(P.progWraps[channel] || "EXTEND",
+                                        usesFilter(P.progWraps, P.progCodes, channel)));
+      }
+      (only ? [only] : lights).forEach((lt, i) => {
+        gl.uniform3fv(loc(`light${i + 1}_vector`), P.lightVector(lt));
+        const k = lt.on ? lt.strength : 0;
+        gl.uniform3fv(loc(`light${i + 1}_weight`), lt.colour.map((c) => c * k));
+      });
+      gl.uniform4f(loc("dp_rect"), ...rect);
+      gl.uniform1i(loc("dp_display"), display);
+      gl.uniform3fv(loc("dp_backdrop"), BACKDROP);
+    };
+
+    P.shadowTarget = function (i, w, h) {
+      let t = shadows[i];
+      if (t && t.w === w && t.h === h) return t;
+      dropTarget(t);
+      dropTarget(P.through[i]);
+      t = shadows[i] = { ...target(w, h), what: "", scale: 1 };
+      P.through[i] = PD.through ? target(w, h) : null;
+      textures[`shadow_${i}`] = t.tex;
+      filterable[`shadow_${i}`] = !t.float || floatLinear;
+      return t;
+    };
+
+    // Bring each light's shadow texture up to date (see updateShadows) → [passes drawn,
+    // ms of the slowest full-size pass, whether all are final].
+    P.updateShadows = function (scale) {
+      if (!PD.shadows) return [0, 0, true];
+      const look = PD.looks[state.look];
+      let drawn = 0, finalMs = 0, final = true;
+      lights.forEach((lt, i) => {
+        const what = JSON.stringify([look.shaders["shadow_" + lt.kind], look.uniforms,
+                                     state.steps, lightVector(lt), lt.size || 0]);
+        const old = shadows[i];
+        if (old && old.what === what && (old.scale >= 1 || scale < 1)) {
+          final = final && old.scale >= 1;
+          return;
+        }
+        const s = old && old.what === what ? 1 : scale;
+        const w = Math.max(1, Math.round(PD.width * s));
+        const h = Math.max(1, Math.round(PD.height * s));
+        P.useShader("shadow_" + lt.kind);             // (compiled before the clock starts)
+        const t = P.shadowTarget(i, w, h);
+        const start = performance.now();
+        gl.bindFramebuffer(gl.FRAMEBUFFER, t.fb);
+        gl.viewport(0, 0, w, h);
+        P.setUniforms([0, 0, w, h], 0, lt);
+        gl.drawArrays(gl.TRIANGLES, 0, 3);
+        if (PD.through) P.drawThrough(i, lt, w, h);
+        if (s >= 1) {                      // wait for a full-size pass: its time sets the drafts'
+          gl.readPixels(0, 0, 1, 1, gl.RGBA, t.float ? gl.FLOAT : gl.UNSIGNED_BYTE,
+                        t.float ? new Float32Array(4) : new Uint8Array(4));
+          finalMs = Math.max(finalMs, performance.now() - start);
+        }
+        Object.assign(shadows[i], { what, scale: s });
+        final = final && s >= 1;
+        drawn++;
+      });
+      gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+      return [drawn, finalMs, final];
+    };
+
+    // §15: light i's own term times what the layers in front let through, drawn into the
+    // second target and swapped in (the frame reads `shadow_<i>`).
+    P.drawThrough = function (i, lt, w, h) {
+      const own = shadows[i], out = P.through[i];
+      P.throughProg = P.throughProg || program(new TextDecoder().decode(inflate(PD.through)));
+      const prog = P.throughProg;
+      gl.useProgram(prog);
+      gl.bindFramebuffer(gl.FRAMEBUFFER, out.fb);
+      gl.viewport(0, 0, w, h);
+      const loc = (name) => gl.getUniformLocation(prog, name);
+      let unit = 0;
+      const bind = (name, tex, linear) => {
+        gl.activeTexture(gl.TEXTURE0 + unit);
+        gl.bindTexture(gl.TEXTURE_2D, tex);
+        gl.bindSampler(unit, samplerFor("EXTEND", linear && floatLinear));
+        gl.uniform1i(loc(name), unit++);
+      };
+      bind("dp_own", own.tex, true);
+      bind("dp_surface", P.surface, true);
+      PD.front.forEach((k, j) => {
+        const other = scene.paintings[k];
+        bind(`dp_occ${j}`, other.occluder, true);
+        gl.uniform4fv(loc(`dp_occ_place${j}`), other.data.place);
+        gl.uniform4fv(loc(`dp_occ_slab${j}`), other.data.slab);
+      });
+      gl.uniform4f(loc("dp_rect"), 0, 0, w, h);
+      gl.uniform4fv(loc("dp_recv"), PD.place);
+      gl.uniform2f(loc("dp_recv_size"), PD.width, PD.height);
+      gl.uniform2f(loc("dp_canvas"), DATA.width, DATA.height);
+      const v = lightVector(lt), point = lt.kind === "point";
+      gl.uniform4f(loc("dp_light"), ...(point ? canvasPoint(v) : v), point ? 1 : 0);
+      const size = lt.size || 0;
+      gl.uniform1f(loc("dp_light_size"), point ? size * DATA.width : Math.tan(size / 2));
+      gl.uniform1i(loc("dp_disc"), size > 0 ? DATA.layer_quality.disc : 1);
+      gl.uniform1i(loc("dp_steps"), state.steps);
+      gl.uniform1f(loc("dp_spacing"), DATA.layer_quality.spacing);
+      gl.drawArrays(gl.TRIANGLES, 0, 3);
+      for (let u = 0; u < unit; u++) gl.bindSampler(u, null);
+      // swap: the product is the light's shadow texture now
+      [shadows[i].tex, shadows[i].fb, out.tex, out.fb] = [out.tex, out.fb, own.tex, own.fb];
+      textures[`shadow_${i}`] = shadows[i].tex;
+    };
+
+    // The painting's textures: its images, (a layer) what the shadows between layers read,
+    // and a texture unit for each.
+    P.init = function () {
+      const names = Object.keys(PD.textures).filter((c) => !PD.textures[c].same_as);
+      const made = names.map((c) => texture(PD.textures[c]));
+      names.forEach((c, i) => { textures[c] = made[i].texture; filterable[c] = made[i].filterable; });
+      let unit = 0;
+      for (const [c, tex] of Object.entries(PD.textures)) {
+        if (tex.same_as) {
+          textures[c] = textures[tex.same_as];
+          filterable[c] = filterable[tex.same_as];
+        }
+        units[c] = unit++;
+      }
+      if (PD.shadows) {
+        lights.forEach((lt, i) => {
+          P.shadowTarget(i, PD.width, PD.height);
+          units[`shadow_${i}`] = unit++;
+        });
+      }
+      if (PD.occluder) P.occluder = texture(PD.occluder).texture;
+      if (PD.surface) P.surface = texture(PD.surface).texture;
+      P.useLook();                  // (compiled knowing which images the GPU may filter)
+    };
+    return P;
+  }
+
+  // A point light's place (image widths from the canvas's centre) in canvas pixels.
+  function canvasPoint([x, y, z]) {
+    return [x * DATA.width + DATA.width / 2, y * DATA.width + DATA.height / 2, z * DATA.width];
   }
 
   // The fraction of the painting's pixels a moving light's shadows are drawn at: its pass
@@ -376,47 +513,94 @@
     return pass <= budget ? 1 : Math.max(0.125, Math.sqrt(budget / pass));
   }
 
-  // Bring each light's shadow texture up to date: a light that moved (or whose look or K
-  // changed) is drawn at `scale` of the painting's pixels; with `scale` 1 (final) a light
-  // last drawn as a draft is drawn again at full size; the others are kept as they are.
-  // → how many passes were drawn.
+  // Bring each light's shadow texture up to date, in every painting: a light that moved (or
+  // whose look or K changed) is drawn at `scale` of the painting's pixels; with `scale` 1
+  // (final) a light last drawn as a draft is drawn again at full size; the others are kept
+  // as they are. → how many passes were drawn.
   function updateShadows(scale) {
-    if (!DATA.shadows) return 0;
-    const look = DATA.looks[state.look];
     let drawn = 0, finalMs = 0, final = true;
-    lights.forEach((lt, i) => {
-      const what = JSON.stringify([look.shaders["shadow_" + lt.kind], look.uniforms,
-                                   state.steps, lightVector(lt)]);
-      const old = shadows[i];
-      if (old && old.what === what && (old.scale >= 1 || scale < 1)) {
-        final = final && old.scale >= 1;
-        return;
-      }
-      const s = old && old.what === what ? 1 : scale;
-      const w = Math.max(1, Math.round(DATA.width * s));
-      const h = Math.max(1, Math.round(DATA.height * s));
-      useShader("shadow_" + lt.kind);             // (compiled before the clock starts)
-      const target = shadowTarget(i, w, h);
-      const start = performance.now();
-      gl.bindFramebuffer(gl.FRAMEBUFFER, target.fb);
-      gl.viewport(0, 0, w, h);
-      setUniforms([0, 0, w, h], 0, lt);
-      gl.drawArrays(gl.TRIANGLES, 0, 3);
-      if (s >= 1) {                      // wait for a full-size pass: its time sets the drafts'
-        gl.readPixels(0, 0, 1, 1, gl.RGBA, target.float ? gl.FLOAT : gl.UNSIGNED_BYTE,
-                      target.float ? new Float32Array(4) : new Uint8Array(4));
-        finalMs = Math.max(finalMs, performance.now() - start);
-      }
-      Object.assign(target, { what, scale: s });
-      final = final && s >= 1;
-      drawn++;
-      shadowState.passes++;
-    });
-    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    for (const P of paintings) {
+      const [d, ms, f] = P.updateShadows(scale);
+      drawn += d;
+      finalMs += ms;
+      final = final && f;
+    }
+    shadowState.passes += drawn;
     if (finalMs) shadowState.passMs = finalMs;
     shadowState.final = final;
-    shadowState.scale = Math.min(...shadows.map((t) => t.scale));
+    shadowState.scale = Math.min(1, ...paintings.flatMap((P) => P.shadows.map((t) => t.scale)));
     return drawn;
+  }
+
+  // -- a scene of layers (§15): each layer drawn at its place on the canvas, back to front,
+  // into a float framebuffer (premultiplied, linear), then shown over the backdrop. A drag
+  // with the view button (or Shift) moves the view: layers in front move more (parallax).
+  const scene = DATA.layers ? { paintings: [], view: [0, 0] } : null;
+  api.view = () => (scene ? scene.view : null);
+  let composite = null;                // {fb, tex, w, h}
+  const PRESENT = "#version 300 es\nprecision highp float;\nuniform sampler2D img;\n" +
+    "uniform vec3 backdrop;\nout vec4 o;\n" +
+    "vec3 enc(vec3 c) { c = clamp(c, 0.0, 1.0); return mix(1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055," +
+    " c * 12.92, vec3(lessThanEqual(c, vec3(0.0031308)))); }\n" +
+    "uniform vec2 size;\n" +
+    "void main() { vec4 c = texelFetch(img, ivec2(gl_FragCoord.xy * size), 0);\n" +
+    "  o = vec4(enc(c.rgb + backdrop * (1.0 - clamp(c.a, 0.0, 1.0))), 1.0); }\n";
+  let presentProg = null;
+
+  function compositeTarget(w, h) {
+    if (composite && composite.w === w && composite.h === h) return composite;
+    if (composite) { gl.deleteFramebuffer(composite.fb); gl.deleteTexture(composite.tex); }
+    const tex = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D, tex);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, w, h, 0, gl.RGBA, gl.FLOAT, null);
+    unfiltered();
+    const fb = gl.createFramebuffer();
+    gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, tex, 0);
+    composite = { fb, tex, w, h };
+    return composite;
+  }
+
+  // The layers composited into framebuffer `fb` (w × h pixels spanning the canvas), each at
+  // its rectangle, shifted by the view for parallax (layers nearer the viewer more).
+  function drawLayers(fb, w, h, view = scene.view) {
+    gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
+    gl.viewport(0, 0, w, h);
+    gl.clearColor(0, 0, 0, 0);
+    gl.clear(gl.COLOR_BUFFER_BIT);
+    gl.enable(gl.BLEND);
+    gl.blendFunc(gl.ONE, gl.ONE_MINUS_SRC_ALPHA);
+    gl.enable(gl.SCISSOR_TEST);
+    const k = w / DATA.width;                      // framebuffer pixels per canvas pixel
+    for (const P of scene.paintings) {
+      const [cx, cy, px, z] = P.data.place;
+      const shift = z / DATA.width;                 // parallax: nearer layers move more
+      const rect = [(cx + view[0] * shift * DATA.width) * k, (cy + view[1] * shift * DATA.width) * k,
+                    P.data.width * px * k, P.data.height * px * k];
+      const x0 = Math.max(0, Math.floor(rect[0])), y0 = Math.max(0, Math.floor(rect[1]));
+      gl.scissor(x0, y0, Math.max(0, Math.ceil(rect[0] + rect[2]) - x0),
+                 Math.max(0, Math.ceil(rect[1] + rect[3]) - y0));
+      P.useLook();
+      P.setUniforms(rect, 0);
+      gl.drawArrays(gl.TRIANGLES, 0, 3);
+    }
+    gl.disable(gl.SCISSOR_TEST);
+    gl.disable(gl.BLEND);
+  }
+
+  // The composite (w × h, linear premultiplied) over the backdrop, sRGB-encoded, on the canvas.
+  function present(src, w, h) {
+    presentProg = presentProg || program(PRESENT);
+    gl.useProgram(presentProg);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindTexture(gl.TEXTURE_2D, src);
+    gl.bindSampler(0, null);
+    gl.uniform1i(gl.getUniformLocation(presentProg, "img"), 0);
+    gl.uniform3fv(gl.getUniformLocation(presentProg, "backdrop"), BACKDROP);
+    gl.uniform2f(gl.getUniformLocation(presentProg, "size"), w / canvas.width, h / canvas.height);
+    gl.viewport(0, 0, canvas.width, canvas.height);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
   }
 
   // A full frame at the canvas's size; or, while the light moves and full frames are slower
@@ -428,15 +612,22 @@
 
   function draw(scale = 1, shadowScale = 1) {
     updateShadows(shadowScale);
-    useLook();
-    if (scale >= 1) {
+    const w = Math.max(1, Math.round(canvas.width * Math.min(scale, 1)));
+    const h = Math.max(1, Math.round(canvas.height * Math.min(scale, 1)));
+    if (scene) {
+      const target = compositeTarget(w, h);
+      drawLayers(target.fb, w, h);
+      present(target.tex, w, h);
+    } else if (scale >= 1) {
+      const P = paintings[0];
+      P.useLook();
       gl.bindFramebuffer(gl.FRAMEBUFFER, null);
       gl.viewport(0, 0, canvas.width, canvas.height);
-      setUniforms([0, 0, canvas.width, canvas.height], 1);
+      P.setUniforms([0, 0, canvas.width, canvas.height], 1);
       gl.drawArrays(gl.TRIANGLES, 0, 3);
     } else {
-      const w = Math.max(1, Math.round(canvas.width * scale));
-      const h = Math.max(1, Math.round(canvas.height * scale));
+      const P = paintings[0];
+      P.useLook();
       if (!draft || draft.w !== w || draft.h !== h) {
         if (draft) { gl.deleteFramebuffer(draft.fb); gl.deleteRenderbuffer(draft.rb); }
         draft = { fb: gl.createFramebuffer(), rb: gl.createRenderbuffer(), w, h };
@@ -447,8 +638,10 @@
       }
       gl.bindFramebuffer(gl.FRAMEBUFFER, draft.fb);
       gl.viewport(0, 0, w, h);
-      setUniforms([0, 0, w, h], 1);
+      P.setUniforms([0, 0, w, h], 1);
       gl.drawArrays(gl.TRIANGLES, 0, 3);
+    }
+    if (scale < 1 && !scene) {
       gl.bindFramebuffer(gl.READ_FRAMEBUFFER, draft.fb);
       gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, null);
       gl.blitFramebuffer(0, 0, w, h, 0, 0, canvas.width, canvas.height, gl.COLOR_BUFFER_BIT,
@@ -478,9 +671,11 @@
 
   // The painting's premultiplied linear RGBA at its own size, read from a float framebuffer
   // (for tests: compare with the numpy core) → base64 of little-endian float32, row 0 at the
-  // bottom, like the core's arrays.
-  api.renderFloat = function () {
-    const w = DATA.width, h = DATA.height;
+  // bottom, like the core's arrays. A scene: its composite at the canvas's size, or with
+  // `layer` that layer alone at its own size (its shadows from the layers in front too).
+  api.renderFloat = function (layer = null) {
+    const alone = layer === null ? null : paintings[layer];      // one layer, at its own size
+    const w = alone ? alone.data.width : DATA.width, h = alone ? alone.data.height : DATA.height;
     if (!gl.getExtension("EXT_color_buffer_float")) throw new Error("no float framebuffer");
     const fb = gl.createFramebuffer(), rb = gl.createRenderbuffer();
     gl.bindRenderbuffer(gl.RENDERBUFFER, rb);
@@ -488,11 +683,16 @@
     gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
     gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.RENDERBUFFER, rb);
     updateShadows(1);
-    gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
-    gl.viewport(0, 0, w, h);
-    useLook();
-    setUniforms([0, 0, w, h], 0);
-    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    if (scene && !alone) {
+      drawLayers(fb, w, h, [0, 0]);
+    } else {
+      const P = alone || paintings[0];
+      gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
+      gl.viewport(0, 0, w, h);
+      P.useLook();
+      P.setUniforms([0, 0, w, h], 0);
+      gl.drawArrays(gl.TRIANGLES, 0, 3);
+    }
     const px = new Float32Array(w * h * 4);
     gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT, px);
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
@@ -572,7 +772,8 @@
     "  o = vec4(back * (1.0 - nm.a) + colour * nm.a, 1.0);\n}\n";
 
   api.floorTime = function (n) {
-    const names = Object.keys(DATA.textures).filter((c) => !DATA.textures[c].same_as &&
+    const PD = paintings[0].data, textures = paintings[0].textures;
+    const names = Object.keys(PD.textures).filter((c) => !PD.textures[c].same_as &&
                                                            !c.startsWith("shadow_"));
     const floor = program(FLOOR), sampler = gl.createSampler();
     gl.samplerParameteri(sampler, gl.TEXTURE_MIN_FILTER, gl.LINEAR);
@@ -660,19 +861,37 @@
     moved();
   }
 
+  // A scene of layers: dragging the view moves each layer by its depth (parallax), from
+  // where the drag began; the light stays where it is.
+  const dragWhat = document.getElementById("drag-what");
+  let viewFrom = null;                 // {x, y, view} at the start of a view drag
+  function movesView(e) { return !!scene && (e.shiftKey || dragWhat.value === "view"); }
+  function viewAt(clientX, clientY) {
+    const r = canvas.getBoundingClientRect();
+    scene.view = [viewFrom.view[0] + (clientX - viewFrom.x) / r.width,
+                  viewFrom.view[1] - (clientY - viewFrom.y) / r.width];
+    state.dirty = true;
+    state.lastInput = performance.now();
+  }
+
   let dragging = null;
   canvas.addEventListener("pointerdown", (e) => {
     dragging = e.pointerId;
     canvas.setPointerCapture(e.pointerId);
     setPlaying(false);
-    placeAt(e.clientX, e.clientY);
+    if (movesView(e)) viewFrom = { x: e.clientX, y: e.clientY, view: scene.view };
+    else placeAt(e.clientX, e.clientY);
     e.preventDefault();
   });
   canvas.addEventListener("pointermove", (e) => {
-    if (dragging === e.pointerId) placeAt(e.clientX, e.clientY);
+    if (dragging !== e.pointerId) return;
+    if (viewFrom) viewAt(e.clientX, e.clientY);
+    else placeAt(e.clientX, e.clientY);
   });
   for (const end of ["pointerup", "pointercancel"]) {
-    canvas.addEventListener(end, (e) => { if (dragging === e.pointerId) dragging = null; });
+    canvas.addEventListener(end, (e) => {
+      if (dragging === e.pointerId) { dragging = null; viewFrom = null; }
+    });
   }
   canvas.addEventListener("wheel", (e) => {
     e.preventDefault();
@@ -683,6 +902,7 @@
 
   function reset() {
     lights.forEach((lt) => { lt.place = placeOf(lt); lt.on = true; });
+    if (scene) scene.view = [0, 0];
     document.querySelectorAll("#lights input[type=checkbox]").forEach((box) => { box.checked = true; });
     state.phase = 0;
     state.frame = 0;
@@ -762,6 +982,7 @@
       state.dirty = state.measure = true;
     });
     document.getElementById("look-row").hidden = DATA.looks.length < 2;
+    document.getElementById("view-row").hidden = !scene;
     document.getElementById("title").textContent = DATA.title || "Dynamic painting";
     document.getElementById("credits").textContent = DATA.credits || "";
     showHeight();
@@ -791,6 +1012,7 @@
   function loop(now) {
     advance(now);
     const moving = dragging !== null || state.playing || now - state.lastInput < 250;
+    const prog = paintings.length && paintings[0].prog;
     if (prog && state.measure) {
       state.measure = false;
       measureFullFrame();
@@ -812,24 +1034,10 @@
     }
     state.steps = DATA.steps;
     try {
-      const names = Object.keys(DATA.textures).filter((c) => !DATA.textures[c].same_as);
-      const made = names.map((c) => texture(DATA.textures[c]));
-      names.forEach((c, i) => { textures[c] = made[i].texture; filterable[c] = made[i].filterable; });
-      let unit = 0;
-      for (const [c, tex] of Object.entries(DATA.textures)) {
-        if (tex.same_as) {
-          textures[c] = textures[tex.same_as];
-          filterable[c] = filterable[tex.same_as];
-        }
-        units[c] = unit++;
-      }
-      if (DATA.shadows) {
-        lights.forEach((lt, i) => {
-          shadowTarget(i, DATA.width, DATA.height);
-          units[`shadow_${i}`] = unit++;
-        });
-      }
-      useLook();                  // (compiled knowing which images the GPU may filter)
+      const layers = scene ? DATA.layers : [DATA];
+      layers.forEach((PD, i) => paintings.push(makePainting(PD, i)));
+      if (scene) scene.paintings = paintings;
+      paintings.forEach((P) => P.init());
     } catch (err) {
       fail(String(err.message || err));
       return;

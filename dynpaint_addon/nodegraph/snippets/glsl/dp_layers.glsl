@@ -1,0 +1,100 @@
+// Layers that shadow each other, in the web page (pipeline.md §15; the core's reference:
+// core/layers.py). One pass per layer and light: the layer's own cos-θ term (`dp_own`, drawn
+// by its shadow shader) times T, what the layers in front let through along the ray from each
+// pixel's surface point toward the light, marched through each layer in front: the part of
+// its slab below its plane (its thickness: one sample is enough for a card) and the part above
+// (its relief: a sample per `dp_spacing` of its pixels, at most `dp_steps`). A light with a
+// size is sampled at `dp_disc` points of its disc (the core's sunflower spiral). The page's
+// generator writes `dp_front()`, which calls dp_layer once per layer in front (samplers are
+// indexed by constants only in GLSL ES 3.00). Distances in canvas pixels, z toward the viewer.
+precision highp float;
+precision highp int;
+precision highp sampler2D;
+
+uniform vec4 dp_rect;          // where this pass draws: x, y, width, height (framebuffer px)
+uniform sampler2D dp_own;      // the layer's own cos-θ term (§6)
+uniform sampler2D dp_surface;  // its surface height P_S.z above its plane, canvas px
+uniform vec4 dp_recv;          // the layer on the canvas: corner x, y, px per pixel, depth z
+uniform vec2 dp_recv_size;     // its size in its own pixels
+uniform vec2 dp_canvas;        // the canvas's size in pixels
+uniform vec4 dp_light;         // xyz: a sun's direction, or a point light's canvas position; w: 1 point
+uniform float dp_light_size;   // a sun's tan(β/2), a point light's radius (canvas px)
+uniform int dp_disc;           // points of the light's disc (1 without a size)
+uniform int dp_steps;          // at most this many samples per part of a slab
+uniform float dp_spacing;      // samples this many pixels of the crossed layer apart
+out vec4 dp_fragment;
+
+// One layer in front (its image: alpha, relief in canvas px, opacity; place: corner, px, z;
+// slab: bottom, top, width, height) → the opacity where the ray first meets its solid, or 0.
+float dp_part(sampler2D occ, vec4 place, vec4 slab, vec3 o, vec3 d, float a, float b)
+{
+    if (b <= a) return -1.0;
+    float across = (b - a) * length(d.xy) / place.z;
+    int n = int(min(float(dp_steps), max(1.0, ceil(across / dp_spacing) + 1.0)));
+    for (int j = 0; j < 4096; j++) {
+        if (j >= n) break;
+        vec3 p = o + (a + (b - a) * ((float(j) + 0.5) / float(n))) * d;
+        vec2 q = (p.xy - place.xy) / place.z;
+        if (q.x < 0.0 || q.y < 0.0 || q.x > slab.z || q.y > slab.w) continue;
+        vec4 s = textureLod(occ, q / slab.zw, 0.0);
+        if (s.r >= 0.5 && p.z <= place.w + s.g) return s.b;
+    }
+    return -1.0;
+}
+
+float dp_layer(sampler2D occ, vec4 place, vec4 slab, vec3 o, vec3 d, float len)
+{
+    if (d.z <= 0.0) return 0.0;
+    float s0 = max((slab.x - o.z) / d.z, 0.0), s1 = min((slab.y - o.z) / d.z, len);
+    if (s1 <= s0) return 0.0;
+    float s_plane = clamp((place.w - o.z) / d.z, s0, s1);
+    float r = dp_part(occ, place, slab, o, d, s0, s_plane);
+    if (r < 0.0) r = dp_part(occ, place, slab, o, d, s_plane, s1);
+    return clamp(r, 0.0, 1.0);
+}
+
+float dp_front(vec3 o, vec3 d, float len);      // written by the page's generator
+
+// A point of the light's disc: the sunflower spiral of core/layers.disc_points.
+vec2 dp_disc_point(int j, int n)
+{
+    if (n <= 1) return vec2(0.0);
+    float k = float(j) + 0.5, r = sqrt(k / float(n)), phi = k * 3.141592653589793 * (3.0 - sqrt(5.0));
+    return r * vec2(cos(phi), sin(phi));
+}
+
+void dp_basis(vec3 d, out vec3 u, out vec3 v)
+{
+    vec3 helper = abs(d.z) < 0.9 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0);
+    u = normalize(cross(d, helper));
+    v = cross(d, u);
+}
+
+void main()
+{
+    vec2 uv = (gl_FragCoord.xy - dp_rect.xy) / dp_rect.zw;
+    vec2 px = uv * dp_recv_size;                                   // the layer's own pixels
+    vec3 o = vec3(dp_recv.xy + dp_recv.z * px, dp_recv.w + textureLod(dp_surface, uv, 0.0).r);
+    vec3 u, v;
+    vec3 centre = dp_light.xyz;
+    // a point light's disc faces the canvas's centre (core/layers.light_points)
+    dp_basis(normalize(dp_light.w > 0.5 ? centre - vec3(0.5 * dp_canvas, 0.0) : centre), u, v);
+    float total = 0.0;
+    for (int j = 0; j < 256; j++) {
+        if (j >= dp_disc) break;
+        vec2 e = dp_disc_point(j, dp_disc);
+        vec3 d;
+        float len;
+        if (dp_light.w > 0.5) {
+            vec3 to = centre + dp_light_size * (e.x * u + e.y * v) - o;
+            len = length(to);
+            d = to / max(len, 1e-12);
+        } else {
+            d = normalize(normalize(centre) + dp_light_size * (e.x * u + e.y * v));
+            len = 1e30;
+        }
+        total += dp_front(o, d, len);
+    }
+    float t = textureLod(dp_own, uv, 0.0).r;
+    dp_fragment = vec4(t * total / float(max(dp_disc, 1)), 0.0, 0.0, 1.0);
+}

@@ -1,0 +1,75 @@
+"""A scene of layers in the web page (issue 30, pipeline.md §15): every layer drawn at its
+place, the shadows between layers marched in the page — the same pixels as the core's, per
+layer and composited — and the view dragged for parallax."""
+import base64
+
+import numpy as np
+import pytest
+
+from conftest import open_page, run_cli
+from dynpaint_addon.core.layers import render_scene
+from dynpaint_addon.core.lights import Light
+from dynpaint_addon.recipe import load_layers, load_recipe
+from dynpaint_addon.testpainting import write_test_scene
+from dynpaint_addon.web.page import scene_data, write_page
+
+SIZE = 96
+
+
+@pytest.fixture(scope="module")
+def recipe(tmp_path_factory):
+    return write_test_scene(str(tmp_path_factory.mktemp("scene")), size=SIZE)
+
+
+def floats(page, layer, w, h):
+    raw = base64.b64decode(page.evaluate(f"window.dynamicPainting.renderFloat({layer})"))
+    return np.frombuffer(raw, np.float32).reshape(h, w, 4)
+
+
+@pytest.mark.parametrize("light", [Light("sun", (0.55, 0.35, 0.76)),
+                                   Light("point", (0.3, 0.2, 0.6)),
+                                   Light("sun", (-0.4, 0.5, 0.75), size=np.radians(5))],
+                         ids=["sun", "point", "wide sun"])
+def test_the_page_draws_every_layer_as_the_core_does(browser, recipe, tmp_path, light):
+    layers = load_layers(load_recipe(recipe))
+    data, _ = scene_data(layers, [light])
+    path = str(tmp_path / "scene.html")
+    write_page(path, data)
+    page = open_page(browser, path, query="?embed")
+    want = render_scene(layers, [light])
+    for i, layer in enumerate(want.layers):
+        got = floats(page, i, SIZE, SIZE)
+        err = float(np.abs(got - layer.rgba)[1:-1, 1:-1].mean())
+        assert err <= 2e-3, (i, err)
+    got = floats(page, "null", SIZE, SIZE)
+    assert float(np.abs(got - want.rgba)[1:-1, 1:-1].mean()) <= 2e-3
+
+
+def test_export_web_of_a_layered_recipe_and_the_view_drag(browser, recipe, tmp_path):
+    out = tmp_path / "scene.html"
+    res = run_cli("export-web", recipe, "--out", out)
+    assert res.returncode == 0, res.stderr
+    assert "3 layers on 96×96" in res.stdout
+    page = open_page(browser, str(out))
+    assert page.evaluate("window.dynamicPainting.frames") > 0
+    assert not page.evaluate("document.getElementById('view-row').hidden")
+    light = page.evaluate("window.dynamicPainting.lights[0].place")
+    shot = lambda: page.evaluate(
+        "(() => { const c = document.getElementById('painting'); const g = c.getContext("
+        "'webgl2'); const px = new Uint8Array(4 * c.width * c.height); g.readPixels(0, 0, "
+        "c.width, c.height, g.RGBA, g.UNSIGNED_BYTE, px); return Array.from(px); })()")
+    page.evaluate("window.dynamicPainting.state.dirty = true")
+    page.wait_for("!window.dynamicPainting.state.dirty")
+    before = np.array(shot(), np.float64)
+    page.evaluate("(() => { const s = document.getElementById('drag-what'); s.value = 'view'; })()")
+    left, top, w, h = page.box("painting")
+    page.mouse("pressed", left + 0.5 * w, top + 0.5 * h)
+    page.mouse("moved", left + 0.7 * w, top + 0.5 * h)
+    page.mouse("released", left + 0.7 * w, top + 0.5 * h)
+    view = page.evaluate("window.dynamicPainting.view()")
+    assert view[0] == pytest.approx(0.2, abs=0.01) and view[1] == pytest.approx(0.0, abs=0.01)
+    assert page.evaluate("window.dynamicPainting.lights[0].place") == light   # the light stayed
+    page.wait_for("!window.dynamicPainting.state.dirty && "
+                  "window.dynamicPainting.state.drawScale === 1")
+    after = np.array(shot(), np.float64)
+    assert np.abs(after - before).mean() > 1.0          # the layers in front moved
