@@ -86,20 +86,27 @@ def core_scene(parent, mats, depsgraph=None):
     key = group_key(mats, depsgraph)
     hit = _SCENES.get(parent.name)
     if hit is None or hit[0] != key:
-        back = mats[0].dynamic_painting.plane
-        layers = []
-        for mat in mats:
-            s = mat.dynamic_painting
-            depth, offset, scale = _placement(back, s.plane, depsgraph)
-            images = {c: image_data_from_blender(img) for c, img in channel_images(s).items()
-                      if c in LAYER_CHANNELS}
-            p = settings_to_params(s)
-            p.shadows.enabled = True
-            layers.append(Layer(images, p, mat.name, depth, s.layer_thickness or None,
-                                offset, scale))
+        layers = group_layers(mats, depsgraph, LAYER_CHANNELS)
+        for layer in layers:
+            layer.p.shadows.enabled = True
         hit = (key, Scene(layers))
         _SCENES[parent.name] = hit
     return hit[1]
+
+
+def group_layers(mats, depsgraph=None, channels=None):
+    """The paintings of a group (group_materials) as the core's layers (§15): their images
+    (only `channels` when given), parameters, and places in the back layer's frame."""
+    back = mats[0].dynamic_painting.plane
+    layers = []
+    for mat in mats:
+        s = mat.dynamic_painting
+        depth, offset, scale = _placement(back, s.plane, depsgraph)
+        images = {c: image_data_from_blender(img) for c, img in channel_images(s).items()
+                  if channels is None or c in channels}
+        layers.append(Layer(images, settings_to_params(s), mat.name, depth,
+                            s.layer_thickness or None, offset, scale))
+    return layers
 
 
 def forget_scenes():

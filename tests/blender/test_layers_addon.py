@@ -2,6 +2,8 @@
 plane per layer under a parent; the layers in front shadow those behind — the same t as the
 core's bake of the same scene — and the shadows follow a dragged light, a moved layer, undo,
 a saved and reopened file, and a render frame by frame."""
+import json
+
 import numpy as np
 import pytest
 
@@ -164,3 +166,15 @@ def test_every_layer_renders_as_the_core_draws_it(recipe, tmp_path, engine):
     bpy.ops.render.render(write_still=True)
     got = read_image(str(tmp_path / f"{engine}_all.exr")).pixels
     assert np.abs(got - want.rgba)[1:-1, 1:-1].mean() <= 1e-3
+
+
+def test_file_export_html_of_a_layer_exports_its_whole_scene(empty_scene, recipe, tmp_path):
+    parent = add_layered(recipe)
+    bpy.context.view_layer.objects.active = group_materials(parent)[1].dynamic_painting.plane
+    out = str(tmp_path / "scene.html")
+    assert bpy.ops.dynpaint.export_web(filepath=out) == {"FINISHED"}
+    text = open(out, encoding="utf-8").read()
+    data = json.loads(text.split('id="dp-data">', 1)[1].split("</script>", 1)[0])
+    assert [layer["name"] for layer in data["layers"]] == ["scene back", "scene ring",
+                                                            "scene star"]
+    assert data["layers"][0]["front"] == [1, 2] and "through" in data["layers"][0]

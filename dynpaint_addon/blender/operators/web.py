@@ -9,8 +9,9 @@ from bpy_extras.io_utils import ExportHelper
 
 from ... import params
 from ...imageio import ImageReadError, image_data_from_blender
-from ...web.page import page_data, write_page
+from ...web.page import page_data, scene_data, write_page
 from ..frame_sampling import reading_lights
+from ..layers import group_layers, group_materials, layer_parent
 from ..lights import painting_lights
 from ..settings import channel_images, settings_to_params
 from .common import PaintingOperator, active_painting, run_and_report
@@ -43,7 +44,13 @@ def light_animation(mat, scene, progress=None):
 
 def painting_page(mat, scene, title, credits="", steps=None, max_size=None, animation=True,
                   progress=None):
-    """The painting's web page data (web/page.py) → (data, warnings)."""
+    """The painting's web page data (web/page.py) → (data, warnings); a layer's: its whole
+    scene of layers (§15), its lights where they are now."""
+    parent = layer_parent(mat)
+    if parent is not None:
+        mats = group_materials(parent)
+        return scene_data(group_layers(mats), painting_lights(mats[0], scene), title=title,
+                          credits=credits, steps=steps, max_size=max_size)
     s = mat.dynamic_painting
     images = {c: image_data_from_blender(img) for c, img in channel_images(s).items()}
     anim = light_animation(mat, scene, progress) if animation else None
