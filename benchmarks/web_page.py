@@ -20,6 +20,7 @@ images (goal ≤ 3×). Export: `export-web`'s own work and the add-on's File ›
 import argparse
 import base64
 import copy
+import dataclasses
 import os
 import sys
 import tempfile
@@ -33,10 +34,11 @@ from report import publish  # noqa: E402
 
 from dynpaint_addon import blender  # noqa: E402
 
-from dynpaint_addon.recipe import image_bytes, load_images, load_recipe  # noqa: E402
+from dynpaint_addon.recipe import image_bytes, load_images, load_layers, load_recipe  # noqa: E402
 from dynpaint_addon.samples import list_samples, recipe_path  # noqa: E402
+from dynpaint_addon.core.layers import render_scene  # noqa: E402
 from dynpaint_addon.core.pipeline import render  # noqa: E402
-from dynpaint_addon.web.page import page_data, shrink, write_page  # noqa: E402
+from dynpaint_addon.web.page import page_data, scene_data, shrink, write_page  # noqa: E402
 from testkit.chromium import Chromium  # noqa: E402
 
 SIZE_GOAL = 3.0
@@ -93,15 +95,41 @@ FILTER_PROBE = """(() => {
 })()"""
 
 
-def open_sample(browser, folder, name, size, shadows, steps):
-    """A sample's page (shadows on or off, K = steps) on a canvas whose long side is `size`
-    → (page, data, images, recipe)."""
-    recipe = load_recipe(recipe_path(name))
+def sample_page(recipe, shadows, steps, size):
+    """A sample's page data (shadows on or off, K = steps, at most `size` px) and the core's
+    render of what it shows (a scene of layers, §15, as its composite) → (data, core())."""
+    if recipe.layered:
+        layers = load_layers(recipe)
+        for layer in layers:
+            layer.p.shadows.enabled = shadows
+        native = max(layers[0].images["shape"].size)
+        data, _ = scene_data(layers, recipe.lights, steps=steps, max_size=min(size, native))
+        factor = data["width"] / layers[0].images["shape"].size[0]
+
+        def core():
+            shrunk = [dataclasses.replace(layer, images={
+                c: shrink(img, round(max(img.size) * factor))
+                for c, img in layer.images.items()}) for layer in layers]
+            return render_scene(shrunk, recipe.lights).rgba
+        return data, native, core
     images = load_images(recipe)
     p = copy.deepcopy(recipe.params)
     p.shadows.enabled = shadows
     native = max(images["shape"].size)
     data, _ = page_data(images, recipe.lights, p, steps=steps, max_size=min(size, native))
+
+    def core():
+        shrunk = {c: shrink(img, max(data["width"], data["height"]))
+                  for c, img in images.items()}
+        return render(shrunk, recipe.lights, p).rgba
+    return data, native, core
+
+
+def open_sample(browser, folder, name, size, shadows, steps):
+    """A sample's page (shadows on or off, K = steps) on a canvas whose long side is `size`
+    → (page, data, the core's render of it)."""
+    recipe = load_recipe(recipe_path(name))
+    data, native, core = sample_page(recipe, shadows, steps, size)
     path = os.path.join(folder, f"{name}_{size}_{int(shadows)}.html")
     write_page(path, data)
     scale = max(1.0, size / native)
@@ -112,17 +140,14 @@ def open_sample(browser, folder, name, size, shadows, steps):
     if error:
         raise RuntimeError(error)
     page.wait_for("window.dynamicPainting.state.fullFrameMs > 0")
-    return page, data, p, recipe
+    return page, data, core
 
 
-def parity(page, data, p, recipe):
+def parity(page, data, core):
     """Mean |page − core| of the premultiplied RGBA at the painting's size (1 px border out)."""
     raw = base64.b64decode(page.evaluate("window.dynamicPainting.renderFloat()"))
     got = np.frombuffer(raw, np.float32).reshape(data["height"], data["width"], 4)
-    images = {c: shrink(img, max(data["width"], data["height"]))
-              for c, img in load_images(recipe).items()}
-    want = render(images, recipe.lights, p).rgba
-    return float(np.abs(got - want)[1:-1, 1:-1].mean())
+    return float(np.abs(got - core())[1:-1, 1:-1].mean())
 
 
 def frame_rows(browser, folder, sizes, steps, frames):
@@ -130,10 +155,10 @@ def frame_rows(browser, folder, sizes, steps, frames):
     rows, who = [], ""
     for name in (sample.id for sample in list_samples()):
         for size in sizes:
-            off_page, data, _, _ = open_sample(browser, folder, name, size, False, steps)
+            off_page, data, _ = open_sample(browser, folder, name, size, False, steps)
             who = who or renderer(off_page)
-            page, data, p, recipe = open_sample(browser, folder, name, size, True, steps)
-            mean = parity(page, data, p, recipe) if size <= max(data["width"], data["height"]) \
+            page, data, core = open_sample(browser, folder, name, size, True, steps)
+            mean = parity(page, data, core) if size <= max(data["width"], data["height"]) \
                 else None                        # (before the dragged frames move the light)
             # interleaved rounds, the best of each: this machine's noise is about ±10 %
             times = {"floor": [], "off": [], "still": [], "drag": []}
@@ -166,8 +191,11 @@ def export_numbers(name, folder):
     for _ in range(RUNS):
         start = time.perf_counter()
         recipe = load_recipe(recipe_path(name))
-        data, _ = page_data(load_images(recipe), recipe.lights, recipe.params,
-                            title=recipe.name)
+        if recipe.layered:
+            data, _ = scene_data(load_layers(recipe), recipe.lights, title=recipe.name)
+        else:
+            data, _ = page_data(load_images(recipe), recipe.lights, recipe.params,
+                                title=recipe.name)
         size = write_page(os.path.join(folder, f"{name}.html"), data)
         best = min(best, time.perf_counter() - start)
     return best, size, image_bytes(recipe)
@@ -179,7 +207,7 @@ def addon_export_seconds(name, folder, animated=False):
     `animated`, a point light keyframed round the painting over them), best of RUNS."""
     bpy.ops.wm.read_homefile(use_empty=True)
     blender.register_once()
-    bpy.ops.dynpaint.add_sample(sample=name)
+    bpy.ops.dynpaint.add_sample(sample=name)     # (a scene of layers: its parent is active)
     if animated:
         scene = bpy.context.scene
         assert bpy.ops.dynpaint.add_light_turntable(

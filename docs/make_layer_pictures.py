@@ -128,6 +128,10 @@ distance between layers.*
 
   ![a camera trucking past the layers: left, centre, right](img/layers/parallax.png)
 
+  The sample **Window (layers)** (*Add › Dynamic Painting › Samples*; `window` on the command
+  line) is a scene of three layers — a garden, a window frame, a vase — and comes with a
+  perspective camera that trucks across them and a light turntable: press Play.
+
 - **Command line:** `render`, `bake-shadow --layers` and `export-web` take a layered recipe,
   an `.ora` file or a folder:
 

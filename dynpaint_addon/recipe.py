@@ -338,8 +338,11 @@ def _painting_toml(recipe, base_dir, prefix, base, only_changed):
 
 
 def image_bytes(recipe):
-    """The size in bytes of the recipe's image files (a file named twice counted once)."""
-    return sum(os.path.getsize(p) for p in set(recipe.images.values()))
+    """The size in bytes of the recipe's image files, its layers' too (a file named twice
+    counted once)."""
+    paths = set(recipe.images.values()).union(*(lay.recipe.images.values()
+                                                for lay in recipe.layers))
+    return sum(os.path.getsize(p) for p in paths)
 
 
 def load_images(recipe):

@@ -15,6 +15,7 @@
 Deterministic (fixed seeds, fixed Cycles samples). The thumbnails are rendered by the numpy core.
 """
 import argparse
+import math
 import os
 import shutil
 import sys
@@ -29,7 +30,7 @@ from dynpaint_addon.core.colour import linear_to_srgb    # noqa: E402
 from dynpaint_addon.core.lights import Light                             # noqa: E402
 from dynpaint_addon.core.sampling import gaussian_blur, resample        # noqa: E402
 from dynpaint_addon.imageio import read_image, write_exr, write_png     # noqa: E402
-from dynpaint_addon.recipe import Recipe, recipe_to_toml                # noqa: E402
+from dynpaint_addon.recipe import Recipe, RecipeLayer, recipe_to_toml   # noqa: E402
 
 THUMB_PX = 192
 
@@ -303,17 +304,88 @@ def make_impossible(folder, size):
                               "produce, with cos-θ shadows baked from the normal map")
 
 
+# -- window: a scene of layers (§15) ----------------------------------------------------------
+def make_window(folder, size):
+    """Three layers at depths: a garden of hills under a sky (a height map), a window frame
+    (a flat card cut out by its alpha) and a vase on the sill in front (an exact normal map,
+    a surface of revolution): the frame's and the vase's shadows fall on the layers behind."""
+    w = h = size
+    y, x = np.mgrid[0:h, 0:w].astype(np.float64)
+    u, v = (x + 0.5) / w, (y + 0.5) / w
+    # the garden: rolling hills (heights) under a sky
+    hills = 0.22 + 0.07 * np.sin(u * 7.0 + 1.0) + 0.04 * np.sin(u * 17.0 + 2.0)
+    ground = v < hills
+    height = np.where(ground, 0.5 + 0.5 * np.clip((hills - v) / 0.25, 0, 1), 0.0)
+    height = gaussian_blur(height.astype(np.float32)[..., None], 2.0)[..., 0]
+    save(folder, "garden_height.png", np.round(np.clip(height, 0, 1) * 65535) / 65535, 16)
+    s = strokes(h, w, 31, angle=0.2)[..., None]
+    sky_d, sky_b = mix([0.05, 0.07, 0.16], [0.10, 0.14, 0.30], v), mix([0.45, 0.62, 0.90], [0.75, 0.85, 1.0], v)
+    grass_d, grass_b = [0.03, 0.08, 0.04], [0.30, 0.62, 0.22]
+    g = ground[..., None]
+    save(folder, "garden_dark.png", srgb8(np.where(g, grass_d, sky_d) * (1 + 0.2 * s)), 8)
+    save(folder, "garden_bright.png", srgb8(np.where(g, grass_b, sky_b) * (1 + 0.12 * s)), 8)
+    # the window frame: a wooden frame with two mullions, open panes
+    frame = ~((np.abs(u - 0.5) < 0.40) & (np.abs(v - 0.52) < 0.40))
+    frame |= (np.abs(u - 0.5) < 0.018) | (np.abs(v - 0.55) < 0.018)
+    frame &= (np.abs(u - 0.5) < 0.48) & (np.abs(v - 0.5) < 0.48)
+    alpha = frame.astype(np.float64)[..., None]
+    s = strokes(h, w, 32, angle=0.0)[..., None]
+    wood_d, wood_b = [0.06, 0.03, 0.02], [0.55, 0.32, 0.16]
+    save(folder, "frame_dark.png", np.concatenate([srgb8(np.broadcast_to(wood_d, (h, w, 3)) * (1 + 0.3 * s)), alpha], -1), 8)
+    save(folder, "frame_bright.png", np.concatenate([srgb8(np.broadcast_to(wood_b, (h, w, 3)) * (1 + 0.2 * s)), alpha], -1), 8)
+    save(folder, "frame_height.png", np.zeros((h, w)), 16)
+    # the vase: a surface of revolution standing on the sill (bottle_radius, smaller)
+    xs, ys = u - 0.68, (v - 0.13) / 0.42
+    r = 0.42 * bottle_radius(ys)
+    drdy = 0.42 * (bottle_radius(ys + 1e-4) - bottle_radius(ys - 1e-4)) / (2e-4 * 0.42)
+    inside = np.abs(xs) < r
+    z = np.sqrt(np.clip(r * r - xs * xs, 1e-12, None))
+    n = np.stack([xs / z, -r * drdy / z, np.ones_like(z)], -1)
+    n /= np.linalg.norm(n, axis=-1, keepdims=True)
+    n = np.where(inside[..., None], n, [0.0, 0.0, 1.0])
+    a = inside.astype(np.float64)[..., None]
+    save(folder, "vase_normal.png", np.round(np.concatenate([n * 0.5 + 0.5, a], -1) * 65535) / 65535, 16)
+    s = strokes(h, w, 33, angle=1.4)[..., None]
+    save(folder, "vase_dark.png", np.concatenate([srgb8(np.broadcast_to([0.12, 0.03, 0.05], (h, w, 3)) * (1 + 0.2 * s)), a], -1), 8)
+    save(folder, "vase_bright.png", np.concatenate([srgb8(np.broadcast_to([0.95, 0.45, 0.30], (h, w, 3)) * (1 + 0.1 * s)), a], -1), 8)
+    garden, window, vase = params.defaults(), params.defaults(), params.defaults()
+    garden.shape.kind, garden.shape.height_scale = "height", 0.06
+    window.shape.kind = "height"
+    vase.shape.kind = "normal"
+    vase.specular.enabled, vase.specular.s0 = True, 0.93
+    for q in (garden, window, vase):
+        q.shadows.enabled = True
+    layers = [RecipeLayer(Recipe(garden, [], {"shape": "garden_height.png", "dark": "garden_dark.png",
+                                              "bright": "garden_bright.png"}, "garden"), "garden", 0.0),
+              RecipeLayer(Recipe(window, [], {"shape": "frame_height.png", "dark": "frame_dark.png",
+                                              "bright": "frame_bright.png"}, "window"), "window", 0.1),
+              RecipeLayer(Recipe(vase, [], {"shape": "vase_normal.png", "dark": "vase_dark.png",
+                                            "bright": "vase_bright.png"}, "vase"), "vase", 0.18)]
+    lights = [Light("sun", (-0.5, 0.45, 0.74), (1.0, 0.93, 0.82), 1.0, "Key", size=math.radians(2))]
+    return Recipe(params.defaults(), lights, {}, "Window (layers)",
+                  description="A scene of three layers at depths — a garden, a window frame, a "
+                              "vase — whose shadows fall on the layers behind; a camera move "
+                              "shows their parallax", layers=layers)
+
+
 SAMPLES = {"portrait": (make_portrait, 512), "glass": (make_glass, 512),
-           "impossible": (make_impossible, 512)}
+           "impossible": (make_impossible, 512), "window": (make_window, 384)}
 
 
 def thumbnail(recipe_path, out, px=THUMB_PX):
     """Render the sample with the numpy core at `px` wide → out (PNG)."""
     from dynpaint_addon.core.input_rules import resample_painting
+    from dynpaint_addon.core.layers import render_scene
     from dynpaint_addon.core.pipeline import render
     from dynpaint_addon.imageio import write_render
-    from dynpaint_addon.recipe import load_images, load_recipe
+    from dynpaint_addon.recipe import load_images, load_layers, load_recipe
     recipe = load_recipe(recipe_path)
+    if recipe.layered:
+        layers = load_layers(recipe)
+        for layer in layers:
+            layer.images = resample_painting(layer.images, px)
+        write_render(out, render_scene(layers, recipe.lights).rgba)
+        return
     images = resample_painting(load_images(recipe), px)
     write_render(out, render(images, recipe.lights, recipe.params).rgba)
 
@@ -331,7 +403,8 @@ def main(argv=None):
         shutil.rmtree(folder, ignore_errors=True)
         os.makedirs(folder)
         recipe = make(folder, args.size or size)
-        recipe.images = {ch: os.path.join(folder, f) for ch, f in recipe.images.items()}
+        for part in [recipe] + [layer.recipe for layer in recipe.layers]:
+            part.images = {ch: os.path.join(folder, f) for ch, f in part.images.items()}
         path = os.path.join(folder, "painting.toml")
         with open(path, "w") as fh:
             fh.write(recipe_to_toml(recipe, folder))

@@ -1,6 +1,7 @@
 """Build a layered painting in the scene (pipeline.md §15, issue 30): one plane per layer
 under one parent Empty, each at its depth with today's material; what Add › Layered…, the
 headless render and the turntable of a layered recipe share."""
+import math
 import os
 
 import bpy
@@ -9,10 +10,11 @@ from mathutils import Matrix, Vector
 from ..layered_files import DEFAULT_SHADE, DEFAULT_SPACING, is_layered_file, load_scene
 from ..recipe import hidden_notes, load_recipe
 from .images import packed_image
-from .layers import LAYERED, bake_group
-from .lights import add_light, linked_lights
+from .layers import LAYERED, bake_group, group_materials
+from .lights import add_light, linked_lights, painting_frame_light
 from .scene import FACE_CAMERA, create_painting, face_camera
 from .sync import update
+from .turntable import add_light_turntable
 
 
 def scene_layers(path, spacing, shade):
@@ -112,3 +114,44 @@ def _camera_in(parent, camera):
     return tuple(parent.matrix_world.inverted() @ Vector(camera.matrix_world.translation))
 
 
+
+
+def add_camera(context, distance=2.2):
+    """A perspective camera `distance` in front of the 3D cursor, looking at it along +Y
+    (Blender's front view), as the scene's camera → the camera."""
+    scene = context.scene
+    cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    context.collection.objects.link(cam)
+    cam.location = Vector(scene.cursor.location) + Vector((0.0, -distance, 0.0))
+    cam.rotation_euler = (math.pi / 2, 0.0, 0.0)
+    scene.camera = cam
+    context.view_layer.update()
+    return cam
+
+
+def animate_scene(context, parent, truck=0.3):
+    """A layered scene's showpiece over the scene's frame range: the camera trucks across it
+    (its layers move at their depths: parallax) and the key light turns once (a light
+    turntable of its first Sun) → report lines."""
+    scene = context.scene
+    lines = []
+    fs, fe = scene.frame_start, scene.frame_end
+    cam = scene.camera
+    if cam is not None and cam.data.type == "PERSP":
+        base = Vector(cam.location)
+        right = cam.matrix_world.to_3x3() @ Vector((1.0, 0.0, 0.0))
+        for frame, side in ((fs, -1.0), (fe, 1.0)):
+            cam.location = base + right * (side * truck)
+            cam.keyframe_insert("location", frame=frame)
+        lines.append(f"the camera trucks across the layers over frames {fs}–{fe}")
+    mats = group_materials(parent)
+    back = mats[0] if mats else None
+    suns = [o for o in linked_lights(back, scene) if o.data.type == "SUN"] if back else []
+    if suns:
+        light = painting_frame_light(suns[0], back.dynamic_painting.plane.matrix_world)
+        x, y, z = light.vector
+        add_light_turntable(context, back, suns[0], "SUN", fs, fe, math.asin(max(-1, min(1, z))),
+                            1.0, math.atan2(y, x))
+        lines.append(f"{suns[0].name} turns once over frames {fs}–{fe}")
+    scene.frame_set(fs)
+    return lines

@@ -22,15 +22,18 @@ def painting_frame_light(obj, plane_matrix, depsgraph=None):
     Uses the evaluated object when a depsgraph is given (animation renders, blender-notes.md).
     """
     ev = obj.evaluated_get(depsgraph) if depsgraph is not None else obj
-    inv = np.linalg.inv(np.array(plane_matrix, dtype=np.float64))
+    plane = np.array(plane_matrix, dtype=np.float64)
+    inv = np.linalg.inv(plane)
     m = np.array(ev.matrix_world, dtype=np.float64)
     colour = tuple(ev.data.color)
-    if ev.data.type == "SUN":
+    if ev.data.type == "SUN":       # its Angle softens the shadows layers cast (§15)
         direction = inv[:3, :3] @ (m[:3, :3] @ np.array([0.0, 0.0, 1.0]))
         return Light("sun", tuple(direction / np.linalg.norm(direction)), colour,
-                     ev.data.energy, obj.name)
+                     ev.data.energy, obj.name, size=ev.data.angle)
     pos = inv @ np.append(m[:3, 3], 1.0)
-    return Light("point", tuple(pos[:3]), colour, ev.data.energy / POINT_POWER_UNIT, obj.name)
+    radius = ev.data.shadow_soft_size / np.linalg.norm(plane[:3, 0])     # image widths
+    return Light("point", tuple(pos[:3]), colour, ev.data.energy / POINT_POWER_UNIT, obj.name,
+                 size=radius)
 
 
 def plane_matrix(mat, depsgraph=None):
@@ -53,11 +56,13 @@ def add_light(scene, light, plane_matrix, collection):
     data = bpy.data.lights.new(light.name or kind.title(), kind)
     data.color = light.colour
     data.energy = light.strength * (1.0 if kind == "SUN" else POINT_POWER_UNIT)
+    m = Matrix(plane_matrix)
     if kind == "SUN":
-        data.angle = 0.0
+        data.angle = light.size               # radians, as Blender's Sun Angle
+    else:
+        data.shadow_soft_size = light.size * m.to_scale()[0]      # image widths → scene units
     obj = bpy.data.objects.new(data.name, data)
     collection.objects.link(obj)
-    m = Matrix(plane_matrix)
     if kind == "SUN":
         world_dir = (m.to_3x3() @ Vector(light.vector)).normalized()
         obj.rotation_mode = "QUATERNION"

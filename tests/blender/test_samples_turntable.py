@@ -41,9 +41,9 @@ def make_samples_module():
 
 
 # -- samples ----------------------------------------------------------------------------------
-def test_three_samples_with_recipes_images_thumbnails_and_licences():
+def test_four_samples_with_recipes_images_thumbnails_and_licences():
     samples = {s.id: s for s in list_samples()}
-    assert set(samples) == {"portrait", "glass", "impossible"}
+    assert set(samples) == {"portrait", "glass", "impossible", "window"}
     for s in samples.values():
         recipe = load_recipe(s.recipe)           # validates every key and that files exist
         assert s.name == recipe.name and len(s.description) > 20
@@ -58,6 +58,9 @@ def test_three_samples_with_recipes_images_thumbnails_and_licences():
     licence = open(os.path.join(SAMPLES_DIR, "README.md")).read()
     assert "CC0" in licence and "make_samples.py" in licence
     assert recipe_path("glass") == samples["glass"].recipe
+    window = load_recipe(samples["window"].recipe)          # a scene of layers (§15)
+    assert [lay.name for lay in window.layers] == ["garden", "window", "vase"]
+    assert [lay.depth for lay in window.layers] == [0.0, 0.1, 0.18]
 
 
 def test_impossible_normal_map_is_not_the_gradient_of_any_height_field():
@@ -90,7 +93,7 @@ def test_sample_generator_reproduces_the_committed_samples(tmp_path):
             assert a.shape == b.shape and float(np.abs(a - b).max()) <= 2 / 255, (sample.id, name)
 
 
-@pytest.mark.parametrize("sample", ["portrait", "glass", "impossible"])
+@pytest.mark.parametrize("sample", ["portrait", "glass", "impossible", "window"])
 def test_each_sample_renders_in_cycles_as_the_core_renders_it(sample, tmp_path):
     recipe = recipe_path(sample)
     for engine in ("numpy", "cycles"):
@@ -132,21 +135,50 @@ def test_add_menu_lists_the_samples_and_one_click_adds_each(empty_scene):
     from dynpaint_addon.blender.operators.add import draw_add_menu
     layout = MenuLayout()
     draw_add_menu(layout)
-    assert layout.ops[0][0] == "dynpaint.add"
-    listed = [(text, props.sample) for op, text, props in layout.ops[1:]]
-    assert [s for _, s in listed] == ["glass", "impossible", "portrait"]
+    assert [op for op, _, _ in layout.ops[:2]] == ["dynpaint.add", "dynpaint.add_layered"]
+    listed = [(text, props.sample) for op, text, props in layout.ops[2:]]
+    assert [s for _, s in listed] == ["glass", "impossible", "portrait", "window"]
     assert "Glass bottle" in [t for t, _ in listed]
     empty_scene.camera = None
     for _, sample in listed:
         assert bpy.ops.dynpaint.add_sample(sample=sample) == {"FINISHED"}
-        mat = bpy.context.object.active_material
-        assert mat.dynamic_painting.is_painting and mat.dynamic_painting.lights
+        obj = bpy.context.object           # a layered sample: the parent of its layers
+        mats = [c.active_material for c in obj.children] if obj.type == "EMPTY" \
+            else [obj.active_material]
+        assert all(m.dynamic_painting.is_painting and m.dynamic_painting.lights for m in mats)
     glass = bpy.data.materials["Glass bottle"].dynamic_painting
     assert glass.image_environment is not None and glass.image_background is not None
     with pytest.raises(RuntimeError, match="No sample painting named 'nope'"):
         bpy.ops.dynpaint.add_sample(sample="nope")
     assert "refraction of a forest" in bpy.types.DYNPAINT_OT_add_sample.description(
         bpy.context, type("P", (), {"sample": "glass"})())
+
+
+def test_the_layered_sample_comes_with_a_camera_move_and_a_light_turntable(empty_scene):
+    """Add › Samples › Window: a perspective camera the layers face (each scaled by (D − z)/D),
+    keyframed to truck across them, and its key light turning once, over the frame range;
+    every frame bakes the layers' shadows where that frame puts the light."""
+    empty_scene.camera = None
+    assert bpy.ops.dynpaint.add_sample(sample="window") == {"FINISHED"}
+    parent = bpy.context.object
+    scene = bpy.context.scene
+    cam = scene.camera
+    assert cam is not None and cam.data.type == "PERSP"
+    xs = []
+    for frame in (scene.frame_start, scene.frame_end):
+        scene.frame_set(frame)
+        xs.append(cam.matrix_world.translation.x)
+    assert xs[1] - xs[0] == pytest.approx(0.6, abs=1e-3)          # trucked across
+    planes = sorted(parent.children, key=lambda o: o.location.z)
+    width = planes[0].scale.x                     # the back layer's width: the depths' unit
+    assert [round(p.location.z / width, 3) for p in planes] == [0.0, 0.1, 0.18]
+    assert planes[2].scale.x < planes[1].scale.x < planes[0].scale.x   # kept composed
+    back = planes[0].active_material.dynamic_painting
+    shadows = []
+    for frame in (scene.frame_start, scene.frame_start + 24):
+        scene.frame_set(frame)
+        shadows.append(np.array(back.lights[0].shadow.pixels[:]).copy())
+    assert np.abs(shadows[0] - shadows[1]).mean() > 1e-3       # the light turned
 
 
 # -- turntables -------------------------------------------------------------------------------

@@ -131,12 +131,13 @@ def test_benchmark_reports_every_figure_with_its_goal(tmp_path):
     assert "SwiftShader" in text                     # says what drew the frames
     frames = [ln.split(" | ") for ln in text.splitlines() if ln.startswith("| ")
               and " | 64 | " in ln]
-    assert len(frames) == 3                           # every sample, against its floor
+    assert len(frames) == 4                 # every sample (a scene of layers too), against its floor
     for row in frames:          # each ratio and the parity with its verdict (K = 4 here: drafts)
         assert all("met" in cell for cell in (row[4], row[6], row[8], row[9]))
     sizes = [ln for ln in text.splitlines() if ln.startswith(("| glass", "| portrait",
-                                                              "| impossible")) and "≤ 3×" in ln]
-    assert len(sizes) == 3 and all("≤ 3×: met" in ln for ln in sizes)
+                                                              "| impossible", "| window"))
+             and "≤ 3×" in ln]
+    assert len(sizes) == 4 and all("≤ 3×: met" in ln for ln in sizes)
     assert "worst edge" in text
 
 

@@ -15,6 +15,7 @@ from ...samples import list_samples
 from ...shape_maker import looks_like_height, read_as_made
 from ...shape_methods import make_shape
 from ..images import load_image, made_shape_image
+from ..layered_build import add_camera, add_layered, animate_scene
 from ..scene import create_painting, unchanged_images_on_failure
 from .common import run_and_report
 
@@ -80,6 +81,9 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
         rotation = self._view_rotation(context)
         if recipes:
             recipe = load_recipe(recipes[0])
+            if recipe.layered:                  # a scene of layers (§15): one plane each
+                return add_layered(context, recipes[0], size=self.size, rotation=rotation,
+                                   progress=progress, lights=self.add_lights)
             plane, _, messages = create_painting(
                 context, recipe.images, recipe.params,
                 recipe.lights if self.add_lights else None, name=recipe.name or "Dynamic Painting",
@@ -260,8 +264,15 @@ class DYNPAINT_OT_add_sample(bpy.types.Operator):
             self.report({"ERROR"}, f"No sample painting named '{self.sample}'")
             return {"CANCELLED"}
         folder, name = os.path.split(found.recipe)
-        return bpy.ops.dynpaint.add("EXEC_DEFAULT", filepath=found.recipe, directory=folder,
-                                    files=[{"name": name}])
+        layered = load_recipe(found.recipe).layered
+        if layered and context.scene.camera is None:      # the layers face it, composed
+            add_camera(context)
+        result = bpy.ops.dynpaint.add("EXEC_DEFAULT", filepath=found.recipe, directory=folder,
+                                      files=[{"name": name}])
+        if layered and result == {"FINISHED"}:           # its showpiece: parallax and light
+            for line in animate_scene(context, context.object):
+                self.report({"INFO"}, line)
+        return result
 
 
 class VIEW3D_MT_dynpaint_add(bpy.types.Menu):

@@ -3,11 +3,17 @@
 Every operator is undoable and reports one clear line; a failure reports why and leaves the
 scene as it was (CANCELLED).
 """
+from ..layers import LAYERED, group_materials
+
 
 
 def active_painting(context):
-    """The active object's Dynamic Painting material, or None."""
+    """The active object's Dynamic Painting material, or None; the parent of a scene of
+    layers (§15) stands for its back layer (the panel, Bake Shadows, Export)."""
     obj = context.object
+    if obj is not None and obj.get(LAYERED):
+        mats = group_materials(obj)
+        return mats[0] if mats else None
     mat = obj.active_material if obj is not None else None
     return mat if mat is not None and mat.dynamic_painting.is_painting else None
 
