@@ -109,6 +109,9 @@ def _draw_layers(layout, mat):
         row.prop(plane.active_material.dynamic_painting, "layer_thickness", text="")
         row.prop(plane, "hide_render", text="", emboss=False)
         row.prop(plane, "hide_viewport", text="", emboss=False)
+    if mat.dynamic_painting.shadows.source == "osl":
+        layout.label(text="In-shader (OSL) shadows leave out the layers in front: use Baked",
+                     icon="ERROR")
     layout.label(text="The layers in front shadow those behind (pipeline.md §15)", icon="INFO")
 
 

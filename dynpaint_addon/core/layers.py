@@ -621,7 +621,8 @@ def render_scene(layers, lights, canvas=None, dtype=np.float32, progress=None):
     layers: [Layer], back to front by depth (equal depths keep their order); lights: the
     scene's [Light] (positions in image widths from the canvas's centre); canvas: (H, W) in
     pixels (default: the back layer's shape image's size). Each layer is rendered by
-    pipeline.render in its own pixels with its lights' terms times T (Scene.through), then
+    pipeline.render in its own pixels with its lights' terms times T (Scene.through; a layer
+    whose shadows are off takes none, as its material and page show none), then
     the layers are placed on the canvas and composited back to front by their alpha
     (orthographic). progress: optional callable(fraction done), once per layer. One layer at
     offset 0 and scale 1 on its own canvas renders exactly as pipeline.render.
@@ -630,8 +631,9 @@ def render_scene(layers, lights, canvas=None, dtype=np.float32, progress=None):
     results, terms, warnings = [None] * len(layers), [None] * len(layers), []
     for position, i in enumerate(scene.order):
         layer = layers[i]
+        through = scene.through(i, lights) if layer.p.shadows.enabled else None
         results[i] = render(layer.images, scene.own_lights(i, lights), layer.p, dtype,
-                            prepared=scene.ready[i], through=scene.through(i, lights))
+                            prepared=scene.ready[i], through=through)
         terms[i] = results[i].passes.get("t", [])
         warnings += [f"layer {layer.name or i}: {w}" for w in results[i].warnings]
         if progress is not None:

@@ -547,12 +547,17 @@
     "  o = vec4(enc(c.rgb + backdrop * (1.0 - clamp(c.a, 0.0, 1.0))), 1.0); }\n";
   let presentProg = null;
 
+  // Float where the browser renders to floats and blends them, else sRGB 8-bit (blended in
+  // linear light by the GPU, stored as codes: no banding in the dark).
   function compositeTarget(w, h) {
     if (composite && composite.w === w && composite.h === h) return composite;
     if (composite) { gl.deleteFramebuffer(composite.fb); gl.deleteTexture(composite.tex); }
+    const float = !!gl.getExtension("EXT_color_buffer_float") &&
+      !!gl.getExtension("EXT_float_blend");
     const tex = gl.createTexture();
     gl.bindTexture(gl.TEXTURE_2D, tex);
-    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, w, h, 0, gl.RGBA, gl.FLOAT, null);
+    if (float) gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, w, h, 0, gl.RGBA, gl.FLOAT, null);
+    else gl.texImage2D(gl.TEXTURE_2D, 0, gl.SRGB8_ALPHA8, w, h, 0, gl.RGBA, gl.UNSIGNED_BYTE, null);
     unfiltered();
     const fb = gl.createFramebuffer();
     gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
@@ -677,6 +682,7 @@
     const alone = layer === null ? null : paintings[layer];      // one layer, at its own size
     const w = alone ? alone.data.width : DATA.width, h = alone ? alone.data.height : DATA.height;
     if (!gl.getExtension("EXT_color_buffer_float")) throw new Error("no float framebuffer");
+    if (scene && !gl.getExtension("EXT_float_blend")) throw new Error("no float blending");
     const fb = gl.createFramebuffer(), rb = gl.createRenderbuffer();
     gl.bindRenderbuffer(gl.RENDERBUFFER, rb);
     gl.renderbufferStorage(gl.RENDERBUFFER, gl.RGBA32F, w, h);

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from conftest import open_page, run_cli
+from dynpaint_addon.core.colour import linear_to_srgb
 from dynpaint_addon.core.layers import render_scene
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.recipe import load_layers, load_recipe
@@ -73,3 +74,27 @@ def test_export_web_of_a_layered_recipe_and_the_view_drag(browser, recipe, tmp_p
                   "window.dynamicPainting.state.drawScale === 1")
     after = np.array(shot(), np.float64)
     assert np.abs(after - before).mean() > 1.0          # the layers in front moved
+
+
+def test_what_the_page_shows_is_the_composite_over_the_backdrop(browser, recipe, tmp_path):
+    """The canvas (8-bit, sRGB) of a scene without shadows: the core's composite over the
+    page's backdrop — the layers are drawn whether or not a shadow pass asked for floats."""
+    layers = load_layers(load_recipe(recipe))
+    for layer in layers:
+        layer.p.shadows.enabled = False
+    light = Light("sun", (0.55, 0.35, 0.76))
+    data, _ = scene_data(layers, [light])
+    path = str(tmp_path / "off.html")
+    write_page(path, data)
+    page = open_page(browser, path, query="?embed")
+    page.evaluate("window.dynamicPainting.state.dirty = true")
+    page.wait_for("!window.dynamicPainting.state.dirty")
+    shown = np.array(page.evaluate(
+        "(() => { const c = document.getElementById('painting'); const g = c.getContext("
+        "'webgl2'); const px = new Uint8Array(4 * c.width * c.height); g.readPixels(0, 0, "
+        "c.width, c.height, g.RGBA, g.UNSIGNED_BYTE, px); return Array.from(px); })()"),
+        np.float64).reshape(SIZE, SIZE, 4)[..., :3] / 255
+    rgba = render_scene(layers, [light]).rgba
+    backdrop = 0.0116
+    want = linear_to_srgb(np.clip(rgba[..., :3] + backdrop * (1 - rgba[..., 3:4]), 0, 1))
+    assert float(np.abs(shown - want)[1:-1, 1:-1].mean()) <= 2 / 255

@@ -6,7 +6,7 @@ import pytest
 from dynpaint_addon import params
 from dynpaint_addon.core.input_rules import ImageData
 from dynpaint_addon.core.layers import (Layer, Occluder, Scene, placement, render_scene,
-                                        transmittance)
+                                        scene_notes, transmittance)
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.pipeline import render
 from dynpaint_addon.core.sampling import pixel_centres
@@ -211,3 +211,40 @@ def test_the_fast_paths_find_the_shadows_the_march_finds():
             fast = scene.through(i, [light])[0]
             slow = scene.through(i, [light], "reference")[0]
             assert np.mean(np.abs(fast - slow) > 0.1) < 0.02, (light, i)
+
+
+def test_scene_notes_say_what_was_guessed():
+    """Layers of another size (placed and resampled), a layer without alpha in front (it
+    hides everything behind), equal depths (kept in their order)."""
+    small_images, p = flat_painting()
+    small = {c: ImageData(img.pixels[::2, ::2], img.bits) for c, img in small_images.items()}
+    layers = [Layer(*flat_painting(), name="back"),
+              Layer(small, p, name="small", depth=0.1),
+              Layer(*flat_painting(), name="opaque", depth=0.1)]
+    notes = scene_notes(layers)
+    assert "small: its 32×32 pixels are drawn 2× on the 64×64 canvas (resampled)" in notes
+    assert any(n.startswith("opaque has no alpha: it covers every layer behind it")
+               for n in notes)
+    assert "small and opaque are at the same depth: the first listed is behind" in notes
+    assert not any(n.startswith("back") for n in notes)
+
+
+def test_a_normal_map_layer_shadows_by_its_integrated_relief():
+    """A dome drawn as a normal map (with its alpha) in front of a plane: the fast paths and
+    the march find the same shadow, and it is the dome's, not a flat card's."""
+    r = np.hypot(*np.meshgrid(np.arange(N) + 0.5 - 32, np.arange(N) + 0.5 - 32)) / 16
+    inside = r < 1
+    nz = np.sqrt(np.clip(1 - r ** 2, 0, 1))
+    x, y = np.meshgrid(np.arange(N) + 0.5 - 32, np.arange(N) + 0.5 - 32)
+    n = np.dstack([np.where(inside, x / 16, 0), np.where(inside, y / 16, 0),
+                   np.where(inside, nz, 1)])
+    shape = np.dstack([n * 0.5 + 0.5, inside.astype(float)]).astype(np.float32)
+    p = params.defaults()
+    p.shape.kind, p.shadows.enabled = "normal", True
+    dome = {"shape": ImageData(shape, 32), "bright": ImageData(np.full((N, N, 3), 0.7), 32)}
+    scene = Scene([Layer(*flat_painting()), Layer(dome, p, "dome", 0.2)])
+    low = Light("sun", (0.8, 0.0, 0.6))
+    fast = scene.through(0, [low])[0]
+    slow = scene.through(0, [low], "reference")[0]
+    assert np.mean(np.abs(fast - slow) > 0.1) < 0.02
+    assert (fast < 0.5).sum() > (inside.sum() * 1.1)     # taller than a card: a longer shadow
