@@ -7,6 +7,7 @@ fastest, runs it at its resolution and resamples the result to the shape image's
 reference (K = 1024, float64) always marches.
 """
 import functools
+import weakref
 
 import numpy as np
 
@@ -81,6 +82,39 @@ def _crossings_plan(light, quality, fast_level, h, w, normal_map, offset):
     return ((sh, sw), fn) if largest <= crossings.MAX_TABLE_BYTES else None
 
 
+_REDUCED = {}   # id(normals) → (weak refs to the arrays, (hs, ws), reduced inputs)
+
+
+def reduced_inputs(normals, heights_px, slopes, hs, ws):
+    """The shape's inputs at hs × ws (normals renormalised, heights in reduced pixels). A
+    dragged light bakes the same shape again and again (the add-on and a scene of layers keep
+    the decoded shape): reductions to at most an eighth of the pixels are kept, for the same
+    arrays (weakly: a shape let go is not held) and size, the newest REDUCED_KEPT."""
+    key = id(normals)
+    arrays = (normals, heights_px, slopes)
+    hit = _REDUCED.get(key)
+    if hit is not None and hit[1] == (hs, ws) and \
+            all((ref() if ref is not None else None) is a for ref, a in zip(hit[0], arrays)):
+        return hit[2]
+    dtype = normals.dtype.type
+    # averages of unit normals with N.z ≥ z_min: renormalising keeps N.z ≥ z_min (|n| ≤ 1,
+    # and |n| ≥ N.z ≥ z_min > 0, so the division is safe)
+    n_s = resample_separable(normals, hs, ws)
+    n_s /= np.sqrt(np.einsum("...i,...i->...", n_s, n_s))[..., None]
+    z_s = None if heights_px is None else \
+        resample_separable(heights_px, hs, ws) * dtype(ws / normals.shape[1])
+    sl_s = None if slopes is None else resample_separable(slopes, hs, ws)
+    if 8 * hs * ws <= normals.shape[0] * normals.shape[1]:
+        if len(_REDUCED) >= REDUCED_KEPT:
+            _REDUCED.pop(next(iter(_REDUCED)))
+        _REDUCED[key] = (tuple(None if a is None else weakref.ref(a) for a in arrays),
+                         (hs, ws), (n_s, z_s, sl_s))
+    return n_s, z_s, sl_s
+
+
+REDUCED_KEPT = 8         # shapes kept reduced (a scene holds at most 8 layers)
+
+
 def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=None, steps=64,
          scale=1.0, occupancy="linear", reach=np.inf, stats=None, cancel=None, progress=None):
     """The cos-θ term at a quality level (§13): march at a reduced resolution if the level
@@ -122,12 +156,7 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
         return march(normals, light, offset, k, heights_px=heights_px, slopes=slopes,
                      occupancy=occupancy, reach=reach, stats=stats, cancel=cancel,
                      progress=progress)
-    # averages of unit normals with N.z ≥ z_min: renormalising keeps N.z ≥ z_min (|n| ≤ 1,
-    # and |n| ≥ N.z ≥ z_min > 0, so the division is safe)
-    n_s = resample_separable(normals, hs, ws)
-    n_s /= np.sqrt(np.einsum("...i,...i->...", n_s, n_s))[..., None]
-    z_s = None if heights_px is None else resample_separable(heights_px, hs, ws) * dtype(ws / w)
-    sl_s = None if slopes is None else resample_separable(slopes, hs, ws)
+    n_s, z_s, sl_s = reduced_inputs(normals, heights_px, slopes, hs, ws)
     t = march(n_s, light, offset, k, heights_px=z_s, slopes=sl_s, occupancy=occupancy,
               reach=reach, stats=stats, cancel=cancel, progress=progress)
     return np.clip(resample_separable(t, h, w), 0, 1).astype(dtype, copy=False)

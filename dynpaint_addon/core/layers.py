@@ -292,17 +292,21 @@ def _lines_near(k, kind, vector):
 
 @dataclass
 class _Receiver:
-    """The rays of one receiving layer as one occluder sees them: those that start below its
-    slab (decided by its line map) and the rest (marched)."""
-    below: np.ndarray         # (N,) bool: the origin lies below the occluder's slab
-    xy: np.ndarray            # (M, 2) float32: the origins below, x and y
-    rise: np.ndarray          # (M,) float32: from each to the occluder's plane
+    """The rays of one receiving layer as one occluder sees them: those that start under the
+    top of its slab (the others rise away from it), where they start in its pixels and how
+    far below its plane (negative inside the slab, above the plane)."""
+    under: np.ndarray         # (N,) bool: the origin lies below the slab's top
+    below: np.ndarray         # (M,) bool: of those, below the slab's bottom
+    x: np.ndarray             # (M,) float32: the origins under the top, in the occluder's px
+    y: np.ndarray
+    rise: np.ndarray          # (M,) float32: from each up to the occluder's plane, canvas px
 
 
 def _receiver(o, k):
-    below = o[:, 2] < k.bottom
-    return _Receiver(below, o[below, :2].astype(np.float32),
-                     (k.z_px - o[below, 2]).astype(np.float32))
+    under = o[:, 2] < k.top
+    x, y = k.place.to_layer(o[under, 0], o[under, 1])
+    return _Receiver(under, o[under, 2] < k.bottom, x.astype(np.float32),
+                     y.astype(np.float32), (k.z_px - o[under, 2]).astype(np.float32))
 
 
 class SunTable:
@@ -331,36 +335,62 @@ class SunTable:
         corners = np.array([[x0, y0], [x0, y1], [x1, y0], [x1, y1]])
         u, v = corners @ self.e, corners @ self.n
         self.u0, self.v0 = np.floor(u.min()) - 1, np.floor(v.min()) - 1
-        cols = int(np.ceil((u.max() - self.u0) / self.STEP_U)) + 2
+        # the silhouette and relief sampled a pixel apart along u, then interpolated to the
+        # finer columns (sampling every column costs 1/STEP_U times more for the same picture)
+        per = int(round(1 / self.STEP_U))
+        coarse = int(np.ceil(u.max() - self.u0)) + 2
         rows = int(np.ceil(v.max() - self.v0)) + 2
-        uu = self.u0 + self.STEP_U * np.arange(cols, dtype=np.float64)
-        vv = self.v0 + np.arange(rows, dtype=np.float64)
-        gu, gv = np.meshgrid(uu, vv)
+        gu, gv = np.meshgrid(self.u0 + np.arange(coarse, dtype=np.float64),
+                             self.v0 + np.arange(rows, dtype=np.float64))
         x, y = gu * self.e[0] + gv * self.n[0], gu * self.e[1] + gv * self.n[1]
         lh, lw = k.alpha.shape
         on = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
-        h = np.full(x.shape, -np.inf, np.float32)
-        cover = np.zeros(x.shape, np.float32)
+        cover, relief = np.zeros(x.shape, np.float32), np.zeros(x.shape, np.float32)
         cover[on] = _sample(k.alpha, x[on], y[on])
-        solid = cover >= 0.5
-        h[solid] = _sample(k.relief_px, x[solid], y[solid])
+        relief[on] = _sample(k.relief_px, x[on], y[on])
+        f = (np.arange((coarse - 1) * per + 1) / per).astype(np.float32)
+        j = np.minimum(f.astype(np.int64), coarse - 2)
+        w = f - j
+        cover = cover[:, j] * (1 - w) + cover[:, j + 1] * w
+        relief = relief[:, j] * (1 - w) + relief[:, j + 1] * w
+        gu = self.u0 + f.astype(np.float64)[None, :]
+        h = np.where(cover >= 0.5, relief, -np.inf).astype(np.float32)
         g = h - (self.m * (gu - self.STEP_U / 2)).astype(np.float32)   # lowest over its width
         self.suffix = np.maximum.accumulate(g[:, ::-1], axis=1)[:, ::-1]
+        # where a line may cross the plane and still meet the solid: its box, grown by how far
+        # a line travels sideways over the slab's heights (occluder px)
+        travel = (k.top - k.bottom) / self.m + 1.0
+        self.reach = (min(x0, x1) - travel, min(y0, y1) - travel, max(x0, x1) + travel,
+                      max(y0, y1) + travel)
 
-    def meets(self, x, y):
-        """Whether the lines crossing the occluder's plane at its pixels (x, y) meet it."""
+    def meets(self, x, y, rise):
+        """Whether the rays whose lines cross the occluder's plane at its pixels (x, y) meet
+        it, each starting `rise` canvas px below the plane (negative: inside the slab, above
+        the plane: only the part of its line beyond its start counts)."""
         k = self.k
         if self.vertical:
             lh, lw = k.alpha.shape
             on = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
-            out = np.zeros(len(x), bool)
-            out[on] = _sample(k.alpha, x[on], y[on]) >= 0.5
+            out = np.zeros(len(x), bool)      # straight up: the solid over it, above the start
+            out[on] = (_sample(k.alpha, x[on], y[on]) >= 0.5) & \
+                (rise[on] >= -_sample(k.relief_px, x[on], y[on]))
             return out
+        # only lines that cross the plane within the slab's sideways reach of the solid
+        x0, y0, x1, y1 = self.reach
+        near = np.flatnonzero((x >= x0) & (x <= x1) & (y >= y0) & (y <= y1))
+        out = np.zeros(len(x), bool)
+        if near.size:
+            out[near] = self._meets(x[near], y[near], rise[near])
+        return out
+
+    def _meets(self, x, y, rise):
+        k = self.k
         uq = x * self.e[0] + y * self.e[1]
         vq = x * self.n[0] + y * self.n[1]
         rows, cols = self.suffix.shape
         r = np.rint(vq - self.v0).astype(np.int64)
-        start = uq - k.thickness_px / self.m - self.STEP_U / 2      # columns reaching it
+        behind = np.minimum(np.float32(k.thickness_px), rise)       # the slab's or the start's
+        start = uq - behind / np.float32(self.m) - self.STEP_U / 2   # columns reaching it
         c = np.ceil((start - self.u0) / self.STEP_U - 1e-6).astype(np.int64)
         c = np.maximum(c, 0)
         ok = (r >= 0) & (r < rows) & (c < cols)
@@ -380,30 +410,35 @@ def sun_table(k, direction):
 
 
 def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre):
-    """(v, ρ) of occluder k for rays from o (N, 3) toward one light point: by the line map
-    toward the light's centre point (`centre`), read where the ray crosses the occluder's
-    plane, where a ray starts below the solid's slab and its light lies above it (`maps`,
-    r: _receiver(o, k)); by a march of the ray itself elsewhere. (For a point of a light's
-    disc the centre's map stands in for its own: the lines differ in slope by at most half
-    the light's angle, which moves where they cross a slab of thickness τ by τ·tan(β/2) —
-    the light-size filtering of a shadow map.)"""
+    """(v, ρ) of occluder k for rays from o (N, 3) toward one light point (r: _receiver(o, k)).
+    With `maps`: a sun over a layer of one opacity by its SunTable, every ray that starts
+    under the slab's top; otherwise the line map toward the light's centre point (`centre`),
+    read where a ray crosses the occluder's plane, for rays that start below the slab and
+    whose light lies above it; the rest by a march of each ray. (For a point of a light's
+    disc the centre's table or map stands in for its own: the lines differ in slope by at
+    most half the light's angle, which moves where they cross a slab of thickness τ by
+    τ·tan(β/2) — the light-size filtering of a shadow map.)"""
     hit, rho = np.zeros(len(o), bool), np.zeros(len(o), np.float32)
-    by_line = r.below if maps and (kind == "sun" or vector[2] > k.top) else \
-        np.zeros(len(o), bool)
-    if by_line.any() and kind == "sun" and k.uniform is not None:
-        q = r.xy + r.rise[:, None] * np.float32(1 / vector[2]) * vector[:2].astype(np.float32)
-        got = sun_table(k, centre).meets(*k.place.to_layer(q[:, 0].astype(np.float64),
-                                                            q[:, 1].astype(np.float64)))
-        hit[by_line], rho[by_line] = got, np.float32(k.uniform) * got
+    table = maps and kind == "sun" and k.uniform is not None
+    by_line = r.below if maps and not table and (kind == "sun" or vector[2] > k.top) else \
+        (np.ones(len(r.x), bool) if table else np.zeros(len(r.x), bool))
+    if by_line.any():               # where each line crosses the occluder's plane (its px)
+        rx, ry, rise = r.x[by_line], r.y[by_line], r.rise[by_line]
+        if kind == "sun":
+            along = rise * np.float32(1 / (vector[2] * k.place.px))
+            x = rx + along * np.float32(vector[0])
+            y = ry + along * np.float32(vector[1])
+        else:
+            reach = rise / (np.float32(vector[2] - k.z_px) + rise)
+            lx, ly = k.place.to_layer(vector[0], vector[1])
+            x = rx + reach * (np.float32(lx) - rx)
+            y = ry + reach * (np.float32(ly) - ry)
+        where = np.flatnonzero(r.under)[by_line]
+    if table:
+        got = sun_table(k, centre).meets(x, y, rise)
+        hit[where], rho[where] = got, np.float32(k.uniform) * got
     elif by_line.any():
         hmap, rmap = line_map(k, kind, centre, spacing, steps)
-        if kind == "sun":           # where each line crosses the occluder's plane
-            q = r.xy + r.rise[:, None] * np.float32(1 / vector[2]) * \
-                vector[:2].astype(np.float32)
-        else:
-            reach = r.rise / (np.float32(vector[2] - k.z_px) + r.rise)
-            q = r.xy + reach[:, None] * (vector[:2].astype(np.float32) - r.xy)
-        x, y = k.place.to_layer(q[:, 0], q[:, 1])
         lh, lw = hmap.shape
         on = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
         cover = np.zeros(len(x), np.float32)
@@ -411,8 +446,9 @@ def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre):
         got = cover >= 0.5
         r_got = np.zeros(len(x), np.float32)
         r_got[got] = _sample(rmap, x[got], y[got]) / cover[got]   # ρ of the covering lines
-        hit[by_line], rho[by_line] = got, r_got
-    rest = ~by_line
+        hit[where], rho[where] = got, r_got
+    rest = np.zeros(len(o), bool)
+    rest[np.flatnonzero(r.under)[~by_line]] = True
     if rest.any():
         d, length = _toward(o[rest], kind, vector)
         hit[rest], rho[rest] = _march(o[rest], d, length, k, spacing, steps)
@@ -453,7 +489,8 @@ def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=N
         T in [0, 1]: 1 where nothing in front is met, Π (1 − ρ_k) over the layers met,
         averaged over the light's disc.
     """
-    o = np.asarray(origins, np.float64)
+    o = np.asarray(origins)
+    o = o if o.dtype in (np.float32, np.float64) else o.astype(np.float64)
     shape = o.shape[:2]
     o = o.reshape(-1, 3)
     canvas = canvas or shape
@@ -507,10 +544,13 @@ def _origins(ready, place, scale=1.0):
     share of the layer's pixels."""
     h, w = ready.size
     hs, ws = _scaled(h, scale), _scaled(w, scale)
-    x, y = pixel_centres(hs, ws, np.float64)
-    zs = np.zeros((hs, ws)) if ready.z_px is None else \
+    x, y = pixel_centres(hs, ws, np.float32)
+    zs = np.zeros((hs, ws), np.float32) if ready.z_px is None else \
         resample_separable(np.nan_to_num(ready.z_px.astype(np.float32)), hs, ws)
-    return np.dstack(place.to_canvas(x * (w / ws), y * (h / hs), zs.astype(np.float64)))
+    out = np.empty((hs, ws, 3), np.float32)        # (float32: 1e-3 px at 8192 px)
+    out[..., 0], out[..., 1], out[..., 2] = place.to_canvas(
+        x * np.float32(w / ws), y * np.float32(h / hs), zs)
+    return out
 
 
 def _scaled(n, scale):
