@@ -203,10 +203,10 @@ along the light's direction and a running maximum of its relief answers, for any
 it meets the layer — one lookup per pixel; point lights and glass layers march each layer's
 own pixels once per light and are read where each ray crosses them; rays that start inside a
 layer's slab (a relief poking through the layer in front) are marched. Measured against
-Cycles (docs/layers-truth.md): cast-shadow IoU 0.97–1.00 and mean |t − 3D| ≤ 0.008 on the
+Cycles (docs/layers-truth.md): cast-shadow IoU 0.96–0.99 and mean |t − 3D| ≤ 0.006 on the
 cards and the ground for suns from 15° to 60°, a point light and a 5° sun; speed and memory
-(docs/layers-speed.md): three 1024² layers bake in about 1.3–1.5× the time of the same
-images baked alone, a dragged light's update about 50–60 ms, at most {MAX_LAYERS} layers.
+(docs/layers-speed.md): three 1024² layers bake in about 1.0–1.3× the time of the same
+images baked alone, a dragged light's update takes about 43 ms, at most {MAX_LAYERS} layers.
 
 ## Limits
 
