@@ -260,10 +260,12 @@ def test_turntable_frames_render_as_the_core_renders_their_lights(tmp_path):
 
 
 # -- the command ------------------------------------------------------------------------------
-@pytest.mark.parametrize("engine", ["cycles", "eevee"])
-def test_turntable_command_writes_a_video_with_progress(engine, tmp_path):
-    out = tmp_path / "glass.mp4"
-    res = run_cli("turntable", "glass", "--frames", "3", "--size", "64", "48", "--samples", "1",
+@pytest.mark.parametrize("engine, sample", [("cycles", "glass"), ("eevee", "glass"),
+                                            ("cycles", "window")])
+def test_turntable_command_writes_a_video_with_progress(engine, sample, tmp_path):
+    """(window: a scene of layers, §15: every frame bakes the shadows between its layers.)"""
+    out = tmp_path / f"{sample}.mp4"
+    res = run_cli("turntable", sample, "--frames", "3", "--size", "64", "48", "--samples", "1",
                   "--engine", engine, "--out", out)
     assert res.returncode == 0, res.stderr[-2000:]
     progress = [ln for ln in res.stdout.splitlines() if ln.startswith("frame ")]

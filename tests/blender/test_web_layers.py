@@ -98,3 +98,24 @@ def test_what_the_page_shows_is_the_composite_over_the_backdrop(browser, recipe,
     backdrop = 0.0116
     want = linear_to_srgb(np.clip(rgba[..., :3] + backdrop * (1 - rgba[..., 3:4]), 0, 1))
     assert float(np.abs(shown - want)[1:-1, 1:-1].mean()) <= 2 / 255
+
+
+def test_eight_layers_the_most_a_scene_holds(browser, recipe, tmp_path):
+    """The documented maximum: eight layers (the scene's cards repeated at more depths), the
+    back one under seven in front, drawn as the core draws them."""
+    layers = load_layers(load_recipe(recipe))
+    for j in range(5):
+        extra = load_layers(load_recipe(recipe))[1 + j % 2]
+        extra.name, extra.depth = f"{extra.name} {j}", 0.3 + 0.05 * j
+        layers.append(extra)
+    light = Light("sun", (0.55, 0.35, 0.76))
+    data, _ = scene_data(layers, [light])
+    assert len(data["layers"]) == 8 and data["layers"][0]["front"] == list(range(1, 8))
+    path = str(tmp_path / "eight.html")
+    write_page(path, data)
+    page = open_page(browser, path, query="?embed")
+    want = render_scene(layers, [light])
+    got = floats(page, "null", SIZE, SIZE)
+    assert float(np.abs(got - want.rgba)[1:-1, 1:-1].mean()) <= 2e-3
+    back = floats(page, 0, SIZE, SIZE)
+    assert float(np.abs(back - want.layers[0].rgba)[1:-1, 1:-1].mean()) <= 2e-3
