@@ -12,7 +12,7 @@ from ..recipe import hidden_notes, load_recipe
 from .images import packed_image
 from .layers import LAYERED, bake_group, group_materials
 from .lights import add_light, linked_lights, painting_frame_light
-from .scene import FACE_CAMERA, create_painting, face_camera
+from .scene import FACE_CAMERA, create_painting, face_scene_camera
 from .sync import update
 from .turntable import add_light_turntable
 
@@ -51,11 +51,9 @@ def add_layered(context, path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE, siz
     parent.location = scene.cursor.location
     if rotation is not None:
         parent.rotation_euler = rotation
-    if scene.camera is not None:
-        face_camera(parent, scene.camera)
-    else:
-        messages.append("no camera in the scene: the layers face the view (give the parent "
-                        "a Copy Rotation constraint to a camera to keep them facing it)")
+    messages += face_scene_camera(parent, scene, "the layers face the view (give the parent a "
+                                                 "Copy Rotation constraint to a camera to keep "
+                                                 "them facing it)")
     context.view_layer.update()
     camera = _camera_in(parent, scene.camera) if parallax else None
     planes = []

@@ -86,6 +86,14 @@ def face_camera(obj, camera):
     con.target = camera
 
 
+def face_scene_camera(obj, scene, otherwise):
+    """Keep `obj` facing the scene's camera → [], or, without a camera, [what to say]."""
+    if scene.camera is None:
+        return [f"no camera in the scene: {otherwise}"]
+    face_camera(obj, scene.camera)
+    return []
+
+
 def create_painting(context, images, p=None, lights=None, name="Dynamic Painting", size=1.0,
                     location=(0.0, 0.0, 0.0), rotation=None, default_sun=True, progress=None):
     """Create the plane, its material and (optionally) lights → (plane, material, messages).
@@ -144,11 +152,8 @@ def _create_painting(context, images, p, lights, name, size, location, rotation,
             for channel, img in loaded.items():
                 setattr(s, f"image_{channel}", img)
             s.plane = obj
-        if scene.camera is not None:
-            face_camera(obj, scene.camera)
-        else:
-            messages.append("no camera in the scene: the painting faces the view; add a camera "
-                            "and use 'Face Camera' to keep it facing it")
+        messages += face_scene_camera(obj, scene, "the painting faces the view; add a camera "
+                                                  "and use 'Face Camera' to keep it facing it")
         context.view_layer.update()
         if lights:
             for light in lights:

@@ -266,19 +266,24 @@
   const shadowState = { passes: 0, passMs: 0, final: true, scale: 1 };   // (scale: the least)
   api.shadows = shadowState;
 
-  // A float (or 8-bit) one-channel render target of w × h → {tex, fb, w, h, float}.
-  function target(w, h) {
-    const float = !!gl.getExtension("EXT_color_buffer_float");
+  // A texture of w × h the GPU draws into (internal format, format, type) → {tex, fb}.
+  function drawable(w, h, internal, format, type) {
     const tex = gl.createTexture();
     gl.bindTexture(gl.TEXTURE_2D, tex);
-    if (float) gl.texImage2D(gl.TEXTURE_2D, 0, gl.R32F, w, h, 0, gl.RED, gl.FLOAT, null);
-    else gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, w, h, 0, gl.RGBA, gl.UNSIGNED_BYTE, null);
+    gl.texImage2D(gl.TEXTURE_2D, 0, internal, w, h, 0, format, type, null);
     unfiltered();
     const fb = gl.createFramebuffer();
     gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
     gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, tex, 0);
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
-    return { tex, fb, w, h, float };
+    return { tex, fb };
+  }
+
+  // A float (or 8-bit) one-channel render target of w × h → {tex, fb, w, h, float}.
+  function target(w, h) {
+    const float = !!gl.getExtension("EXT_color_buffer_float");
+    return { ...(float ? drawable(w, h, gl.R32F, gl.RED, gl.FLOAT)
+      : drawable(w, h, gl.RGBA8, gl.RGBA, gl.UNSIGNED_BYTE)), w, h, float };
   }
   function dropTarget(t) {
     if (t) { gl.deleteFramebuffer(t.fb); gl.deleteTexture(t.tex); }
@@ -554,15 +559,8 @@
     if (composite) { gl.deleteFramebuffer(composite.fb); gl.deleteTexture(composite.tex); }
     const float = !!gl.getExtension("EXT_color_buffer_float") &&
       !!gl.getExtension("EXT_float_blend");
-    const tex = gl.createTexture();
-    gl.bindTexture(gl.TEXTURE_2D, tex);
-    if (float) gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, w, h, 0, gl.RGBA, gl.FLOAT, null);
-    else gl.texImage2D(gl.TEXTURE_2D, 0, gl.SRGB8_ALPHA8, w, h, 0, gl.RGBA, gl.UNSIGNED_BYTE, null);
-    unfiltered();
-    const fb = gl.createFramebuffer();
-    gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
-    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, tex, 0);
-    composite = { fb, tex, w, h };
+    composite = { ...(float ? drawable(w, h, gl.RGBA32F, gl.RGBA, gl.FLOAT)
+      : drawable(w, h, gl.SRGB8_ALPHA8, gl.RGBA, gl.UNSIGNED_BYTE)), w, h };
     return composite;
   }
 
