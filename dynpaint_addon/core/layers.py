@@ -420,8 +420,13 @@ def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre):
     τ·tan(β/2) — the light-size filtering of a shadow map.)"""
     hit, rho = np.zeros(len(o), bool), np.zeros(len(o), np.float32)
     table = maps and kind == "sun" and k.uniform is not None
-    by_line = r.below if maps and not table and (kind == "sun" or vector[2] > k.top) else \
-        (np.ones(len(r.x), bool) if table else np.zeros(len(r.x), bool))
+    if table:                       # every ray under the top
+        by_line = np.ones(len(r.x), bool)
+    elif maps and (kind == "sun" or vector[2] > k.top):
+        by_line = r.below
+    else:
+        by_line = np.zeros(len(r.x), bool)
+    under = np.flatnonzero(r.under)
     if by_line.any():               # where each line crosses the occluder's plane (its px)
         rx, ry, rise = r.x[by_line], r.y[by_line], r.rise[by_line]
         if kind == "sun":
@@ -433,8 +438,8 @@ def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre):
             lx, ly = k.place.to_layer(vector[0], vector[1])
             x = rx + reach * (np.float32(lx) - rx)
             y = ry + reach * (np.float32(ly) - ry)
-        where = np.flatnonzero(r.under)[by_line]
-    if table:
+        where = under[by_line]
+    if table and by_line.any():
         got = sun_table(k, centre).meets(x, y, rise)
         hit[where], rho[where] = got, np.float32(k.uniform) * got
     elif by_line.any():
@@ -448,7 +453,7 @@ def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre):
         r_got[got] = _sample(rmap, x[got], y[got]) / cover[got]   # ρ of the covering lines
         hit[where], rho[where] = got, r_got
     rest = np.zeros(len(o), bool)
-    rest[np.flatnonzero(r.under)[~by_line]] = True
+    rest[under[~by_line]] = True
     if rest.any():
         d, length = _toward(o[rest], kind, vector)
         hit[rest], rho[rest] = _march(o[rest], d, length, k, spacing, steps)

@@ -248,3 +248,12 @@ def test_a_normal_map_layer_shadows_by_its_integrated_relief():
     slow = scene.through(0, [low], "reference")[0]
     assert np.mean(np.abs(fast - slow) > 0.1) < 0.02
     assert (fast < 0.5).sum() > (inside.sum() * 1.1)     # taller than a card: a longer shadow
+
+
+def test_a_receiver_wholly_above_a_layer_takes_nothing_from_it():
+    """Rays that start above a layer's slab rise away from it (§15): T = 1, for the sun
+    table, the line maps and the march alike."""
+    for light in (Light("sun", (0.3, 0.2, 0.9)), Light("point", (0.0, 0.0, 2.0))):
+        for maps in (True, False):
+            t = transmittance(plane_origins(40.0), light, [card(24, 40, 16.0)], maps=maps)
+            assert t.min() == 1.0
