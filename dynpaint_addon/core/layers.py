@@ -154,8 +154,8 @@ def light_points(light, canvas, disc):
         d /= np.linalg.norm(d)
         u, v = _basis(d)
         spread = np.tan(light.size / 2)
-        return [("sun", (d + spread * (a * u + b * v)) / np.linalg.norm(d + spread * (a * u + b * v)))
-                for a, b in points]
+        tilted = [d + spread * (a * u + b * v) for a, b in points]
+        return [("sun", t / np.linalg.norm(t)) for t in tilted]
     centre = light.position_px(*canvas)
     axis = centre - np.array([canvas[1] / 2, canvas[0] / 2, 0.0])
     u, v = _basis(axis / max(np.linalg.norm(axis), 1e-12))
@@ -216,7 +216,7 @@ def _march_part(o, d, a, b, k, spacing, steps, todo, idx, hit, rho):
     across = float(np.max((b[todo] - a[todo]) * np.hypot(d[todo, 0], d[todo, 1]))) / k.place.px
     n = int(min(max(steps, 1), max(1, np.ceil(across / spacing) + 1)))
     lh, lw = k.alpha.shape
-    todo = todo[b[todo] > a[todo]] if n else todo
+    todo = todo[b[todo] > a[todo]]
     for j in range(n):                          # midpoints of n equal parts, from below
         if not todo.size:
             break
@@ -246,27 +246,38 @@ def line_map(k, kind, vector, spacing, steps):
     slab and ends above it is decided by its line alone, so one march on the occluder's own
     pixels serves every pixel of every layer behind it (a shadow map of the solid, cached
     on the occluder per light point)."""
-    key = (kind, tuple(np.round(vector, 9)), spacing, steps)
-    if key not in k.maps and len(k.maps) >= MAPS_KEPT:      # a dragged light: the newest
-        k.maps.clear()
+    return _kept(k, (kind, tuple(np.round(vector, 9)), spacing, steps),
+                 lambda: _line_map(k, kind, vector, spacing, steps))
+
+
+def _kept(k, key, make):
+    """What `make()` makes for occluder k, kept on it under `key` (line maps, sun tables):
+    the newest MAPS_KEPT (a dragged light makes new ones at every step)."""
     if key not in k.maps:
-        lh, lw = k.alpha.shape
-        hmap, rmap = np.zeros((lh, lw), np.float32), np.zeros((lh, lw), np.float32)
-        rows, cols = _lines_near(k, kind, vector)
-        if rows.stop > rows.start and cols.stop > cols.start:
-            x, y = pixel_centres(lh, lw, np.float64)
-            qx, qy, _ = k.place.to_canvas(x[rows, cols], y[rows, cols], 0.0)
-            q = np.stack([qx.ravel(), qy.ravel(), np.full(qx.size, k.z_px)], axis=1)
-            d, _ = _toward(q, kind, vector)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                back = np.where(d[:, 2] > 0, (k.z_px - k.bottom) / d[:, 2], 0.0)
-                length = np.where(d[:, 2] > 0, (k.top - k.bottom) / d[:, 2], 0.0)
-            start = q - back[:, None] * d                 # where the line enters the slab
-            hit, rho = _march(start - 1e-9 * d, d, length + 2e-9, k, spacing, steps)
-            shape = (rows.stop - rows.start, cols.stop - cols.start)
-            hmap[rows, cols], rmap[rows, cols] = hit.reshape(shape), rho.reshape(shape)
-        k.maps[key] = (hmap, rmap)
+        if len(k.maps) >= MAPS_KEPT:
+            k.maps.clear()
+        k.maps[key] = make()
     return k.maps[key]
+
+
+def _line_map(k, kind, vector, spacing, steps):
+    """line_map's march on the occluder's pixels near its solid → (hit, ρ) images."""
+    lh, lw = k.alpha.shape
+    hmap, rmap = np.zeros((lh, lw), np.float32), np.zeros((lh, lw), np.float32)
+    rows, cols = _lines_near(k, kind, vector)
+    if rows.stop > rows.start and cols.stop > cols.start:
+        x, y = pixel_centres(lh, lw, np.float64)
+        qx, qy, _ = k.place.to_canvas(x[rows, cols], y[rows, cols], 0.0)
+        q = np.stack([qx.ravel(), qy.ravel(), np.full(qx.size, k.z_px)], axis=1)
+        d, _ = _toward(q, kind, vector)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            back = np.where(d[:, 2] > 0, (k.z_px - k.bottom) / d[:, 2], 0.0)
+            length = np.where(d[:, 2] > 0, (k.top - k.bottom) / d[:, 2], 0.0)
+        start = q - back[:, None] * d                 # where the line enters the slab
+        hit, rho = _march(start - 1e-9 * d, d, length + 2e-9, k, spacing, steps)
+        shape = (rows.stop - rows.start, cols.stop - cols.start)
+        hmap[rows, cols], rmap[rows, cols] = hit.reshape(shape), rho.reshape(shape)
+    return hmap, rmap
 
 
 def _lines_near(k, kind, vector):
@@ -401,12 +412,8 @@ class SunTable:
 
 def sun_table(k, direction):
     """The SunTable of occluder k for a sun along `direction`, cached on the occluder."""
-    key = ("table", tuple(np.round(direction, 9)))
-    if key not in k.maps and len(k.maps) >= MAPS_KEPT:      # a dragged light: the newest
-        k.maps.clear()
-    if key not in k.maps:
-        k.maps[key] = SunTable(k, np.asarray(direction, np.float64))
-    return k.maps[key]
+    return _kept(k, ("table", tuple(np.round(direction, 9))),
+                 lambda: SunTable(k, np.asarray(direction, np.float64)))
 
 
 def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre):
@@ -580,9 +587,9 @@ def _occluder(ready, p, place, thickness):
     relief = np.nan_to_num(np.asarray(relief, np.float64)) * place.px
     alpha = silhouette_alpha(ready.imgs, p)
     alpha = np.ones(ready.size) if alpha is None else alpha.astype(np.float64)
-    tau = float(np.max(relief, initial=0.0)) if thickness is None else thickness
-    return Occluder(alpha, relief, place.z, max(tau, place.px) if thickness is None else tau,
-                    1.0 - transparency_k(ready, p), place)
+    if thickness is None:           # §15's default: its tallest relief, at least a pixel
+        thickness = max(float(np.max(relief, initial=0.0)), place.px)
+    return Occluder(alpha, relief, place.z, thickness, 1.0 - transparency_k(ready, p), place)
 
 
 class Scene:
