@@ -21,10 +21,10 @@ import bpy
 
 from ..core.layers import Layer, Scene
 from ..imageio import image_data_from_blender
-from .lights import painting_frame_light
+from .lights import painting_frame_light, plane_matrix
 from .live_bake import DEBOUNCE_S
 from .settings import channel_images, settings_to_params
-from .shadow_images import bake_shadows, settings_key, write_shadow
+from .shadow_images import bake_shadows, light_key, settings_key, write_shadow
 
 LAYERED = "dynamic_painting_layered"     # custom property that marks a layered scene's parent
 LAYER_CHANNELS = ("shape", "dark", "bright", "transparency")   # what T and t_own read
@@ -45,21 +45,20 @@ def group_materials(parent):
         mat = child.active_material
         if mat is not None and mat.dynamic_painting.is_painting and not child.hide_render:
             mats.append(mat)
-    return sorted(mats, key=lambda m: (_local(parent, m.dynamic_painting.plane)[2, 3],
+    return sorted(mats, key=lambda m: (_relative(parent, m.dynamic_painting.plane)[2, 3],
                                        m.dynamic_painting.plane.name))
 
 
-def _local(parent, plane, depsgraph=None):
-    """A plane's matrix in its parent's frame."""
+def _relative(frame, obj, depsgraph=None):
+    """`obj`'s matrix in `frame`'s object space (evaluated when a depsgraph is given)."""
     ev = (lambda o: o.evaluated_get(depsgraph)) if depsgraph is not None else (lambda o: o)
-    return np.linalg.inv(np.array(ev(parent).matrix_world)) @ np.array(ev(plane).matrix_world)
+    return np.linalg.inv(np.array(ev(frame).matrix_world)) @ np.array(ev(obj).matrix_world)
 
 
 def _placement(back, plane, depsgraph=None):
     """(depth, offset, scale) of a plane in the back plane's painting frame (§15, image widths
     of the back layer), from the two planes' world matrices (planes face the same way)."""
-    ev = (lambda o: o.evaluated_get(depsgraph)) if depsgraph is not None else (lambda o: o)
-    rel = np.linalg.inv(np.array(ev(back).matrix_world)) @ np.array(ev(plane).matrix_world)
+    rel = _relative(back, plane, depsgraph)
     scale = float(np.linalg.norm(rel[:3, 0]))
     return float(rel[2, 3]), (float(rel[0, 3]), float(rel[1, 3])), scale
 
@@ -80,10 +79,11 @@ def group_key(mats, depsgraph=None):
 _SCENES = {}     # parent name → (key without lights, core Scene): a drag keeps it
 
 
-def core_scene(parent, mats, depsgraph=None):
+def core_scene(parent, mats, depsgraph=None, key=None):
     """The core Scene of a layered group, made once per group key (its layers' inputs read
-    from Blender and prepared once: a moving light reuses them)."""
-    key = group_key(mats, depsgraph)
+    from Blender and prepared once: a moving light reuses them); key: group_key's, when the
+    caller has it."""
+    key = key or group_key(mats, depsgraph)
     hit = _SCENES.get(parent.name)
     if hit is None or hit[0] != key:
         layers = group_layers(mats, depsgraph, LAYER_CHANNELS)
@@ -122,23 +122,22 @@ def bake_group(parent, depsgraph=None, quality=None, force=False):
     mats = group_materials(parent)
     if not mats:
         return 0.0
-    back = mats[0].dynamic_painting.plane
-    key = group_key(mats, depsgraph) + f"|{quality or 'own'}"
+    group = group_key(mats, depsgraph)
+    key = group + f"|{quality or 'own'}"
+    back = plane_matrix(mats[0], depsgraph)
+    items = [(mat, item) for mat in mats for item in mat.dynamic_painting.lights
+             if item.object is not None]
     lights = {}            # light object name → core Light in the back layer's frame
-    for mat in mats:
-        for item in mat.dynamic_painting.lights:
-            if item.object is not None and item.object.name not in lights:
-                lights[item.object.name] = painting_frame_light(
-                    item.object, back.evaluated_get(depsgraph).matrix_world
-                    if depsgraph is not None else back.matrix_world, depsgraph)
-    todo = {name: light for name, light in lights.items()
-            if force or any(item.object is not None and item.object.name == name and
-                            (item.shadow is None or item.bake_key != _key(key, light))
-                            for mat in mats for item in mat.dynamic_painting.lights)}
+    for _, item in items:
+        if item.object.name not in lights:
+            lights[item.object.name] = painting_frame_light(item.object, back, depsgraph)
+    todo = {item.object.name: lights[item.object.name] for _, item in items
+            if force or item.shadow is None or
+            item.bake_key != _key(key, lights[item.object.name])}
     if not todo:
         return 0.0
     start = time.perf_counter()
-    scene = core_scene(parent, mats, depsgraph)
+    scene = core_scene(parent, mats, depsgraph, group)
     results = {name: scene.bake(light, quality) for name, light in todo.items()}
     for i, mat in enumerate(mats):       # written only once every bake is done
         for item in mat.dynamic_painting.lights:
@@ -159,7 +158,7 @@ def bake_painting(mat, scene, depsgraph=None, force=True, progress=None, p=None)
 
 
 def _key(group, light):
-    return group + "|" + repr((light.kind, np.round(light.vector, 9).tolist(), light.size))
+    return f"{group}|{light_key(light)}|{light.size!r}"
 
 
 _FINAL_DUE = {}    # parent name → when its lights were last moved (a final bake is due)
