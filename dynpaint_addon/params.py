@@ -8,6 +8,7 @@ import math
 from dataclasses import dataclass, replace
 from types import SimpleNamespace
 
+from .core.frames import MODES
 from .core.fresnel import DOMAINS
 from .core.inputs import MASK_CHANNELS
 from .core.lights import FALLOFFS
@@ -27,6 +28,7 @@ class Param:
     section: str
     key: str
     kind: type | str     # bool, int, float, 'enum', 'auto_float' (a number or "auto"),
+    #                      'auto_int' (an integer or "auto"),
     #                      'vec2' (two numbers [x, y], each within min … max)
     default: object
     help: str
@@ -101,7 +103,7 @@ class Param:
             if value not in self.choices:
                 raise ValueError(f"must be one of {', '.join(self.choices)}, got {value!r}")
             return value
-        if kind == "auto_float" and value == "auto":
+        if kind in ("auto_float", "auto_int") and value == "auto":
             return value
         if kind == "vec2":
             if not isinstance(value, (list, tuple)) or len(value) != 2:
@@ -115,17 +117,21 @@ class Param:
                     raise ValueError(f"[{i}]: {exc}") from None
             return tuple(out)
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            expected = "an integer" if kind is int else (
+            expected = expected_integer(kind) if kind in (int, "auto_int") else (
                 'a number or "auto"' if kind == "auto_float" else "a number")
             raise ValueError(f"expected {expected}, got {value!r}")
-        if kind is int and not isinstance(value, int):
-            raise ValueError(f"expected an integer, got {value!r}")
+        if kind in (int, "auto_int") and not isinstance(value, int):
+            raise ValueError(f"expected {expected_integer(kind)}, got {value!r}")
         if not math.isfinite(value):
             raise ValueError(f"must be a finite number, got {value!r}")
         if self.min is not None and value < self.min or self.max is not None and value > self.max:
             unit = f" {self.unit}" if self.unit else ""
             raise ValueError(f"{value!r} is out of range [{self.min}, {self.max}]{unit}")
-        return int(value) if kind is int else float(value)
+        return int(value) if kind in (int, "auto_int") else float(value)
+
+
+def expected_integer(kind):
+    return 'an integer or "auto"' if kind == "auto_int" else "an integer"
 
 
 P = Param
@@ -299,6 +305,37 @@ PARAMS = (
       feature="silhouette", derives=("silhouette",)),
 )
 
+# Paintings that move (§16): how a painting's image sequences and sprite sheets follow the
+# scene's frames. One mapping per painting ([frames]); any key can be set again for one image
+# slot ([frames.dark], …); a still image stays still. Not pipeline parameters: they choose
+# which images the pipeline gets, so the graph never reads them.
+FRAME_PARAMS = (
+    P("frames", "start", int, 1, "Scene frame that shows the painting's first frame "
+      "(Blender's Start Frame)", min=-1048574, max=1048574, spec="§16", label="Start Frame"),
+    P("frames", "offset", "auto_int", "auto", "Added to the painting's frame to give the "
+      "file number (Blender's Offset); 'auto' = the first file's number − 1 for a sequence "
+      "(what Blender's Open does: the first file shows at the start frame), 0 for a sheet",
+      min=-1048574, max=1048574, spec="§16", auto_value=0),
+    P("frames", "count", int, 0, "How many frames the painting has (Blender's Frames); 0 = "
+      "all of them (a sequence's first to last file, a sheet's cells)", min=0, max=1048574,
+      spec="§16", label="Frames"),
+    P("frames", "mode", "enum", "cyclic", "What the scene frames beyond the painting's show: "
+      "cyclic (it loops, Blender's Cyclic), ping-pong (forth and back), hold (its first "
+      "frame before, its last after: Blender without Cyclic)", choices=MODES, spec="§16",
+      label="Repeat"),
+    P("frames", "rate", float, 1.0, "Painting frames per scene frame: 0.5 holds each drawing "
+      "for two frames (animation 'on twos'), 2 skips every other one", min=0.01, max=100.0,
+      spec="§16", label="Rate"),
+    P("frames", "columns", int, 1, "A sprite sheet's columns (1 column and 1 row: not a "
+      "sheet); its frames run row by row from the top left", min=1, max=4096, spec="§16"),
+    P("frames", "rows", int, 1, "A sprite sheet's rows", min=1, max=4096, spec="§16"),
+    P("frames", "margin", int, 0, "Pixels around a sprite sheet's grid", unit="pixels",
+      min=0, max=65536, spec="§16"),
+    P("frames", "spacing", int, 0, "Pixels between a sprite sheet's cells", unit="pixels",
+      min=0, max=65536, spec="§16"),
+)
+FRAME_BY_KEY = {p.key: p for p in FRAME_PARAMS}
+
 SECTIONS = tuple(dict.fromkeys(p.section for p in PARAMS))
 BY_PATH = {p.path: p for p in PARAMS}
 
@@ -338,3 +375,8 @@ def as_dict(params):
     """Section → {key: value} (for writing and comparing recipes; recipe.parse_recipe reads
     them back)."""
     return {s: dict(vars(getattr(params, s))) for s in SECTIONS}
+
+
+def frame_defaults():
+    """[frames]' keys → their defaults (a painting that does not move has exactly these)."""
+    return {p.key: p.default for p in FRAME_PARAMS}

@@ -31,7 +31,10 @@ from .channel_names import IMAGE_EXTENSIONS
 from .core.layers import MAX_LAYERS, Layer
 from .core.lights import LIGHT_KINDS, Light
 from .errors import UserError
+from .core.frames import is_pattern
 from .imageio import read_image
+from .painting_frames import (FrameError, PaintingFrames, check_frame_settings, painting_slots,
+                              sequence_numbers)
 from .samples import list_samples, recipe_path
 
 LIGHT_KEYS = ("type", "direction", "position", "color", "strength", "name", "angle", "radius")
@@ -56,10 +59,20 @@ class Recipe:
     description: str = ""   # one line for menus and tooltips
     credits: str = ""       # who made it: shown under the title of an exported web page
     layers: list = field(default_factory=list)   # [RecipeLayer], back to front (§15)
+    # §16: {"": [frames] as written, channel: [frames.<channel>] as written}
+    frames: dict = field(default_factory=dict)
 
     @property
     def layered(self):
         return bool(self.layers)
+
+    def slots(self):
+        """{channel: painting_frames.SlotFrames}: how each image follows the frames (§16)."""
+        return painting_slots(self.images, self.frames)
+
+    @property
+    def animated(self):
+        return any(s.kind != "still" for s in self.slots().values())
 
 
 @dataclass
@@ -180,7 +193,7 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True, base=Non
     where = f"{source}: "
     values = copy.deepcopy(base) if base is not None else params.defaults()
     text = {"name": "", "description": "", "credits": ""}
-    images, lights = {}, []
+    images, lights, frames = {}, [], {}
     for key, value in data.items():
         if key in text:
             if not isinstance(value, str):
@@ -196,9 +209,16 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True, base=Non
                 if not isinstance(rel, str) or not rel:
                     raise RecipeError(f"{where}images.{ch}: expected a file path, got {rel!r}")
                 full = os.path.normpath(os.path.join(base_dir, rel))
-                if check_files and not os.path.isfile(full):
+                if check_files and is_pattern(os.path.basename(full)):
+                    try:
+                        sequence_numbers(full)
+                    except FrameError as exc:
+                        raise RecipeError(f"{where}images.{ch}: {exc}") from None
+                elif check_files and not os.path.isfile(full):
                     raise RecipeError(f"{where}images.{ch}: file not found: {full}")
                 images[ch] = full
+        elif key == "frames":
+            frames = _parse_frames(value, f"{where}frames")
         elif key == "layers":
             if not isinstance(value, list) or not value:
                 raise RecipeError(f"{where}layers: expected an array of tables [[layers]]")
@@ -220,7 +240,7 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True, base=Non
                     raise RecipeError(f"{where}{key}.{k}: unknown key{_suggest(k, keys)}")
                 setattr(section, k, _check_value(param, v, f"{where}{key}.{k}"))
         else:
-            options = (*text, "images", "lights", "layers") + params.SECTIONS
+            options = (*text, "images", "lights", "layers", "frames") + params.SECTIONS
             raise RecipeError(f"{where}{key}: unknown key{_suggest(key, options)}")
     if "layers" in data:
         if images:
@@ -235,8 +255,36 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True, base=Non
             raise RecipeError(f"{where}images.{ch}: missing (a painting needs a shape image)")
     if "dark" not in images and "bright" not in images:
         raise RecipeError(f"{where}images.dark: missing (a painting needs a dark or a bright image)")
-    return Recipe(values, lights, images, text["name"], description=text["description"],
-                  credits=text["credits"])
+    recipe = Recipe(values, lights, images, text["name"], description=text["description"],
+                    credits=text["credits"], frames=frames)
+    if check_files:
+        try:
+            recipe.slots()           # a grid that cannot hold its count, a slot both ways
+        except FrameError as exc:
+            raise RecipeError(f"{where}{exc}") from None
+    return recipe
+
+
+def _parse_frames(table, where):
+    """[frames] and its [frames.<channel>] tables (§16) → {"": {...}, channel: {...}}, each
+    holding the keys as written, checked by params.FRAME_PARAMS."""
+    if not isinstance(table, dict):
+        raise RecipeError(f"{where}: expected a table [frames]")
+    own = {k: v for k, v in table.items() if not isinstance(v, dict)}
+    frames = {}
+    try:
+        frames[""] = check_frame_settings(own, where)
+        for ch, sub in table.items():
+            if not isinstance(sub, dict):
+                continue
+            if ch not in params.CHANNELS:
+                raise ValueError(f"{where}.{ch}: unknown image channel"
+                                 f"{_suggest(ch, params.CHANNELS)}; a [frames.<channel>] "
+                                 f"table sets one image's mapping")
+            frames[ch] = check_frame_settings(sub, f"{where}.{ch}")
+    except ValueError as exc:
+        raise RecipeError(str(exc)) from None
+    return {k: v for k, v in frames.items() if v}
 
 
 def load_recipe(path):
@@ -328,6 +376,10 @@ def _painting_toml(recipe, base_dir, prefix, base, only_changed):
         for ch, full in recipe.images.items():
             rel = os.path.relpath(full, base_dir).replace(os.sep, "/")
             lines.append(f"{ch} = {_toml_value(rel)}")
+    for ch, table in sorted(recipe.frames.items()):
+        if table:
+            lines += ["", f"[{prefix}frames{'.' + ch if ch else ''}]"]
+            lines += [f"{k} = {_toml_value(v)}" for k, v in table.items()]
     start = params.as_dict(base)
     for section, values in params.as_dict(recipe.params).items():
         changed = {k: v for k, v in values.items() if not only_changed or v != start[section][k]}
@@ -338,19 +390,21 @@ def _painting_toml(recipe, base_dir, prefix, base, only_changed):
 
 
 def image_bytes(recipe):
-    """The size in bytes of the recipe's image files, its layers' too (a file named twice
-    counted once)."""
-    paths = set(recipe.images.values()).union(*(lay.recipe.images.values()
-                                                for lay in recipe.layers))
+    """The size in bytes of the recipe's image files, its layers' and every frame of a
+    sequence too (a file named twice counted once)."""
+    paintings = [recipe] + [lay.recipe for lay in recipe.layers]
+    paths = {f for r in paintings for slot in r.slots().values() for f in slot.files()}
     return sum(os.path.getsize(p) for p in paths)
 
 
-def load_images(recipe):
-    """Read every image the recipe names → {channel: ImageData}."""
+def load_images(recipe, frame=None):
+    """Read every image the recipe names → {channel: ImageData}; of a painting that moves
+    (§16), the images scene frame `frame` shows (None: its start frame)."""
     if recipe.layered:
         raise RecipeError(f"{recipe.path or recipe.name}: a layered recipe (§15): its images "
                           f"are its layers' (load_layers)")
-    return {ch: read_image(path) for ch, path in recipe.images.items()}
+    painting = PaintingFrames(recipe.slots(), cache_mb=0)
+    return painting.images(painting.start if frame is None else frame)
 
 
 def load_layers(recipe):

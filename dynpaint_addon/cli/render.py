@@ -11,7 +11,8 @@ from ..core.pipeline import render
 from ..errors import CommandError
 from ..imageio import write_render
 from ..layered_files import is_layered_file, load_layered
-from ..recipe import load_images, load_recipe
+from ..painting_frames import PaintingFrames
+from ..recipe import load_recipe
 from ..samples import recipe_help
 from .notes import print_notes
 
@@ -30,10 +31,12 @@ def cmd_render(args):
         return _render_blender(args, recipe)
     if recipe.layered:
         return _render_layers(args)
-    if args.frame is not None:
-        raise CommandError("--frame needs --engine eevee or cycles (the numpy engine renders "
-                           "the recipe's lights as written)")
-    images = load_images(recipe)
+    painting = PaintingFrames(recipe.slots())
+    if args.frame is not None and not painting.animated:
+        raise CommandError("--frame needs --engine eevee or cycles, or a painting that moves "
+                           "(the numpy engine renders the recipe's lights as written)")
+    frame = painting.start if args.frame is None else args.frame
+    images = painting.images(frame)
     if args.width:
         images = resample_painting(images, args.width)
     dtype = np.float64 if args.float64 else np.float32
@@ -44,10 +47,11 @@ def cmd_render(args):
     t = time.perf_counter()
     result = render(images, recipe.lights, recipe.params, dtype, keep_passes=False)
     ms = (time.perf_counter() - t) * 1000
-    print_notes(result.warnings)
+    print_notes(painting.notes + result.warnings)
     write_render(args.out, result.rgba)
     h, w = result.rgba.shape[:2]
-    print(f"rendered {w}×{h} in {ms:.0f} ms → {args.out}")
+    shown = f" (scene frame {frame}: {painting.shown(frame)})" if painting.animated else ""
+    print(f"rendered {w}×{h}{shown} in {ms:.0f} ms → {args.out}")
 
 
 def _render_layers(args):
@@ -89,8 +93,9 @@ def add_parser(sub):
     r.add_argument("--engine", default="numpy", choices=ENGINES,
                    help="numpy (the reference core, default), or cycles / eevee (the add-on's "
                         "material in background Blender, framed pixel for pixel)")
-    r.add_argument("--frame", type=int, help="scene frame to render (eevee/cycles; keyframed "
-                                             "lights and parameters move with it)")
+    r.add_argument("--frame", type=int, help="scene frame to render: a painting that moves "
+                   "shows that frame's drawing (§16); with eevee/cycles keyframed lights and "
+                   "parameters move with it too")
     r.add_argument("--width", type=int, help="output width in pixels (default: the shape image's); "
                                              "every per-pixel image is resampled to it")
     r.add_argument("--float64", action="store_true", help="compute in float64 (reference)")

@@ -1,4 +1,4 @@
-"""Paintings that move (issue 31, first step): which painting frame a scene frame shows, and
+"""Paintings that move (§16, issue 31): which painting frame a scene frame shows, and
 where a frame lies in a sequence of files or a sprite sheet. No bpy, no file reading.
 
 The frame mapping is the one Blender artists know from the Image Texture node (an image

@@ -1,0 +1,315 @@
+"""A painting that moves (§16): its image slots as sequences of files or sprite sheets, read
+per scene frame with a bounded cache. The glue between image files and the core, like
+layered_files.py: the frame mapping and sheet cells are core/frames.py's; files are read by
+imageio. No bpy here.
+
+A slot is a **sequence** when its file name holds a frame number (`walk_####.png`, Blender's
+convention, or `walk_%04d.png`), a **sheet** when its mapping has a grid of more than one cell
+(`[frames] columns`/`rows`), else **still**. A [frames] grid makes the painting's per-pixel
+slots (shape, dark, bright, specular colour, gloss, transparency) sheets; the environment and
+background stay still unless their own `[frames.environment]` table gives them a grid.
+
+    >>> slot = slot_frames("dark", "dark_sheet.png", {**frame_defaults(), "columns": 4,
+    ...                                                 "rows": 2, "count": 6})
+    >>> slot.kind, [slot.frame_of(f) for f in range(1, 9)]
+    ('sheet', [0, 1, 2, 3, 4, 5, 0, 1])
+"""
+import os
+import re
+from collections import OrderedDict
+from dataclasses import dataclass
+
+import numpy as np
+
+from .core.frames import SheetGrid, expand_pattern, frame_number, is_pattern, sheet_cell
+from .core.input_rules import PER_PIXEL_CHANNELS, ImageData
+from .errors import UserError
+from .imageio import read_image
+from .params import FRAME_BY_KEY, frame_defaults
+
+# the slots a [frames] grid makes sheets; the others (environment, background) need their own
+SHEET_BY_DEFAULT = ("shape",) + PER_PIXEL_CHANNELS
+GRID_KEYS = ("columns", "rows", "margin", "spacing")
+# what the frame cache may hold by default: 24 frames of three 1024² float RGBA slots fit
+DEFAULT_CACHE_MB = 1024
+
+
+class FrameError(UserError):
+    """A sequence or sheet that cannot be read as asked; the message names the frame or the
+    numbers."""
+
+
+def slot_settings(frames, channel):
+    """The mapping of one slot: the painting's [frames] (`frames[""]`), then the slot's own
+    table (`frames[channel]`); the environment and background do not take the painting's grid.
+    """
+    base = dict(frame_defaults(), **frames.get("", {}))
+    if channel not in SHEET_BY_DEFAULT:
+        base.update({k: frame_defaults()[k] for k in GRID_KEYS})
+    return dict(base, **frames.get(channel, {}))
+
+
+def check_frame_settings(table, where):
+    """A [frames] (or [frames.<slot>]) table's values checked by params.FRAME_PARAMS →
+    {key: value}; ValueError naming the key."""
+    out = {}
+    for key, value in table.items():
+        param = FRAME_BY_KEY.get(key)
+        if param is None:
+            raise ValueError(f"{where}.{key}: unknown key (frames keys: "
+                             f"{', '.join(FRAME_BY_KEY)})")
+        try:
+            out[key] = param.check(value)
+        except ValueError as exc:
+            raise ValueError(f"{where}.{key}: {exc}") from None
+    return out
+
+
+def sequence_numbers(pattern):
+    """The frame numbers of the files a pattern names, sorted (`walk_####.png` → the numbers
+    of walk_0001.png …); FrameError when none exists."""
+    folder, name = os.path.split(os.path.abspath(pattern))
+    probe = expand_pattern(name, 0)
+    # the pattern's text around its number, the number as digits of any length
+    head, tail = _around_number(name)
+    rx = re.compile(re.escape(head) + r"(-?\d+)" + re.escape(tail) + r"\Z")
+    numbers = []
+    try:
+        entries = os.listdir(folder or ".")
+    except OSError:
+        raise FrameError(f"{pattern}: its folder {folder} cannot be read") from None
+    for entry in entries:
+        m = rx.match(entry)
+        if m and expand_pattern(name, int(m.group(1))) == entry:
+            numbers.append(int(m.group(1)))
+    if not numbers:
+        raise FrameError(f"{pattern}: no file matches (looked for names like {probe} in "
+                         f"{folder})")
+    return tuple(sorted(numbers))
+
+
+def _around_number(name):
+    """(text before, text after) a pattern's frame number."""
+    marker = "\0"
+    expanded = re.sub(r"#+|%0?\d*d", marker, name, count=1)
+    head, _, tail = expanded.partition(marker)
+    return head, tail
+
+
+@dataclass(frozen=True)
+class SlotFrames:
+    """One image slot of a painting and how it follows the scene's frames."""
+    channel: str
+    path: str                   # a file, or a frame-numbered pattern
+    kind: str                   # 'still', 'sequence' or 'sheet'
+    mode: str = "cyclic"
+    start: int = 1
+    offset: int = 0
+    count: int = 1
+    rate: float = 1.0
+    grid: SheetGrid = None      # a sheet's
+    numbers: tuple = ()         # a sequence's files found
+
+    def file_number(self, f):
+        """The file number scene frame `f` shows (core.frames.frame_number)."""
+        return frame_number(f, self.start, self.offset, self.count, self.mode, self.rate)
+
+    def frame_of(self, f):
+        """What scene frame `f` shows of this slot: a sequence's file number, a sheet's cell
+        (0-based), None for a still image (every frame the same)."""
+        if self.kind == "still":
+            return None
+        n = self.file_number(f)
+        return n if self.kind == "sequence" else n - 1
+
+    def file(self, f):
+        return expand_pattern(self.path, self.file_number(f)) if self.kind == "sequence" \
+            else self.path
+
+    @property
+    def first_file(self):
+        return expand_pattern(self.path, self.numbers[0]) if self.numbers else self.path
+
+    def files(self):
+        """Every file the slot reads (a sequence's files found)."""
+        if self.kind == "sequence":
+            return [expand_pattern(self.path, n) for n in self.numbers]
+        return [self.path]
+
+    def describe(self):
+        """The one line an artist gets about what was read as frames."""
+        name = os.path.basename(self.path)
+        rate = "" if self.rate == 1 else f", {self.rate:g} painting frames a scene frame"
+        if self.kind == "sequence":
+            lo, hi = self.numbers[0], self.numbers[-1]
+            missing = (hi - lo + 1) - len(self.numbers)
+            gaps = f", {missing} missing" if missing else ""
+            return (f"{self.channel}: {name}: files {lo}–{hi}{gaps}; {self.count} frames "
+                    f"from scene frame {self.start} (offset {self.offset}), {self.mode}{rate}")
+        if self.kind == "sheet":
+            g = self.grid
+            return (f"{self.channel}: {name}: a sprite sheet of {g.columns} × {g.rows} cells, "
+                    f"{self.count} frames from scene frame {self.start}, {self.mode}{rate}")
+        return ""
+
+
+def slot_frames(channel, path, settings):
+    """A slot's path and mapping (slot_settings) → SlotFrames, its sequence's files listed;
+    FrameError for a pattern that matches nothing or a grid that cannot hold the count."""
+    grid_cells = settings["columns"] * settings["rows"]
+    common = dict(mode=settings["mode"], start=settings["start"], rate=settings["rate"])
+    if is_pattern(os.path.basename(path)):
+        if grid_cells > 1:
+            raise FrameError(f"{channel}: {path} is a sequence of files and its mapping gives "
+                             f"a sprite-sheet grid of {settings['columns']} × "
+                             f"{settings['rows']}: a slot is one or the other")
+        numbers = sequence_numbers(path)
+        offset = numbers[0] - 1 if settings["offset"] == "auto" else settings["offset"]
+        count = settings["count"] or numbers[-1] - numbers[0] + 1
+        return SlotFrames(channel, path, "sequence", offset=offset, count=count,
+                          numbers=numbers, **common)
+    if grid_cells > 1:
+        grid = SheetGrid(settings["columns"], settings["rows"], settings["count"],
+                         settings["margin"], settings["spacing"])
+        if grid.count > grid_cells:
+            raise FrameError(f"{channel}: {path}: {grid.count} frames do not fit a sheet of "
+                             f"{grid.columns} × {grid.rows} cells ({grid_cells})")
+        offset = 0 if settings["offset"] == "auto" else settings["offset"]
+        return SlotFrames(channel, path, "sheet", offset=offset, count=grid.frames(),
+                          grid=grid, **common)
+    return SlotFrames(channel, path, "still")
+
+
+def painting_slots(images, frames):
+    """{channel: path} and a painting's frames table ({"": [frames], channel: [frames.x]}) →
+    {channel: SlotFrames}."""
+    return {ch: slot_frames(ch, path, slot_settings(frames, ch)) for ch, path in images.items()}
+
+
+class PaintingFrames:
+    """A painting's images at any scene frame, read once and kept in a cache of at most
+    `cache_mb` megabytes (oldest read first out; the frame asked for is always kept). Every
+    frame of a sequence must have its first file's size; 8- and 16-bit frames mix (both hold
+    codes in 0 … 1: read as the first file's bits, said in notes), floats and integers do
+    not."""
+
+    def __init__(self, slots, cache_mb=DEFAULT_CACHE_MB, read=read_image):
+        self.slots = slots
+        self.cache_mb = cache_mb
+        self._read = read
+        self._cache = OrderedDict()      # file path → ImageData
+        self._first = {}                 # channel → (size, bits) of its first file
+        self.notes = [s.describe() for s in slots.values() if s.kind != "still"]
+        self.peak_bytes = 0
+
+    @property
+    def animated(self):
+        return any(s.kind != "still" for s in self.slots.values())
+
+    @property
+    def start(self):
+        """The scene frame that shows the painting's first frame (its first moving slot's)."""
+        return next((s.start for s in self.slots.values() if s.kind != "still"), 1)
+
+    def shown(self, f):
+        """What scene frame `f` shows, in words: 'shape frame 3, dark frame 2'."""
+        return ", ".join(f"{ch} frame {n + 1 if self.slots[ch].kind == 'sheet' else n}"
+                         for ch, n in self.key(f))
+
+    def key(self, f):
+        """The painting frame scene frame `f` shows: (channel, its frame) of every slot that
+        moves. Two scene frames with the same key show the same drawing (bakes and derived
+        images are kept by it)."""
+        return tuple((ch, s.frame_of(f)) for ch, s in self.slots.items() if s.kind != "still")
+
+    def images(self, f):
+        """{channel: ImageData} of scene frame `f`."""
+        return {ch: self.image(ch, f) for ch in self.slots}
+
+    def image(self, channel, f):
+        slot = self.slots[channel]
+        data = self._file(slot, slot.file(f), f)
+        if slot.kind != "sheet":
+            return data
+        cell = slot.frame_of(f)
+        try:
+            px = sheet_cell(data.pixels, slot.grid, cell)
+        except ValueError as exc:
+            raise FrameError(f"{channel}: {os.path.basename(slot.path)}: {exc}") from None
+        return ImageData(np.ascontiguousarray(px), data.bits, f"{data.name} [{cell + 1}]")
+
+    def _file(self, slot, path, f):
+        hit = self._cache.get(path)
+        if hit is not None:
+            self._cache.move_to_end(path)
+            return hit
+        if slot.kind == "sequence" and not os.path.isfile(path):
+            raise FrameError(self._missing(slot, path, f))
+        data = self._consistent(slot, self._read(path), path)
+        self._cache[path] = data
+        self._evict()
+        return data
+
+    def _missing(self, slot, path, f):
+        n = slot.file_number(f)
+        return (f"{slot.channel}: {os.path.basename(path)} (frame {n} of "
+                f"{os.path.basename(slot.path)}, scene frame {f}) is missing; files found: "
+                f"{_ranges(slot.numbers)}")
+
+    def _consistent(self, slot, data, path):
+        """The frame as the slot's first file reads it (whichever frame is read first, so a
+        frame reads the same alone and in sequence), or FrameError naming both."""
+        first_path = slot.first_file
+        if path == first_path:
+            self._first[slot.channel] = (data.size, data.bits)
+            return data
+        if slot.channel not in self._first:
+            first = self._read(first_path)
+            self._first[slot.channel] = (first.size, first.bits)
+        size, bits = self._first[slot.channel]
+        name, first_name = os.path.basename(path), os.path.basename(first_path)
+        if data.size != size:
+            raise FrameError(f"{slot.channel}: {name} is {data.size[0]}×{data.size[1]}, "
+                             f"{first_name} {size[0]}×{size[1]}: every frame of a sequence "
+                             f"must have one size")
+        if data.bits != bits:
+            if 32 in (data.bits, bits):
+                raise FrameError(f"{slot.channel}: {name} is {_depth(data.bits)}, {first_name} "
+                                 f"{_depth(bits)}: a sequence's frames are all float (linear) "
+                                 f"or all 8/16-bit (sRGB codes)")
+            note = (f"{slot.channel}: {name} is {_depth(data.bits)}, {first_name} "
+                    f"{_depth(bits)}: read alike (codes 0 … 1), as {_depth(bits)} for the "
+                    f"pre-blur")
+            if note not in self.notes:
+                self.notes.append(note)
+            return ImageData(data.pixels, bits, data.name)
+        return data
+
+    def _evict(self):
+        sizes = [d.pixels.nbytes for d in self._cache.values()]
+        total = sum(sizes)
+        self.peak_bytes = max(self.peak_bytes, total)
+        while len(self._cache) > 1 and total > self.cache_mb * 2**20:
+            _, old = self._cache.popitem(last=False)
+            total -= old.pixels.nbytes
+
+    @property
+    def cached_bytes(self):
+        return sum(d.pixels.nbytes for d in self._cache.values())
+
+
+def _depth(bits):
+    return "float" if bits == 32 else f"{bits}-bit"
+
+
+def _ranges(numbers):
+    """1, 2, 3, 5, 7, 8 → '1–3, 5, 7–8'."""
+    out, run = [], [numbers[0]]
+    for n in numbers[1:]:
+        if n == run[-1] + 1:
+            run.append(n)
+            continue
+        out.append(run)
+        run = [n]
+    out.append(run)
+    return ", ".join(f"{r[0]}–{r[-1]}" if len(r) > 1 else f"{r[0]}" for r in out)
