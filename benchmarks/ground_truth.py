@@ -36,6 +36,7 @@ from dynpaint_addon.core.input_rules import ImageData  # noqa: E402
 from dynpaint_addon.core.shadow import cos_theta_shadow  # noqa: E402
 from dynpaint_addon.core.shape import decode_normal_map, normals_from_height_px  # noqa: E402
 from dynpaint_addon.imageio import read_image, write_png  # noqa: E402
+from testkit.render3d import emission_material  # noqa: E402
 
 # (name, kind, location, size): heights in image widths, the image spans [-0.5, 0.5]²
 OBJECTS = [
@@ -102,17 +103,6 @@ def assign(material):
         if obj.type == "MESH":
             obj.data.materials.clear()
             obj.data.materials.append(material)
-
-
-def emission_material(name, build):
-    mat = bpy.data.materials.new(name)
-    nt = mat.node_tree
-    nt.nodes.clear()
-    em = nt.nodes.new("ShaderNodeEmission")
-    out = nt.nodes.new("ShaderNodeOutputMaterial")
-    nt.links.new(em.outputs[0], out.inputs[0])
-    nt.links.new(build(nt), em.inputs["Color"])
-    return mat
 
 
 def render_to(scene, path):

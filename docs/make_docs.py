@@ -115,6 +115,15 @@ def _srgb(rgb):
     return linear_to_srgb(np.clip(rgb, 0, 1))
 
 
+def _entry(prm):
+    """One parameter's heading, help and facts."""
+    rng = f" · range {prm.min:g} … {prm.max:g}" if prm.min is not None else ""
+    choices = f" · one of {', '.join(f'`{c}`' for c in prm.choices)}" if prm.choices else ""
+    unit = f" · unit: {prm.unit}" if prm.unit else ""
+    return [f"### `{prm.path}`", "", f"{prm.help}.", "",
+            f"default `{prm.default!r}`{unit}{rng}{choices} · {prm.spec}", ""]
+
+
 def parameters_page(pictures):
     lines = ["# Every parameter",
              "",
@@ -133,18 +142,22 @@ def parameters_page(pictures):
         if prm.section != section:
             section = prm.section
             lines += [f"## {section}", ""]
-        rng = f" · range {prm.min:g} … {prm.max:g}" if prm.min is not None else ""
-        choices = f" · one of {', '.join(f'`{c}`' for c in prm.choices)}" if prm.choices else ""
-        unit = f" · unit: {prm.unit}" if prm.unit else ""
-        lines += [f"### `{prm.path}`", "",
-                  f"{prm.help}.", "",
-                  f"default `{prm.default!r}`{unit}{rng}{choices} · {prm.spec}", ""]
+        lines += _entry(prm)
         if prm.path in pictures:
             file, captions = pictures[prm.path]
             lines += [f"![{prm.path}: {' vs '.join(captions)}](img/params/{file})", "",
                       f"*Left: {captions[0]}. Right: {captions[1]}.*", ""]
     lines += ["## Images", "", "| recipe key | what it is | colour or data |", "|---|---|---|"]
     lines += [f"| `{ch}` | {what} | {space} |" for ch, (what, space) in params.CHANNELS.items()]
+    lines += ["", "A frame-numbered file name (`walk_####.png`, Blender's convention, or "
+              "`walk_%04d.png`) is a sequence: the painting moves ([frames.md](frames.md)).",
+              "", "## frames", "",
+              "A painting that moves (§16): how its image sequences and sprite sheets follow "
+              "the scene's frames. `[frames]` is the painting's mapping; `[frames.<channel>]` "
+              "(`[frames.dark]`, …) gives one image a mapping of its own. In Blender: *Dynamic "
+              "Painting › Frames*.", ""]
+    for prm in params.FRAME_PARAMS:
+        lines += _entry(prm)
     lines += ["", "## Lights", "",
               "Every Sun and Point light in the scene (or in the painting's light collection). "
               "A Sun's *Strength* is k (§5) and only its direction counts; a Point light's "

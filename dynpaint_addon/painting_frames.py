@@ -6,14 +6,16 @@ imageio. No bpy here.
 A slot is a **sequence** when its file name holds a frame number (`walk_####.png`, Blender's
 convention, or `walk_%04d.png`), a **sheet** when its mapping has a grid of more than one cell
 (`[frames] columns`/`rows`), else **still**. A [frames] grid makes the painting's per-pixel
-slots (shape, dark, bright, specular colour, gloss, transparency) sheets; the environment and
-background stay still unless their own `[frames.environment]` table gives them a grid.
+still images (shape, dark, bright, specular colour, gloss, transparency) sheets; a sequence
+is frames already, and the environment and background stay still unless their own
+`[frames.environment]` table gives them a grid.
 
     >>> slot = slot_frames("dark", "dark_sheet.png", {**frame_defaults(), "columns": 4,
     ...                                                 "rows": 2, "count": 6})
     >>> slot.kind, [slot.frame_of(f) for f in range(1, 9)]
     ('sheet', [0, 1, 2, 3, 4, 5, 0, 1])
 """
+import math
 import os
 import re
 from collections import OrderedDict
@@ -30,6 +32,8 @@ from .params import FRAME_BY_KEY, frame_defaults
 # the slots a [frames] grid makes sheets; the others (environment, background) need their own
 SHEET_BY_DEFAULT = ("shape",) + PER_PIXEL_CHANNELS
 GRID_KEYS = ("columns", "rows", "margin", "spacing")
+# a slot's "path" for an image its caller holds (Blender's, by name), not a file
+HELD = "held:"
 # what the frame cache may hold by default: 24 frames of three 1024² float RGBA slots fit
 DEFAULT_CACHE_MB = 1024
 
@@ -39,12 +43,12 @@ class FrameError(UserError):
     numbers."""
 
 
-def slot_settings(frames, channel):
+def slot_settings(frames, channel, sequence=False):
     """The mapping of one slot: the painting's [frames] (`frames[""]`), then the slot's own
-    table (`frames[channel]`); the environment and background do not take the painting's grid.
-    """
+    table (`frames[channel]`). The painting's grid is not taken by the environment and
+    background, nor by a `sequence` (its files are its frames already)."""
     base = dict(frame_defaults(), **frames.get("", {}))
-    if channel not in SHEET_BY_DEFAULT:
+    if channel not in SHEET_BY_DEFAULT or sequence:
         base.update({k: frame_defaults()[k] for k in GRID_KEYS})
     return dict(base, **frames.get(channel, {}))
 
@@ -136,9 +140,13 @@ class SlotFrames:
             return [expand_pattern(self.path, n) for n in self.numbers]
         return [self.path]
 
+    @property
+    def name(self):
+        return os.path.basename(self.path.removeprefix(HELD))
+
     def describe(self):
         """The one line an artist gets about what was read as frames."""
-        name = os.path.basename(self.path)
+        name = self.name
         rate = "" if self.rate == 1 else f", {self.rate:g} painting frames a scene frame"
         if self.kind == "sequence":
             lo, hi = self.numbers[0], self.numbers[-1]
@@ -183,24 +191,26 @@ def slot_frames(channel, path, settings):
 def painting_slots(images, frames):
     """{channel: path} and a painting's frames table ({"": [frames], channel: [frames.x]}) →
     {channel: SlotFrames}."""
-    return {ch: slot_frames(ch, path, slot_settings(frames, ch)) for ch, path in images.items()}
+    return {ch: slot_frames(ch, path, slot_settings(frames, ch,
+                                                    is_pattern(os.path.basename(path))))
+            for ch, path in images.items()}
 
 
 class PaintingFrames:
     """A painting's images at any scene frame, read once and kept in a cache of at most
-    `cache_mb` megabytes (oldest read first out; the frame asked for is always kept). Every
+    `cache_mb` megabytes (the least recently used out first; the frame asked for is always
+    kept; of a sheet its cells are kept, not the sheet, which is read again only when a cell
+    it held was dropped). Every
     frame of a sequence must have its first file's size; 8- and 16-bit frames mix (both hold
     codes in 0 … 1: read as the first file's bits, said in notes), floats and integers do
     not."""
 
     def __init__(self, slots, cache_mb=DEFAULT_CACHE_MB, read=read_image):
         self.slots = slots
-        self.cache_mb = cache_mb
         self._read = read
-        self._cache = OrderedDict()      # file path → ImageData
+        self._cache = BoundedCache(cache_mb)      # file path → ImageData
         self._first = {}                 # channel → (size, bits) of its first file
         self.notes = [s.describe() for s in slots.values() if s.kind != "still"]
-        self.peak_bytes = 0
 
     @property
     def animated(self):
@@ -210,6 +220,22 @@ class PaintingFrames:
     def start(self):
         """The scene frame that shows the painting's first frame (its first moving slot's)."""
         return next((s.start for s in self.slots.values() if s.kind != "still"), 1)
+
+    def loop(self):
+        """Scene frames the painting takes to come round (its longest moving slot's: a cycle,
+        a swing forth and back, or the frames before it holds); 1 for a still painting."""
+        lengths = [(2 * s.count - 2 if s.mode == "ping-pong" and s.count > 1 else s.count)
+                   / s.rate for s in self.slots.values() if s.kind != "still"]
+        return max([1] + [math.ceil(n - 1e-9) for n in lengths])
+
+    def drawings(self):
+        """One loop of the painting from its start → (the scene frame that first shows each
+        drawing, in order; the drawing each frame of the loop shows, as indices into them)."""
+        first, sequence = {}, []
+        for f in range(self.start, self.start + self.loop()):
+            sequence.append(first.setdefault(self.key(f), len(first)))
+        frames = sorted(first, key=first.get)
+        return [self.start + sequence.index(first[k]) for k in frames], sequence
 
     def shown(self, f):
         """What scene frame `f` shows, in words: 'shape frame 3, dark frame 2'."""
@@ -228,27 +254,40 @@ class PaintingFrames:
 
     def image(self, channel, f):
         slot = self.slots[channel]
-        data = self._file(slot, slot.file(f), f)
         if slot.kind != "sheet":
-            return data
+            return self._file(slot, slot.file(f), f)
         cell = slot.frame_of(f)
+        hit = self._cache.get((slot.path, cell))
+        return hit if hit is not None else self._cut(slot, cell)
+
+    def _cut(self, slot, wanted):
+        """Read a sheet and keep its cells (not the sheet: its frames are what is shown, and
+        a sheet of large frames is large), the one wanted last → that cell."""
+        data = self._read(slot.path)
+        cells = [c for c in range(slot.grid.frames()) if c != wanted] + [wanted]
         try:
-            px = sheet_cell(data.pixels, slot.grid, cell)
+            for cell in cells:
+                px = np.ascontiguousarray(sheet_cell(data.pixels, slot.grid, cell))
+                self._cache.put((slot.path, cell), ImageData(px, data.bits,
+                                                             f"{data.name} [{cell + 1}]"),
+                                px.nbytes)
         except ValueError as exc:
-            raise FrameError(f"{channel}: {os.path.basename(slot.path)}: {exc}") from None
-        return ImageData(np.ascontiguousarray(px), data.bits, f"{data.name} [{cell + 1}]")
+            raise FrameError(f"{slot.channel}: {slot.name}: {exc}") from None
+        return self._cache.get((slot.path, wanted))
 
     def _file(self, slot, path, f):
         hit = self._cache.get(path)
         if hit is not None:
-            self._cache.move_to_end(path)
             return hit
         if slot.kind == "sequence" and not os.path.isfile(path):
             raise FrameError(self._missing(slot, path, f))
         data = self._consistent(slot, self._read(path), path)
-        self._cache[path] = data
-        self._evict()
+        self._cache.put(path, data, data.pixels.nbytes)
         return data
+
+    def forget(self):
+        """Read every file again (one was replaced behind the cache's back)."""
+        self._cache.clear()
 
     def _missing(self, slot, path, f):
         n = slot.file_number(f)
@@ -285,17 +324,44 @@ class PaintingFrames:
             return ImageData(data.pixels, bits, data.name)
         return data
 
-    def _evict(self):
-        sizes = [d.pixels.nbytes for d in self._cache.values()]
-        total = sum(sizes)
-        self.peak_bytes = max(self.peak_bytes, total)
-        while len(self._cache) > 1 and total > self.cache_mb * 2**20:
-            _, old = self._cache.popitem(last=False)
-            total -= old.pixels.nbytes
+    @property
+    def peak_bytes(self):
+        return self._cache.peak_bytes
 
     @property
     def cached_bytes(self):
-        return sum(d.pixels.nbytes for d in self._cache.values())
+        return self._cache.bytes
+
+
+class BoundedCache:
+    """key → value, at most `mb` megabytes of them (each put with its size), the least
+    recently used dropped first; the newest is always kept, however large. `peak_bytes`: the
+    most it held."""
+
+    def __init__(self, mb):
+        self.mb = mb
+        self._items = OrderedDict()          # key → (value, bytes)
+        self.bytes = self.peak_bytes = 0
+
+    def get(self, key):
+        hit = self._items.get(key)
+        if hit is None:
+            return None
+        self._items.move_to_end(key)
+        return hit[0]
+
+    def put(self, key, value, nbytes):
+        old = self._items.pop(key, None)
+        self.bytes += nbytes - (old[1] if old else 0)
+        self._items[key] = (value, nbytes)
+        self.peak_bytes = max(self.peak_bytes, self.bytes)
+        while len(self._items) > 1 and self.bytes > self.mb * 2**20:
+            _, (_, dropped) = self._items.popitem(last=False)
+            self.bytes -= dropped
+
+    def clear(self):
+        self._items.clear()
+        self.bytes = 0
 
 
 def _depth(bits):

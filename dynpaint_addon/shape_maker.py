@@ -192,15 +192,16 @@ def inflate_silhouette(images, p, profile, height, detail, detail_blur):
         f"{values.max():.3g} image widths"]
 
 
-def integrate_normal_map(images, p, use_mask, depth):
+def integrate_normal_map(images, p, use_mask, depth, floor=None):
     """integrate: the normal map (read as p's §2 settings say) integrated into heights by least
-    squares (core.integrate), cut at its alpha when `use_mask`, the rim `depth` up."""
+    squares (core.integrate), cut at its alpha when `use_mask`, the rim `depth` up; floor: the
+    height made 0 (None: the lowest; the frames of a painting that moves take one, §16)."""
     shape = images.get("shape")
     if shape is None or p.shape.kind != "normal":
         raise ShapeError("Height from Normal Map needs a normal map as the shape image")
     n = decode_normals(shape, p.shape.encoding, p.shape.flip_green, p.shape.strength)
     mask = figure_mask(shape, "alpha") if use_mask else None    # no alpha: all figure
-    result = integrate(n, mask, depth)
+    result = integrate(n, mask, depth, floor=floor)
     values = result.height
     return "height", _with_alpha(values, shape.alpha()), [
         f"integrated the normal map: relief {values.max():.3g} image widths; "

@@ -64,8 +64,9 @@ class Option:
     from files or writes) or 'addon' (what the operator takes from the painting)."""
     name: str                   # make_shape's keyword, the operator's property, --name
     methods: tuple
-    kind: object                # float, bool, 'auto_float' (a number or "auto"), 'file',
-    #                             'text', or a tuple of choices
+    kind: object                # float, bool, 'auto_float' (a number or "auto"), 'file' (an
+    #                             image read), 'output' (a file written), 'text', or a tuple
+    #                             of choices
     default: object = None
     help: str = ""
     label: str = ""
@@ -132,7 +133,7 @@ OPTIONS = (
     O("flip_green", ("integrate",), bool, False, "DirectX normal map (green down)", where="cli"),
     O("strength", ("integrate",), "auto_float", "auto", "scale of each normal's tilt: a number "
       "(0.5 for tilt-halving maps) or auto (as shape.strength)", min=0.0, max=2.0, where="cli"),
-    O("residual", ("integrate",), "file", help="also write the residual |g − ∇z| per pixel "
+    O("residual", ("integrate",), "output", help="also write the residual |g − ∇z| per pixel "
       "(.exr)", where="cli"),
     # normals
     O("height_map", ("normals",), "file", help="height map (grey; EXR in image widths)",
@@ -172,7 +173,7 @@ def options(method, where):
     return [o for o in OPTIONS if method in o.methods and o.where in ("both", where)]
 
 
-def make_shape(method, images, p, **values):
+def make_shape(method, images, p, floor=None, **values):
     """A painting's new shape image (the add-on's Make Shape; docs/shape-from-painting.md).
 
     Parameters
@@ -183,6 +184,9 @@ def make_shape(method, images, p, **values):
         {channel: ImageData} of the painting (pipeline.md §1).
     p : namespace
         The painting's parameters (params.defaults() layout): how its shape image is read.
+    floor : float or None
+        integrate: the height made 0 (None: the lowest point); the frames of a painting
+        that moves take one (§16), so a part that does not change keeps its heights.
     **values
         The method's add-on options (OPTIONS), each at its default when not given; file
         options as ImageData (profiles: `profile_<side>`; rg_photo: `photo`).
@@ -207,4 +211,6 @@ def make_shape(method, images, p, **values):
     if method == "profiles":       # the sides, gathered
         kwargs = {"profiles": {o.name.removeprefix("profile_"): kwargs.pop(o.name)
                                for o in taken if o.name.startswith("profile_")}, **kwargs}
+    if method == "integrate":
+        kwargs["floor"] = floor
     return METHODS[method].make(images, p, **kwargs)

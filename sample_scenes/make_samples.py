@@ -11,6 +11,10 @@
 - impossible: Penrose stairs, a ring of steps that climbs forever: a normal map no height field
               produces (its slopes circulate around the ring), with cos-θ shadows from the normal
               map (§6 integrates the slopes along each light row).
+- window:     a scene of three layers at depths whose shadows fall on the layers behind (§15).
+- blink:      a painting that moves (§16): Suzanne turns and blinks over 24 frames, rendered
+              by Cycles as normal maps per frame (a sequence of files), painted dark and
+              bright frames in sprite sheets.
 
 Deterministic (fixed seeds, fixed Cycles samples). The thumbnails are rendered by the numpy core.
 """
@@ -31,6 +35,8 @@ from dynpaint_addon.core.lights import Light                             # noqa:
 from dynpaint_addon.core.sampling import gaussian_blur, resample        # noqa: E402
 from dynpaint_addon.imageio import read_image, write_exr, write_png     # noqa: E402
 from dynpaint_addon.recipe import Recipe, RecipeLayer, recipe_to_toml   # noqa: E402
+from testkit.animated import sheet_of                                   # noqa: E402
+from testkit.render3d import cycles_to_exr, ortho_camera                # noqa: E402
 
 THUMB_PX = 192
 
@@ -102,25 +108,10 @@ def render_suzanne_height(size):
     nt.links.new(emit.outputs[0], out.inputs["Surface"])
     for obj in (head, canvas):
         obj.data.materials.append(mat)
-    cam_data = bpy.data.cameras.new("cam")
-    cam_data.type = "ORTHO"
     width = 3.4
-    cam_data.ortho_scale = width
-    cam = bpy.data.objects.new("cam", cam_data)
-    scene.collection.objects.link(cam)
-    cam.location = (0, -0.15, 10)
-    scene.camera = cam
+    ortho_camera(scene, width, (0, -0.15, 10))
     r = scene.render
-    r.engine = "CYCLES"
-    scene.cycles.samples = 16
-    scene.cycles.use_denoising = False
-    scene.cycles.seed = 0
-    scene.cycles.device = "CPU"
-    r.resolution_x = r.resolution_y = size
-    r.resolution_percentage = 100
-    scene.view_settings.view_transform = "Standard"
-    r.image_settings.file_format = "OPEN_EXR"
-    r.image_settings.color_depth = "32"
+    cycles_to_exr(scene, size, 16)
     tmp = os.path.join(bpy.app.tempdir or HERE, "_suzanne_height.exr")
     r.filepath = tmp
     bpy.ops.render.render(write_still=True)
@@ -368,8 +359,47 @@ def make_window(folder, size):
                               "shows their parallax", layers=layers)
 
 
+# -- blink: a painting that moves (§16) -------------------------------------------------------
+def make_blink(folder, size, frames=24, columns=6):
+    """Suzanne turns and blinks over 24 frames (testkit/turning_head.py: one Cycles render of
+    her normals per frame, cut out by her silhouette): the normal maps as a sequence of files
+    (normal_0001.png …), the painted dark and bright frames as sprite sheets (6 × 4 cells, row
+    by row from the top left). Shadows from each frame's integrated relief."""
+    from testkit.turning_head import render_turning_head
+    truth = render_turning_head(size, frames, box=False)
+    s1, s2 = strokes(size, size, 41, angle=0.9), strokes(size, size, 42, angle=-0.5)
+    darks, brights = [], []
+    for f in range(frames):
+        n, a, h = truth["normal"][f], truth["alpha"][f][..., None], truth["height"][f]
+        save(folder, f"normal_{f + 1:04d}.png",
+             np.round(np.concatenate([n * 0.5 + 0.5, a], -1) * 65535) / 65535, 16)
+        cavity = np.clip((gaussian_blur(h[..., None], 4.0)[..., 0] - h) * 25, 0, 1)
+        rim = np.clip(1 - n[..., 2], 0, 1)          # warmer where the head turns away
+        skin = mix(mix([0.80, 0.50, 0.26], [0.66, 0.22, 0.12], rim), [0.45, 0.10, 0.08], cavity)
+        shade = mix(mix([0.20, 0.08, 0.18], [0.12, 0.03, 0.10], rim), [0.05, 0.01, 0.04], cavity)
+        brights.append(np.concatenate([srgb8(skin * (1 + 0.10 * s1[..., None])), a], -1))
+        darks.append(np.concatenate([srgb8(shade * (1 + 0.15 * s2[..., None])), a], -1))
+    rows = -(-frames // columns)
+    save(folder, "dark_sheet.png", sheet_of(darks, columns, rows), 8)
+    save(folder, "bright_sheet.png", sheet_of(brights, columns, rows), 8)
+    p = params.defaults()
+    p.shape.kind = "normal"
+    p.shadows.enabled = True
+    p.shadows.offset = 0.006
+    p.specular.enabled = True
+    p.specular.s0, p.specular.s1, p.specular.amount = 0.93, 1.0, 0.3
+    lights = [Light("sun", (-0.75, 0.45, 0.48), (1.0, 0.9, 0.75), 1.0, "Key")]
+    return Recipe(p, lights, {"shape": "normal_####.png", "dark": "dark_sheet.png",
+                              "bright": "bright_sheet.png"}, "Blink (animated)",
+                  description="A painting that moves: Suzanne turns and blinks over 24 frames "
+                              "(normal maps as a sequence of files, the painted frames as "
+                              "sprite sheets), her shadows baked per frame",
+                  frames={"": {"columns": columns, "rows": rows}})
+
+
 SAMPLES = {"portrait": (make_portrait, 512), "glass": (make_glass, 512),
-           "impossible": (make_impossible, 512), "window": (make_window, 384)}
+           "impossible": (make_impossible, 512), "window": (make_window, 384),
+           "blink": (make_blink, 160)}
 
 
 def thumbnail(recipe_path, out, px=THUMB_PX):

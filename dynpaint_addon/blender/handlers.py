@@ -4,7 +4,9 @@
   collections, Sun ↔ Point) rebuilds that painting's tree, so its drivers never point at a
   deleted light.
 - frame_change_post: with cos-θ shadows on, each frame bakes for the lights where that frame
-  puts them (read from the evaluated depsgraph, blender-notes.md), in renders as in playback.
+  puts them (read from the evaluated depsgraph, blender-notes.md), in renders as in playback;
+  a painting that moves (§16) first shows the frame's drawing (sync.update: its frame copies
+  and derived images, then the bake, whose key holds the shape's frame).
 - undo_post, redo_post: the same remaking after undo and redo, so the images match the
   settings and light positions undo brought back.
 - render_pre: a painting that lost an optional image (deleted) is rebuilt without it; deleted
@@ -22,6 +24,8 @@ import bpy
 from bpy.app.handlers import persistent
 
 from .frame_sampling import only_reading_lights
+from .frames import forget_frames, moves
+from .images import forget_frames_made
 from .layers import bake_painting, forget_scenes
 from .live_bake import rendering
 from .shadow_images import forget_cached_shapes
@@ -65,10 +69,13 @@ def on_frame_change(scene, depsgraph):
         return
     for mat in paintings(scene):
         sh = mat.dynamic_painting.shadows
-        if not sh.enabled or (sh.source == "osl" and scene.render.engine == "CYCLES"
-                              and rendering()):
-            continue         # Cycles marches in its OSL shader: nothing to bake per frame
         try:
+            if moves(mat):       # §16: the frame's drawing (its copies, its bake) first
+                update(mat, scene, depsgraph, bake="now" if rendering() else "live")
+                continue
+            if not sh.enabled or (sh.source == "osl" and scene.render.engine == "CYCLES"
+                                  and rendering()):
+                continue         # Cycles marches in its OSL shader: nothing to bake per frame
             if rendering():
                 bake_painting(mat, scene, depsgraph, force=False)
             else:
@@ -107,6 +114,8 @@ def remake_generated_images(*_):
     undo restores settings, lights and bake keys but not necessarily those pixels. Remake them
     so the painting matches what is loaded."""
     forget_cached_shapes()
+    forget_frames()
+    forget_frames_made()
     forget_scenes()
     paintings_ = [m for m in bpy.data.materials if m.dynamic_painting.is_painting]
     if paintings_ and getattr(bpy.context, "view_layer", None) is not None:

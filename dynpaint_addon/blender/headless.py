@@ -13,6 +13,7 @@ from ..imageio import quiet_native
 from . import register_once
 from .scene import create_painting, exact_camera, exact_render_settings, output_settings
 from . import turntable
+from .frames import painting_size
 from .layered_build import add_layered
 from .layers import group_materials
 from .lights import linked_lights
@@ -34,7 +35,8 @@ def build_recipe_scene(recipe, size=1.0, notes=None):
     else:
         plane, mat, messages = create_painting(context, recipe.images, recipe.params,
                                                recipe.lights, name=recipe.name or
-                                               "Dynamic Painting", size=size, default_sun=False)
+                                               "Dynamic Painting", size=size, default_sun=False,
+                                               frames=recipe.frames)
     if notes is not None:
         notes(messages)
     exact_camera(context.scene, plane)
@@ -60,7 +62,7 @@ def render_recipe(recipe, engine, out, frame=None, notes=None):
 def fit_camera(scene, plane, width, height):
     """Render at width × height with the whole plane in view (letterboxed if the aspects
     differ); the exact camera's pixel-for-pixel framing is kept when the size is the image's."""
-    w, h = plane.active_material.dynamic_painting.image_shape.size
+    w, h = painting_size(plane.active_material)
     cam = scene.camera.data
     size = plane.scale[0]
     pw, ph = size, size * h / w
@@ -133,7 +135,7 @@ def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevati
     """
     plane, mat = build_recipe_scene(recipe, notes=notes)
     scene = bpy.context.scene
-    image_size = tuple(mat.dynamic_painting.image_shape.size)
+    image_size = painting_size(mat)
     w, h = size or image_size
     fit_camera(scene, plane, w, h)
     samples = video_render_settings(scene, engine, samples, exact=(w, h) == image_size)

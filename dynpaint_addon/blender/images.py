@@ -7,9 +7,11 @@ import numpy as np
 import bpy
 
 from .. import params
+from ..core.frames import expand_pattern, is_pattern
 from ..core.input_rules import pixel_role
-from ..imageio import file_channels, image_data_from_blender
+from ..imageio import file_channels
 from ..nodegraph.derived_inputs import grey_rgba, make_derived
+from ..painting_frames import BoundedCache, sequence_numbers
 
 COLOUR_CHANNELS = {c for c, (_, kind) in params.CHANNELS.items() if kind == "colour"}
 
@@ -43,8 +45,13 @@ def prepare_channel_image(img, channel):
 
 
 def load_image(path, channel):
-    """Load (or reuse) an image file for a channel, colour-managed as §0 says."""
+    """Load (or reuse) an image file for a channel, colour-managed as §0 says. A frame-numbered
+    name (`walk_####.png`, §16) loads its first file as a Blender image sequence."""
     path = os.path.abspath(path)
+    if is_pattern(os.path.basename(path)):
+        img = load_image(expand_pattern(path, sequence_numbers(path)[0]), channel)
+        img.source = "SEQUENCE"
+        return img
     if not os.path.isfile(path):
         raise FileNotFoundError(f"{path}: file not found")
     known = set(bpy.data.images)
@@ -93,9 +100,7 @@ def update_derived_images(mat, state, force=False):
     stored = {d.channel: d for d in s.derived}
     todo = [d for d in plan if force or d.channel not in stored or stored[d.channel].image is None
             or stored[d.channel].key != d.key]
-    made, warnings = make_derived(
-        todo, lambda channel: image_data_from_blender(imgs[channel]),
-        lambda channel: pixel_role(channel, p))
+    made, warnings = _make(mat, state, todo)
     images = {}
     base = f"DP {mat.name}"
     for item in todo:
@@ -114,6 +119,34 @@ def update_derived_images(mat, state, force=False):
         if s.derived[i].channel not in wanted:
             s.derived.remove(i)
     return warnings
+
+
+# A painting that moves (§16) comes round to its frames again: what they derived is kept by
+# key, at most FRAME_DERIVED_MB per painting (the least recently shown dropped first), so a
+# frame shown before costs the upload of its pixels, not their making.
+FRAME_DERIVED_MB = 512
+_MADE = {}       # material name → BoundedCache: derived key → RGBA (None: the source does)
+
+
+def _make(mat, state, todo):
+    """make_derived for `todo`, from the cache where a moving painting made them before."""
+    if not state.moving:
+        return make_derived(todo, state.read, lambda channel: pixel_role(channel, state.params))
+    cache = _MADE.setdefault(mat.name, BoundedCache(FRAME_DERIVED_MB))
+    found = {d.channel: cache.get(d.key) for d in todo}
+    missing = [d for d in todo if found[d.channel] is None]
+    made, warnings = make_derived(missing, state.read,
+                                  lambda channel: pixel_role(channel, state.params))
+    for item in missing:
+        rgba = made[item.channel]
+        cache.put(item.key, (rgba,), 0 if rgba is None else rgba.nbytes)
+        found[item.channel] = (rgba,)
+    return {c: hit[0] for c, hit in found.items()}, warnings
+
+
+def forget_frames_made():
+    """Another file is open: what was derived may belong to same-named paintings of the last."""
+    _MADE.clear()
 
 
 def _store(settings, channel, image, key):

@@ -11,10 +11,10 @@ from ..layered_files import DEFAULT_SHADE, DEFAULT_SPACING, is_layered_file, loa
 from ..recipe import hidden_notes, load_recipe
 from .images import packed_image
 from .layers import LAYERED, bake_group, group_materials
-from .lights import add_light, linked_lights, painting_frame_light
+from .lights import add_light, linked_lights
 from .scene import FACE_CAMERA, create_painting, face_scene_camera
 from .sync import update
-from .turntable import add_light_turntable
+from .turntable import turn_first_sun
 
 
 def scene_layers(path, spacing, shade):
@@ -143,13 +143,7 @@ def animate_scene(context, parent, truck=0.3):
             cam.keyframe_insert("location", frame=frame)
         lines.append(f"the camera trucks across the layers over frames {fs}–{fe}")
     mats = group_materials(parent)
-    back = mats[0] if mats else None
-    suns = [o for o in linked_lights(back, scene) if o.data.type == "SUN"] if back else []
-    if suns:
-        light = painting_frame_light(suns[0], back.dynamic_painting.plane.matrix_world)
-        x, y, z = light.vector
-        add_light_turntable(context, back, suns[0], "SUN", fs, fe, math.asin(max(-1, min(1, z))),
-                            1.0, math.atan2(y, x))
-        lines.append(f"{suns[0].name} turns once over frames {fs}–{fe}")
+    if mats:
+        lines += turn_first_sun(context, mats[0], fs, fe)
     scene.frame_set(fs)
     return lines

@@ -9,9 +9,11 @@ group, web page) builds from.
 """
 from dataclasses import dataclass
 from types import SimpleNamespace
+from typing import Callable
 
 from ..nodegraph.derived_inputs import Source, prepare
 from ..nodegraph.features import Features
+from .frames import frame_data, slot_frame
 from .images import bits_of, has_alpha
 from .lights import linked_lights
 from .settings import channel_images, settings_to_params
@@ -24,11 +26,19 @@ class PaintingState:
     lights: list                # the linked light objects, in the tree's order
     features: Features          # what the graph is built for (§12)
     plan: list                  # [derived_inputs.Derived]: the images numpy derives
+    read: Callable = None       # channel → its ImageData now (a moving slot's frame, §16)
+    moving: bool = False        # any of its images moves (§16)
 
 
 def image_source(img):
     """A Blender image as the derived-image plan knows it (no pixel read)."""
     return Source(img.name, bits_of(img), tuple(img.size), has_alpha(img))
+
+
+def frame_source(img, data, frame):
+    """A moving slot's image (§16) as the plan knows it: its frame's depth, size and alpha,
+    and the painting frame (in every key made from it)."""
+    return Source(img.name, data.bits, data.size, data.has_alpha, frame)
 
 
 def read_state(mat, scene):
@@ -42,6 +52,10 @@ def read_state(mat, scene):
         raise ValueError("the painting needs a dark or a bright image")
     p = settings_to_params(s)
     lights = linked_lights(mat, scene)
-    features, plan = prepare(p, {c: image_source(img) for c, img in images.items()},
-                             [o.data.type.lower() for o in lights])
-    return PaintingState(p, images, lights, features, plan)
+    f = scene.frame_current
+    sources = {c: frame_source(img, frame_data(mat, c, f), frame)
+               if (frame := slot_frame(mat, c, f)) is not None else image_source(img)
+               for c, img in images.items()}
+    features, plan = prepare(p, sources, [o.data.type.lower() for o in lights])
+    return PaintingState(p, images, lights, features, plan, lambda c: frame_data(mat, c, f),
+                         any(src.frame is not None for src in sources.values()))

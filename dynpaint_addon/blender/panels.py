@@ -1,7 +1,7 @@
 """The Dynamic Painting panel, in Material Properties and in the 3D viewport's sidebar (N).
 
-Sub-panels follow how an artist thinks about a painting: Images, Lights, then one per entry of
-params.PANELS (Shape, Light & Style, Shadows, …), each showing the parameters of its
+Sub-panels follow how an artist thinks about a painting: Images, Frames (§16), Lights, then one
+per entry of params.PANELS (Shape, Light & Style, Shadows, …), each showing the parameters of its
 sections (a parameter's `header` toggle in the panel's header, `shown_if` only when it
 applies). The same draw functions serve both places; the classes are generated once per place.
 """
@@ -9,15 +9,17 @@ import bpy
 
 from .. import params
 from ..looks import LOOKS
+from .frames import painting_frames
 from .layers import layer_parent
 from .live_bake import LIVE
 from .operators.add import draw_add_menu
 from .operators.common import active_painting
+from .settings import channel_images
 from .status import errors_of, problems
 
 
 def _draw_param(layout, group, param):
-    if param.kind == "auto_float":
+    if param.kind in ("auto_float", "auto_int"):
         row = layout.row(align=True)
         auto = getattr(group, param.key + "_auto")
         sub = row.row(align=True)
@@ -70,6 +72,39 @@ def _draw_images(layout, s):
         if img is not None:
             row.operator("dynpaint.image_remove", text="", icon="X").channel = channel
     layout.operator("dynpaint.make_shape", icon="MOD_SMOOTH")
+
+
+def _draw_frame_params(layout, group):
+    col = layout.column()
+    col.use_property_split = True
+    for param in params.FRAME_PARAMS:
+        _draw_param(col, group, param)
+
+
+def _draw_frames(layout, context, mat):
+    """A painting that moves (§16): what moves and what the frame shows, the painting's frame
+    mapping, and the slots that follow one of their own."""
+    s = mat.dynamic_painting
+    try:
+        frames = painting_frames(mat)
+        f = context.scene.frame_current
+        col = layout.column(align=True)
+        for note in frames.notes:
+            col.label(text=note, icon="SEQUENCE")
+        if frames.animated:
+            col.label(text=f"Frame {f} shows {frames.shown(f)}", icon="TIME")
+        else:
+            col.label(text="Still: give a slot an image sequence (name_####.png) or set a "
+                           "sprite sheet's columns and rows", icon="INFO")
+    except (ValueError, OSError) as exc:       # a broken sequence: said, never raised
+        layout.label(text=str(exc), icon="ERROR")
+    _draw_frame_params(layout, s.frames)
+    for channel, img in channel_images(s).items():
+        box = layout.box()
+        box.prop(s, f"frames_{channel}_own", text=f"{channel.replace('_', ' ').title()}: "
+                                                  f"Own Frames")
+        if getattr(s, f"frames_{channel}_own"):
+            _draw_frame_params(box, getattr(s, f"frames_{channel}"))
 
 
 def _draw_lights(layout, context, mat):
@@ -174,6 +209,8 @@ def _make_panels(space, region, context_name, category, prefix):
 
     sub("images", "Images", lambda self, context: _draw_images(
         self.layout, active_painting(context).dynamic_painting))
+    sub("frames", "Frames", lambda self, context: _draw_frames(
+        self.layout, context, active_painting(context)))
     sub("lights", "Lights", lambda self, context: _draw_lights(
         self.layout, context, active_painting(context)))
     sub("layers", "Layers", lambda self, context: _draw_layers(

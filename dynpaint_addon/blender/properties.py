@@ -37,6 +37,10 @@ def _property(param):
     if param.kind is int:
         return {param.key: IntProperty(default=param.default, min=int(param.min),
                                        soft_max=1024, max=int(param.max), **kw)}
+    if param.kind == "auto_int":
+        return {param.key: IntProperty(default=param.auto_value, min=int(param.min),
+                                       max=int(param.max), **kw),
+                param.key + "_auto": _auto_toggle(param)}
     if param.kind == "enum":
         items = [(c, CHOICE_LABELS.get(c, c.replace("_", " ").title()), "")
                  for c in param.choices]
@@ -45,21 +49,25 @@ def _property(param):
     limits = {k: v for k, v in limits.items() if v is not None}
     if param.kind == "auto_float":
         auto = param.default == "auto"
-        auto_kw = {"name": "Auto", "update": _on_change(param.path + "_auto"),
-                   "description": "Use the automatic value: " + param.help.split("'auto'")[-1]
-                   .strip(" =;")}
         return {param.key: FloatProperty(default=param.auto_value if auto else param.default,
                                          precision=3, **limits, **kw),
-                param.key + "_auto": BoolProperty(default=auto, **auto_kw)}
+                param.key + "_auto": _auto_toggle(param)}
     if param.kind == "vec2":
         return {param.key: FloatVectorProperty(default=param.default, size=2, subtype="XYZ",
                                                precision=3, step=1, **limits, **kw)}
     return {param.key: FloatProperty(default=param.default, precision=3, step=1, **limits, **kw)}
 
 
-def _section_class(section):
+def _auto_toggle(param):
+    return BoolProperty(default=param.default == "auto", name="Auto",
+                        update=_on_change(param.path + "_auto"),
+                        description="Use the automatic value: " +
+                        param.help.split("'auto'")[-1].strip(" =;"))
+
+
+def _section_class(section, table=params.PARAMS):
     annotations = {}
-    for param in params.PARAMS:
+    for param in table:
         if param.section == section:
             annotations.update(_property(param))
     return type(f"DYNPAINT_PG_{section}", (bpy.types.PropertyGroup,),
@@ -67,6 +75,14 @@ def _section_class(section):
 
 
 SECTION_CLASSES = [_section_class(s) for s in params.SECTIONS]
+# §16: a painting's frame mapping, and one per image slot that sets its own
+FRAMES_CLASS = _section_class("frames", params.FRAME_PARAMS)
+
+
+def _own_frames(channel):
+    return BoolProperty(name="Own Frames", update=_on_change(f"frames_{channel}_own"),
+                        description=f"The {channel.replace('_', ' ')} image follows a frame "
+                                    f"mapping of its own instead of the painting's (§16)")
 
 
 def _image_pointer(channel):
@@ -112,12 +128,15 @@ SETTINGS_ANNOTATIONS = {
     "shadows_stale": BoolProperty(default=False, options={"HIDDEN"}),
     **{f"image_{c}": _image_pointer(c) for c in params.CHANNELS},
     **{s: PointerProperty(type=cls) for s, cls in zip(params.SECTIONS, SECTION_CLASSES)},
+    "frames": PointerProperty(type=FRAMES_CLASS),
+    **{f"frames_{c}": PointerProperty(type=FRAMES_CLASS) for c in params.CHANNELS},
+    **{f"frames_{c}_own": _own_frames(c) for c in params.CHANNELS},
 }
 DYNPAINT_PG_settings = type("DYNPAINT_PG_settings", (bpy.types.PropertyGroup,),
                             {"__annotations__": SETTINGS_ANNOTATIONS,
                              "__doc__": "Dynamic Painting settings of a material"})
 
-CLASSES = (*SECTION_CLASSES, DYNPAINT_PG_light, DYNPAINT_PG_derived, DYNPAINT_PG_settings)
+CLASSES = (*SECTION_CLASSES, FRAMES_CLASS, DYNPAINT_PG_light, DYNPAINT_PG_derived, DYNPAINT_PG_settings)
 
 
 def register():

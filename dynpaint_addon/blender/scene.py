@@ -17,9 +17,10 @@ from .. import params
 from ..core.lights import Light
 from ..core.input_rules import input_notes
 from ..imageio import image_data_from_blender
+from .frames import frames_of, painting_size
 from .images import load_image, prepare_channel_image
 from .lights import add_light, linked_lights
-from .settings import params_to_settings
+from .settings import frames_to_settings, params_to_settings
 from .sync import batch, update
 
 FACE_CAMERA = "Dynamic Painting: face camera"
@@ -54,16 +55,19 @@ def unchanged_images_on_failure():
 
 class _ImagesRead(Mapping):
     """{channel: ImageData} of Blender images, each read on first use (input_notes reads
-    the pixels of the shape and the masks only)."""
+    the pixels of the shape and the masks only); of a moving slot, its first frame (§16)."""
 
-    def __init__(self, loaded):
-        self.loaded, self.read = loaded, {}
+    def __init__(self, loaded, frames=None):
+        self.loaded, self.read, self.frames = loaded, {}, frames
 
     def __getitem__(self, channel):
         if channel not in self.read:
             img = self.loaded[channel]
             name = os.path.basename(bpy.path.abspath(img.filepath)) or img.name
-            self.read[channel] = replace(image_data_from_blender(img), name=name)
+            moving = self.frames is not None and self.frames.slots[channel].kind != "still"
+            data = self.frames.image(channel, self.frames.start) if moving else \
+                image_data_from_blender(img)
+            self.read[channel] = replace(data, name=name)
         return self.read[channel]
 
     def __iter__(self):
@@ -73,10 +77,11 @@ class _ImagesRead(Mapping):
         return len(self.loaded)
 
 
-def check_images(loaded, p):
-    """core.input_rules.input_notes on the painting's Blender images → notes; raises ValueError
-    (one line) for a shape image that cannot be what the settings `p` say."""
-    return input_notes(_ImagesRead(loaded), p)
+def check_images(loaded, p, frames=None):
+    """core.input_rules.input_notes on the painting's Blender images (a moving slot's first
+    frame: `frames`, a PaintingFrames) → notes; raises ValueError (one line) for a shape image
+    that cannot be what the settings `p` say."""
+    return input_notes(_ImagesRead(loaded, frames), p)
 
 
 def face_camera(obj, camera):
@@ -95,25 +100,26 @@ def face_scene_camera(obj, scene, otherwise):
 
 
 def create_painting(context, images, p=None, lights=None, name="Dynamic Painting", size=1.0,
-                    location=(0.0, 0.0, 0.0), rotation=None, default_sun=True, progress=None):
+                    location=(0.0, 0.0, 0.0), rotation=None, default_sun=True, progress=None,
+                    frames=None):
     """Create the plane, its material and (optionally) lights → (plane, material, messages).
 
     images: {channel: file path or bpy Image}; p: a params namespace (defaults if None);
     lights: core Lights in the painting frame to create; with none given, a Sun is added if
     the scene has no light (unless default_sun is False). size: the plane's width in scene
-    units.
+    units. frames: a recipe's frames table (§16: sequences and sprite sheets).
     The scene is left as it was if anything fails.
     """
     with unchanged_images_on_failure():
         return _create_painting(context, images, p, lights, name, size, location, rotation,
-                                default_sun, progress)
+                                default_sun, progress, frames or {})
 
 
 LARGE_PX = 4096 * 4096     # from here on, say what a painting costs
 
 
 def _create_painting(context, images, p, lights, name, size, location, rotation, default_sun,
-                     progress):
+                     progress, frames):
     scene = context.scene
     p = p or params.defaults()
     messages = []
@@ -126,8 +132,13 @@ def _create_painting(context, images, p, lights, name, size, location, rotation,
         raise ValueError("a painting needs a shape image (normal or height map)")
     if "dark" not in loaded and "bright" not in loaded:
         raise ValueError("a painting needs a dark or a bright image (one may serve both)")
-    messages += check_images(loaded, p)
-    w, h = loaded["shape"].size
+    moving = frames_of(loaded, frames)
+    if not moving.animated:
+        moving = None
+    messages += check_images(loaded, p, moving)
+    w, h = loaded["shape"].size if moving is None else \
+        moving.image("shape", moving.start).size         # a sheet's cell
+    messages += moving.notes if moving is not None else []
     if w * h >= LARGE_PX:
         messages.append(f"large painting: {w}×{h} ({w * h / 1e6:.0f} Mpx); its numpy images "
                         f"take ≈{w * h * 16 / 2**30:.1f} GiB each, shadow bakes take a while "
@@ -149,6 +160,7 @@ def _create_painting(context, images, p, lights, name, size, location, rotation,
         s = mat.dynamic_painting
         with batch():
             params_to_settings(p, s)
+            frames_to_settings(frames, s)
             for channel, img in loaded.items():
                 setattr(s, f"image_{channel}", img)
             s.plane = obj
@@ -188,7 +200,7 @@ def exact_camera(scene, plane):
     """An orthographic camera looking down −Z that frames the plane pixel for pixel (the plane
     faces it, so its pixels line up with the painting's)."""
     mat = plane.active_material
-    w, h = mat.dynamic_painting.image_shape.size
+    w, h = painting_size(mat)
     cam_data = bpy.data.cameras.new("Dynamic Painting camera")
     cam_data.type = "ORTHO"
     cam = bpy.data.objects.new(cam_data.name, cam_data)

@@ -7,7 +7,8 @@ import numpy as np
 
 from .. import params
 from ..core.pipeline import shadow_term, shape_normals
-from ..imageio import image_data_from_blender
+from ..painting_frames import BoundedCache
+from .frames import frame_data, painting_size, slot_frame
 from .images import grey_image
 from .lights import painting_frame_light, plane_matrix
 from .settings import settings_to_params
@@ -26,12 +27,22 @@ def bake_key(light, p, s):
 
 
 def settings_key(p, s):
-    """What a bake depends on besides its light: the bake's parameters, the shape image."""
+    """What a bake depends on besides its light: the bake's parameters, the shape image and,
+    of a moving shape, the frame shown (§16: not the scene frame — frames that show one
+    drawing share their bakes)."""
     values = [getattr(getattr(p, prm.section), prm.key) for prm in BAKE_PARAMS]
-    return repr((values, s.image_shape.name if s.image_shape else None))
+    if s.image_shape is None:
+        return repr((values, None))
+    frame = slot_frame(s.id_data, "shape")
+    return repr((values, s.image_shape.name) if frame is None else
+                (values, s.image_shape.name, frame))
 
 
-_SHAPES = {}   # material name → (key, (normals, heights_px, slopes)): the bakes' decoded shape
+# material name → BoundedCache: shape key → (normals, heights_px, slopes), the bakes' decoded
+# shape: the newest one of a still painting; of a moving one (§16) its frames', up to
+# SHAPE_FRAMES_MB (a frame that comes round again is not decoded, or integrated, again)
+_SHAPES = {}
+SHAPE_FRAMES_MB = 512
 
 
 def bake_shape(mat, p, fresh=False):
@@ -40,17 +51,22 @@ def bake_shape(mat, p, fresh=False):
     `fresh` decodes again (the image's pixels may have been edited)."""
     s = mat.dynamic_painting
     key = shape_key(s, p)
-    hit = _SHAPES.get(mat.name)
-    if fresh or hit is None or hit[0] != key:
-        hit = (key, shape_normals(image_data_from_blender(s.image_shape), p, np.float32))
-        _SHAPES[mat.name] = hit
-    return hit[1]
+    moving = key[1] is not None
+    cache = _SHAPES.get(mat.name)
+    if cache is None or cache.mb != (SHAPE_FRAMES_MB if moving else 0):
+        cache = _SHAPES[mat.name] = BoundedCache(SHAPE_FRAMES_MB if moving else 0)
+    hit = None if fresh else cache.get(key)
+    if hit is None:
+        hit = shape_normals(frame_data(mat, "shape"), p, np.float32)
+        cache.put(key, hit, sum(a.nbytes for a in hit if a is not None))
+    return hit
 
 
 def shape_key(settings, p):
-    """What the decoded shape depends on: the image and the §2 settings, and for a normal
-    map the relief its shadows fall from (§6)."""
-    return settings.image_shape.name, repr(vars(p.shape)), p.shadows.relief
+    """What the decoded shape depends on: the image (of a moving one, the frame shown) and the
+    §2 settings, and for a normal map the relief its shadows fall from (§6)."""
+    return (settings.image_shape.name, slot_frame(settings.id_data, "shape"),
+            repr(vars(p.shape)), p.shadows.relief)
 
 
 def forget_cached_shapes():
@@ -108,7 +124,7 @@ def bake_shadows(mat, scene, depsgraph=None, force=True, progress=None, p=None):
         results.append(shadow_term(n, z_px, slopes, light, p, progress=part))
     ms = (time.perf_counter() - t_start) * 1000
     if ms > 2000:      # long bakes (huge images, reference quality) say what they did
-        w, h = s.image_shape.size
+        w, h = painting_size(mat)
         print(f"Dynamic Painting: {mat.name}: baked {len(todo)} light(s) at {w}×{h} "
               f"({p.shadows.quality}) in {ms / 1000:.1f} s")
     for (item, _, key), t in zip(todo, results):

@@ -12,6 +12,7 @@ from contextlib import contextmanager
 import bpy
 
 from ..core.bake import QUALITY, quality_level
+from .frames import forget_frames
 from .images import prepare_channel_image, update_derived_images
 from .layers import bake_group, bake_group_live, layer_parent
 from .live_bake import LIVE, rendering
@@ -37,6 +38,8 @@ def on_setting_changed(mat, path):
     """Property update callback (properties.py): a setting, an image slot or the light
     collection changed. Never raises into Blender's UI: problems are reported."""
     s = mat.dynamic_painting
+    if path.startswith(("images.", "frames")):
+        forget_frames(mat)          # what moves and how: read again when next asked (§16)
     if _suspended[0] or not s.is_painting:
         return
     try:

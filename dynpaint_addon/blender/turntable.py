@@ -15,10 +15,22 @@ import bpy
 from bpy_extras import anim_utils
 from mathutils import Vector
 
-from .lights import linked_lights
+from .lights import linked_lights, painting_frame_light
 from .sync import update
 
 PIVOT_NAME = "Turntable"
+
+
+def turn_first_sun(context, mat, frame_start, frame_end):
+    """The painting's first Sun turned once over the frames, from where it is now (a light
+    turntable at its own elevation) → report lines (none without a Sun)."""
+    suns = [o for o in linked_lights(mat, context.scene) if o.data.type == "SUN"]
+    if not suns:
+        return []
+    x, y, z = painting_frame_light(suns[0], mat.dynamic_painting.plane.matrix_world).vector
+    add_light_turntable(context, mat, suns[0], "SUN", frame_start, frame_end,
+                        math.asin(max(-1, min(1, z))), 1.0, math.atan2(y, x))
+    return [f"{suns[0].name} turns once over frames {frame_start}–{frame_end}"]
 
 
 def orbit_position(elevation, azimuth, radius=1.0):

@@ -9,12 +9,14 @@ import time
 from .. import params
 from ..errors import UserError
 from ..layered_files import is_layered_file, load_layered
-from ..recipe import image_bytes, load_images, load_recipe
+from ..painting_frames import PaintingFrames
+from ..recipe import image_bytes, load_recipe
 from ..samples import recipe_help
 from ..web.page import TURNTABLE_SECONDS, page_data, scene_data, write_page
 from .notes import check_and_print, print_notes
 
 STEPS = params.BY_PATH["shadows.steps"]
+FPS = 24.0                   # Blender's default scene rate
 
 
 class ExportError(UserError):
@@ -33,24 +35,36 @@ def cmd_export_web(args):
             raise ExportError(f"--steps: {exc}") from None
     if args.turntable_seconds <= 0:
         raise ExportError(f"--turntable-seconds {args.turntable_seconds}: must be positive")
+    if not 0 < args.fps <= 240:
+        raise ExportError(f"--fps {args.fps:g}: frames per second in 0 … 240")
     start = time.perf_counter()
     if is_layered_file(args.recipe) or load_recipe(args.recipe).layered:
         return _export_layers(args, start)
     recipe = load_recipe(args.recipe)
-    images = load_images(recipe)
+    painting = PaintingFrames(recipe.slots())
+    images = painting.images(painting.start)
     check_and_print(images, recipe.params)
+    frames = None
+    if painting.animated:                  # §16: every drawing of one loop, played
+        print_notes(painting.notes)
+        shown, sequence = painting.drawings()
+        frames = {"drawings": [painting.images(f) for f in shown], "sequence": sequence,
+                  "fps": args.fps}
     data, warnings = page_data(
         images, recipe.lights, recipe.params,
         title=recipe.name if args.title is None else args.title,
         credits=recipe.credits if args.credits is None else args.credits,
-        steps=args.steps, max_size=args.max_size, turntable_seconds=args.turntable_seconds)
+        steps=args.steps, max_size=args.max_size, turntable_seconds=args.turntable_seconds,
+        frames=frames)
     size = write_page(args.out, data)
     seconds = time.perf_counter() - start
     inputs = image_bytes(recipe)
     print_notes(warnings)
+    moving = f", {len(frames['sequence'])} frames at {args.fps:g} fps" if frames else ""
     print(f"export-web: wrote {args.out} ({size / 1e6:.2f} MB, {size / inputs:.2f}× its input "
           f"images; {data['width']}×{data['height']}, {len(data['lights'])} light(s)"
-          f"{', shadows K = %d' % data['steps'] if data['shadows'] else ''}) in {seconds:.1f} s")
+          f"{', shadows K = %d' % data['steps'] if data['shadows'] else ''}{moving}) in "
+          f"{seconds:.1f} s")
 
 
 def _export_layers(args, start):
@@ -89,4 +103,6 @@ def add_parser(sub):
     w.add_argument("--turntable-seconds", type=float, default=TURNTABLE_SECONDS,
                    help=f"seconds per turn of the light when the page plays "
                    f"(default {TURNTABLE_SECONDS:g})")
+    w.add_argument("--fps", type=float, default=FPS, help=f"a painting that moves (§16): scene "
+                   f"frames per second the page plays its frames at (default {FPS:g})")
     w.set_defaults(func=cmd_export_web)

@@ -2,8 +2,11 @@
 artist has (docs/shape-from-painting.md). Registered by cli/__init__.py; the options are
 shape_methods.OPTIONS; the work is shape_maker's and the core's."""
 import argparse
+import json
+import math
 import os
 import time
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -14,28 +17,32 @@ from ..core.integrate import integrate
 from ..core.occlusion import ambient_occlusion
 from ..core.photometric import SIDES, normals_from_profiles, normals_from_rg_photo
 from ..core.pipeline import normal_map_relief_px, shape_normals
+from ..core.frames import SheetGrid, expand_pattern, is_pattern
 from ..imageio import read_image, write_exr, write_png
+from ..painting_frames import GRID_KEYS, PaintingFrames, painting_slots
+from ..params import FRAME_BY_KEY
 from ..recipe import load_recipe
 from ..shape_maker import (ShapeError, decode_normals, encode_normals, figure_and_source,
                           figure_mask, height_widths, linear_luminance, normals_of_height, same_size,
                           sprite_lamp_side)
+from ..shape_frames import FrameInputs, MadeFrames, fill_sheet, grid_of
 from ..shape_methods import METHODS, options
 from .notes import check_and_print, figure_note, print_notes
 
 
-def _write_height(path, z):
+def _write_height(path, z, top=None):
     """Heights in image widths: EXR as they are (bake-shadow --height-scale 1 reads them at
-    their true scale), PNG as 16-bit 0..1 of the highest point (its height_scale printed)."""
+    their true scale), PNG as 16-bit 0..1 of `top` (default the highest point; a sequence's
+    frames share one), its height_scale printed."""
     ext = os.path.splitext(path)[1].lower()
     if ext == ".exr":
         write_exr(path, z.astype(np.float32))
-        print(f"wrote {path} (heights in image widths, 0 … {z.max():.4g}: height_scale 1)")
-    elif ext == ".png":
-        top = float(z.max())
+        return f"heights in image widths, 0 … {z.max():.4g}: height_scale 1"
+    if ext == ".png":
+        top = float(z.max()) if top is None else top
         write_png(path, z / top if top > 0 else z, bits=16)
-        print(f"wrote {path} (16-bit; white = {top:.4g} image widths: height_scale {top:.4g})")
-    else:
-        raise ShapeError(f"--out {path}: write a height map as .exr (float) or .png (16-bit)")
+        return f"16-bit; white = {top:.4g} image widths: height_scale {top:.4g}"
+    raise ShapeError(f"--out {path}: write a height map as .exr (float) or .png (16-bit)")
 
 
 def _write_normals(path, n, green):
@@ -44,7 +51,18 @@ def _write_normals(path, n, green):
         raise ShapeError(f"--out {path}: write a normal map as .png (16-bit) or .exr")
     rgb = encode_normals(n, green)
     (write_exr if ext == ".exr" else lambda p, px: write_png(p, px, bits=16))(path, rgb)
-    print(f"wrote {path} ({green} green)")
+    return f"{green} green"
+
+
+@dataclass
+class Made:
+    """What a method made of one frame: heights (image widths; `lowest_zero`: shifted so
+    that the lowest point is 0, over every frame of a sequence) or unit normals."""
+    kind: str
+    values: np.ndarray
+    notes: list = field(default_factory=list)
+    lowest_zero: bool = False
+    residual: np.ndarray = None
 
 
 def _timed(args, what, started):
@@ -52,8 +70,8 @@ def _timed(args, what, started):
         print(f"{what}: {time.perf_counter() - started:.3f} s")
 
 
-def cmd_integrate(args):
-    img = read_image(args.normal)
+def make_integrate(args, read):
+    img = read(args.normal)
     p = params.defaults()
     p.shape.encoding, p.shape.strength = args.encoding, args.strength
     try:
@@ -67,32 +85,29 @@ def cmd_integrate(args):
             raise ShapeError(f"--mask alpha: {args.normal} has no alpha channel")
         mask = figure_mask(img, "alpha")
     elif args.mask != "none":
-        mimg = read_image(args.mask)
+        mimg = read(args.mask)
         if mimg.size != img.size:
             raise ShapeError(f"--mask {args.mask} is {mimg.size[0]}×{mimg.size[1]}, the normal "
                              f"map {img.size[0]}×{img.size[1]}: they must match")
         mask, source = figure_and_source(mimg)
         notes.append(figure_note(args.mask, source))
     started = time.perf_counter()
-    result = integrate(n, mask, args.depth)
+    result = integrate(n, mask, args.depth, floor=0.0)     # the floor: _run's, once
     _timed(args, "integrate", started)
     if args.verbose:
         print(f"residual (the part no height map has): RMS {result.residual_rms:.4g} "
               f"(slope units), {100 * result.residual_share:.2f} % of the field; "
               f"{result.parts} part(s)")
-    _write_height(args.out, result.height)
-    if args.residual:
-        write_exr(args.residual, result.residual.astype(np.float32))
-        print(f"wrote {args.residual} (|g − ∇z| per pixel, slope units)")
-    print_notes(notes)          # once the work is done: an error stays one line
+    return Made("height", result.height, notes, lowest_zero=True,
+                residual=result.residual if args.residual else None)
 
 
-def cmd_normals(args):
-    img = read_image(args.height_map)
+def make_normals(args, read):
+    img = read(args.height_map)
     started = time.perf_counter()
     n = normals_of_height(height_widths(img, args.height_scale, args.preblur))
     _timed(args, "normals", started)
-    _write_normals(args.out, n, args.green)
+    return Made("normal", n)
 
 
 def _profile_images(args):
@@ -111,73 +126,223 @@ def _profile_images(args):
     return chosen
 
 
-def cmd_profiles(args):
+def make_profiles(args, read):
     paths = _profile_images(args)
     named = {side: path for side, path in paths.items() if path in args.images}
-    images = {side: read_image(path) for side, path in paths.items()}
+    images = {side: read(path) for side, path in paths.items()}
     same_size(images, "lighting profiles")
     started = time.perf_counter()
     n = normals_from_profiles({side: linear_luminance(img) for side, img in images.items()},
                               args.elevation)
     _timed(args, f"profiles ({', '.join(paths)})", started)
-    _write_normals(args.out, n, args.green)
-    print_notes([f"{path}: the {side} profile (by its name; --{side} sets it)"
-                 for side, path in named.items()])
+    return Made("normal", n, [f"{path}: the {side} profile (by its name; --{side} sets it)"
+                              for side, path in named.items()])
 
 
-def cmd_rg_photo(args):
-    img = read_image(args.photo)
-    _write_normals(args.out, normals_from_rg_photo(img.rgb(), args.red_from, args.green_from),
-                   args.green)
+def make_rg_photo(args, read):
+    img = read(args.photo)
+    return Made("normal", normals_from_rg_photo(img.rgb(), args.red_from, args.green_from))
 
 
-def cmd_inflate(args):
-    img = read_image(args.image)
+def make_inflate(args, read):
+    img = read(args.image)
     mask, source = figure_and_source(img, args.mask_channel)
     if not mask.any():
-        raise ShapeError(f"{args.image}: no figure to inflate (its mask is empty: give an "
-                         f"image with alpha, or a mask painted white on black)")
+        raise ShapeError(f"{img.name or args.image}: no figure to inflate (its mask is empty: "
+                         f"give an image with alpha, or a mask painted white on black)")
     started = time.perf_counter()
     result = inflate(mask, args.profile, args.height, args.detail,
-                     linear_luminance(read_image(args.detail_image) if args.detail_image
+                     linear_luminance(read(args.detail_image) if args.detail_image
                                       else img) if args.detail else None, args.detail_blur)
     _timed(args, "inflate", started)
-    _write_height(args.out, result.height)
-    print_notes([figure_note(args.image, source)])
+    return Made("height", result.height, [figure_note(args.image, source)])
+
+
+def _write(args, path, made, values, top=None):
+    """One frame's (or sheet's) shape → `path`; → the line that says what it holds."""
+    if made.kind == "height":
+        return _write_height(path, values, top)
+    return _write_normals(path, values, args.green)
+
+
+def _input_paths(args):
+    """The method's input images (shape_methods.OPTIONS of kind 'file')."""
+    paths = []
+    for option in options(args.method_key, "cli"):
+        if option.kind == "file":
+            value = getattr(args, option.name)
+            paths += value if option.many else [value]
+    if getattr(args, "mask", "none") not in ("alpha", "none"):      # integrate's mask file
+        paths.append(args.mask)
+    return [p for p in paths if p]
+
+
+def run_method(args):
+    """make-shape METHOD: its maker on the input image, or on every frame of a sequence or
+    sprite sheet (§16, shape_frames), the shapes written in the input's layout."""
+    make = MAKERS[args.method_key]
+    inputs = FrameInputs(_input_paths(args), grid_of(vars(args)))
+    if not inputs.animated:
+        made = make(args, read_image)
+        values = made.values - made.values.min() if made.lowest_zero else made.values
+        print(f"wrote {args.out} ({_write(args, args.out, made, values)})")
+        if made.residual is not None:
+            write_exr(args.residual, made.residual.astype(np.float32))
+            print(f"wrote {args.residual} (|g − ∇z| per pixel, slope units)")
+        print_notes(made.notes)          # once the work is done: an error stays one line
+        return
+    _run_frames(args, make, inputs)
+
+
+def _run_frames(args, make, inputs):
+    sequence = inputs.pattern is not None
+    for option, path in (("--out", args.out), ("--residual", getattr(args, "residual", None))):
+        if path and sequence and not is_pattern(os.path.basename(path)):
+            raise ShapeError(f"{option} {path}: a sequence's shapes need a frame number in the "
+                             f"name, as the input has (e.g. height_####.exr)")
+        if path and not sequence and option == "--residual":
+            raise ShapeError("--residual: a sprite sheet's residuals are not written (give a "
+                             "sequence of files, or one image)")
+    frames, seen, notes, kind = MadeFrames(), {}, [], None
+    names = inputs.names()
+    try:
+        for i, name in enumerate(names):
+            started = time.perf_counter()
+            key = inputs.fingerprint(i)
+            if key in seen:
+                frames.put(i, frames.get(seen[key]))
+                print(f"frame {i + 1}/{len(names)} ({name}): the same pixels as frame "
+                      f"{seen[key] + 1}: its shape", flush=True)
+                continue
+            made = make(args, lambda path: inputs.read(path, i))
+            kind, lowest_zero = made, made.lowest_zero
+            seen[key] = i
+            frames.put(i, made.values)
+            notes += [n for n in made.notes if n not in notes]
+            if made.residual is not None:
+                write_exr(expand_pattern(args.residual, inputs.numbers[i]),
+                          made.residual.astype(np.float32))
+            print(f"frame {i + 1}/{len(names)} ({name}): "
+                  f"{time.perf_counter() - started:.2f} s", flush=True)
+        floor = frames.low if lowest_zero else None
+        top = frames.high - (floor or 0.0)
+
+        def shaped(i):
+            values = frames.get(i)
+            return values - floor if floor is not None else values
+        if sequence:
+            for i, n in enumerate(inputs.numbers):
+                line = _write(args, expand_pattern(args.out, n), kind, shaped(i), top)
+            print(f"wrote {len(names)} frames {args.out} ({line})")
+        else:
+            fill = 0.0 if kind.kind == "height" else np.array([0.0, 0.0, 1.0])
+            sheet = fill_sheet([shaped(i) for i in range(len(names))], inputs.grid,
+                               inputs.sheet_size(), fill)
+            line = _write(args, args.out, kind, sheet, top)
+            print(f"wrote a sheet of {len(names)} frames, {inputs.grid.columns} × "
+                  f"{inputs.grid.rows} cells, {args.out} ({line})")
+    finally:
+        frames.close()
+    print_notes(notes)
+
+
+MAP_FILES = ("normal.png", "height.exr", "height.png", "ambient_occlusion.png", "specular.png")
+
+
+def _maps(images, p, integrated_floor):
+    """One painting frame's maps for game engines → {"normal": unit normals, "height": image
+    widths, "specular": 0 … 1 or None}; a normal map's heights integrated (its figure cut at
+    the alpha, whichever relief the recipe's shadows use), `integrated_floor` the height made
+    0 (None: its lowest point)."""
+    n, z_px, _ = shape_normals(images["shape"], p, np.float64, relief=False)
+    if z_px is None:
+        z_px = normal_map_relief_px(n, images["shape"], precise=True, floor=integrated_floor)
+    gloss = None
+    if "gloss" in images or p.specular.enabled:
+        g = images["gloss"].grey() if "gloss" in images else np.ones(n.shape[:2])
+        gloss = np.clip(g * p.specular.amount, 0, 1)
+    return {"normal": n, "height": z_px / n.shape[1], "specular": gloss}
+
+
+def _write_maps(args, n, height, specular, top=None):
+    out = {name: os.path.join(args.out, name) for name in MAP_FILES}
+    for name, line in (("normal.png", _write_normals(out["normal.png"], n, args.green)),
+                       ("height.exr", _write_height(out["height.exr"], height)),
+                       ("height.png", _write_height(out["height.png"], height, top))):
+        print(f"wrote {out[name]} ({line})")
+    write_png(out["ambient_occlusion.png"], ambient_occlusion(height), bits=16)
+    print(f"wrote {out['ambient_occlusion.png']}")
+    if specular is not None:
+        write_png(out["specular.png"], specular, bits=16)
+        print(f"wrote {out['specular.png']}")
 
 
 def cmd_export_maps(args):
     recipe = load_recipe(args.recipe)
-    images = {c: read_image(path) for c, path in recipe.images.items()   # only what it exports
-              if c in ("shape", "gloss")}
+    used = {c: path for c, path in recipe.images.items() if c in ("shape", "gloss")}
+    painting = PaintingFrames(painting_slots(used, recipe.frames))
     p = recipe.params
-    check_and_print(images, p)
-    n, z_px, _ = shape_normals(images["shape"], p, np.float64, relief=False)
-    if z_px is None:
-        # a normal map's heights: its figure cut at the alpha (the shadows' default relief),
-        # whichever relief the recipe's shadows use
-        z_px = normal_map_relief_px(n, images["shape"], precise=True)
-    height = z_px / n.shape[1]
+    check_and_print(painting.images(painting.start), p)
     os.makedirs(args.out, exist_ok=True)
-    out = {name: os.path.join(args.out, name) for name in
-           ("normal.png", "height.exr", "height.png", "ambient_occlusion.png", "specular.png")}
-    _write_normals(out["normal.png"], n, args.green)
-    _write_height(out["height.exr"], height)
-    _write_height(out["height.png"], height)
-    write_png(out["ambient_occlusion.png"], ambient_occlusion(height), bits=16)
-    print(f"wrote {out['ambient_occlusion.png']}")
-    if "gloss" in images or p.specular.enabled:
-        gloss = images["gloss"].grey() if "gloss" in images else np.ones(n.shape[:2])
-        write_png(out["specular.png"], np.clip(gloss * p.specular.amount, 0, 1), bits=16)
-        print(f"wrote {out['specular.png']}")
+    if not painting.animated:
+        maps = _maps(painting.images(painting.start), p, None)
+        _write_maps(args, maps["normal"], maps["height"], maps["specular"])
+        return
+    _export_sheets(args, recipe, painting, p)
 
 
-# make-shape METHOD's runner on the command line (files in, files out), by METHODS key
-COMMANDS = {"integrate": cmd_integrate, "normals": cmd_normals, "profiles": cmd_profiles,
-            "rg_photo": cmd_rg_photo, "inflate": cmd_inflate, "export_maps": cmd_export_maps}
+def _export_sheets(args, recipe, painting, p):
+    """A painting that moves (§16): each map a sprite sheet of its frames on the grid of the
+    painting's own sheets (none: the squarest grid that holds them), row by row from the top
+    left, for
+    Godot's and Unity's sprite sheets (docs/frames.md); the heights of all frames on one
+    floor and one white."""
+    shown, _ = painting.drawings()       # the drawings one loop shows, in order
+    frames = []
+    for i, f in enumerate(shown):
+        frames.append(_maps(painting.images(f), p, 0.0))
+        print(f"frame {i + 1}/{len(shown)} (scene frame {f}: {painting.shown(f)})", flush=True)
+    heights = [m["height"] for m in frames]
+    if p.shape.kind == "normal":                 # integrated: the lowest point of them all
+        low = min(float(h.min()) for h in heights)
+        heights = [h - low for h in heights]
+    # the painting's own sheets' grid (the sprite the maps go with), else the squarest
+    sheet = next((s for s in recipe.slots().values() if s.kind == "sheet"
+                  and s.grid.frames() >= len(frames)), None)
+    h, w = heights[0].shape
+    if sheet is not None:
+        grid = sheet.grid
+        size = _sheet_size(grid, w, h)
+    else:
+        columns = math.ceil(math.sqrt(len(frames)))
+        grid = SheetGrid(columns, math.ceil(len(frames) / columns), len(frames))
+        size = (columns * w, grid.rows * h)
+    n = fill_sheet([m["normal"] for m in frames], grid, size, np.array([0.0, 0.0, 1.0]))
+    z = fill_sheet(heights, grid, size, 0.0)
+    spec = None if frames[0]["specular"] is None else \
+        fill_sheet([m["specular"] for m in frames], grid, size, 0.0)
+    _write_maps(args, n, z, spec, top=float(max(hh.max() for hh in heights)))
+    with open(os.path.join(args.out, "sheet.json"), "w", encoding="utf-8") as fh:
+        json.dump({"columns": grid.columns, "rows": grid.rows, "frames": len(frames),
+                   "cell": [w, h], "margin": grid.margin, "spacing": grid.spacing,
+                   "order": "row by row from the top left"}, fh, indent=1)
+    print(f"wrote {len(frames)} frames as sheets of {grid.columns} × {grid.rows} cells of "
+          f"{w}×{h} (sheet.json says so)")
+
+
+def _sheet_size(grid, w, h):
+    """The size of a sheet of w × h cells on `grid` (its margin and spacing)."""
+    return (2 * grid.margin + grid.columns * w + (grid.columns - 1) * grid.spacing,
+            2 * grid.margin + grid.rows * h + (grid.rows - 1) * grid.spacing)
+
+
+# make-shape METHOD's maker on the command line (an input frame in, a Made out), by METHODS key
+MAKERS = {"integrate": make_integrate, "normals": make_normals, "profiles": make_profiles,
+          "rg_photo": make_rg_photo, "inflate": make_inflate}
 OUT_HELP = {"height": "height map: .exr (image widths) or .png (16-bit)",
             "normal": "normal map (.png 16-bit or .exr)",
-            "maps": "folder for normal.png, height.exr/.png, ambient_occlusion.png, specular.png"}
+            "maps": "folder for normal.png, height.exr/.png, ambient_occlusion.png, specular.png "
+                    "(of a painting that moves: sprite sheets, and sheet.json for the grid)"}
 
 
 def _value_type(option):
@@ -212,6 +377,26 @@ def add_option(parser, option):
                             default=option.default, required=option.required, **kw)
 
 
+def add_grid_options(parser):
+    """--columns, --rows, --count, --margin, --spacing: a sprite sheet's grid (§16), every
+    input read cell by cell (params.FRAME_PARAMS: the recipe's [frames] keys)."""
+    group = parser.add_argument_group("sprite sheets (§16): every input a sheet of frames, "
+                                      "the shapes written as a sheet of the same grid")
+    for key in ("columns", "rows", "count") + GRID_KEYS[2:]:
+        prm = FRAME_BY_KEY[key]
+        group.add_argument(f"--{key}", type=_param_type(prm), default=prm.default,
+                           help=f"{prm.help} (default {prm.default})")
+
+
+def _param_type(prm):
+    def parse(text):
+        try:
+            return prm.check(int(text))
+        except ValueError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
+    return parse
+
+
 def add_parser(sub):
     """Register `make-shape` and its methods (shape_methods.METHODS, their options from
     shape_methods.OPTIONS) on the command line's subparsers."""
@@ -225,7 +410,10 @@ def add_parser(sub):
         m = methods.add_parser(method.command, help=method.help, description=method.help)
         m.add_argument("-v", "--verbose", action="store_true", help="print the time (and, for "
                        "integrate, the non-integrable residual)")
-        m.set_defaults(func=COMMANDS[name])
+        m.set_defaults(func=cmd_export_maps if name == "export_maps" else run_method,
+                       method_key=name)
         for option in options(name, "cli"):
             add_option(m, option)
+        if name in MAKERS:
+            add_grid_options(m)
         m.add_argument("--out", required=True, help=OUT_HELP[method.makes])

@@ -114,8 +114,8 @@ class SheetGrid:
         if inner_w <= 0 or inner_h <= 0 or inner_w % self.columns or inner_h % self.rows:
             raise ValueError(
                 f"a {width}×{height} sheet does not divide into {self.columns} × {self.rows} "
-                f"cells (margin {self.margin}, spacing {self.spacing}): "
-                f"{inner_w}×{inner_h} pixels of cells left")
+                f"cells (margin {self.margin}, spacing {self.spacing}): its cells would be "
+                f"{inner_w / self.columns:.4g} × {inner_h / self.rows:.4g} pixels")
         return inner_w // self.columns, inner_h // self.rows
 
     def cell_box(self, index, width, height):

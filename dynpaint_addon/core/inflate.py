@@ -1,7 +1,10 @@
 """Inflate a silhouette into a height map (docs/shape-from-painting.md).
 
 Inside the figure (a mask, e.g. the painting's alpha) solve −Δh = 1 with h = 0 on its edge
-(h in image widths², Δ in image widths). For a disc of radius R, h = (R² − r²)/4, so the
+(h in image widths², Δ in image widths). Each connected part of the figure is inflated alone
+(its solve, profile and detail mean its own): the same drawing gives the same heights, bit
+for bit, whatever else the image holds — frames of an animation keep what does not change
+(pipeline.md §16). For a disc of radius R, h = (R² − r²)/4, so the
 *round* profile z = 2√h is exactly the hemisphere √(R² − r²); on any other outline it gives
 round cross-sections that follow the figure (Lumo, Monster Mash). Other profiles reshape the
 round one, normalised u = z / max z:
@@ -23,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .laplace import Grid, solve
+from .laplace import Grid, components, parts, solve_parts
 from .sampling import gaussian_blur
 
 PROFILES = ("round", "soft", "flat")
@@ -60,12 +63,14 @@ def shape_profile(round_height, profile):
 
 
 def inflate(mask, profile="round", height=1.0, detail=0.0, luminance=None, detail_blur=0.002,
-            tol=1e-4):
+            tol=1e-4, by_parts=True):
     """Height map (image widths) of a figure's mask (H, W) bool, y up → Inflated.
 
     height: scales the profile (1 = a disc's hemisphere as tall as its radius); detail: image
     widths of relief per unit of luminance (H, W, 0..1) embossed inside the figure, blurred by
-    detail_blur image widths first.
+    detail_blur image widths first. by_parts: each connected part of the figure alone (see
+    above); False solves and reshapes the whole figure at once, as before pipeline.md §16
+    (benchmarks/frames_stability.py measures what that costs an animation).
     """
     mask = np.asarray(mask, bool)
     h, w = mask.shape
@@ -73,10 +78,27 @@ def inflate(mask, profile="round", height=1.0, detail=0.0, luminance=None, detai
     iterations, residual = 0, 0.0
     if mask.any():
         grid = _dirichlet_grid(mask)
-        poisson, iterations, residual = solve(grid, mask / float(w * w), tol=tol)
+        labels, count = components(grid.wx > 0, grid.wy > 0) if by_parts else \
+            (np.zeros((h, w), np.int64), 1)
+        poisson, iterations, residual = solve_parts(grid, mask / float(w * w), labels, count,
+                                                    tol=tol)
         z = 2 * np.sqrt(np.maximum(poisson, 0)) * height
-        z = shape_profile(z, profile)
-    if detail and luminance is not None and mask.any():
-        lum = gaussian_blur(np.asarray(luminance, np.float64), detail_blur * w)
-        z = z + detail * np.where(mask, lum - lum[mask].mean(), 0)
+        z = _per_part(shape_profile, z, labels, count, mask, profile)
+        if detail and luminance is not None:
+            lum = gaussian_blur(np.asarray(luminance, np.float64), detail_blur * w)
+            z = z + detail * _per_part(_less_mean, lum, labels, count, mask)
     return Inflated(np.where(mask, z, 0.0), iterations, residual)
+
+
+def _less_mean(values):
+    return values - values.mean()
+
+
+def _per_part(fn, values, labels, count, mask, *args):
+    """fn(values of one figure part, *args) for each part alone (its tallest point, its mean):
+    one figure's relief never depends on another's (§16: frames keep what does not change)."""
+    out = np.zeros_like(values)
+    for k, (r0, r1, c0, c1) in parts(labels, count, mask):
+        own = (labels[r0:r1, c0:c1] == k) & mask[r0:r1, c0:c1]
+        out[r0:r1, c0:c1][own] = fn(values[r0:r1, c0:c1][own], *args)
+    return out

@@ -9,8 +9,10 @@ free edges) solves the Poisson equation −Δz = −div g:
 
 Without a mask the image is solved at once by the discrete cosine transform (laplace.
 poisson_neumann). With a mask, equations between a pixel inside and one outside are dropped:
-the figure and its background are integrated each on its own (laplace.solve), and each
-figure part is lifted `depth` image widths above the background it borders.
+the figure and its background are integrated each on its own, every connected part alone in
+its bounding box (laplace.solve_parts: a part's heights depend on its own pixels, so frames
+of a drawing keep them where they do not change, §16), and each figure part is lifted
+`depth` image widths above the background it borders.
 
 What no height map can reproduce — a painted, impossible normal field has a curl — is left
 over as the residual g − ∇z, returned as an image and a share of the field.
@@ -26,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .laplace import Grid, edge_sums, poisson_neumann, solve
+from .laplace import Grid, components, edge_sums, poisson_neumann, solve_parts
 
 
 @dataclass
@@ -56,30 +58,6 @@ def _divergence(gx, gy, shape):
     b[:-1, :] -= gy
     b[1:, :] += gy
     return b
-
-
-def components(wx, wy):
-    """Connected parts of the pixel grid joined by the edges wx (H, W−1), wy (H−1, W) (bool)
-    → (labels (H, W) in 0 … count − 1, count): runs of each row, merged along wy by
-    min-label propagation with pointer jumping."""
-    h, w = wx.shape[0], wx.shape[1] + 1
-    start = np.ones((h, w), bool)
-    start[:, 1:] = ~wx
-    run = np.cumsum(start.ravel()).reshape(h, w) - 1
-    a, b = run[:-1][wy], run[1:][wy]
-    label = np.arange(int(run[-1, -1]) + 1)
-    while True:
-        low = np.minimum(label[a], label[b])
-        new = label.copy()
-        np.minimum.at(new, a, low)
-        np.minimum.at(new, b, low)
-        new = new[new]
-        if np.array_equal(new, label):
-            break
-        label = new
-    _, dense = np.unique(label, return_inverse=True)
-    labels = dense[run]
-    return labels, int(dense.max()) + 1 if dense.size else 0
 
 
 def _border_pairs(mask):
@@ -115,7 +93,8 @@ def _cuts(mask):
             (mask[1:, :] == mask[:-1, :]).astype(float))
 
 
-def integrate(normals, mask=None, depth=0.0, precise=True, breaks=None):
+def integrate(normals, mask=None, depth=0.0, precise=True, breaks=None, floor=None,
+              by_parts=True):
     """Least-squares height of a unit normal field (H, W, 3), y up → Integrated.
 
     mask: (H, W) bool, True on the figure; equations across its edge are dropped and each part
@@ -126,6 +105,10 @@ def integrate(normals, mask=None, depth=0.0, precise=True, breaks=None):
     equations are dropped too, so the height may jump there. A normal map cannot show where
     its walls are (docs/shape-from-painting.md); the benchmark passes the true ones to
     measure what knowing them would give.
+    floor: the height that becomes 0 (default: the lowest); a sequence's frames take one
+    floor, so a part that does not change keeps its heights bit for bit (§16).
+    by_parts: each connected part solved alone (default); False solves them in one system, as
+    before §16 (benchmarks/frames_stability.py compares).
     """
     n = np.asarray(normals, dtype=np.float64)
     h, w = n.shape[:2]
@@ -141,8 +124,11 @@ def integrate(normals, mask=None, depth=0.0, precise=True, breaks=None):
         if breaks is not None:
             wx, wy = wx * ~np.asarray(breaks[0], bool), wy * ~np.asarray(breaks[1], bool)
         labels, count = components(wx > 0, wy > 0)
-        z, iterations, _ = solve(Grid(wx, wy, dtype=np.float64 if precise else np.float32),
-                                 _divergence(gx * wx, gy * wy, (h, w)), 1e-6 if precise else 1e-4)
+        # each part alone: a part's heights follow its own pixels only (§16: frames)
+        solved = (labels, count) if by_parts else (np.zeros((h, w), np.int64), 1)
+        z, iterations, _ = solve_parts(Grid(wx, wy, dtype=np.float64 if precise else np.float32),
+                                       _divergence(gx * wx, gy * wy, (h, w)), *solved,
+                                       1e-6 if precise else 1e-4)
         z = _place_parts(z, mask, labels, count, depth)
     rx = ((z[:, 1:] - z[:, :-1]) - gx) * w * wx      # back to slope units
     ry = ((z[1:, :] - z[:-1, :]) - gy) * w * wy
@@ -151,7 +137,7 @@ def integrate(normals, mask=None, depth=0.0, precise=True, breaks=None):
     equations = wx.sum() + wy.sum()
     total = np.sum(rx * rx) + np.sum(ry * ry)
     field = np.sum((gx * w * wx) ** 2) + np.sum((gy * w * wy) ** 2)
-    return Integrated(height=z - z.min(), residual=np.sqrt(sq / np.maximum(k, 1)),
+    return Integrated(height=z - (z.min() if floor is None else floor), residual=np.sqrt(sq / np.maximum(k, 1)),
                       residual_rms=float(np.sqrt(total / max(equations, 1))),
                       residual_share=float(np.sqrt(total / field)) if field > 0 else 0.0,
                       parts=count, iterations=iterations)

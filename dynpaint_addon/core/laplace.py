@@ -180,3 +180,71 @@ def solve(grid, b, tol=1e-4, max_iter=200):
         it += 1
         res = float(np.sqrt(np.sum(r.astype(np.float64) ** 2))) / norm_b
     return z.astype(np.float64), it, res
+
+
+def components(wx, wy):
+    """Connected parts of the pixel grid joined by the edges wx (H, W−1), wy (H−1, W) (bool)
+    → (labels (H, W) in 0 … count − 1, count): runs of each row, merged along wy by
+    min-label propagation with pointer jumping."""
+    h, w = wx.shape[0], wx.shape[1] + 1
+    start = np.ones((h, w), bool)
+    start[:, 1:] = ~wx
+    run = np.cumsum(start.ravel()).reshape(h, w) - 1
+    dense, count = graph_parts(int(run[-1, -1]) + 1, run[:-1][wy], run[1:][wy])
+    return dense[run], count
+
+
+def graph_parts(n, a, b):
+    """Connected parts of a graph of n nodes with edges a[i]–b[i] → (labels in 0 … count − 1,
+    count), by min-label propagation with pointer jumping."""
+    label = np.arange(n)
+    while True:
+        low = np.minimum(label[a], label[b])
+        new = label.copy()
+        np.minimum.at(new, a, low)
+        np.minimum.at(new, b, low)
+        new = new[new]
+        if np.array_equal(new, label):
+            break
+        label = new
+    _, dense = np.unique(label, return_inverse=True)
+    return dense, int(dense.max()) + 1 if dense.size else 0
+
+
+def parts(labels, count, where):
+    """(label, its bounding box (r0, r1, c0, c1)) of each label with a pixel where `where`
+    (H, W bool) holds, in label order."""
+    h, w = labels.shape
+    flat = labels.ravel()
+    kept = np.bincount(flat, where.ravel(), count) > 0
+    rows = np.broadcast_to(np.arange(h)[:, None], labels.shape).ravel()
+    cols = np.broadcast_to(np.arange(w)[None, :], labels.shape).ravel()
+    box = np.zeros((count, 4), np.int64)
+    box[:, 0], box[:, 2] = h, w
+    np.minimum.at(box[:, 0], flat, rows)
+    np.maximum.at(box[:, 1], flat, rows + 1)
+    np.minimum.at(box[:, 2], flat, cols)
+    np.maximum.at(box[:, 3], flat, cols + 1)
+    return [(int(k), tuple(box[k])) for k in np.flatnonzero(kept)]
+
+
+def solve_parts(grid, b, labels, count, tol=1e-4):
+    """`solve` on each connected part of the grid alone, in its own bounding box → (z, most
+    iterations, largest relative residual). A part's heights depend on its own pixels only:
+    the same drawing gives the same heights, bit for bit, wherever it lies and whatever else
+    in the image changes (a painting's frames, pipeline.md §16). labels: (H, W) in 0 … count
+    − 1, no grid edge joining two labels (`components` of the grid's edges)."""
+    z = np.zeros(grid.shape)
+    most, worst = 0, 0.0
+    for k, (r0, r1, c0, c1) in parts(labels, count, grid.free):
+        own = labels[r0:r1, c0:c1] == k
+        part = Grid(grid.wx[r0:r1, c0:c1 - 1] * (own[:, 1:] & own[:, :-1]),
+                    grid.wy[r0:r1 - 1, c0:c1] * (own[1:] & own[:-1]),
+                    grid.dirichlet[r0:r1, c0:c1] * own, grid.dtype)
+        bk = np.where(own, b[r0:r1, c0:c1], 0)
+        if not bk.any():                   # no source (a flat background): z = 0 exactly
+            continue
+        zk, iterations, residual = solve(part, bk, tol)
+        z[r0:r1, c0:c1] = np.where(own, zk, z[r0:r1, c0:c1])
+        most, worst = max(most, iterations), max(worst, residual)
+    return z, most, worst

@@ -73,14 +73,15 @@ def shape_normals(shape, p, dtype=np.float32, relief=True):
     return n, None, slopes_from_normals(n)
 
 
-def normal_map_relief_px(n, shape, precise=False):
+def normal_map_relief_px(n, shape, precise=False, floor=None):
     """§6 "Relief": the height field a normal map's shadows fall from, in pixels: the
     least-squares integral of its slopes (core/integrate.py), its figure (the shape image's
     alpha) integrated apart from the background. `precise`: to 1e-6 rather than the 1e-4 a
-    shadow bake needs (exported height maps)."""
+    shadow bake needs (exported height maps); floor: the height (image widths) made 0, None:
+    the lowest (integrate's)."""
     alpha = shape.alpha()
     mask = None if alpha is None else np.nan_to_num(alpha) >= 0.5
-    return (integrate(n, mask, precise=precise).height * n.shape[1]).astype(n.dtype)
+    return (integrate(n, mask, precise=precise, floor=floor).height * n.shape[1]).astype(n.dtype)
 
 
 def shadow_term(n, z_px, slopes, light, p, cancel=None, progress=None):

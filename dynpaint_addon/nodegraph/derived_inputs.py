@@ -10,7 +10,8 @@ not the artist's own but made from them by numpy:
   environment        E and B as the warped lookups read them (§8, §9): linear
   background         premultiplied RGBA, blurred for glossy / translucent looks (§11)
   background_sharp   B unblurred, shown outside the silhouette (§11)
-  <input channel>    a finite copy of a float input that holds NaN/Inf (§14, core/inputs.py);
+  <input channel>    a copy of a moving slot's current frame (§16: sequences, sheets);
+                     a finite copy of a float input that holds NaN/Inf (§14, core/inputs.py);
                      for a normal map also the map in the standard RGB convention when it is
                      stored otherwise (two-channel) or its tilts are scaled (§2); for the
                      transparency and gloss maps the values read (luminance or a channel)
@@ -39,6 +40,7 @@ from typing import Callable
 import numpy as np
 
 from .. import params
+from ..core.colour import srgb_to_linear
 from ..core.inputs import mask_values
 from ..core.input_rules import MASKS, PER_PIXEL_CHANNELS, finite_image, mask_setting
 from ..core.pipeline import lookup_copy, shape_normals
@@ -54,6 +56,7 @@ class Source:
     bits: int = 8        # 8, 16 or 32 (float: may hold NaN/Inf)
     size: tuple = (0, 0)     # (W, H) in pixels
     alpha: bool = False      # it has an alpha channel
+    frame: object = None     # a moving slot's painting frame (§16); None: a still image
 
 
 def prepare(p, sources, light_kinds):
@@ -84,7 +87,8 @@ def _key(channel, source, p, *extra):
     """The source image and every parameter whose `derives` role names this channel."""
     values = [(prm.path, getattr(getattr(p, prm.section), prm.key)) for prm in params.PARAMS
               if channel in prm.derives]
-    return repr((source.name, *values, *extra))
+    return repr((source.name, *values, *extra) if source.frame is None else
+                (source.name, source.frame, *values, *extra))
 
 
 def grey_rgba(grey, alpha=None):
@@ -110,7 +114,11 @@ def derived_inputs(features, p, sources):
         src = sources.get(channel)
         convert = _standard_normal_map(p) if channel == "shape" else \
             _mask(mask_setting(p, channel)) if channel in MASKS else _as_it_is
-        if channel in need and src is not None and (src.bits == 32 or convert is not _as_it_is):
+        if channel in need and src is not None and src.frame is not None:
+            # a moving slot: the graph samples a copy of the frame shown (§16)
+            out.append(Derived(channel, channel, _key(channel, src, p, "frame"),
+                               _frame_copy(channel, convert), finite_copy=True))
+        elif channel in need and src is not None and (src.bits == 32 or convert is not _as_it_is):
             out.append(Derived(channel, channel, _key(channel, src, p, "finite"), convert,
                                finite_copy=True))
     if "height" in need:
@@ -159,6 +167,22 @@ def _relief_widths(data, p):
 
 def _as_it_is(data):
     return None
+
+
+def _frame_copy(channel, convert):
+    """A moving slot's frame as the graph samples the image itself: converted as a still
+    image is (`convert`), else its pixels — a colour image's 8/16-bit sRGB codes decoded to
+    linear, as Blender decodes the image it samples (§0), since the copy is a float image."""
+    colour = params.CHANNELS[channel][1] == "colour"
+
+    def make(data):
+        rgba = convert(data)
+        if rgba is None:
+            rgba = _rgba(data.pixels)
+            if colour and data.bits != 32:
+                rgba = np.concatenate([srgb_to_linear(rgba[..., :3]), rgba[..., 3:]], -1)
+        return rgba
+    return make
 
 
 def _standard_normal_map(p):

@@ -147,7 +147,7 @@ def page_textures(features, plan, p, images, cache=None):
         if rgba is not None:
             colour = item.source in COLOUR_CHANNELS
             exact = _is_half(rgba)
-            tex = encode_pixels(rgba, "f16" if colour or exact else "f32")
+            tex = encode_pixels(_fewest_channels(rgba), "f16" if colour or exact else "f32")
             tex["srgb"] = 0
         else:
             img = images[item.source if item is not None else channel]
@@ -155,6 +155,16 @@ def page_textures(features, plan, p, images, cache=None):
             tex["srgb"] = int(channel in COLOUR_CHANNELS and img.bits < 32)
         out[channel] = cache[key] = tex
     return out, warnings
+
+
+def _fewest_channels(rgba):
+    """RGBA as the fewest channels that hold it: grey (R = G = B) as one, with its alpha as
+    two unless that is 1 everywhere (the viewer reads them back as RGBA, the core's way)."""
+    grey = np.array_equal(rgba[..., 0], rgba[..., 1]) and \
+        np.array_equal(rgba[..., 0], rgba[..., 2])
+    if not grey:
+        return rgba
+    return rgba[..., :1] if np.all(rgba[..., 3] == 1) else rgba[..., [0, 3]]
 
 
 def _light_entry(light):
@@ -202,7 +212,7 @@ def _variant(images, lights, p, steps, cache):
 
 
 def page_data(images, lights, p, title="", credits="", steps=None, max_size=None,
-              animation=None, turntable_seconds=TURNTABLE_SECONDS, looks=True):
+              animation=None, turntable_seconds=TURNTABLE_SECONDS, looks=True, frames=None):
     """Everything the viewer needs, as JSON-ready data.
 
     images: {channel: ImageData}; lights: [core Light]; p: the parameters. steps: the march's
@@ -214,8 +224,14 @@ def page_data(images, lights, p, title="", credits="", steps=None, max_size=None
     Looks: the painting as exported, then each ready-made look (looks.py) that shows it
     differently; looks of other features get a shader of their own, and a look that would
     need an image prepared otherwise than the others is left out.
+
+    frames: a painting that moves (§16) — {'drawings': [{channel: ImageData} of each drawing
+    a loop shows], 'sequence': [the drawing of each frame of the loop], 'fps': frames per
+    second}; `images` is its first drawing. The page keeps every drawing's images of the
+    slots that move (page_frames) and plays them; its other looks are left out.
     """
     images = {c: shrink(img, max_size) for c, img in images.items()}
+    looks = looks and frames is None
     cache = {}
     shaders, samplers = [], []
 
@@ -249,7 +265,38 @@ def page_data(images, lights, p, title="", credits="", steps=None, max_size=None
         "lights": [_light_entry(lt) for lt in lights], "shadows": bool(features.shadows),
         "steps": int(uniforms.get("p_shadows_steps", steps or p.shadows.steps)),
         "turntable_seconds": float(turntable_seconds), "animation": animation,
+        "frames": page_frames(frames, images, textures, lights, p, steps, max_size),
     }, warnings
+
+
+def page_frames(frames, first, textures, lights, p, steps, max_size):
+    """A painting that moves (§16) in the page → {'fps', 'sequence', 'textures': {channel:
+    [its texture in each drawing]} of the images that differ from the first drawing's,
+    'uniforms': [the march bounds of each drawing's shape]}, or None for a still one. Each
+    drawing's images are prepared as the first's (its derived images too): the page swaps
+    them in when the frame changes and draws its shadows again."""
+    if frames is None:
+        return None
+    drawings = [first] + [{c: shrink(img, max_size) for c, img in d.items()}
+                          for d in frames["drawings"][1:]]
+    p_page = page_params(p, steps)
+    kinds = [lt.kind for lt in lights]
+    cells = {c: [textures[c]] for c, tex in textures.items() if "same_as" not in tex}
+    bounds = []
+    for i, images in enumerate(drawings):
+        # prepared as the first drawing is (each with a cache of its own): the same kinds
+        # of texture, which the page swaps in place of the first's
+        sources = {c: Source(c, img.bits, img.size, img.has_alpha) for c, img in images.items()}
+        features, plan = prepare(p_page, sources, kinds)
+        if i:
+            made, _ = page_textures(features, plan, p_page, images)
+            for c in cells:
+                cells[c].append(made[c])
+        if features.shadows:
+            bounds.append(_march_bounds(images, p_page, {}))
+    return {"fps": float(frames["fps"]), "sequence": list(frames["sequence"]),
+            "textures": {c: t for c, t in cells.items() if any(x != t[0] for x in t[1:])},
+            "uniforms": bounds or None}
 
 
 def scene_data(layers, lights, title="", credits="", steps=None, max_size=None,

@@ -22,7 +22,8 @@
   }
   const lights = DATA.lights.map((lt) => ({ ...lt, on: true, place: placeOf(lt) }));
   const state = { key: 0, playing: false, phase: 0, frame: 0, look: 0, dirty: true,
-                  drawScale: 1, fullFrameMs: 0, measure: true, lastInput: -1e9 };
+                  drawScale: 1, fullFrameMs: 0, measure: true, lastInput: -1e9,
+                  pageFrame: 0, framesPlaying: !!DATA.frames };
 
   function lightVector(lt) {
     const [x, y, h] = lt.place;
@@ -295,7 +296,7 @@
   function makePainting(PD, index) {
     const P = { data: PD, index, textures: {}, filterable: {}, units: {}, programs: [],
                 codeTextures: {}, shadows: [], through: [], prog: null, progWraps: {},
-                progCodes: [] };
+                progCodes: [], drawing: 0, cells: {} };
     const { textures, filterable, units, programs, codeTextures, shadows } = P;
 
     // The sRGB codes of a colour image, not decoded: for shaders that mix the codes (made
@@ -303,8 +304,11 @@
     function codeTexture(channel) {
       const tex = PD.textures[channel];
       const source = tex.same_as || channel;
-      codeTextures[source] = codeTextures[source] || texture(PD.textures[source], true);
-      return codeTextures[source];
+      const moving = PD.frames && PD.frames.textures[source];
+      const key = moving ? `${source} ${P.drawing}` : source;     // one per drawing shown
+      codeTextures[key] = codeTextures[key] ||
+        texture(moving ? moving[P.drawing] : PD.textures[source], true);
+      return codeTextures[key];
     }
 
     // What a shader binds for an image — its codes where it mixes codes (`codes`), else the
@@ -364,8 +368,10 @@
     // (or, for a shadow pass, light `only` as the shader's one light), where it draws.
     P.setUniforms = function (rect, display, only = null) {
       const loc = (name) => gl.getUniformLocation(P.prog, name);
+      const drawn = PD.frames && PD.frames.uniforms ? PD.frames.uniforms[P.drawing] : {};
       for (const [name, value] of Object.entries(PD.looks[state.look].uniforms)) {
-        gl.uniform1f(loc(name), name === "p_shadows_steps" ? state.steps : value);
+        gl.uniform1f(loc(name), name === "p_shadows_steps" ? state.steps
+          : name in drawn ? drawn[name] : value);
       }
       for (const [channel, unit] of Object.entries(units)) {
         gl.activeTexture(gl.TEXTURE0 + unit);
@@ -404,7 +410,7 @@
       let drawn = 0, finalMs = 0, final = true;
       lights.forEach((lt, i) => {
         const what = JSON.stringify([look.shaders["shadow_" + lt.kind], look.uniforms,
-                                     state.steps, lightVector(lt), lt.size || 0]);
+                                     state.steps, lightVector(lt), lt.size || 0, P.drawing]);
         const old = shadows[i];
         if (old && old.what === what && (old.scale >= 1 || scale < 1)) {
           final = final && old.scale >= 1;
@@ -475,6 +481,21 @@
       // swap: the product is the light's shadow texture now
       [shadows[i].tex, shadows[i].fb, out.tex, out.fb] = [out.tex, out.fb, own.tex, own.fb];
       textures[`shadow_${i}`] = shadows[i].tex;
+    };
+
+    // A painting that moves (§16): show drawing `d` — the images that move swapped for that
+    // drawing's (each made into a texture the first time it is shown, then kept), the
+    // shadows drawn again (their key holds the drawing).
+    P.setDrawing = function (d) {
+      if (!PD.frames || d === P.drawing) return;
+      for (const [c, cells] of Object.entries(PD.frames.textures)) {
+        P.cells[c] = P.cells[c] || [{ texture: textures[c], filterable: filterable[c] }];
+        P.cells[c][d] = P.cells[c][d] || texture(cells[d]);
+        for (const [other, tex] of Object.entries(PD.textures)) {
+          if (other === c || tex.same_as === c) textures[other] = P.cells[c][d].texture;
+        }
+      }
+      P.drawing = d;
     };
 
     // The painting's textures: its images, (a layer) what the shadows between layers read,
@@ -986,6 +1007,16 @@
       state.dirty = state.measure = true;
     });
     document.getElementById("look-row").hidden = DATA.looks.length < 2;
+    framesRow.hidden = !DATA.frames;
+    if (DATA.frames) {
+      frameInput.max = String(DATA.frames.sequence.length - 1);
+      frameInput.addEventListener("input", () => {
+        setFramesPlaying(false);
+        showFrame(parseInt(frameInput.value, 10));
+      });
+      framesButton.addEventListener("click", () => setFramesPlaying(!state.framesPlaying));
+      frameValue.textContent = `1 / ${DATA.frames.sequence.length}`;
+    }
     document.getElementById("view-row").hidden = !scene;
     document.getElementById("title").textContent = DATA.title || "Dynamic painting";
     document.getElementById("credits").textContent = DATA.credits || "";
@@ -993,7 +1024,47 @@
   }
 
   // -- animation: the recipe's keyframed lights, else a turn of the key light ----------------
+  // -- a painting that moves (§16): its frames at their rate, Play/Pause and a slider -------
+  const framesRow = document.getElementById("frames-row");
+  const frameInput = document.getElementById("frame");
+  const frameValue = document.getElementById("frame-value");
+  const framesButton = document.getElementById("frames-play");
+
+  function showFrame(i) {
+    const seq = DATA.frames.sequence;
+    state.pageFrame = ((i % seq.length) + seq.length) % seq.length;
+    paintings[0].setDrawing(seq[Math.floor(state.pageFrame)]);
+    frameInput.value = Math.floor(state.pageFrame);
+    frameValue.textContent = `${Math.floor(state.pageFrame) + 1} / ${seq.length}`;
+    state.dirty = true;
+  }
+
+  function setFramesPlaying(on) {
+    state.framesPlaying = on;
+    framesButton.textContent = on ? "Pause" : "Play";
+    framesButton.setAttribute("aria-pressed", String(on));
+    state.framesLast = null;
+  }
+
+  function advanceFrames(now) {
+    if (!DATA.frames || !state.framesPlaying) return;
+    const dt = state.framesLast == null ? 0 : (now - state.framesLast) / 1000;
+    state.framesLast = now;
+    const before = Math.floor(state.pageFrame);
+    const next = state.pageFrame + dt * DATA.frames.fps;
+    if (Math.floor(next) !== before) showFrame(next);
+    else state.pageFrame = next;
+  }
+
+  // For tests and embedding pages: show frame i of the loop (0-based), frames paused.
+  api.setFrame = function (i) {
+    if (!DATA.frames) throw new Error("this painting does not move");
+    setFramesPlaying(false);
+    showFrame(i);
+  };
+
   function advance(now) {
+    advanceFrames(now);
     if (!state.playing) return;
     const dt = state.last == null ? 0 : (now - state.last) / 1000;
     state.last = now;
@@ -1015,7 +1086,8 @@
 
   function loop(now) {
     advance(now);
-    const moving = dragging !== null || state.playing || now - state.lastInput < 250;
+    const moving = dragging !== null || state.playing || state.framesPlaying ||
+      now - state.lastInput < 250;
     const prog = paintings.length && paintings[0].prog;
     if (prog && state.measure) {
       state.measure = false;

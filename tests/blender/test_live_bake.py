@@ -12,6 +12,7 @@ from dynpaint_addon.blender.lights import painting_frame_light  # noqa: E402
 from dynpaint_addon.blender.settings import settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import shadow_term, shape_normals  # noqa: E402
 from dynpaint_addon.imageio import image_data_from_blender  # noqa: E402
+from dynpaint_addon.painting_frames import BoundedCache  # noqa: E402
 
 from parity_recipes import write_images  # noqa: E402
 
@@ -88,7 +89,9 @@ def test_a_failing_bake_keeps_the_last_good_image(painting, monkeypatch):
     before = shadow_pixels(item).copy()
     key = shadow_images.shape_key(painting.dynamic_painting,
                                   settings_to_params(painting.dynamic_painting))
-    monkeypatch.setitem(shadow_images._SHAPES, painting.name, (key, (np.full((2, 2, 3), np.nan), None, None)))
+    broken = BoundedCache(0)                 # the decoded shape the bake reads: broken
+    broken.put(key, (np.full((2, 2, 3), np.nan), None, None), 0)
+    monkeypatch.setitem(shadow_images._SHAPES, painting.name, broken)
     from dynpaint_addon.blender.status import LAST_ERRORS
     LAST_ERRORS.clear()
     live.request(painting, bpy.context.scene)

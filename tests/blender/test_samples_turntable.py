@@ -41,9 +41,9 @@ def make_samples_module():
 
 
 # -- samples ----------------------------------------------------------------------------------
-def test_four_samples_with_recipes_images_thumbnails_and_licences():
+def test_five_samples_with_recipes_images_thumbnails_and_licences():
     samples = {s.id: s for s in list_samples()}
-    assert set(samples) == {"portrait", "glass", "impossible", "window"}
+    assert set(samples) == {"portrait", "glass", "impossible", "window", "blink"}
     for s in samples.values():
         recipe = load_recipe(s.recipe)           # validates every key and that files exist
         assert s.name == recipe.name and len(s.description) > 20
@@ -55,6 +55,9 @@ def test_four_samples_with_recipes_images_thumbnails_and_licences():
     assert glass.params.fresnel.mode == "art"
     impossible = load_recipe(samples["impossible"].recipe)
     assert impossible.params.shape.kind == "normal" and impossible.params.shadows.enabled
+    blink = load_recipe(samples["blink"].recipe)                      # a painting that moves
+    assert {c: s.kind for c, s in blink.slots().items()} == \
+        {"shape": "sequence", "dark": "sheet", "bright": "sheet"}
     licence = open(os.path.join(SAMPLES_DIR, "README.md")).read()
     assert "CC0" in licence and "make_samples.py" in licence
     assert recipe_path("glass") == samples["glass"].recipe
@@ -137,7 +140,7 @@ def test_add_menu_lists_the_samples_and_one_click_adds_each(empty_scene):
     draw_add_menu(layout)
     assert [op for op, _, _ in layout.ops[:2]] == ["dynpaint.add", "dynpaint.add_layered"]
     listed = [(text, props.sample) for op, text, props in layout.ops[2:]]
-    assert [s for _, s in listed] == ["glass", "impossible", "portrait", "window"]
+    assert [s for _, s in listed] == ["blink", "glass", "impossible", "portrait", "window"]
     assert "Glass bottle" in [t for t, _ in listed]
     empty_scene.camera = None
     for _, sample in listed:

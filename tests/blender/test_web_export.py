@@ -131,7 +131,7 @@ def test_benchmark_reports_every_figure_with_its_goal(tmp_path):
     assert "SwiftShader" in text                     # says what drew the frames
     frames = [ln.split(" | ") for ln in text.splitlines() if ln.startswith("| ")
               and " | 64 | " in ln]
-    assert len(frames) == 4                 # every sample (a scene of layers too), against its floor
+    assert len(frames) == 5       # every sample (layers, one that moves too), against its floor
     for row in frames:          # each ratio and the parity with its verdict (K = 4 here: drafts)
         assert all("met" in cell or "reported" in cell
                    for cell in (row[4], row[6], row[8], row[9]))

@@ -14,9 +14,11 @@ from ...recipe import RecipeError, load_recipe
 from ...samples import list_samples
 from ...shape_maker import looks_like_height, read_as_made
 from ...shape_methods import make_shape
+from ..frames import moves, painting_frames
 from ..images import load_image, made_shape_image
 from ..layered_build import add_camera, add_layered, animate_scene
 from ..scene import create_painting, unchanged_images_on_failure
+from ..turntable import turn_first_sun
 from .common import run_and_report
 
 
@@ -87,7 +89,8 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
             plane, _, messages = create_painting(
                 context, recipe.images, recipe.params,
                 recipe.lights if self.add_lights else None, name=recipe.name or "Dynamic Painting",
-                size=self.size, location=location, rotation=rotation, progress=progress)
+                size=self.size, location=location, rotation=rotation, progress=progress,
+                frames=recipe.frames)
             return plane, messages
         bad = [p for p in paths if os.path.splitext(p)[1].lower() not in IMAGE_EXTENSIONS]
         if bad:
@@ -245,6 +248,17 @@ def _sample(sample_id):
     return next((s for s in list_samples() if s.id == sample_id), None)
 
 
+def turn_with_painting(context, mat, loops=2):
+    """A painting that moves (§16): the scene's frame range set to `loops` of the painting's
+    own and its first Sun turned once over it (a light turntable) → report lines."""
+    scene = context.scene
+    scene.frame_start, scene.frame_end = 1, loops * painting_frames(mat).loop()
+    lines = [f"frames 1–{scene.frame_end}: the painting comes round {loops} times"]
+    lines += turn_first_sun(context, mat, 1, scene.frame_end)
+    scene.frame_set(1)
+    return lines
+
+
 class DYNPAINT_OT_add_sample(bpy.types.Operator):
     """Add one of the sample paintings that come with the extension"""
     bl_idname = "dynpaint.add_sample"
@@ -272,6 +286,9 @@ class DYNPAINT_OT_add_sample(bpy.types.Operator):
         if layered and result == {"FINISHED"}:           # its showpiece: parallax and light
             for line in animate_scene(context, context.object):
                 self.report({"INFO"}, line)
+        elif result == {"FINISHED"} and moves(context.object.active_material):
+            for line in turn_with_painting(context, context.object.active_material):
+                self.report({"INFO"}, line)       # its showpiece: it moves as the light turns
         return result
 
 

@@ -7,7 +7,8 @@ from bpy_extras.io_utils import ExportHelper
 
 from ...recipe import Recipe, recipe_to_toml
 from ..lights import painting_lights
-from ..settings import channel_images, settings_to_params
+from ..frames import sequence_pattern
+from ..settings import channel_images, frames_table, settings_to_params
 from .common import PaintingOperator, active_painting, run_and_report
 
 
@@ -17,13 +18,18 @@ def export_recipe(mat, scene, path, only_changed=True):
     folder = os.path.dirname(os.path.abspath(path))
     images = {}
     for channel, img in channel_images(s).items():
+        pattern = sequence_pattern(img)      # §16: an image sequence is named by its pattern
+        if pattern is not None:
+            images[channel] = pattern
+            continue
         src = bpy.path.abspath(img.filepath, library=img.library) if img.filepath else ""
         if not src or img.packed_file is not None or not os.path.isfile(src):
             ext = ".exr" if img.is_float else ".png"
             src = os.path.join(folder, f"{bpy.path.clean_name(mat.name)}_{channel}{ext}")
             img.save(filepath=src)  # writes the pixels; the image keeps its own source
         images[channel] = os.path.abspath(src)
-    recipe = Recipe(settings_to_params(s), painting_lights(mat, scene), images, mat.name, path)
+    recipe = Recipe(settings_to_params(s), painting_lights(mat, scene), images, mat.name, path,
+                    frames=frames_table(s))
     return recipe_to_toml(recipe, folder, only_changed)
 
 

@@ -3,6 +3,7 @@ import bpy
 from bpy.props import EnumProperty
 
 from ...looks import LOOKS
+from ..frames import painting_size
 from ..scene import face_camera
 from ..layers import bake_painting
 from ..sync import batch, update
@@ -27,7 +28,7 @@ class DYNPAINT_OT_bake_shadows(PaintingOperator, bpy.types.Operator):
                                progress=progress)
             rebuild_tree(mat, context.scene)
             n = len(mat.dynamic_painting.lights)
-            w, h = mat.dynamic_painting.image_shape.size
+            w, h = painting_size(mat)
             return [("INFO", f"Baked shadows of {n} light{'s' * (n != 1)} at {w}×{h} "
                              f"in {ms:.0f} ms")]
         return run_and_report(self, context, work, progress=True,

@@ -2,18 +2,55 @@
 docs/shape-from-painting.md): its silhouette inflated, its normal map integrated into heights,
 its height map's normals, or a normal map from lighting profiles or a red/green photograph.
 The adjust-last-operation panel is the preview: change a setting and the painting is made
-again, one undo step."""
+again, one undo step. On a painting that moves (§16) each drawing gets its shape: a packed
+sheet whose cells follow the frames."""
+import math
+
 import bpy
+import numpy as np
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
 
+from ...core.frames import SheetGrid
 from ...core.photometric import SIDES
 from ...imageio import image_data_from_blender, read_image
+from ...shape_frames import fill_sheet
 from ...shape_maker import read_as_made, sprite_lamp_siblings
 from ...shape_methods import METHODS, OPTIONS, SHAPE_MAKERS, make_shape, options
 from ..images import made_shape_image
-from ..settings import channel_images, params_to_settings, settings_to_params
+from ..frames import frame_data, painting_frames
+from ..settings import channel_images, params_to_settings, set_own_frames, settings_to_params
 from ..sync import batch, update
 from .common import PaintingOperator, active_painting, run_and_report
+
+
+READ = ("shape", "dark", "bright")        # what a method reads of the painting
+
+
+def made_per_frame(mat, painting, method, p, values, progress):
+    """Make Shape on a painting that moves (§16): the method run on each drawing one loop
+    shows (shape_frames' rules: one floor for integrated heights), laid out as a sheet of one
+    cell per frame of the loop → (kind, sheet RGBA, report lines, the shape slot's own frame
+    mapping that shows each cell on its frame)."""
+    shown, sequence = painting.drawings()
+    made = []
+    for i, f in enumerate(shown):
+        images = {c: frame_data(mat, c, f) for c in READ if c in painting.slots}
+        kind, rgba, lines = make_shape(method, images, p, floor=0.0, **values)
+        made.append(rgba)
+        progress(0.2 + 0.5 * (i + 1) / len(shown))
+    if method == "integrate":                   # the lowest point of all the frames is 0
+        low = min(float(m[..., 0].min()) for m in made)
+        made = [np.concatenate([m[..., :3] - low, m[..., 3:]], -1) for m in made]
+    columns = math.ceil(math.sqrt(len(sequence)))
+    grid = SheetGrid(columns, math.ceil(len(sequence) / columns), len(sequence))
+    h, w = made[0].shape[:2]
+    sheet = fill_sheet([made[k] for k in sequence], grid, (columns * w, grid.rows * h), 0.0)
+    holds = all(sl.mode == "hold" for sl in painting.slots.values() if sl.kind != "still")
+    mapping = {"start": painting.start, "offset": 0, "count": len(sequence),
+               "mode": "hold" if holds else "cyclic", "rate": 1.0, "columns": columns,
+               "rows": grid.rows, "margin": 0, "spacing": 0}
+    return kind, sheet, [f"{lines[0]} — for each of {len(shown)} drawings, a sheet of "
+                         f"{len(sequence)} frames ({columns} × {grid.rows})"], mapping
 
 
 def blender_property(option):
@@ -71,8 +108,6 @@ class DYNPAINT_OT_make_shape(PaintingOperator, bpy.types.Operator):
         s = mat.dynamic_painting
 
         def work(progress):
-            images = {c: image_data_from_blender(img) for c, img in channel_images(s).items()
-                      if c in ("shape", "dark", "bright")}
             profiles = {side: read_image(path) for side, path in self.profile_paths().items()} \
                 if self.method == "profiles" else None
             photo = read_image(bpy.path.abspath(self.photo)) \
@@ -84,13 +119,23 @@ class DYNPAINT_OT_make_shape(PaintingOperator, bpy.types.Operator):
                 values.update({f"profile_{side}": profiles.get(side) for side in SIDES})
             elif self.method == "rg_photo":
                 values["photo"] = photo
-            kind, rgba, lines = make_shape(self.method, images, p, **values)
+            painting = painting_frames(mat)
+            if any(painting.slots[c].kind != "still" for c in READ if c in painting.slots):
+                kind, rgba, lines, mapping = made_per_frame(mat, painting, self.method, p,
+                                                            values, progress)
+            else:
+                images = {c: image_data_from_blender(img) for c, img in
+                          channel_images(s).items() if c in READ}
+                kind, rgba, lines = make_shape(self.method, images, p, **values)
+                mapping = None
             progress(0.7)
             img = made_shape_image(f"{mat.name} {'height' if kind == 'height' else 'normal'}"
                                    f" ({self.method})", rgba)
             with batch():
                 params_to_settings(read_as_made(p, kind), s, sections=("shape",))
                 s.image_shape = img
+                if mapping is not None:             # the sheet's cells follow the frames
+                    set_own_frames(s, "shape", mapping)
             update(mat, context.scene, rebake=True)
             return [("INFO", f"{lines[0]}; the shape image is now {img.name} (packed in "
                              f"the .blend)")]

@@ -11,6 +11,7 @@ from ... import params
 from ...imageio import ImageReadError, image_data_from_blender
 from ...web.page import page_data, scene_data, write_page
 from ..frame_sampling import reading_lights
+from ..frames import frame_data, moves, painting_frames
 from ..layers import group_layers, group_materials, layer_parent
 from ..lights import painting_lights
 from ..settings import channel_images, settings_to_params
@@ -52,10 +53,20 @@ def painting_page(mat, scene, title, credits="", steps=None, max_size=None, anim
         return scene_data(group_layers(mats), painting_lights(mats[0], scene), title=title,
                           credits=credits, steps=steps, max_size=max_size)
     s = mat.dynamic_painting
-    images = {c: image_data_from_blender(img) for c, img in channel_images(s).items()}
+    frames = None
+    if moves(mat):                  # §16: every drawing of one loop, at the scene's rate
+        painting = painting_frames(mat)
+        shown, sequence = painting.drawings()
+        frames = {"drawings": [{c: frame_data(mat, c, f) for c in painting.slots}
+                               for f in shown],
+                  "sequence": sequence, "fps": scene.render.fps / scene.render.fps_base}
+        images = frames["drawings"][0]
+    else:
+        images = {c: image_data_from_blender(img) for c, img in channel_images(s).items()}
     anim = light_animation(mat, scene, progress) if animation else None
     return page_data(images, painting_lights(mat, scene), settings_to_params(s), title=title,
-                     credits=credits, steps=steps, max_size=max_size, animation=anim)
+                     credits=credits, steps=steps, max_size=max_size, animation=anim,
+                     frames=frames)
 
 
 class DYNPAINT_OT_export_web(PaintingOperator, bpy.types.Operator, ExportHelper):
@@ -98,6 +109,8 @@ class DYNPAINT_OT_export_web(PaintingOperator, bpy.types.Operator, ExportHelper)
             size = write_page(self.filepath, data)
             moving = f", {len(data['animation']['frames'])} animated frames" \
                 if data["animation"] else ""
+            if data.get("frames"):
+                moving += f", the painting's {len(data['frames']['sequence'])} frames"
             return [("WARNING", w) for w in warnings] + [
                 ("INFO", f"Wrote {self.filepath} ({size / 1e6:.1f} MB{moving}) in "
                          f"{time.perf_counter() - start:.1f} s")]

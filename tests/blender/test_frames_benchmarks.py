@@ -1,0 +1,35 @@
+"""benchmarks/frames_stability.py and frames_speed.py run and measure what they say (small
+sizes): against a head rendered from 3D, shapes made by parts never flicker where the drawing
+does not change, and the speed report puts its numbers and goals in every row."""
+import os
+import sys
+
+from conftest import REPO
+
+sys.path.insert(0, os.path.join(REPO, "benchmarks"))
+
+import frames_speed  # noqa: E402
+import frames_stability  # noqa: E402
+from testkit.turning_head import render_turning_head  # noqa: E402
+
+
+def test_shapes_made_by_parts_do_not_flicker_where_the_3d_truth_stands_still():
+    truth = render_turning_head(96, 8, blink=(3,))
+    rows, still = frames_stability.measure(truth)
+    assert still > 50                                          # the box, every frame
+    by_parts = {method: worst for method, way, worst, *_ in rows if way == "by parts"}
+    whole = {method: worst for method, way, worst, *_ in rows if way == "whole image"}
+    assert set(by_parts) == {"inflate round", "inflate flat", "integrate"}
+    assert all(worst == 0.0 for worst in by_parts.values()), by_parts
+    assert whole["integrate"] > 1e-3          # one floor per frame: the box moves with it
+    motions = [motion for _, _, _, _, motion, *_ in rows]
+    assert all(0.05 < m < 50 for m in motions), motions      # the head does move
+
+
+def test_the_speed_report_has_a_row_per_size_and_shape(capsys):
+    rows = frames_speed.main(["--sizes", "64", "--frames", "4", "--runs", "1"])
+    out = capsys.readouterr().out
+    assert [(size, kind) for size, kind, _ in rows] == [(64, "height"), (64, "normal")]
+    for _, _, m in rows:
+        assert m["new_ms"] > 0 and m["again_ms"] > 0 and m["light_ms"] > 0 and m["fps"] > 0
+    assert out.count("| 64² |") == 2 and "Frame cache at 64² over 4 frames" in out
