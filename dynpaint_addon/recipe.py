@@ -32,7 +32,6 @@ from .core.layers import MAX_LAYERS, Layer
 from .core.lights import LIGHT_KINDS, Light
 from .errors import UserError
 from .core.frames import is_pattern
-from .imageio import read_image
 from .painting_frames import (FrameError, PaintingFrames, check_frame_settings, painting_slots,
                               sequence_numbers)
 from .samples import list_samples, recipe_path

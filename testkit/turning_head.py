@@ -52,7 +52,7 @@ def render_turning_head(size=256, frames=24, turn=25.0, blink=(10, 11), box=True
     if box:
         bpy.ops.mesh.primitive_cube_add(size=0.5, location=(1.25, -1.15, -0.45))
         parts.append(bpy.context.object)
-    z_low, z_high = -1.0, 1.0                    # the heights' range (world units)
+    z_low = -1.0                                 # heights are measured from here (world units)
     width = 3.4                                  # the camera's view: one image width
 
     def height_nodes(nt):

@@ -96,7 +96,7 @@ def update_derived_images(mat, state, force=False):
     whose key changed (or all: `force`), reading each source once; drop the rest.
     → warnings (non-finite pixels replaced)."""
     s = mat.dynamic_painting
-    p, imgs, plan = state.params, state.images, state.plan
+    imgs, plan = state.images, state.plan
     stored = {d.channel: d for d in s.derived}
     todo = [d for d in plan if force or d.channel not in stored or stored[d.channel].image is None
             or stored[d.channel].key != d.key]
@@ -130,7 +130,7 @@ _MADE = {}       # material name → BoundedCache: derived key → RGBA (None: t
 
 def _make(mat, state, todo):
     """make_derived for `todo`, from the cache where a moving painting made them before."""
-    if not state.moving:
+    if not state.frame:
         return make_derived(todo, state.read, lambda channel: pixel_role(channel, state.params))
     cache = _MADE.setdefault(mat.name, BoundedCache(FRAME_DERIVED_MB))
     found = {d.channel: cache.get(d.key) for d in todo}

@@ -63,9 +63,10 @@ def image_file(img, name):
     return path, srgb
 
 
-def build_osl_tree(mat, features, images, lights, march, p):
+def build_osl_tree(mat, features, images, lights, march, p, tag=""):
     """Replace the material's tree by the OSL Script node (+ output), driven and compiled
-    (p: the painting's parameters, for the march's bounds)."""
+    (p: the painting's parameters, for the march's bounds; tag: in the names of the image
+    files, a moving painting's drawing)."""
     src = osl_codegen.generate(describe(features), features, march=march)
     text = bpy.data.texts.get(TEXT_PREFIX + mat.name) or bpy.data.texts.new(TEXT_PREFIX + mat.name)
     text.from_string(src)
@@ -84,7 +85,7 @@ def build_osl_tree(mat, features, images, lights, march, p):
             drive_property(sock, "MATERIAL", mat, f"{SETTINGS}.{SETTING_OF_INPUT[name]}")
         elif name.endswith("_file"):
             channel = name[:-5]
-            path, srgb = image_file(images[channel], f"{mat.name} {channel}")
+            path, srgb = image_file(images[channel], f"{mat.name} {channel}{tag}")
             sock.default_value = path
             script.inputs[channel + "_srgb"].default_value = srgb
         elif name.startswith("light") and name.endswith("_world"):

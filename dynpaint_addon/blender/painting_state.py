@@ -27,7 +27,8 @@ class PaintingState:
     features: Features          # what the graph is built for (§12)
     plan: list                  # [derived_inputs.Derived]: the images numpy derives
     read: Callable = None       # channel → its ImageData now (a moving slot's frame, §16)
-    moving: bool = False        # any of its images moves (§16)
+    frame: tuple = ()           # the painting frame shown: (channel, its frame) of each slot
+    #                             that moves (§16); () for a still painting
 
 
 def image_source(img):
@@ -58,4 +59,5 @@ def read_state(mat, scene):
                for c, img in images.items()}
     features, plan = prepare(p, sources, [o.data.type.lower() for o in lights])
     return PaintingState(p, images, lights, features, plan, lambda c: frame_data(mat, c, f),
-                         any(src.frame is not None for src in sources.values()))
+                         tuple((c, src.frame) for c, src in sources.items()
+                               if src.frame is not None))

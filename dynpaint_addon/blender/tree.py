@@ -48,6 +48,10 @@ def rebuild_tree(mat, scene, force=False, state=None):
     sync_light_items(s, lights)
     images = tree_images(s, state.images)
     sig = signature(f, lights, images)
+    if f.shadow_source == "osl" and state.frame:
+        # the OSL shader reads its images from files: a moving painting's drawing is written
+        # to files of its own (§16), read by a shader set up for them
+        sig += repr(state.frame)
     if not force and sig == s.signature and len(mat.node_tree.nodes):
         return False
     missing = f.image_channels() - images.keys()
@@ -61,7 +65,8 @@ def rebuild_tree(mat, scene, force=False, state=None):
         # Cycles renders the OSL shader (in-shader march); EEVEE keeps the node material.
         eevee_out = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
         eevee_out.target = "EEVEE"
-        osl.build_osl_tree(mat, f, images, lights, march=f.shadows, p=state.params)
+        osl.build_osl_tree(mat, f, images, lights, march=f.shadows, p=state.params,
+                           tag="".join(f" {c}{n}" for c, n in state.frame))
         cycles_out = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"
                           and n != eevee_out)
         cycles_out.target = "CYCLES"

@@ -53,18 +53,28 @@ def render_frame(scene, f, path):
     return read_image(path).pixels
 
 
-def test_every_frame_renders_as_the_core_draws_it(empty_scene, recipe, tmp_path):
+@pytest.mark.parametrize("engine", ["cycles", "eevee", "osl"])
+def test_every_frame_renders_as_the_core_draws_it(empty_scene, recipe, tmp_path, engine):
+    """Cycles within 1e-4 of the core on every frame; EEVEE (half floats) within 1e-3 mean;
+    Cycles with the OSL shader, whose in-shader march stands for the bake, within 5e-3 mean
+    (test_osl's measure) — each drawing's images written to files of their own."""
     r = load_recipe(recipe)
+    if engine == "osl":
+        r.params.shadows.source = "osl"
     plane, mat = build_recipe_scene(r)
     scene = bpy.context.scene
-    exact_render_settings(scene, "cycles")
+    exact_render_settings(scene, "eevee" if engine == "eevee" else "cycles")
     shown = []
-    for f in (1, 2, 3, 4, 5, 6, 9):                    # ping-pong: 1 2 3 4 3 2 1 2 3 …
+    for f in (1, 2, 3, 4, 5, 6, 9) if engine == "cycles" else (2, 5):  # ping-pong: 1 2 3 4 3 2
         got = render_frame(scene, f, str(tmp_path / f"f{f}.exr"))
         want = render(load_images(r, f), r.lights, r.params).rgba
-        np.testing.assert_allclose(got, want, atol=1e-4, err_msg=f"frame {f}")
+        diff = np.abs(got - want)[1:-1, 1:-1]
+        if engine == "cycles":
+            assert diff.max() <= 1e-4, (f, diff.max())
+        else:
+            assert diff.mean() <= (1e-3 if engine == "eevee" else 5e-3), (f, diff.mean())
         shown.append(slot_frame(mat, "shape", f))
-    assert shown == [1, 2, 3, 4, 3, 2, 3]
+    assert shown == ([1, 2, 3, 4, 3, 2, 3] if engine == "cycles" else [2, 3])
 
 
 def test_a_frame_rendered_alone_is_the_frame_rendered_in_sequence(empty_scene, recipe,
