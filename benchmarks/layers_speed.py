@@ -18,14 +18,13 @@ import copy
 import os
 import sys
 import tempfile
-import time
 import tracemalloc
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
-from report import command_line, publish  # noqa: E402
+from report import best, command_line, publish  # noqa: E402
 
 from dynpaint_addon.core.layers import Scene, bake_scene  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
@@ -35,15 +34,6 @@ from dynpaint_addon.testpainting import write_test_scene  # noqa: E402
 
 SUN = Light("sun", (0.55, 0.35, 0.76))
 GOALS = {"final": 1.5, "live_ms": 50.0, "memory": 2.0}
-
-
-def best(fn, runs):
-    times = []
-    for _ in range(runs):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def peak_bytes(fn):

@@ -1,6 +1,7 @@
 """Shared by the benchmarks: print the Markdown page and write it where asked."""
 import os
 import sys
+import time
 
 
 def command_line(script, argv=None):
@@ -18,3 +19,13 @@ def publish(lines, path=None):
         with open(path, "w", encoding="utf-8") as fh:
             fh.write(text)
     return text
+
+
+def best(fn, runs):
+    """The shortest of `runs` calls of fn(), in seconds."""
+    times = []
+    for _ in range(runs):
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return min(times)

@@ -19,6 +19,7 @@ import math
 import os
 import re
 from collections import OrderedDict
+from fractions import Fraction
 from dataclasses import dataclass
 
 import numpy as np
@@ -34,6 +35,9 @@ SHEET_BY_DEFAULT = ("shape",) + PER_PIXEL_CHANNELS
 GRID_KEYS = ("columns", "rows", "margin", "spacing")
 # a slot's "path" for an image its caller holds (Blender's, by name), not a file
 HELD = "held:"
+# the longest loop exported or played as a whole (web pages, sheets of maps): 10 s at 24 fps
+# of a painting whose slots come round together only after that take their longest's
+MAX_LOOP = 240
 # what the frame cache may hold by default: 24 frames of three 1024² float RGBA slots fit
 DEFAULT_CACHE_MB = 1024
 
@@ -222,11 +226,24 @@ class PaintingFrames:
         return next((s.start for s in self.slots.values() if s.kind != "still"), 1)
 
     def loop(self):
-        """Scene frames the painting takes to come round (its longest moving slot's: a cycle,
-        a swing forth and back, or the frames before it holds); 1 for a still painting."""
-        lengths = [(2 * s.count - 2 if s.mode == "ping-pong" and s.count > 1 else s.count)
-                   / s.rate for s in self.slots.values() if s.kind != "still"]
-        return max([1] + [math.ceil(n - 1e-9) for n in lengths])
+        """Scene frames the painting takes to come round: the least common multiple of its
+        moving slots' periods (a cycle, a swing forth and back; a slot that holds: the frames
+        before it holds), or — beyond MAX_LOOP frames, or for rates that never line up — the
+        longest of them. 1 for a still painting."""
+        periods = [Fraction(2 * s.count - 2 if s.mode == "ping-pong" and s.count > 1
+                            else s.count) / Fraction(s.rate).limit_denominator(1000)
+                   for s in self.slots.values() if s.kind != "still"]
+        if not periods:
+            return 1
+        common = periods[0]
+        for period in periods[1:]:       # lcm of fractions: lcm of numerators / gcd of denominators
+            common = Fraction(math.lcm(common.numerator * period.denominator,
+                                       period.numerator * common.denominator),
+                              common.denominator * period.denominator)
+        longest = max(math.ceil(p) for p in periods)
+        if common.denominator == 1 and common <= MAX_LOOP:
+            return max(int(common), longest)
+        return longest
 
     def drawings(self):
         """One loop of the painting from its start → (the scene frame that first shows each

@@ -2,7 +2,7 @@
 
 Imports run one way, from what Blender calls down to the helpers:
 
-    properties, operators/, panels, handlers      (registered with Blender)
+    properties, preferences, operators/, panels, handlers      (registered with Blender)
       → sync (keep a painting current), scene, turntable, compositor, headless
         → tree, osl, live_bake, shadow_images
           → painting_state (settings, images and lights read once per update)
@@ -11,9 +11,9 @@ Imports run one way, from what Blender calls down to the helpers:
 """
 import bpy
 
-from . import handlers, live_bake, operators, panels, properties
+from . import handlers, live_bake, operators, panels, preferences, properties
 
-_MODULES = (properties, operators, panels, handlers)
+_MODULES = (properties, preferences, operators, panels, handlers)
 
 
 def register():

@@ -189,8 +189,10 @@ def wire_painting(scene, node, mat, state):
     s = mat.dynamic_painting
     tree = scene.compositing_node_group
     images = dict(state.images)
-    for item in s.derived:        # numpy-prepared copies: height, blurred E/B
-        if item.channel in GROUP_DERIVED and item.image:
+    for item in s.derived:        # numpy-prepared copies: height, blurred E/B; the frame a
+        #                           moving painting shows (§16: remade as the frame changes)
+        if item.image and (item.channel in GROUP_DERIVED or (state.frame and
+                                                             item.channel in images)):
             images[INPUT_OF.get(item.channel, item.channel)] = item.image
     for i, item in enumerate(s.lights):
         if item.shadow is not None:

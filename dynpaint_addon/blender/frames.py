@@ -8,8 +8,9 @@ samples of a moving slot is a copy of the painting frame's pixels — one of the
 (nodegraph/derived_inputs.py), whose key holds the painting frame — remade when the scene's
 frame shows another drawing; the cos-θ bake's key holds the shape's frame too.
 
-Frames are read through painting_frames.PaintingFrames, one per painting (its cache bounded:
-painting_frames.DEFAULT_CACHE_MB), made again when its images or mappings change; a still
+Frames are read through painting_frames.PaintingFrames, one per painting (its cache bounded
+by the add-on's preference *Frame Cache*, 1 GB by default), made again when its images or
+mappings change; a still
 image is read from Blender each time, as before (its pixels may have been painted on).
 """
 import os
@@ -21,7 +22,10 @@ from ..imageio import image_data_from_blender, read_image
 from ..painting_frames import DEFAULT_CACHE_MB, HELD, PaintingFrames, painting_slots
 from .settings import channel_images, frames_table
 
-_PAINTINGS = {}      # material name → (what it was made from, PaintingFrames)
+_PAINTINGS = {}      # material name → PaintingFrames
+# the extension's module, which its preferences are registered under ("bl_ext.<repo>.<id>"
+# when installed; the package itself when the add-on runs from the repository)
+ADDON = __package__.rsplit(".dynpaint_addon", 1)[0]
 
 
 def sequence_pattern(img):
@@ -50,10 +54,17 @@ def _read(path):
     return read_image(path)
 
 
+def cache_mb():
+    """How much of the frames is kept in memory (MB): the add-on's preference *Frame Cache*,
+    else painting_frames.DEFAULT_CACHE_MB."""
+    addon = bpy.context.preferences.addons.get(ADDON)
+    return getattr(getattr(addon, "preferences", None), "frame_cache_mb", DEFAULT_CACHE_MB)
+
+
 def frames_of(images, table):
     """{channel: bpy Image} and a recipe's frames table → PaintingFrames."""
     paths = {c: slot_path(img) for c, img in images.items()}
-    return PaintingFrames(painting_slots(paths, table), DEFAULT_CACHE_MB, _read)
+    return PaintingFrames(painting_slots(paths, table), cache_mb(), _read)
 
 
 def painting_frames(mat):

@@ -219,3 +219,23 @@ def test_make_shape_on_a_painting_that_moves_gives_each_drawing_its_shape(empty_
     bpy.context.scene.frame_set(5)                           # and the painting shows them
     copy = next(d.image for d in s.derived if d.channel == "shape")
     np.testing.assert_allclose(image_data_from_blender(copy).pixels, want[5], atol=1e-6)
+
+
+def test_the_compositor_group_of_a_painting_that_moves_shows_the_frame(empty_scene, recipe,
+                                                                        tmp_path):
+    """Add Compositor Group on a moving painting wires the frame's copies: as the frame
+    changes, the group relights that frame's drawing, as the core does."""
+    r = load_recipe(recipe)
+    plane, mat = build_recipe_scene(r)
+    scene = bpy.context.scene
+    bpy.context.view_layer.objects.active = plane
+    assert bpy.ops.dynpaint.add_compositor_group() == {"FINISHED"}
+    scene.render.engine = "BLENDER_WORKBENCH"
+    scene.view_settings.view_transform = "Standard"
+    for f in (2, 5):
+        scene.frame_set(f)
+        output_settings(scene, str(tmp_path / f"c{f}.exr"))
+        bpy.ops.render.render(write_still=True)
+        got = read_image(str(tmp_path / f"c{f}.exr")).pixels
+        want = render(load_images(r, f), r.lights, r.params).rgba
+        assert np.abs(got - want)[1:-1, 1:-1].max() <= 1e-4, f

@@ -10,6 +10,7 @@ sys.path.insert(0, os.path.join(REPO, "benchmarks"))
 
 import frames_speed  # noqa: E402
 import frames_stability  # noqa: E402
+import sheet_lookup  # noqa: E402
 from testkit.turning_head import render_turning_head  # noqa: E402
 
 
@@ -33,3 +34,12 @@ def test_the_speed_report_has_a_row_per_size_and_shape(capsys):
     for _, _, m in rows:
         assert m["new_ms"] > 0 and m["again_ms"] > 0 and m["light_ms"] > 0 and m["fps"] > 0
     assert out.count("| 64² |") == 2 and "Frame cache at 64² over 4 frames" in out
+
+
+def test_a_sheets_cell_copied_or_looked_up_at_an_offset_shows_the_same_pixels(capsys):
+    rows = sheet_lookup.main(["--size", "16", "--frames", "2"])
+    assert [(engine, way) for engine, way, *_ in rows] == [
+        ("CYCLES", "copy"), ("CYCLES", "offset"), ("BLENDER_EEVEE", "copy"),
+        ("BLENDER_EEVEE", "offset")]
+    out = capsys.readouterr().out
+    assert out.count("| 0.0e+00 |") == 4          # the same cell both ways, in both engines

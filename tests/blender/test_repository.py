@@ -62,6 +62,12 @@ mat = bpy.context.object.active_material
 print("SAMPLE", mat.name, mat.dynamic_painting.is_painting, len(mat.dynamic_painting.lights),
       mat.dynamic_painting.image_shape.filepath)
 print("MODULE", [m for m in sys.modules if m.endswith("dynamic_painting")])
+prefs = bpy.context.preferences.addons["bl_ext.user_default.dynamic_painting"].preferences
+prefs.frame_cache_mb = 300                   # the preference the frame cache is bounded by
+from bl_ext.user_default.dynamic_painting.dynpaint_addon.blender.frames import cache_mb
+print("FRAME CACHE", cache_mb())
+assert bpy.ops.dynpaint.add_sample(sample="blink") == {"FINISHED"}
+print("BLINK", bpy.context.scene.frame_end)
 """
 
 
@@ -81,6 +87,8 @@ def test_built_zip_installs_headless_and_adds_a_painting(tmp_path):
     assert "SAMPLE Portrait (Suzanne) True 3 " in res.stdout, res.stdout + res.stderr   # + the Sun
     sample_line = next(ln for ln in res.stdout.splitlines() if ln.startswith("SAMPLE"))
     assert REPO not in sample_line and "extensions" in sample_line
+    # the animated sample plays from the installed copy; its frames kept as the preference says
+    assert "FRAME CACHE 300" in res.stdout and "BLINK 48" in res.stdout, res.stdout + res.stderr
 
 
 TOGGLE = """

@@ -215,3 +215,21 @@ def test_a_sheet_of_frames_laid_out_as_other_tools_do():
     sheet = sheet_of(frames, 2, 2, margin=1, spacing=1)
     top_row_first = sheet[::-1]
     assert top_row_first[1, 1] == 0 and top_row_first[1, 4] == 1 and top_row_first[4, 1] == 2
+
+
+def test_a_loop_lasts_until_every_slot_comes_round_together():
+    """Exported pages and sheets of maps hold one loop: the slots' periods' least common
+    multiple (a 24- and a 16-frame cycle: 48; ping-pong over 4: 6; on twos: 8), or, beyond
+    MAX_LOOP frames or for periods that never line up, the longest."""
+    from dynpaint_addon.core.frames import SheetGrid
+    from dynpaint_addon.painting_frames import SlotFrames
+
+    def loop(*slots):
+        return PaintingFrames({f"c{i}": SlotFrames("c", "p", "sheet", mode=m, count=n, rate=r,
+                                                   grid=SheetGrid(n, 1))
+                               for i, (n, m, r) in enumerate(slots)}).loop()
+    assert loop((24, "cyclic", 1.0)) == 24 and loop((24, "cyclic", 1.0), (16, "cyclic", 1.0)) == 48
+    assert loop((4, "ping-pong", 1.0)) == 6 and loop((4, "cyclic", 0.5)) == 8
+    assert loop((24, "cyclic", 1.0), (7, "cyclic", 1.0)) == 168
+    assert loop((24, "cyclic", 1.0), (5, "cyclic", 0.7)) == 24          # 600 > MAX_LOOP
+    assert PaintingFrames({}).loop() == 1
