@@ -66,3 +66,11 @@ def test_export_maps_of_the_sample_are_sheets_on_its_own_grid(tmp_path, number):
                                   read_image(str(alone / "normal.png")).pixels)
     lift = sheet_cell(heights, grid, number - 1) - read_image(str(alone / "height.exr")).pixels[..., 0]
     assert np.ptp(lift) < 1e-6 and heights.min() == 0
+
+
+def test_a_turntable_of_the_sample_moves_the_painting_as_the_light_turns(tmp_path):
+    out = tmp_path / "blink.mp4"
+    r = run_cli("turntable", "blink", "--frames", "4", "--out", out)
+    assert r.returncode == 0, r.stderr
+    assert "frame 4/4" in r.stdout and out.stat().st_size > 1000
+    assert "normal_####.png: files 1–24" in r.stderr          # it said what moves

@@ -110,3 +110,25 @@ def test_bad_frames_say_what_is_wrong(tmp_path, args, message):
     r = run_cli("make-shape", "inflate", *args, cwd=tmp_path)
     assert r.returncode != 0 and message in r.stderr, r.stderr
     assert "Traceback" not in r.stderr
+
+
+def test_photometric_methods_run_frame_by_frame_too(tmp_path):
+    """rg-photo and profiles take sequences as inflate and integrate do: the same numbers in
+    every input's name, a sequence of normal maps out, each as the frame alone gives it."""
+    rng = np.random.default_rng(3)
+    for n in (1, 2):
+        write_exr(str(tmp_path / f"photo_{n:04d}.exr"), rng.random((16, 16, 3), np.float32))
+        for side in ("left", "right", "top"):
+            write_exr(str(tmp_path / f"lit_{side}_{n:04d}.exr"),
+                      rng.random((16, 16, 3), np.float32))
+    r = run_cli("make-shape", "rg-photo", tmp_path / "photo_####.exr",
+                "--out", tmp_path / "n_####.exr")
+    assert r.returncode == 0 and "wrote 2 frames" in r.stdout, r.stderr
+    r = run_cli("make-shape", "profiles", "--left", tmp_path / "lit_left_####.exr", "--right",
+                tmp_path / "lit_right_####.exr", "--top", tmp_path / "lit_top_####.exr",
+                "--out", tmp_path / "p_####.exr")
+    assert r.returncode == 0 and "wrote 2 frames" in r.stdout, r.stderr
+    assert run_cli("make-shape", "rg-photo", tmp_path / "photo_0002.exr", "--out",
+                   tmp_path / "alone.exr").returncode == 0
+    np.testing.assert_array_equal(read_image(str(tmp_path / "n_0002.exr")).pixels,
+                                  read_image(str(tmp_path / "alone.exr")).pixels)
