@@ -88,8 +88,9 @@ _REDUCED = {}   # id(normals) → (weak refs to the arrays, (hs, ws), reduced in
 def reduced_inputs(normals, heights_px, slopes, hs, ws):
     """The shape's inputs at hs × ws (normals renormalised, heights in reduced pixels). A
     dragged light bakes the same shape again and again (the add-on and a scene of layers keep
-    the decoded shape): reductions to at most an eighth of the pixels are kept, for the same
-    arrays (weakly: a shape let go is not held) and size, the newest REDUCED_KEPT."""
+    the decoded shape; a moving painting's frames come round): reductions to at most an eighth
+    of the pixels are kept, for the same arrays (weakly: a shape let go is not held) and size,
+    the newest REDUCED_KEPT."""
     key = id(normals)
     arrays = (normals, heights_px, slopes)
     hit = _REDUCED.get(key)
@@ -112,7 +113,9 @@ def reduced_inputs(normals, heights_px, slopes, hs, ws):
     return n_s, z_s, sl_s
 
 
-REDUCED_KEPT = 8         # shapes kept reduced (a scene holds at most 8 layers)
+# shapes kept reduced: a scene holds at most 8 layers; a moving painting's drawings come
+# round again (§16: a loop of 24 frames, each its own shape, plus margin)
+REDUCED_KEPT = 32
 
 
 def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=None, steps=64,

@@ -80,9 +80,20 @@ def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None, reach
 
 def _bake(grid, normals, offset, heights_px, slopes, cancel=None, progress=None):
     """t (H, W) by the grid's crossing search. numpy releases the GIL on large arrays: the
-    blocks' profiles and tables, the rays' starts and their searches each run side by side."""
-    with ThreadPoolExecutor(THREADS) as pool:
-        return grid.trace(pool, normals, offset, heights_px, slopes, cancel, progress)
+    blocks' profiles and tables, the rays' starts and their searches each run side by side,
+    on threads kept for every bake (a moving painting bakes a frame at a time: starting them
+    for each bake cost a few ms of its budget; no task waits on another, so bakes from two
+    threads — a render's and the live worker's — share them safely)."""
+    return grid.trace(_pool(), normals, offset, heights_px, slopes, cancel, progress)
+
+
+_POOL = []
+
+
+def _pool():
+    if not _POOL:
+        _POOL.append(ThreadPoolExecutor(THREADS, thread_name_prefix="dynpaint-crossings"))
+    return _POOL[0]
 
 
 def _by_bands(pool, h, w, fn):
