@@ -24,7 +24,6 @@ Times are the best of --runs.
     .venv/bin/python benchmarks/frames_speed.py --sizes 512 1024 --blender --out docs/frames-speed.md
 """
 import argparse
-import math
 import os
 import subprocess
 import sys
@@ -39,6 +38,7 @@ sys.path.insert(0, REPO)
 from report import best, command_line, publish  # noqa: E402
 
 from dynpaint_addon import params  # noqa: E402
+from dynpaint_addon.core.frames import SheetGrid  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import prepare, render  # noqa: E402
 from dynpaint_addon.painting_frames import BoundedCache, PaintingFrames, painting_slots  # noqa: E402
@@ -63,12 +63,11 @@ def write_painting(folder, size, frames, kind):
             n /= np.linalg.norm(n, axis=2, keepdims=True)
             maps.append(np.dstack([(n + 1) / 2, (h > 0).astype(np.float32)]))
         write_sequence(os.path.join(folder, "shape_####.exr"), maps)
-    columns = math.ceil(math.sqrt(frames))
-    rows = math.ceil(frames / columns)
+    grid = SheetGrid.squarest(frames)
     for name, level in (("dark", 0.1), ("bright", 0.8)):
         cells = [np.full((size, size, 3), level * (1 + 0.01 * i), np.float32)
                  for i in range(frames)]
-        write_sheet(os.path.join(folder, f"{name}.exr"), cells, columns, rows)
+        write_sheet(os.path.join(folder, f"{name}.exr"), cells, grid.columns, grid.rows)
     p = params.defaults()
     p.shape.kind = kind
     p.shape.height_scale = 0.2
@@ -77,7 +76,7 @@ def write_painting(folder, size, frames, kind):
     images = {"shape": os.path.join(folder, "shape_####.exr"),
               "dark": os.path.join(folder, "dark.exr"),
               "bright": os.path.join(folder, "bright.exr")}
-    frames_table = {"": {"columns": columns, "rows": rows}}
+    frames_table = {"": {"columns": grid.columns, "rows": grid.rows}}
     with open(os.path.join(folder, "painting.toml"), "w", encoding="utf-8") as fh:
         fh.write(recipe_to_toml(Recipe(p, [SUN], images, frames=frames_table), folder))
     return painting_slots(images, frames_table), p

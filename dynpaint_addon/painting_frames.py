@@ -19,8 +19,8 @@ import math
 import os
 import re
 from collections import OrderedDict
-from fractions import Fraction
 from dataclasses import dataclass
+from fractions import Fraction
 
 import numpy as np
 
@@ -165,27 +165,35 @@ class SlotFrames:
         return ""
 
 
+def grid_of(values):
+    """A sheet's grid from {columns, rows, count, margin, spacing} ([frames] keys; count 0 when
+    not given), or None for 1 × 1: not a sheet."""
+    if values["columns"] * values["rows"] <= 1:
+        return None
+    return SheetGrid(values["columns"], values["rows"], values.get("count", 0),
+                     values["margin"], values["spacing"])
+
+
 def slot_frames(channel, path, settings):
     """A slot's path and mapping (slot_settings) → SlotFrames, its sequence's files listed;
     FrameError for a pattern that matches nothing or a grid that cannot hold the count."""
-    grid_cells = settings["columns"] * settings["rows"]
+    grid = grid_of(settings)
     common = dict(mode=settings["mode"], start=settings["start"], rate=settings["rate"])
     if is_pattern(os.path.basename(path)):
-        if grid_cells > 1:
+        if grid is not None:
             raise FrameError(f"{channel}: {path} is a sequence of files and its mapping gives "
-                             f"a sprite-sheet grid of {settings['columns']} × "
-                             f"{settings['rows']}: a slot is one or the other")
+                             f"a sprite-sheet grid of {grid.columns} × {grid.rows}: a slot is "
+                             f"one or the other")
         numbers = sequence_numbers(path)
         offset = numbers[0] - 1 if settings["offset"] == "auto" else settings["offset"]
         count = settings["count"] or numbers[-1] - numbers[0] + 1
         return SlotFrames(channel, path, "sequence", offset=offset, count=count,
                           numbers=numbers, **common)
-    if grid_cells > 1:
-        grid = SheetGrid(settings["columns"], settings["rows"], settings["count"],
-                         settings["margin"], settings["spacing"])
-        if grid.count > grid_cells:
+    if grid is not None:
+        cells = grid.columns * grid.rows
+        if grid.count > cells:
             raise FrameError(f"{channel}: {path}: {grid.count} frames do not fit a sheet of "
-                             f"{grid.columns} × {grid.rows} cells ({grid_cells})")
+                             f"{grid.columns} × {grid.rows} cells ({cells})")
         offset = 0 if settings["offset"] == "auto" else settings["offset"]
         return SlotFrames(channel, path, "sheet", offset=offset, count=grid.frames(),
                           grid=grid, **common)

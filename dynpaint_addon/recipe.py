@@ -69,10 +69,6 @@ class Recipe:
         """{channel: painting_frames.SlotFrames}: how each image follows the frames (§16)."""
         return painting_slots(self.images, self.frames)
 
-    @property
-    def animated(self):
-        return any(s.kind != "still" for s in self.slots().values())
-
 
 @dataclass
 class RecipeLayer:

@@ -20,18 +20,11 @@ import tempfile
 
 import numpy as np
 
+# (SheetGrid: the docstring's example)
 from .core.frames import SheetGrid, expand_pattern, is_pattern, sheet_cell
 from .core.input_rules import ImageData
 from .imageio import read_image
-from .painting_frames import FrameError, GRID_KEYS, sequence_numbers
-
-
-def grid_of(values):
-    """A sheet's grid from {columns, rows, count, margin, spacing}, or None for 1 × 1."""
-    if values["columns"] * values["rows"] <= 1:
-        return None
-    return SheetGrid(values["columns"], values["rows"], values.get("count", 0),
-                     *(values[k] for k in GRID_KEYS[2:]))
+from .painting_frames import FrameError, sequence_numbers
 
 
 class FrameInputs:
@@ -123,6 +116,13 @@ class MadeFrames:
 
     def close(self):
         self._dir.cleanup()
+
+
+def on_one_floor(heights):
+    """The heights of every frame shifted by one amount, so that the lowest point of them all
+    is 0 (integrated heights: no frame moves because another dips lower)."""
+    low = min(float(h.min()) for h in heights)
+    return [h - low for h in heights]
 
 
 def fill_sheet(cells, grid, size, fill):

@@ -10,8 +10,8 @@ frame shows another drawing; the cos-θ bake's key holds the shape's frame too.
 
 Frames are read through painting_frames.PaintingFrames, one per painting (its cache bounded
 by the add-on's preference *Frame Cache*, 1 GB by default), made again when its images or
-mappings change; a still
-image is read from Blender each time, as before (its pixels may have been painted on).
+mappings change; a still image is read from Blender each time, as before (its pixels may have
+been painted on).
 """
 import os
 import re

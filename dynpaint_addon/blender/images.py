@@ -130,13 +130,14 @@ _MADE = {}       # material name → BoundedCache: derived key → RGBA (None: t
 
 def _make(mat, state, todo):
     """make_derived for `todo`, from the cache where a moving painting made them before."""
+    def role(channel):
+        return pixel_role(channel, state.params)
     if not state.frame:
-        return make_derived(todo, state.read, lambda channel: pixel_role(channel, state.params))
+        return make_derived(todo, state.read, role)
     cache = _MADE.setdefault(mat.name, BoundedCache(FRAME_DERIVED_MB))
     found = {d.channel: cache.get(d.key) for d in todo}
     missing = [d for d in todo if found[d.channel] is None]
-    made, warnings = make_derived(missing, state.read,
-                                  lambda channel: pixel_role(channel, state.params))
+    made, warnings = make_derived(missing, state.read, role)
     for item in missing:
         rgba = made[item.channel]
         cache.put(item.key, (rgba,), 0 if rgba is None else rgba.nbytes)

@@ -250,11 +250,4 @@ CLASSES = (_make_panels("PROPERTIES", "WINDOW", "material", None, "material")
            + [DYNPAINT_PT_view3d_samples])
 
 
-def register():
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(CLASSES)

@@ -3,7 +3,6 @@ artist has (docs/shape-from-painting.md). Registered by cli/__init__.py; the opt
 shape_methods.OPTIONS; the work is shape_maker's and the core's."""
 import argparse
 import json
-import math
 import os
 import time
 from dataclasses import dataclass, field
@@ -19,13 +18,13 @@ from ..core.photometric import SIDES, normals_from_profiles, normals_from_rg_pho
 from ..core.pipeline import normal_map_relief_px, shape_normals
 from ..core.frames import SheetGrid, expand_pattern, is_pattern
 from ..imageio import read_image, write_exr, write_png
-from ..painting_frames import GRID_KEYS, PaintingFrames, painting_slots
+from ..painting_frames import PaintingFrames, grid_of, painting_slots
 from ..params import FRAME_BY_KEY
 from ..recipe import load_recipe
 from ..shape_maker import (ShapeError, decode_normals, encode_normals, figure_and_source,
                           figure_mask, height_widths, linear_luminance, normals_of_height, same_size,
                           sprite_lamp_side)
-from ..shape_frames import FrameInputs, MadeFrames, fill_sheet, grid_of
+from ..shape_frames import FrameInputs, MadeFrames, fill_sheet, on_one_floor
 from ..shape_methods import METHODS, options
 from .notes import check_and_print, figure_note, print_notes
 
@@ -203,7 +202,7 @@ def _run_frames(args, make, inputs):
         if path and not sequence and option == "--residual":
             raise ShapeError("--residual: a sprite sheet's residuals are not written (give a "
                              "sequence of files, or one image)")
-    frames, seen, notes, kind = MadeFrames(), {}, [], None
+    frames, seen, notes, last = MadeFrames(), {}, [], None    # last: the kind made, its floor
     names = inputs.names()
     try:
         for i, name in enumerate(names):
@@ -215,7 +214,7 @@ def _run_frames(args, make, inputs):
                       f"{seen[key] + 1}: its shape", flush=True)
                 continue
             made = make(args, lambda path: inputs.read(path, i))
-            kind, lowest_zero = made, made.lowest_zero
+            last = made
             seen[key] = i
             frames.put(i, made.values)
             notes += [n for n in made.notes if n not in notes]
@@ -224,7 +223,7 @@ def _run_frames(args, make, inputs):
                           made.residual.astype(np.float32))
             print(f"frame {i + 1}/{len(names)} ({name}): "
                   f"{time.perf_counter() - started:.2f} s", flush=True)
-        floor = frames.low if lowest_zero else None
+        floor = frames.low if last.lowest_zero else None
         top = frames.high - (floor or 0.0)
 
         def shaped(i):
@@ -232,13 +231,13 @@ def _run_frames(args, make, inputs):
             return values - floor if floor is not None else values
         if sequence:
             for i, n in enumerate(inputs.numbers):
-                line = _write(args, expand_pattern(args.out, n), kind, shaped(i), top)
+                line = _write(args, expand_pattern(args.out, n), last, shaped(i), top)
             print(f"wrote {len(names)} frames {args.out} ({line})")
         else:
-            fill = 0.0 if kind.kind == "height" else np.array([0.0, 0.0, 1.0])
+            fill = 0.0 if last.kind == "height" else np.array([0.0, 0.0, 1.0])
             sheet = fill_sheet([shaped(i) for i in range(len(names))], inputs.grid,
                                inputs.sheet_size(), fill)
-            line = _write(args, args.out, kind, sheet, top)
+            line = _write(args, args.out, last, sheet, top)
             print(f"wrote a sheet of {len(names)} frames, {inputs.grid.columns} × "
                   f"{inputs.grid.rows} cells, {args.out} ({line})")
     finally:
@@ -294,9 +293,8 @@ def cmd_export_maps(args):
 def _export_sheets(args, recipe, painting, p):
     """A painting that moves (§16): each map a sprite sheet of its frames on the grid of the
     painting's own sheets (none: the squarest grid that holds them), row by row from the top
-    left, for
-    Godot's and Unity's sprite sheets (docs/frames.md); the heights of all frames on one
-    floor and one white."""
+    left, for Godot's and Unity's sprite sheets (docs/frames.md); the heights of all frames on
+    one floor and one white."""
     shown, _ = painting.drawings()       # the drawings one loop shows, in order
     frames = []
     for i, f in enumerate(shown):
@@ -304,19 +302,13 @@ def _export_sheets(args, recipe, painting, p):
         print(f"frame {i + 1}/{len(shown)} (scene frame {f}: {painting.shown(f)})", flush=True)
     heights = [m["height"] for m in frames]
     if p.shape.kind == "normal":                 # integrated: the lowest point of them all
-        low = min(float(h.min()) for h in heights)
-        heights = [h - low for h in heights]
+        heights = on_one_floor(heights)
     # the painting's own sheets' grid (the sprite the maps go with), else the squarest
     sheet = next((s for s in recipe.slots().values() if s.kind == "sheet"
                   and s.grid.frames() >= len(frames)), None)
+    grid = sheet.grid if sheet is not None else SheetGrid.squarest(len(frames))
     h, w = heights[0].shape
-    if sheet is not None:
-        grid = sheet.grid
-        size = _sheet_size(grid, w, h)
-    else:
-        columns = math.ceil(math.sqrt(len(frames)))
-        grid = SheetGrid(columns, math.ceil(len(frames) / columns), len(frames))
-        size = (columns * w, grid.rows * h)
+    size = grid.sheet_size(w, h)
     n = fill_sheet([m["normal"] for m in frames], grid, size, np.array([0.0, 0.0, 1.0]))
     z = fill_sheet(heights, grid, size, 0.0)
     spec = None if frames[0]["specular"] is None else \
@@ -328,12 +320,6 @@ def _export_sheets(args, recipe, painting, p):
                    "order": "row by row from the top left"}, fh, indent=1)
     print(f"wrote {len(frames)} frames as sheets of {grid.columns} × {grid.rows} cells of "
           f"{w}×{h} (sheet.json says so)")
-
-
-def _sheet_size(grid, w, h):
-    """The size of a sheet of w × h cells on `grid` (its margin and spacing)."""
-    return (2 * grid.margin + grid.columns * w + (grid.columns - 1) * grid.spacing,
-            2 * grid.margin + grid.rows * h + (grid.rows - 1) * grid.spacing)
 
 
 # make-shape METHOD's maker on the command line (an input frame in, a Made out), by METHODS key
@@ -382,7 +368,7 @@ def add_grid_options(parser):
     input read cell by cell (params.FRAME_PARAMS: the recipe's [frames] keys)."""
     group = parser.add_argument_group("sprite sheets (§16): every input a sheet of frames, "
                                       "the shapes written as a sheet of the same grid")
-    for key in ("columns", "rows", "count") + GRID_KEYS[2:]:
+    for key in ("columns", "rows", "count", "margin", "spacing"):
         prm = FRAME_BY_KEY[key]
         group.add_argument(f"--{key}", type=_param_type(prm), default=prm.default,
                            help=f"{prm.help} (default {prm.default})")

@@ -100,6 +100,19 @@ class SheetGrid:
     def frames(self):
         return self.count or self.columns * self.rows
 
+    @classmethod
+    def squarest(cls, count):
+        """The grid closest to square that holds `count` frames (as many columns as rows, or
+        one more), every cell but the last row's used."""
+        columns = math.ceil(math.sqrt(count))
+        return cls(columns, math.ceil(count / columns), count)
+
+    def sheet_size(self, cell_width, cell_height):
+        """The (width, height) of a sheet of cells of that size on this grid (cell_size's
+        inverse)."""
+        return (2 * self.margin + self.columns * cell_width + (self.columns - 1) * self.spacing,
+                2 * self.margin + self.rows * cell_height + (self.rows - 1) * self.spacing)
+
     def cell_size(self, width, height):
         """The (width, height) of one cell of a sheet of width × height pixels; ValueError
         naming the numbers when the sheet does not divide into the grid."""

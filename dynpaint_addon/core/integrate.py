@@ -137,7 +137,8 @@ def integrate(normals, mask=None, depth=0.0, precise=True, breaks=None, floor=No
     equations = wx.sum() + wy.sum()
     total = np.sum(rx * rx) + np.sum(ry * ry)
     field = np.sum((gx * w * wx) ** 2) + np.sum((gy * w * wy) ** 2)
-    return Integrated(height=z - (z.min() if floor is None else floor), residual=np.sqrt(sq / np.maximum(k, 1)),
+    return Integrated(height=z - (z.min() if floor is None else floor),
+                      residual=np.sqrt(sq / np.maximum(k, 1)),
                       residual_rms=float(np.sqrt(total / max(equations, 1))),
                       residual_share=float(np.sqrt(total / field)) if field > 0 else 0.0,
                       parts=count, iterations=iterations)

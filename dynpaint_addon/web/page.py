@@ -182,6 +182,12 @@ def _march_bounds(images, p, cache):
     return cache[key]
 
 
+def _prepared(images, lights, p_page):
+    """derived_inputs.prepare of the page's images → (Features, the derived-image plan)."""
+    return prepare(p_page, {c: Source(c, img.bits, img.size, img.has_alpha)
+                            for c, img in images.items()}, [lt.kind for lt in lights])
+
+
 def _variant(images, lights, p, steps, cache):
     """One way to show the painting → (Features of its frame, {shader name: (source, the
     extension each image's sampler wraps with, the images it reads as sRGB codes)}, uniforms,
@@ -190,9 +196,7 @@ def _variant(images, lights, p, steps, cache):
     'shadow_<kind>' shader of that light's kind whenever the light moves (§6; the OSL
     shader's march, pipeline_graph.describe_shadow)."""
     p_page = page_params(p, steps)
-    kinds = [lt.kind for lt in lights]
-    features, plan = prepare(p_page, {c: Source(c, img.bits, img.size, img.has_alpha)
-                                      for c, img in images.items()}, kinds)
+    features, plan = _prepared(images, lights, p_page)
     frame = dataclasses.replace(features, shadow_source="baked") if features.shadows \
         else features
     textures, warnings = page_textures(features, plan, p_page, images,
@@ -202,7 +206,7 @@ def _variant(images, lights, p, steps, cache):
     if features.shadows:
         programs.update({f"shadow_{kind}": glsl_codegen.generate(describe_shadow(features, kind),
                                                                  features, srgb)
-                         for kind in sorted(set(kinds))})
+                         for kind in sorted({lt.kind for lt in lights})})
     used = set().union(*(program.uniforms for _, program in programs.values()))
     uniforms = {name: value for name, value in param_uniforms(p_page).items() if name in used}
     if features.shadows:
@@ -265,34 +269,33 @@ def page_data(images, lights, p, title="", credits="", steps=None, max_size=None
         "lights": [_light_entry(lt) for lt in lights], "shadows": bool(features.shadows),
         "steps": int(uniforms.get("p_shadows_steps", steps or p.shadows.steps)),
         "turntable_seconds": float(turntable_seconds), "animation": animation,
-        "frames": page_frames(frames, images, textures, lights, p, steps, max_size),
+        "frames": page_frames(frames, images, textures, lights, p, steps, max_size, cache),
     }, warnings
 
 
-def page_frames(frames, first, textures, lights, p, steps, max_size):
+def page_frames(frames, first, textures, lights, p, steps, max_size, cache):
     """A painting that moves (§16) in the page → {'fps', 'sequence', 'textures': {channel:
     [its texture in each drawing]} of the images that differ from the first drawing's,
     'uniforms': [the march bounds of each drawing's shape]}, or None for a still one. Each
     drawing's images are prepared as the first's (its derived images too): the page swaps
-    them in when the frame changes and draws its shadows again."""
+    them in when the frame changes and draws its shadows again. cache: page_data's, which
+    holds what the first drawing's textures and march bounds were made from."""
     if frames is None:
         return None
     drawings = [first] + [{c: shrink(img, max_size) for c, img in d.items()}
                           for d in frames["drawings"][1:]]
     p_page = page_params(p, steps)
-    kinds = [lt.kind for lt in lights]
     cells = {c: [textures[c]] for c, tex in textures.items() if "same_as" not in tex}
-    bounds = []
-    for i, images in enumerate(drawings):
+    shadows = bool(_prepared(first, lights, p_page)[0].shadows)
+    bounds = [_march_bounds(first, p_page, cache.setdefault("bounds", {}))] if shadows else []
+    for images in drawings[1:]:
         # prepared as the first drawing is (each with a cache of its own): the same kinds
         # of texture, which the page swaps in place of the first's
-        sources = {c: Source(c, img.bits, img.size, img.has_alpha) for c, img in images.items()}
-        features, plan = prepare(p_page, sources, kinds)
-        if i:
-            made, _ = page_textures(features, plan, p_page, images)
-            for c in cells:
-                cells[c].append(made[c])
-        if features.shadows:
+        features, plan = _prepared(images, lights, p_page)
+        made, _ = page_textures(features, plan, p_page, images)
+        for c in cells:
+            cells[c].append(made[c])
+        if shadows:
             bounds.append(_march_bounds(images, p_page, {}))
     return {"fps": float(frames["fps"]), "sequence": list(frames["sequence"]),
             "textures": {c: t for c, t in cells.items() if any(x != t[0] for x in t[1:])},

@@ -164,7 +164,7 @@ def _animated_recipe(tmp_path, extra=""):
 def test_a_recipe_with_frames_renders_each_frame_from_its_own_images(tmp_path):
     recipe = _animated_recipe(tmp_path)
     slots = recipe.slots()
-    assert recipe.animated and {c: s.kind for c, s in slots.items()} == \
+    assert PaintingFrames(slots).animated and {c: s.kind for c, s in slots.items()} == \
         {"shape": "sequence", "dark": "sheet", "bright": "still"}
     for f, number in [(1, 1), (3, 3), (5, 3), (6, 2)]:     # ping-pong: 1 2 3 4 3 2 …
         images = load_images(recipe, f)

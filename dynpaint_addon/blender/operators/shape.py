@@ -4,8 +4,6 @@ its height map's normals, or a normal map from lighting profiles or a red/green 
 The adjust-last-operation panel is the preview: change a setting and the painting is made
 again, one undo step. On a painting that moves (§16) each drawing gets its shape: a packed
 sheet whose cells follow the frames."""
-import math
-
 import bpy
 import numpy as np
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
@@ -13,7 +11,7 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
 from ...core.frames import SheetGrid
 from ...core.photometric import SIDES
 from ...imageio import image_data_from_blender, read_image
-from ...shape_frames import fill_sheet
+from ...shape_frames import fill_sheet, on_one_floor
 from ...shape_maker import read_as_made, sprite_lamp_siblings
 from ...shape_methods import METHODS, OPTIONS, SHAPE_MAKERS, make_shape, options
 from ..images import made_shape_image
@@ -39,18 +37,17 @@ def made_per_frame(mat, painting, method, p, values, progress):
         made.append(rgba)
         progress(0.2 + 0.5 * (i + 1) / len(shown))
     if method == "integrate":                   # the lowest point of all the frames is 0
-        low = min(float(m[..., 0].min()) for m in made)
-        made = [np.concatenate([m[..., :3] - low, m[..., 3:]], -1) for m in made]
-    columns = math.ceil(math.sqrt(len(sequence)))
-    grid = SheetGrid(columns, math.ceil(len(sequence) / columns), len(sequence))
+        grey = on_one_floor([m[..., :3] for m in made])
+        made = [np.concatenate([g, m[..., 3:]], -1) for g, m in zip(grey, made)]
+    grid = SheetGrid.squarest(len(sequence))
     h, w = made[0].shape[:2]
-    sheet = fill_sheet([made[k] for k in sequence], grid, (columns * w, grid.rows * h), 0.0)
+    sheet = fill_sheet([made[k] for k in sequence], grid, grid.sheet_size(w, h), 0.0)
     holds = all(sl.mode == "hold" for sl in painting.slots.values() if sl.kind != "still")
     mapping = {"start": painting.start, "offset": 0, "count": len(sequence),
-               "mode": "hold" if holds else "cyclic", "rate": 1.0, "columns": columns,
+               "mode": "hold" if holds else "cyclic", "rate": 1.0, "columns": grid.columns,
                "rows": grid.rows, "margin": 0, "spacing": 0}
     return kind, sheet, [f"{lines[0]} — for each of {len(shown)} drawings, a sheet of "
-                         f"{len(sequence)} frames ({columns} × {grid.rows})"], mapping
+                         f"{len(sequence)} frames ({grid.columns} × {grid.rows})"], mapping
 
 
 def blender_property(option):
