@@ -13,8 +13,10 @@ command line's renders), and with --blender as the add-on's frame handler runs i
     light moved: bake and shading, inputs kept);
   - playback (with --blender): the add-on's share of a frame in background Blender — the
     frame's copies, derived images and preview bake (EEVEE shades in the viewport, not numpy)
-    — the first time round and again (a loop), for these paintings and for the animated
-    sample made again at the first size: goal ≥ 24 fps at 512²;
+    — under a turning sun (as the Add menu leaves a moving painting): the first time round,
+    the drawing again under a new light, the scene's loop again (bakes kept), for these
+    paintings and for the animated sample made again at the first size: goal ≥ 24 fps at
+    512² where a preview bake runs every frame;
   - first read: a frame read from its file (once per frame: the cache keeps it);
   - memory: the frame cache's peak over the frames at the largest size, unbounded and
     bounded (painting_frames.PaintingFrames(cache_mb=…)).
@@ -122,18 +124,16 @@ def measure(size, frames, kind, runs):
                 "first_fps": 1 / fresh, "peak_mb": painting.peak_bytes / 2**20}
 
 
-def blender_playback(size, frames, kind):
-    """Background Blender plays the painting twice round: each frame_set runs the add-on's
-    frame handler — the frame's copies and derived images, then its bake at the painting's
-    quality (preview here), synchronous without a UI (as in a render) → play()'s medians."""
+def blender_playback(size, frames, kind, runs):
+    """Background Blender plays the painting under a light turntable (play())."""
     with tempfile.TemporaryDirectory() as folder:
         write_painting(folder, size, frames, kind)
-        return play(os.path.join(folder, "painting.toml"), frames)
+        return best_of(runs, play, os.path.join(folder, "painting.toml"), frames)
 
 
-def sample_playback(size):
+def sample_playback(size, runs):
     """The animated sample (sample_scenes/blink) made again at size² (its generator: Cycles
-    renders of the turning head), its shadows at preview quality, played twice round."""
+    renders of the turning head), its shadows at preview quality, played as play() does."""
     with tempfile.TemporaryDirectory() as folder:
         subprocess.run([sys.executable, os.path.join(REPO, "sample_scenes", "make_samples.py"),
                         "--only", "blink", "--size", str(size), "--out", folder], check=True,
@@ -143,27 +143,43 @@ def sample_playback(size):
             text = fh.read().replace("[shadows]", '[shadows]\nquality = "preview"')
         with open(path, "w", encoding="utf-8") as fh:
             fh.write(text)
-        return play(path, 24)
+        return best_of(runs, play, path, 24)
+
+
+def best_of(runs, fn, *args):
+    """Each of fn's medians at its best over `runs` runs (this machine is shared: a run that
+    met a busy neighbour is not the add-on's cost)."""
+    return [min(ms) for ms in zip(*(fn(*args) for _ in range(runs)))]
 
 
 def play(recipe_path, frames):
-    """→ [ms a frame the first time round, again, again without the bake (what the frame
-    handler keeps of a frame where a UI runs the bake in the live worker)]."""
+    """The painting as Add › Dynamic Painting leaves a moving one: its sun turning once over
+    two loops of the drawing (scene frames 1 … 2·frames). Each frame_set runs the add-on's
+    frame handler — the frame's copies and derived images, then its bake at the painting's
+    quality (preview here), synchronous without a UI (as in a render). → the median ms a
+    frame: [first time round (a new drawing, its relief made), the drawing again under a
+    light it has not had (the bake at preview), the scene's loop again (Blender's playback
+    loops: each frame's drawing and light as before, its bake kept), again without the bake
+    (what the frame handler itself takes where a UI runs the bake in the live worker)]."""
     import bpy
     from dynpaint_addon.blender.headless import build_recipe_scene
+    from dynpaint_addon.blender.turntable import turn_first_sun
     _, mat = build_recipe_scene(load_recipe(recipe_path))
     scene = bpy.context.scene
-    rounds = []
-    for i in range(3):
-        if i == 2:
-            mat.dynamic_painting.shadows.enabled = False
+    turn_first_sun(bpy.context, mat, 1, 2 * frames)
+
+    def median_ms(numbers):
         times = []
-        for f in range(2, frames + 2):      # frame 1 was shown when it was added
+        for f in numbers:
             start = time.perf_counter()
             scene.frame_set(f)
             times.append(time.perf_counter() - start)
-        rounds.append(float(np.median(times)) * 1000)
-    return rounds
+        return float(np.median(times)) * 1000
+    first = median_ms(range(2, frames + 1))       # frame 1 was shown when it was added
+    light_new = median_ms(range(frames + 1, 2 * frames + 1))
+    loop = median_ms(range(1, 2 * frames + 1))
+    mat.dynamic_painting.shadows.enabled = False
+    return [first, light_new, loop, median_ms(range(1, 2 * frames + 1))]
 
 
 def bounded_peak(size, frames, cache_mb):
@@ -215,29 +231,37 @@ def main(argv=None):
                   f"**{bounded:.0f} MB** bounded to {args.bound} MB (the oldest frames "
                   f"dropped; a frame read again costs its first read)."]
     if args.blender:
-        lines += ["", "**Playback: the add-on's share of a frame** (`--blender`). In background "
-                  "Blender frame_set runs the frame handler — the frame's copies uploaded, its "
-                  "derived images made (or, the second time round, taken from the 512 MB kept "
-                  "by frame), its shadows baked at preview quality, synchronously as in a "
-                  "render (with a UI the bake runs in the live worker); the median a frame, "
-                  "the first time round and again (a looping animation); the animated sample "
-                  "made again at that size by its generator. *Without the bake*: the frame's "
-                  "copies and derived images alone, what the handler itself takes where a UI "
-                  "runs the bake in the live worker. EEVEE's drawing comes "
-                  f"on top. Goal ≥ {PLAYBACK_GOAL:g} fps at 512².", "",
-                  "| size | shape | first time round | again | playback again | goal | again, "
-                  "without the bake |", "|---|---|---|---|---|---|---|"]
+        lines += ["", "**Playback: the add-on's share of a frame** (`--blender`). Each painting "
+                  "as Add › Dynamic Painting leaves a moving one: its sun turning once over two "
+                  "loops of the drawing. In background Blender frame_set runs the frame "
+                  "handler — the frame's copies uploaded, its derived images made (or taken "
+                  "from the 512 MB kept by frame), its shadows baked at preview quality, "
+                  "synchronously as in a render (with a UI the bake runs in the live worker, "
+                  "beside it). The median a frame, best of "
+                  f"{args.runs} runs: *first time round* (each drawing new, its relief made); "
+                  "*drawing again, light new* (the second loop of the drawing under the "
+                  "turning sun: a preview bake every frame); *scene loop again* (Blender's "
+                  "playback loops the scene: each frame's drawing and light as before, its bake "
+                  "kept, 256 MB per painting at most); *without the bake* (what the frame "
+                  "handler itself takes where a UI bakes in the live worker). The animated "
+                  "sample is made again at that size by its generator. EEVEE's drawing comes "
+                  f"on top. Goal ≥ {PLAYBACK_GOAL:g} fps at 512², judged where a preview bake "
+                  "runs every frame.", "",
+                  "| size | shape | first time round | drawing again, light new | goal "
+                  "| scene loop again | without the bake |", "|---|---|---|---|---|---|---|"]
         cases = [(size, f"{kind} map", lambda size=size, kind=kind: blender_playback(
-            size, args.frames, kind)) for size in args.sizes for kind in ("height", "normal")]
+            size, args.frames, kind, args.runs)) for size in args.sizes
+            for kind in ("height", "normal")]
         cases.insert(2, (args.sizes[0], "the animated sample (Blink)",
-                         lambda: sample_playback(args.sizes[0])))
+                         lambda: sample_playback(args.sizes[0], args.runs)))
         for size, shape, measure_it in cases:
-            first, again, unbaked = measure_it()
-            fps = 1000 / again
+            first, light_new, loop, unbaked = measure_it()
+            fps = 1000 / light_new
             goal = f"≥ {PLAYBACK_GOAL:g}: {'met' if fps >= PLAYBACK_GOAL else 'not met'}" \
                 if size == 512 else ""
             lines.append(f"| {size}² | {shape} | {first:.0f} ms ({1000 / first:.1f} fps) | "
-                         f"{again:.0f} ms | {fps:.1f} fps | {goal} | {unbaked:.0f} ms |")
+                         f"{light_new:.0f} ms ({fps:.1f} fps) | {goal} | {loop:.0f} ms "
+                         f"({1000 / loop:.0f} fps) | {unbaked:.0f} ms |")
     publish(lines, args.out)
     return rows
 

@@ -25,7 +25,7 @@ import bpy
 from ..core.pipeline import shadow_term
 from ..core.shadow import BakeCancelled
 from .settings import settings_to_params
-from .shadow_images import bake_shape, light_bakes, write_shadow
+from .shadow_images import bake_shape, kept_bake, light_bakes, write_shadow
 from .status import report
 
 DEBOUNCE_S = 0.3
@@ -74,12 +74,17 @@ class LiveBake:
         items = [item for item, _, _ in bakes]
         lights = [light for _, light, _ in bakes]
         keys = [key for _, _, key in bakes]
-        shape = bake_shape(mat, p)
         name = mat.name
         gen = self.generation.get(name, 0) + 1
         self.generation[name] = gen
         if quality != "final":
             self.still_since[name] = time.perf_counter()
+        kept = [kept_bake(mat, key) for key in keys]
+        if keys and all(t is not None for t in kept):     # a moving shape's loop came round
+            for item, t, key in zip(items, kept, keys):
+                write_shadow(mat, item, t, key)
+            return gen
+        shape = bake_shape(mat, p)
         budget = max((LIVE_BUDGET_MS[light.kind] for light in lights), default=0.0)
         job = (name, gen, quality, [i.object.name for i in items], lights, keys, shape, p,
                budget, time.perf_counter())

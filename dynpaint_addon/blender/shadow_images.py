@@ -69,14 +69,30 @@ def shape_key(settings, p):
             repr(vars(p.shape)), p.shadows.relief)
 
 
+# material name → BoundedCache: bake key → t, the bakes of a moving shape (§16). A loop that
+# comes round with its lights where they were shows each drawing's shadows again without
+# baking them (playback of a looping animation under a still light); at most KEPT_BAKES_MB
+# per painting (24 frames at 1024² hold 96 MB).
+_BAKES = {}
+KEPT_BAKES_MB = 256
+
+
+def kept_bake(mat, key):
+    """The cos-θ image baked before for this key, or None."""
+    cache = _BAKES.get(mat.name)
+    return None if cache is None else cache.get(key)
+
+
 def forget_cached_shapes():
     """Another file is open: cached shapes may belong to same-named paintings of the last one."""
     _SHAPES.clear()
+    _BAKES.clear()
 
 
 def forget_cached_shape(mat):
-    """The painting's shape image was replaced: decode it again at the next bake."""
+    """The painting's shape image was replaced: decode it (and bake it) again."""
     _SHAPES.pop(mat.name, None)
+    _BAKES.pop(mat.name, None)
 
 
 def light_bakes(mat, depsgraph=None, p=None):
@@ -115,17 +131,21 @@ def bake_shadows(mat, scene, depsgraph=None, force=True, progress=None, p=None):
     todo = light_bakes(mat, depsgraph, p) if force else stale_lights(mat, depsgraph, p)
     if not todo:
         return 0.0
-    n, z_px, slopes = bake_shape(mat, p, fresh=force)
+    if force:                  # the shape's pixels may have changed: nothing kept holds
+        _BAKES.pop(mat.name, None)
+    results = [kept_bake(mat, key) for _, _, key in todo]
     t_start = time.perf_counter()
-    results = []
-    for i, (_, light, _) in enumerate(todo):
+    due = [i for i, t in enumerate(results) if t is None]
+    if due:
+        n, z_px, slopes = bake_shape(mat, p, fresh=force)
+    for j, i in enumerate(due):
         part = None if progress is None else \
-            (lambda f, i=i: progress((i + f) / len(todo)))     # noqa: E731
-        results.append(shadow_term(n, z_px, slopes, light, p, progress=part))
+            (lambda f, j=j: progress((j + f) / len(due)))     # noqa: E731
+        results[i] = shadow_term(n, z_px, slopes, todo[i][1], p, progress=part)
     ms = (time.perf_counter() - t_start) * 1000
     if ms > 2000:      # long bakes (huge images, reference quality) say what they did
         w, h = painting_size(mat)
-        print(f"Dynamic Painting: {mat.name}: baked {len(todo)} light(s) at {w}×{h} "
+        print(f"Dynamic Painting: {mat.name}: baked {len(due)} light(s) at {w}×{h} "
               f"({p.shadows.quality}) in {ms / 1000:.1f} s")
     for (item, _, key), t in zip(todo, results):
         write_shadow(mat, item, t, key)
@@ -134,6 +154,8 @@ def bake_shadows(mat, scene, depsgraph=None, force=True, progress=None, p=None):
 
 
 def write_shadow(mat, item, t, key):
-    """Write a finished bake into the light's image."""
+    """Write a finished bake into the light's image (a moving shape's also kept, _BAKES)."""
     item.shadow = grey_image(shadow_image_name(mat, item.object.name), t)
     item.bake_key = key
+    if slot_frame(mat, "shape") is not None:
+        _BAKES.setdefault(mat.name, BoundedCache(KEPT_BAKES_MB)).put(key, t, t.nbytes)

@@ -88,9 +88,11 @@ _REDUCED = {}   # id(normals) → (weak refs to the arrays, (hs, ws), reduced in
 def reduced_inputs(normals, heights_px, slopes, hs, ws):
     """The shape's inputs at hs × ws (normals renormalised, heights in reduced pixels). A
     dragged light bakes the same shape again and again (the add-on and a scene of layers keep
-    the decoded shape; a moving painting's frames come round): reductions to at most an eighth
-    of the pixels are kept, for the same arrays (weakly: a shape let go is not held) and size,
-    the newest REDUCED_KEPT."""
+    the decoded shape; a moving painting's frames come round): reductions to at most a quarter
+    of the pixels (preview and draft, normal maps' 0.4 included) are kept, for the same arrays
+    and size, the newest REDUCED_KEPT, and only while those arrays live (an entry whose shape
+    was let go is dropped at the next one kept: reductions hold at most a quarter of the
+    memory of the shapes still held)."""
     key = id(normals)
     arrays = (normals, heights_px, slopes)
     hit = _REDUCED.get(key)
@@ -105,7 +107,9 @@ def reduced_inputs(normals, heights_px, slopes, hs, ws):
     z_s = None if heights_px is None else \
         resample_separable(heights_px, hs, ws) * dtype(ws / normals.shape[1])
     sl_s = None if slopes is None else resample_separable(slopes, hs, ws)
-    if 8 * hs * ws <= normals.shape[0] * normals.shape[1]:
+    if 4 * hs * ws <= normals.shape[0] * normals.shape[1]:
+        for gone in [k for k, (refs, _, _) in _REDUCED.items() if refs[0]() is None]:
+            del _REDUCED[gone]
         if len(_REDUCED) >= REDUCED_KEPT:
             _REDUCED.pop(next(iter(_REDUCED)))
         _REDUCED[key] = (tuple(None if a is None else weakref.ref(a) for a in arrays),

@@ -10,7 +10,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon.blender import status  # noqa: E402
+from dynpaint_addon.blender import shadow_images, status  # noqa: E402
 from dynpaint_addon.blender.frames import frame_data, painting_frames, slot_frame  # noqa: E402
 from dynpaint_addon.blender.settings import settings_to_params  # noqa: E402
 from dynpaint_addon.blender.headless import build_recipe_scene  # noqa: E402
@@ -109,6 +109,37 @@ def test_the_bake_follows_the_drawing_not_the_scene_frame(empty_scene, tmp_path)
     assert keys[0] == keys[1] != keys[2] == keys[3]
     np.testing.assert_array_equal(images[0], images[1])
     assert not np.array_equal(images[1], images[2])
+
+
+def test_a_loop_that_comes_round_under_a_still_light_shows_its_bakes_again(
+        empty_scene, recipe, monkeypatch):
+    """A moving shape's bakes are kept by key: a drawing shown again under the same light
+    takes its shadows without baking them (the same pixels); a moved light bakes, and a
+    forced bake (the shape's pixels may have been edited) bakes anew."""
+    plane, mat = build_recipe_scene(load_recipe(recipe))
+    scene = bpy.context.scene
+    item = mat.dynamic_painting.lights[0]
+    first = {}
+    for f in (1, 2, 3, 4):
+        scene.frame_set(f)
+        LIVE.wait()
+        first[f] = image_data_from_blender(item.shadow).pixels.copy()
+    baked = []
+    bake_core = shadow_images.shadow_term
+    monkeypatch.setattr(shadow_images, "shadow_term",
+                        lambda *a, **k: baked.append(1) or bake_core(*a, **k))
+    for f in (1, 2, 3, 4):
+        scene.frame_set(f)
+        LIVE.wait()
+        np.testing.assert_array_equal(image_data_from_blender(item.shadow).pixels, first[f])
+    assert baked == []
+    item.object.rotation_mode = "XYZ"            # (the recipe's sun is turned by a quaternion)
+    item.object.rotation_euler = (0.3, 0.2, 0.0)
+    scene.frame_set(4)
+    LIVE.wait()
+    assert len(baked) == 1
+    shadow_images.bake_shadows(mat, scene)
+    assert len(baked) == 2
 
 
 def _shape_copy(mat):

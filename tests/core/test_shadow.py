@@ -677,3 +677,23 @@ def test_an_impossible_figure_drawn_as_facets_casts_no_streaks(azimuth):
               for reach in (default, 10.0)}
     assert shares[default] == 0.0, shares
     assert shares[10.0] > 0.005, shares       # measured 1.2 %, 3.7 %, 7.4 %: it failed before
+
+
+def test_a_shapes_reductions_are_kept_while_it_lives_and_no_longer():
+    """A dragged light (or a moving painting's loop) bakes one shape again and again: its
+    reductions to a quarter of the pixels or fewer (preview of a normal map: 0.4²) are made
+    once; a shape let go leaves no reduction behind at the next one kept."""
+    import gc
+
+    from dynpaint_addon.core import bake as bake_levels
+    n = flat_normals(64, 64).astype(np.float32)
+    slopes = np.zeros((64, 64, 2), np.float32)
+    first = bake_levels.reduced_inputs(n, None, slopes, 26, 26)
+    assert bake_levels.reduced_inputs(n, None, slopes, 26, 26)[0] is first[0]
+    assert bake_levels.reduced_inputs(n, None, slopes, 40, 40)[0] is not \
+        bake_levels.reduced_inputs(n, None, slopes, 40, 40)[0]       # over a quarter: not kept
+    del n, slopes, first
+    gc.collect()
+    other = flat_normals(32, 32).astype(np.float32)
+    bake_levels.reduced_inputs(other, None, None, 8, 8)
+    assert all(refs[0]() is not None for refs, _, _ in bake_levels._REDUCED.values())
