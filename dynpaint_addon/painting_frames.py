@@ -262,6 +262,14 @@ class PaintingFrames:
         frames = sorted(first, key=first.get)
         return [self.start + sequence.index(first[k]) for k in frames], sequence
 
+    def web_frames(self, fps, images=None):
+        """One loop as a web page plays it (web/page.py page_data's `frames`): the images of
+        each drawing it shows, the drawing of each frame, `fps`. images(f): a frame's images
+        {channel: ImageData} (default: read here; the add-on passes what Blender holds)."""
+        shown, sequence = self.drawings()
+        images = images or self.images
+        return {"drawings": [images(f) for f in shown], "sequence": sequence, "fps": fps}
+
     def shown(self, f):
         """What scene frame `f` shows, in words: 'shape frame 3, dark frame 2'."""
         return ", ".join(f"{ch} frame {n + 1 if self.slots[ch].kind == 'sheet' else n}"

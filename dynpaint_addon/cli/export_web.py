@@ -47,9 +47,7 @@ def cmd_export_web(args):
     frames = None
     if painting.animated:                  # §16: every drawing of one loop, played
         print_notes(painting.notes)
-        shown, sequence = painting.drawings()
-        frames = {"drawings": [painting.images(f) for f in shown], "sequence": sequence,
-                  "fps": args.fps}
+        frames = painting.web_frames(args.fps)
     data, warnings = page_data(
         images, recipe.lights, recipe.params,
         title=recipe.name if args.title is None else args.title,

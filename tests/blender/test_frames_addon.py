@@ -14,6 +14,7 @@ from dynpaint_addon.blender import shadow_images, status  # noqa: E402
 from dynpaint_addon.blender.frames import frame_data, painting_frames, slot_frame  # noqa: E402
 from dynpaint_addon.blender.settings import settings_to_params  # noqa: E402
 from dynpaint_addon.blender.headless import build_recipe_scene  # noqa: E402
+from dynpaint_addon.blender import live_bake  # noqa: E402
 from dynpaint_addon.blender.live_bake import LIVE  # noqa: E402
 from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
 from dynpaint_addon.core.pipeline import render  # noqa: E402
@@ -140,6 +141,27 @@ def test_a_loop_that_comes_round_under_a_still_light_shows_its_bakes_again(
     assert len(baked) == 1
     shadow_images.bake_shadows(mat, scene)
     assert len(baked) == 2
+
+
+def test_the_live_worker_shows_a_drawings_kept_preview_without_baking(empty_scene, recipe):
+    """During playback with a UI the live worker bakes at preview; a drawing it comes back to
+    under the same light is shown from its kept preview at once (no bake, no thread)."""
+    plane, mat = build_recipe_scene(load_recipe(recipe))
+    scene = bpy.context.scene
+    live = live_bake.LiveBake()
+    item = mat.dynamic_painting.lights[0]
+    previews = []
+    for f in (2, 3):
+        scene.frame_set(f)                # (background Blender bakes its final quality here)
+        live.request(mat, scene)
+        assert live.wait() == 1
+        previews.append(image_data_from_blender(item.shadow).pixels.copy())
+    last = live.threads[-1]
+    scene.frame_set(2)
+    live.request(mat, scene)
+    assert live.threads[-1] is last and live.wait() == 0
+    np.testing.assert_array_equal(image_data_from_blender(item.shadow).pixels, previews[0])
+    assert "preview" in item.bake_key
 
 
 def _shape_copy(mat):

@@ -56,10 +56,8 @@ def painting_page(mat, scene, title, credits="", steps=None, max_size=None, anim
     frames = None
     if moves(mat):                  # §16: every drawing of one loop, at the scene's rate
         painting = painting_frames(mat)
-        shown, sequence = painting.drawings()
-        frames = {"drawings": [{c: frame_data(mat, c, f) for c in painting.slots}
-                               for f in shown],
-                  "sequence": sequence, "fps": scene.render.fps / scene.render.fps_base}
+        frames = painting.web_frames(scene.render.fps / scene.render.fps_base,
+                                     lambda f: {c: frame_data(mat, c, f) for c in painting.slots})
         images = frames["drawings"][0]
     else:
         images = {c: image_data_from_blender(img) for c, img in channel_images(s).items()}
