@@ -738,12 +738,15 @@
   // a number < 1, frames at that fraction of the pixels; "draft", the frames the page draws
   // while a light moves (draftScale()); "drag", the key light moved 2° round the painting
   // before each frame, drawn as while it is dragged (its shadows at shadowDraftScale(), the
-  // frame at draftScale()). → {ms, scale, shadowScale, passes drawn}
+  // frame at draftScale()); "frames", a painting that moves (§16) shown at its next drawing
+  // before each frame, drawn as while its frames play (the same scales as "drag").
+  // → {ms, scale, shadowScale, passes drawn}
   api.frameTime = function (n, mode = 1) {
     const one = new Uint8Array(4);
-    const drag = mode === "drag";
-    const s = mode === "draft" || drag ? draftScale() : mode;
-    const sh = drag ? shadowDraftScale() : 1;
+    const drag = mode === "drag", frames = mode === "frames";
+    if (frames && !DATA.frames) throw new Error("this painting does not move");
+    const s = mode === "draft" || drag || frames ? draftScale() : mode;
+    const sh = drag || frames ? shadowDraftScale() : 1;
     const turn = (lt) => {
       const [x, y, h] = lt.place, c = Math.cos(0.035), si = Math.sin(0.035);
       lt.place = [c * x - si * y, si * x + c * y, h];
@@ -753,6 +756,7 @@
     const passes = shadowState.passes, start = performance.now();
     for (let i = 0; i < n; i++) {
       if (drag && keyLight()) turn(keyLight());
+      if (frames) showFrame(Math.floor(state.pageFrame) + 1);
       draw(s, sh);
       gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
     }

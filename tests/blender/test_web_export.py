@@ -134,11 +134,15 @@ def test_benchmark_reports_every_figure_with_its_goal(tmp_path):
     assert len(frames) == 5       # every sample (layers, one that moves too), against its floor
     for row in frames:          # each ratio and the parity with its verdict (K = 4 here: drafts)
         assert all("met" in cell or "reported" in cell
-                   for cell in (row[4], row[6], row[8], row[9]))
+                   for cell in (row[4], row[6], row[8], row[10]))
+    # the painting that moves, timed while its drawings play; the others do not move
+    playing = {row[0].strip("| "): row[9] for row in frames}
+    assert "met" in playing.pop("blink") and set(playing.values()) == {"–"}
     sizes = [ln for ln in text.splitlines() if ln.startswith(("| glass", "| portrait",
-                                                              "| impossible", "| window"))
+                                                              "| impossible", "| window",
+                                                              "| blink"))
              and "≤ 3×" in ln]
-    assert len(sizes) == 4 and all("≤ 3×: met" in ln for ln in sizes)
+    assert len(sizes) == 5 and all("≤ 3×: met" in ln for ln in sizes)
     assert "worst edge" in text
 
 

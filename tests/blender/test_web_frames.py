@@ -18,8 +18,7 @@ BORDER = 1
 
 def export(recipe, folder):
     painting = PaintingFrames(recipe.slots())
-    shown, sequence = painting.drawings()
-    frames = {"drawings": [painting.images(f) for f in shown], "sequence": sequence, "fps": 24}
+    frames = painting.web_frames(24)
     data, _ = page_data(frames["drawings"][0], recipe.lights, recipe.params, frames=frames)
     path = folder / "blink.html"
     write_page(path, data)
@@ -63,3 +62,8 @@ def test_the_page_plays_its_frames_and_the_file_stays_small(browser, tmp_path):
     page.evaluate("new Promise((done) => setTimeout(done, 400))")      # ~5 frames at 12 fps
     later = page.evaluate("document.getElementById('frame-value').textContent")
     assert first != later and later.endswith("/ 24"), (first, later)
+    # timed as it plays (benchmarks/web_page.py): each frame a new drawing, its shadows drawn
+    page.evaluate("window.dynamicPainting.setFrame(0)")
+    timed = page.evaluate("window.dynamicPainting.frameTime(3, 'frames')")
+    assert timed["passes"] >= 3 and timed["ms"] > 0
+    assert page.evaluate("document.getElementById('frame-value').textContent") == "4 / 24"
