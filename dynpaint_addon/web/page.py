@@ -269,24 +269,25 @@ def page_data(images, lights, p, title="", credits="", steps=None, max_size=None
         "lights": [_light_entry(lt) for lt in lights], "shadows": bool(features.shadows),
         "steps": int(uniforms.get("p_shadows_steps", steps or p.shadows.steps)),
         "turntable_seconds": float(turntable_seconds), "animation": animation,
-        "frames": page_frames(frames, images, textures, lights, p, steps, max_size, cache),
+        "frames": page_frames(frames, images, textures, lights, p, steps, max_size, cache,
+                              bool(features.shadows)),
     }, warnings
 
 
-def page_frames(frames, first, textures, lights, p, steps, max_size, cache):
+def page_frames(frames, first, textures, lights, p, steps, max_size, cache, shadows):
     """A painting that moves (§16) in the page → {'fps', 'sequence', 'textures': {channel:
     [its texture in each drawing]} of the images that differ from the first drawing's,
     'uniforms': [the march bounds of each drawing's shape]}, or None for a still one. Each
     drawing's images are prepared as the first's (its derived images too): the page swaps
     them in when the frame changes and draws its shadows again. cache: page_data's, which
-    holds what the first drawing's textures and march bounds were made from."""
+    holds what the first drawing's textures and march bounds were made from; shadows: whether
+    the page draws them (its first drawing's features say so)."""
     if frames is None:
         return None
     drawings = [first] + [{c: shrink(img, max_size) for c, img in d.items()}
                           for d in frames["drawings"][1:]]
     p_page = page_params(p, steps)
     cells = {c: [textures[c]] for c, tex in textures.items() if "same_as" not in tex}
-    shadows = bool(_prepared(first, lights, p_page)[0].shadows)
     bounds = [_march_bounds(first, p_page, cache.setdefault("bounds", {}))] if shadows else []
     for images in drawings[1:]:
         # prepared as the first drawing is (each with a cache of its own): the same kinds
