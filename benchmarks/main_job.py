@@ -1,6 +1,6 @@
 """The README's main job (issue 27): a light turntable of the portrait sample, 48 frames at 512².
 
-1. The command itself, as the README runs it (`python -m dynpaint_addon turntable portrait`),
+1. The command itself, as the README runs it (`.venv/bin/dynpaint turntable portrait`),
    timed from the process start to the written video, best of --repeat runs; beside it the
    baseline in the same run: the same command with the antialiasing it used before issue 27
    (--samples 16 and a 1.5 px filter) over --baseline-frames frames, scaled to 48; and the
@@ -48,9 +48,10 @@ EXACT_GOAL = 1e-3
 
 
 def run_command(out, frames, *extra):
-    """Wall-clock seconds of `python -m dynpaint_addon turntable portrait` (process start to
+    """Wall-clock seconds of `.venv/bin/dynpaint turntable portrait` (process start to
     written video) and its own summary line."""
-    cmd = [sys.executable, "-m", "dynpaint_addon", "turntable", "portrait", "--out", out,
+    cmd = [os.path.join(os.path.dirname(sys.executable), "dynpaint"), "turntable", "portrait",
+           "--out", out,
            "--frames", str(frames), *extra]
     t = time.perf_counter()
     res = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True)
@@ -202,7 +203,7 @@ def main(argv=None):
         "",
         f"Made by `{command_line(__file__, argv)}` on {os.cpu_count()} cores "
         f"(Blender {bpy.app.version_string}, Cycles on the CPU). The README's main command, "
-        f"`python -m dynpaint_addon turntable portrait --out turntable.mp4`: {FRAMES} frames at "
+        f"`.venv/bin/dynpaint turntable portrait --out turntable.mp4`: {FRAMES} frames at "
         "the shape image's size, 512 × 512, framed pixel for pixel, so one sample at each "
         "pixel's centre is the exact image (the project's parity renders use the same).",
         "",

@@ -136,10 +136,10 @@ distance between layers.*
   an `.ora` file or a folder:
 
   ```sh
-  python -m dynpaint_addon render scene.ora --out scene.png
-  python -m dynpaint_addon render scene.toml --engine eevee --out scene.png
-  python -m dynpaint_addon bake-shadow --layers scene.toml --light 0.5 0.3 0.8 --light-angle 5 --out shadows/
-  python -m dynpaint_addon export-web scene.ora --out scene.html
+  dynpaint render scene.ora --out scene.png
+  dynpaint render scene.toml --engine eevee --out scene.png
+  dynpaint bake-shadow --layers scene.toml --light 0.5 0.3 0.8 --light-angle 5 --out shadows/
+  dynpaint export-web scene.ora --out scene.html
   ```
 
   `bake-shadow --layers` writes each layer's cos-θ term t as `shadows/layer_<i>.exr` (i = 0 at

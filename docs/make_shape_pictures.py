@@ -185,12 +185,12 @@ shape image inflates the painting's silhouette.
 
 | you have | method | command |
 |---|---|---|
-| only the painting, with its figure in the alpha (or a mask) | **inflate** the silhouette: round, soft or flat-topped, plus the painting's luminance embossed as detail | `python -m dynpaint_addon make-shape inflate painting.png --profile round --detail 0.01 --out height.exr` |
-| 2–5 pictures of the subject lit from the left, right, top, bottom (and front), painted or photographed: Sprite Lamp's *lighting profiles* | **profiles** → normal map (photometric stereo) | `python -m dynpaint_addon make-shape profiles portrait_left.png portrait_right.png portrait_top.png portrait_bottom.png --out normal.png` |
-| one photograph lit by a red light from one side and a green light from the top (the paper's trick) | **rg-photo** → normal map | `python -m dynpaint_addon make-shape rg-photo photo.png --red-from right --out normal.png` |
-| a normal map, and you want its height (cast shadows, export) | **integrate** → height map (least squares; `--mask` cuts a figure from its background) | `python -m dynpaint_addon make-shape integrate normal.png --mask alpha --out height.exr -v` |
-| a height map, and you want its normal map | **normals** (§2) | `python -m dynpaint_addon make-shape normals height.exr --height-scale 1 --out normal.png` |
-| a finished painting, for a game engine | **export-maps**: normal (OpenGL or DirectX green), height (EXR and 16-bit PNG), ambient occlusion, specular | `python -m dynpaint_addon make-shape export-maps painting.toml --green directx --out maps/` |
+| only the painting, with its figure in the alpha (or a mask) | **inflate** the silhouette: round, soft or flat-topped, plus the painting's luminance embossed as detail | `dynpaint make-shape inflate painting.png --profile round --detail 0.01 --out height.exr` |
+| 2–5 pictures of the subject lit from the left, right, top, bottom (and front), painted or photographed: Sprite Lamp's *lighting profiles* | **profiles** → normal map (photometric stereo) | `dynpaint make-shape profiles portrait_left.png portrait_right.png portrait_top.png portrait_bottom.png --out normal.png` |
+| one photograph lit by a red light from one side and a green light from the top (the paper's trick) | **rg-photo** → normal map | `dynpaint make-shape rg-photo photo.png --red-from right --out normal.png` |
+| a normal map, and you want its height (cast shadows, export) | **integrate** → height map (least squares; `--mask` cuts a figure from its background) | `dynpaint make-shape integrate normal.png --mask alpha --out height.exr -v` |
+| a height map, and you want its normal map | **normals** (§2) | `dynpaint make-shape normals height.exr --height-scale 1 --out normal.png` |
+| a finished painting, for a game engine | **export-maps**: normal (OpenGL or DirectX green), height (EXR and 16-bit PNG), ambient occlusion, specular | `dynpaint make-shape export-maps painting.toml --green directx --out maps/` |
 
 Every command prints what it wrote; `-v` adds the time and, for *integrate*, the part of the
 normal map no height map can hold (its curl, as an RMS slope and a share of the field; write

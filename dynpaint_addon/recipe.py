@@ -16,7 +16,7 @@
     color = [1.0, 0.9, 0.8]
     strength = 1.0
 
-Every section and key is listed by `python -m dynpaint_addon params` (generated from params.py).
+Every section and key is listed by `dynpaint params` (generated from params.py).
 Unknown keys, wrong types and out-of-range values raise RecipeError naming the key.
 """
 import copy
@@ -329,7 +329,7 @@ def recipe_to_toml(recipe, base_dir, only_changed=True):
     only_changed writes parameters that differ from their defaults (the file stays short and
     keeps following new defaults); False writes every parameter.
     """
-    lines = ["# Dynamic Painting recipe (see `python -m dynpaint_addon params`)"]
+    lines = ["# Dynamic Painting recipe (see `dynpaint params`)"]
     if recipe.name:
         lines.append(f"name = {_toml_value(recipe.name)}")
     if recipe.description:

@@ -25,7 +25,7 @@ VARIANTS = {
         "Two lights and coloured highlights"),
     "Dynamic Painting: Height Map, Shadows": (
         "height", 1, 0, True, False, (), "", "cos-θ shadows: feed the baked term "
-        "(python -m dynpaint_addon bake-shadow) to 'Light 1 Shadow'"),
+        "(dynpaint bake-shadow) to 'Light 1 Shadow'"),
     "Dynamic Painting: Glass": (
         "normal", 1, 0, False, True, ("environment", "background", "transparency"), "",
         "Reflection, refraction and Fresnel through a transparency map"),

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Create .venv/ at the repo root (Python 3.11 + requirements-dev.txt) unless it is already
-# there and current, and make sure a Chromium is there for the web page's tests (installed
+# Create .venv/ at the repo root (Python 3.11 + requirements-dev.txt, which installs this
+# project editable: the `dynpaint` command) unless it is already there and current, and make sure a Chromium is there for the web page's tests (installed
 # with apt-get where this runs as root, as CI does). Safe to run every time: a stamp file
 # records what was installed.
 set -euo pipefail
@@ -20,8 +20,10 @@ if ! command -v chromium >/dev/null 2>&1 && ! command -v chromium-browser >/dev/
          "page tests (README.md, Tests)" >&2
   fi
 fi
+# what was installed: the requirements and the project's own pyproject.toml (its command)
 stamp=.venv/.requirements-installed
-if [ -x .venv/bin/python ] && [ -f "$stamp" ] && cmp -s requirements-dev.txt "$stamp"; then
+wanted=$(cat requirements-dev.txt pyproject.toml)
+if [ -x .venv/bin/python ] && [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$wanted" ]; then
   exit 0
 fi
 py=""
@@ -39,4 +41,4 @@ echo "bootstrap: creating .venv with $($py --version) and installing requirement
 rm -rf .venv
 "$py" -m venv .venv
 .venv/bin/python -m pip install --quiet --disable-pip-version-check -r requirements-dev.txt
-cp requirements-dev.txt "$stamp"
+printf '%s\n' "$wanted" > "$stamp"

@@ -1,4 +1,5 @@
-"""Command line: `python -m dynpaint_addon <command>` (see --help of each command).
+"""Command line: `dynpaint <command>` (see --help of each command); `python -m dynpaint_addon`
+runs the same.
 
 One module per command, each with its `add_parser(sub)`: render, bake_shadow, turntable,
 demo, make_test_painting, parameters (`params`), make_shape, export_web; notes.py is how they
@@ -21,7 +22,7 @@ COMMANDS = (render, bake_shadow, turntable, demo, make_test_painting, parameters
 
 def build_parser():
     ap = argparse.ArgumentParser(
-        prog="python -m dynpaint_addon",
+        prog="dynpaint",
         description="Dynamic Painting: relight a painting from its images (pipeline.md). "
                     "Lengths are in image widths; the painting frame has x right, y up, z toward "
                     "the viewer, origin at the painting's centre.")

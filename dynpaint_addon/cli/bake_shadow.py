@@ -1,4 +1,4 @@
-"""`python -m dynpaint_addon bake-shadow SHAPE --kind K --light X Y Z --out T.exr`: the raw
+"""`dynpaint bake-shadow SHAPE --kind K --light X Y Z --out T.exr`: the raw
 cos-θ term of one light (pipeline.md §6) at a quality level (§13), as a float EXR; with
 `--layers SCENE.toml --out DIR` the term of every layer of a scene, the layers in front
 casting their shadows (§15), as DIR/layer_<i>.exr."""

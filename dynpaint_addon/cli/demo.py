@@ -1,4 +1,4 @@
-"""`python -m dynpaint_addon demo`: the built-in test painting rendered by the numpy core (no
+"""`dynpaint demo`: the built-in test painting rendered by the numpy core (no
 Blender needed)."""
 import time
 

@@ -1,4 +1,4 @@
-"""`python -m dynpaint_addon export-web`: a recipe as one self-contained web page (issue 17).
+"""`dynpaint export-web`: a recipe as one self-contained web page (issue 17).
 
 The page (web/page.py) draws the painting with WebGL2 from a shader generated from the graph
 description; the viewer drags the light. Problems end as one `error: …` line (cli.main).

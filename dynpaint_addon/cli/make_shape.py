@@ -1,4 +1,4 @@
-"""`python -m dynpaint_addon make-shape METHOD …`: height and normal maps made from what the
+"""`dynpaint make-shape METHOD …`: height and normal maps made from what the
 artist has (docs/shape-from-painting.md). Registered by cli/__init__.py; the options are
 shape_methods.OPTIONS; the work is shape_maker's and the core's."""
 import argparse

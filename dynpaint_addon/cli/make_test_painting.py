@@ -1,4 +1,4 @@
-"""`python -m dynpaint_addon make-test-painting FOLDER`: the built-in test painting as files."""
+"""`dynpaint make-test-painting FOLDER`: the built-in test painting as files."""
 from ..testpainting import write_test_painting
 
 

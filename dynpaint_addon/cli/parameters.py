@@ -1,4 +1,4 @@
-"""`python -m dynpaint_addon params`: every recipe parameter with its unit, range and default
+"""`dynpaint params`: every recipe parameter with its unit, range and default
 (from params.py)."""
 from .. import params
 

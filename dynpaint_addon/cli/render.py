@@ -1,4 +1,4 @@
-"""`python -m dynpaint_addon render RECIPE --out IMAGE`: a recipe rendered by the numpy core,
+"""`dynpaint render RECIPE --out IMAGE`: a recipe rendered by the numpy core,
 or by Cycles or EEVEE in background Blender (the add-on's material, framed pixel for pixel)."""
 import os
 import time

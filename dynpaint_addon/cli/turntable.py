@@ -1,4 +1,4 @@
-"""`python -m dynpaint_addon turntable RECIPE --out VIDEO.mp4`: the main job — a light orbits the
+"""`dynpaint turntable RECIPE --out VIDEO.mp4`: the main job — a light orbits the
 painting once, rendered by Cycles or EEVEE in background Blender, each frame's shadows baked."""
 import os
 

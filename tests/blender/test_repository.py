@@ -155,7 +155,7 @@ def test_ci_runs_the_readme_test_command_exactly():
     assert len(tests_cmd) == 1
     ci = open(os.path.join(REPO, ".ci", "run")).read()
     assert tests_cmd[0].strip() in [ln.strip() for ln in ci.splitlines()]
-    assert any("dynpaint_addon turntable" in c for c in commands)      # the main job
+    assert any(".venv/bin/dynpaint turntable" in c for c in commands)      # the main job
 
 
 def test_no_compiled_shader_is_committed():
