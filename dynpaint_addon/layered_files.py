@@ -33,16 +33,16 @@ from .channel_names import IMAGE_EXTENSIONS, guess_channels
 from .core.colour import linear_to_srgb, srgb_to_linear
 from .core.input_rules import ImageData
 from .core.layers import MAX_LAYERS, Layer, scene_notes
-from .core.lights import Light
+from .core.lights import default_sun
 from .errors import UserError
 from .imageio import read_image
-from .recipe import hidden_notes, load_layers, load_recipe
+from .painting_folder import folder_kind
+from .recipe import DEFAULT_SUN_NOTE, hidden_notes, load_layers, load_recipe
 from .shape_maker import ShapeError, looks_like_height, read_as_made
 from .shape_methods import make_shape
 
 DEFAULT_SPACING = 0.05     # image widths between one layer and the next in front
 DEFAULT_SHADE = 0.35       # a plain layer's dark image: this share of its linear colour
-DEFAULT_LIGHT = Light("sun", (-0.45, 0.5, 0.74), name="Sun")   # upper left, in front
 PHOTOSHOP = re.compile(r"^_(\d{4})_")
 
 
@@ -243,8 +243,11 @@ def shaded(img, shade):
 
 
 def is_layered_file(path):
-    """Whether `path` is read here (an .ora file or a folder) rather than as a recipe."""
-    return os.path.isdir(path) or os.fspath(path).lower().endswith(".ora")
+    """Whether `path` is read here (an .ora file or a folder of layers) rather than as a
+    recipe (a folder holding one, or one painting's images: painting_folder)."""
+    if os.path.isdir(path):
+        return folder_kind(path) == "layers"
+    return os.fspath(path).lower().endswith(".ora")
 
 
 def load_scene(path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE):
@@ -260,7 +263,7 @@ def load_scene(path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE):
         raise LayeredFileError(f"{path}: not a layered file (an .ora, or a folder of layer "
                                f"images)")
     layers, notes = scene_from_file_layers(canvas, file_layers, spacing, shade)
-    return layers, [DEFAULT_LIGHT], notes + [f"lit by a default sun {DEFAULT_LIGHT.vector}"]
+    return layers, [default_sun()], notes + [DEFAULT_SUN_NOTE]
 
 
 def load_layered(path):
@@ -270,4 +273,4 @@ def load_layered(path):
         return load_scene(path)
     recipe = load_recipe(path)
     layers = load_layers(recipe)
-    return layers, recipe.lights, scene_notes(layers) + hidden_notes(recipe)
+    return layers, recipe.lights, recipe.notes + scene_notes(layers) + hidden_notes(recipe)

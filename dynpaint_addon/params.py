@@ -263,7 +263,8 @@ PARAMS = (
     P("refraction", "ior", float, 1.5, "η = η₂/η₁, the relative index of refraction (also drives "
       "the physical Fresnel)", min=0.5, max=2.0, spec="§9", label="IOR (η)"),
     P("refraction", "mu", float, 0.585, "μ = log₂ η for art-directed refraction: 0 = none, "
-      "+1 magnifies most, −1 shrinks most", min=-1.0, max=1.0, spec="§9", label="Art IOR (μ)"),
+      "+1 magnifies most, −1 shrinks most", min=-1.0, max=1.0, spec="§9", label="Art IOR (μ)",
+      shown_if=("refraction.mode", "linear")),
     P("refraction", "extension", "enum", "extend", "Background lookups beyond its edges",
       choices=EXTENSIONS, spec="§9", structural=True, derives=("background",)),
     P("refraction", "offset", "vec2", (0.0, 0.0), "Where the background sits: its centre moved "
@@ -279,13 +280,17 @@ PARAMS = (
       "or the art-directed piecewise-linear curve", choices=("physical", "art"), spec="§10",
       structural=True),
     P("fresnel", "domain", "enum", "cos", "Art-directed curve placed along 1 − cos θ (fits the "
-      "physical curve better) or sin θ", choices=DOMAINS, spec="§10", structural=True),
+      "physical curve better) or sin θ", choices=DOMAINS, spec="§10", structural=True,
+      shown_if=("fresnel.mode", "art")),
     P("fresnel", "x1", float, 0.45, "Art-directed 'total refraction' point: F = 0 up to here",
-      min=0.0, max=1.0, spec="§10", label="Refraction Until"),
+      min=0.0, max=1.0, spec="§10", label="Refraction Until",
+      shown_if=("fresnel.mode", "art")),
     P("fresnel", "x2", float, 0.9, "Art-directed 'equal mix' point: F = ½ here", min=0.0, max=1.0,
-      spec="§10", label="Equal Mix At"),
+      spec="§10", label="Equal Mix At",
+      shown_if=("fresnel.mode", "art")),
     P("fresnel", "kappa", float, 0.0, "κ: −1 total refraction … 0 as the curve says … +1 total "
-      "reflection", min=-1.0, max=1.0, spec="§10", label="Reflect ↔ Refract (κ)"),
+      "reflection", min=-1.0, max=1.0, spec="§10", label="Reflect ↔ Refract (κ)",
+      shown_if=("fresnel.mode", "art")),
     # §11 composite
     P("transparency", "amount", "auto_float", "auto", "k: where the surface shows the reflection/"
       "refraction mix (multiplies the transparency map); 'auto' = 1 with a map, 0 without",

@@ -29,9 +29,10 @@ from dataclasses import dataclass, field
 from . import params
 from .channel_names import IMAGE_EXTENSIONS
 from .core.layers import MAX_LAYERS, Layer
-from .core.lights import LIGHT_KINDS, Light
+from .core.lights import DEFAULT_SUN_DIRECTION, LIGHT_KINDS, Light, default_sun
 from .errors import UserError
 from .core.frames import is_pattern
+from .painting_folder import RECIPE_NAME, folder_kind, painting_recipe_data, recipe_in
 from .painting_frames import (FrameError, PaintingFrames, check_frame_settings, painting_slots,
                               sequence_numbers)
 from .samples import list_samples, recipe_path
@@ -42,6 +43,12 @@ LIGHT_KEYS = ("type", "direction", "position", "color", "strength", "name", "ang
 LIGHT_SIZE_KEYS = {"sun": "angle", "point": "radius"}
 # what a [[layers]] table holds beside a one-painting recipe's keys (§15), with its check
 LAYER_KEYS = ("name", "depth", "thickness", "offset", "scale", "visible")
+DEFAULT_SUN_NOTE = (f"no lights named: lit by a default sun from the upper left (direction "
+                    f"{list(DEFAULT_SUN_DIRECTION)}); add [[lights]] to the recipe to choose "
+                    f"them (lights = [] for none: the dark image alone)")
+# A section whose settings act only with an image: reflection needs an environment, refraction
+# a background (§8, §9)
+SECTION_IMAGES = {"reflection": "environment", "refraction": "background"}
 
 
 class RecipeError(UserError):
@@ -60,6 +67,10 @@ class Recipe:
     layers: list = field(default_factory=list)   # [RecipeLayer], back to front (§15)
     # §16: {"": [frames] as written, channel: [frames.<channel>] as written}
     frames: dict = field(default_factory=dict)
+    # what reading it guessed or found likely not meant (a default sun, a setting with no
+    # effect), one line each: every command prints them as `note: …`, Add reports them
+    notes: list = field(default_factory=list)
+    default_lights: bool = False    # no [[lights]]: lit by core.lights.default_sun()
 
     @property
     def layered(self):
@@ -188,7 +199,7 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True, base=Non
     where = f"{source}: "
     values = copy.deepcopy(base) if base is not None else params.defaults()
     text = {"name": "", "description": "", "credits": ""}
-    images, lights, frames = {}, [], {}
+    images, lights, frames, written = {}, [], {}, []
     for key, value in data.items():
         if key in text:
             if not isinstance(value, str):
@@ -234,30 +245,69 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True, base=Non
                     keys = [p.key for p in params.PARAMS if p.section == key]
                     raise RecipeError(f"{where}{key}.{k}: unknown key{_suggest(k, keys)}")
                 setattr(section, k, _check_value(param, v, f"{where}{key}.{k}"))
+                written.append(param)
         else:
             options = (*text, "images", "lights", "layers", "frames") + params.SECTIONS
             raise RecipeError(f"{where}{key}: unknown key{_suggest(key, options)}")
+    notes = []
+    default_lights = base is None and "lights" not in data    # a scene's lights, not a layer's
+    if default_lights:
+        lights, notes = [default_sun()], [DEFAULT_SUN_NOTE]
     if "layers" in data:
         if images:
             raise RecipeError(f"{where}images: a layered recipe's images belong to its layers "
                               f"([layers.images] under each [[layers]])")
         layers = [_parse_layer(i, t, base_dir, source, check_files, values)
                   for i, t in enumerate(data["layers"])]
+        notes += [n for lay in layers for n in lay.recipe.notes]
         return Recipe(values, lights, {}, text["name"], description=text["description"],
-                      credits=text["credits"], layers=layers)
+                      credits=text["credits"], layers=layers, notes=notes,
+                      default_lights=default_lights)
     for ch in params.REQUIRED_CHANNELS:
         if ch not in images:
             raise RecipeError(f"{where}images.{ch}: missing (a painting needs a shape image)")
     if "dark" not in images and "bright" not in images:
         raise RecipeError(f"{where}images.dark: missing (a painting needs a dark or a bright image)")
+    notes += no_effect_notes(values, written, images, where)
     recipe = Recipe(values, lights, images, text["name"], description=text["description"],
-                    credits=text["credits"], frames=frames)
+                    credits=text["credits"], frames=frames, notes=notes,
+                    default_lights=default_lights)
     if check_files:
         try:
             recipe.slots()           # a grid that cannot hold its count, a slot both ways
         except FrameError as exc:
             raise RecipeError(f"{where}{exc}") from None
     return recipe
+
+
+def no_effect_notes(p, written, images, where=""):
+    """A line for each setting the recipe writes that changes nothing as the rest of it stands,
+    with what would make it count: a setting shown only in another mode (params' shown_if), a
+    setting of a section switched off (its `enabled`), a reflection or refraction setting
+    without the image it moves. Derived from params.PARAMS, not listed here.
+
+    >>> p = params.defaults()
+    >>> no_effect_notes(p, [params.BY_PATH["fresnel.kappa"]], {})[0]
+    'fresnel.kappa has no effect while fresnel.mode = "physical": set fresnel.mode = "art" too'
+    """
+    notes = []
+    for param in dict.fromkeys(written):
+        section = getattr(p, param.section)
+        switch = params.BY_PATH.get(f"{param.section}.enabled")
+        if param.shown_if:
+            path, wanted = param.shown_if
+            now = getattr(getattr(p, path.split(".")[0]), path.split(".")[1])
+            if now != wanted:
+                notes.append(f"{where}{param.path} has no effect while {path} = "
+                             f"{_toml_value(now)}: set {path} = {_toml_value(wanted)} too")
+        elif switch is not None and param is not switch and not section.enabled:
+            notes.append(f"{where}{param.path} has no effect while {switch.path} = false: set "
+                         f"{switch.path} = true too")
+        elif param.section in SECTION_IMAGES and SECTION_IMAGES[param.section] not in images:
+            image = SECTION_IMAGES[param.section]
+            notes.append(f"{where}{param.path} has no effect without {'an' if image[0] in 'aeiou' else 'a'} "
+                         f"{image} image ([images] {image} = \"…\")")
+    return notes
 
 
 def _parse_frames(table, where):
@@ -283,9 +333,13 @@ def _parse_frames(table, where):
 
 
 def load_recipe(path):
-    """Read and validate a recipe file, or a sample's name ('portrait') → Recipe. A path that
-    is neither says which samples there are, and an image says that a recipe was expected."""
+    """Read and validate a recipe file, a sample's name ('portrait') or a folder → Recipe. A
+    folder is the recipe it holds, or one painting read from its images' names
+    (painting_folder); a folder of layers is layered_files' (load_layered). A path that is
+    none of these says which samples there are, and an image says that a recipe was expected."""
     path = recipe_path(os.fspath(path))
+    if os.path.isdir(path):
+        return _folder_recipe(path)
     if not os.path.isfile(path):
         raise RecipeError(_not_found(path))
     if path.lower().endswith(IMAGE_EXTENSIONS):
@@ -302,6 +356,21 @@ def load_recipe(path):
                           f"expected") from None
     recipe = parse_recipe(data, os.path.dirname(os.path.abspath(path)), path)
     recipe.path = os.path.abspath(path)
+    return recipe
+
+
+def _folder_recipe(path):
+    kind = folder_kind(path)
+    if kind == "recipe":
+        return load_recipe(recipe_in(path))
+    if kind == "layers":
+        raise RecipeError(f"{path}: a folder of layers (no file named for a painting's "
+                          f"channels: shape, normal, height, dark, bright, …): a scene (§15) "
+                          f"for render, export-web and Add › Layered…")
+    data, notes = painting_recipe_data(path)
+    recipe = parse_recipe(data, path, path)
+    recipe.notes[:0] = notes
+    recipe.path = os.path.join(os.path.abspath(path), RECIPE_NAME)   # where `new` writes it
     return recipe
 
 
@@ -347,7 +416,7 @@ def recipe_to_toml(recipe, base_dir, only_changed=True):
         if not layer.visible:
             lines.append("visible = false")
         lines += _painting_toml(layer.recipe, base_dir, "layers.", recipe.params, only_changed)
-    for light in recipe.lights:
+    for light in [] if recipe.default_lights else recipe.lights:    # read back: the same sun
         lines += ["", "[[lights]]", f"type = {_toml_value(light.kind)}"]
         lines.append(f"{'direction' if light.kind == 'sun' else 'position'} = "
                      f"{_toml_value(list(light.vector))}")

@@ -96,6 +96,14 @@ def open_page(browser, path, width=900, height=700, scale=1.0, query=""):
     return page
 
 
+def shown(page, element_id):
+    """Whether a viewer sees the page's element: it takes space on the page and is not made
+    invisible (the `hidden` attribute alone says nothing: a stylesheet may override it)."""
+    return page.evaluate(f"(() => {{ const e = document.getElementById('{element_id}'); "
+                         f"return e.getClientRects().length > 0 && "
+                         f"getComputedStyle(e).visibility !== 'hidden'; }})()")
+
+
 def page_pixels(page, width, height):
     """The page's premultiplied linear RGBA at the painting's size, y up (a float framebuffer)."""
     raw = base64.b64decode(page.evaluate("window.dynamicPainting.renderFloat()"))

@@ -8,7 +8,7 @@ import bpy
 from mathutils import Matrix, Vector
 
 from ..layered_files import DEFAULT_SHADE, DEFAULT_SPACING, is_layered_file, load_scene
-from ..recipe import hidden_notes, load_recipe
+from ..recipe import DEFAULT_SUN_NOTE, hidden_notes, load_recipe
 from .images import packed_image
 from .layers import LAYERED, bake_group, group_materials
 from .lights import add_light, linked_lights
@@ -30,7 +30,7 @@ def scene_layers(path, spacing, shade):
         raise ValueError(f"{path}: a one-painting recipe: use From Images or Recipe…")
     return [(lay.name, lay.depth, lay.offset, lay.scale, lay.thickness, lay.recipe.images,
              lay.recipe.params) for lay in recipe.layers if lay.visible], recipe.lights, \
-        hidden_notes(recipe)
+        [n for n in recipe.notes if n != DEFAULT_SUN_NOTE] + hidden_notes(recipe)
 
 
 def add_layered(context, path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE, size=1.0,

@@ -14,7 +14,7 @@ import bpy
 from mathutils import Vector
 
 from .. import params
-from ..core.lights import Light
+from ..core.lights import default_sun
 from ..core.input_rules import input_notes
 from ..imageio import image_data_from_blender
 from .frames import frames_of, painting_size
@@ -24,7 +24,6 @@ from .settings import frames_to_settings, params_to_settings
 from .sync import batch, update
 
 FACE_CAMERA = "Dynamic Painting: face camera"
-DEFAULT_SUN = (-0.45, 0.5, 0.74)    # toward the light, painting frame: upper left, in front
 
 
 def plane_mesh(name, width_px, height_px):
@@ -171,7 +170,7 @@ def _create_painting(context, images, p, lights, name, size, location, rotation,
             for light in lights:
                 created.append(add_light(scene, light, obj.matrix_world, context.collection))
         elif default_sun and not linked_lights(mat, scene):
-            created.append(add_light(scene, _default_sun(), obj.matrix_world, context.collection))
+            created.append(add_light(scene, default_sun(), obj.matrix_world, context.collection))
             messages.append("the scene had no light: added a Sun")
         context.view_layer.update()
         # force: a painting of an earlier file may have had this name (cached shapes)
@@ -181,10 +180,6 @@ def _create_painting(context, images, p, lights, name, size, location, rotation,
         _remove(created)
         raise
     return obj, mat, messages
-
-
-def _default_sun():
-    return Light("sun", DEFAULT_SUN, (1.0, 1.0, 1.0), 1.0, "Sun")
 
 
 def _remove(blocks):

@@ -41,6 +41,7 @@ def cmd_export_web(args):
     if is_layered_file(args.recipe) or load_recipe(args.recipe).layered:
         return _export_layers(args, start)
     recipe = load_recipe(args.recipe)
+    print_notes(recipe.notes)
     painting = PaintingFrames(recipe.slots())
     images = painting.images(painting.start)
     check_and_print(images, recipe.params)

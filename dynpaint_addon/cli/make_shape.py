@@ -20,7 +20,7 @@ from ..core.frames import SheetGrid, expand_pattern, is_pattern
 from ..imageio import read_image, write_exr, write_png
 from ..painting_frames import PaintingFrames, grid_of, painting_slots
 from ..params import FRAME_BY_KEY
-from ..recipe import load_recipe
+from ..recipe import DEFAULT_SUN_NOTE, load_recipe
 from ..shape_maker import (ShapeError, decode_normals, encode_normals, figure_and_source,
                           figure_mask, height_widths, linear_luminance, normals_of_height, same_size,
                           sprite_lamp_side)
@@ -278,6 +278,7 @@ def _write_maps(args, n, height, specular, top=None):
 
 def cmd_export_maps(args):
     recipe = load_recipe(args.recipe)
+    print_notes(n for n in recipe.notes if n != DEFAULT_SUN_NOTE)   # maps have no lights
     used = {c: path for c, path in recipe.images.items() if c in ("shape", "gloss")}
     painting = PaintingFrames(painting_slots(used, recipe.frames))
     p = recipe.params

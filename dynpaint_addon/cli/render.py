@@ -28,6 +28,7 @@ def cmd_render(args):
             _render_layers(args)
     recipe = load_recipe(args.recipe)
     if args.engine != "numpy":
+        print_notes(recipe.notes)
         return _render_blender(args, recipe)
     if recipe.layered:
         return _render_layers(args)
@@ -47,7 +48,7 @@ def cmd_render(args):
     t = time.perf_counter()
     result = render(images, recipe.lights, recipe.params, dtype, keep_passes=False)
     ms = (time.perf_counter() - t) * 1000
-    print_notes(painting.notes + result.warnings)
+    print_notes(recipe.notes + painting.notes + result.warnings)
     write_render(args.out, result.rgba)
     h, w = result.rgba.shape[:2]
     shown = f" (scene frame {frame}: {painting.shown(frame)})" if painting.animated else ""

@@ -23,6 +23,7 @@ def cmd_turntable(args):
     if args.elevation is not None and not -90 <= args.elevation <= 90:
         raise CommandError(f"--elevation must be in [-90, 90] degrees, got {args.elevation}")
     recipe = load_recipe(args.recipe)
+    print_notes(recipe.notes)
     from ..blender.headless import render_turntable  # Blender only when asked for
     try:
         seconds, samples = render_turntable(

@@ -10,6 +10,9 @@ import numpy as np
 
 LIGHT_KINDS = ("sun", "point")
 FALLOFFS = ("none", "inverse_square")
+# What lights a painting that names no light (a recipe without [[lights]], a layered file, an
+# Add with no light in the scene): a white sun from the upper left, in front
+DEFAULT_SUN_DIRECTION = (-0.45, 0.5, 0.74)
 
 
 @dataclass
@@ -83,3 +86,8 @@ def light_vectors(light, x_px, y_px, z_px, dtype=np.float32, image_size=None):
     up = np.zeros_like(vec)
     up[..., 2] = 1
     return np.where(dist[..., None] > 0, vec / safe, up), dist
+
+
+def default_sun():
+    """The sun that lights a painting whose source names no light (DEFAULT_SUN_DIRECTION)."""
+    return Light("sun", DEFAULT_SUN_DIRECTION, (1.0, 1.0, 1.0), 1.0, "Sun")

@@ -999,6 +999,8 @@
     if (!lights.length) {
       box.append("none (the painting shows its dark image)");
       heightInput.disabled = playButton.disabled = true;
+      document.getElementById("hint").textContent =
+        "This painting has no lights to move: it shows its dark image.";
     }
     const select = document.getElementById("look");
     DATA.looks.forEach((look, i) => {

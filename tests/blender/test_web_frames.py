@@ -7,7 +7,7 @@ import copy
 import numpy as np
 import pytest
 
-from conftest import open_page, page_pixels, run_cli
+from conftest import open_page, page_pixels, run_cli, shown
 from dynpaint_addon.core.pipeline import render as core_render
 from dynpaint_addon.painting_frames import PaintingFrames
 from dynpaint_addon.recipe import image_bytes, load_recipe
@@ -57,7 +57,7 @@ def test_the_page_plays_its_frames_and_the_file_stays_small(browser, tmp_path):
     ratio = out.stat().st_size / image_bytes(load_recipe("blink"))
     assert ratio <= 3.0, ratio                                  # the goal
     page = open_page(browser, out)
-    assert page.evaluate("document.getElementById('frames-row').hidden") is False
+    assert shown(page, "frames-row") and shown(page, "frames-play")
     first = page.evaluate("document.getElementById('frame-value').textContent")
     page.evaluate("new Promise((done) => setTimeout(done, 400))")      # ~5 frames at 12 fps
     later = page.evaluate("document.getElementById('frame-value').textContent")

@@ -6,7 +6,7 @@ import base64
 import numpy as np
 import pytest
 
-from conftest import open_page, run_cli
+from conftest import open_page, run_cli, shown
 from dynpaint_addon.core.colour import linear_to_srgb
 from dynpaint_addon.core.layers import render_scene
 from dynpaint_addon.core.lights import Light
@@ -53,7 +53,7 @@ def test_export_web_of_a_layered_recipe_and_the_view_drag(browser, recipe, tmp_p
     assert "3 layers on 96×96" in res.stdout
     page = open_page(browser, str(out))
     assert page.evaluate("window.dynamicPainting.frames") > 0
-    assert not page.evaluate("document.getElementById('view-row').hidden")
+    assert shown(page, "view-row") and not shown(page, "frames-row")
     light = page.evaluate("window.dynamicPainting.lights[0].place")
     shot = lambda: page.evaluate(
         "(() => { const c = document.getElementById('painting'); const g = c.getContext("

@@ -15,7 +15,7 @@ from dynpaint_addon.testpainting import builtin_images, builtin_recipe
 from testkit.chromium import Chromium
 from dynpaint_addon.web.page import page_data, write_page
 
-from conftest import open_page, page_pixels
+from conftest import open_page, page_pixels, shown
 from parity_recipes import make_recipe, write_images
 
 BORDER = 1
@@ -185,6 +185,18 @@ def test_title_credits_and_controls_are_shown(painting, browser):
     left, top, w, h = canvas_box(page)
     assert left >= 0 and top >= 0 and left + w <= 900 + 0.5 and top + h <= 700 + 0.5
     assert w / h == pytest.approx(40 / 30, rel=1e-3)
+
+
+def test_controls_a_still_painting_has_no_use_for_are_not_seen(painting, browser):
+    """A still painting of one layer: no frame slider, no Pause, no 'Drag moves' (issue 38:
+    `.row { display: flex }` once showed them in spite of their `hidden` attribute)."""
+    _, _, path, _ = painting
+    page = open_page(browser, path)
+    assert not shown(page, "frames-row") and not shown(page, "frames-play")
+    assert not shown(page, "view-row")
+    assert shown(page, "height") and shown(page, "play") and shown(page, "hint")
+    assert page.evaluate("[...document.querySelectorAll('[hidden]')]"
+                         ".every(e => e.getClientRects().length === 0)")
 
 
 def test_embed_shows_the_painting_alone_at_native_size(painting, browser):

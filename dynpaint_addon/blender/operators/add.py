@@ -10,7 +10,7 @@ from bpy_extras.io_utils import ImportHelper
 from ... import params
 from ...channel_names import IMAGE_EXTENSIONS, common_name, guess_channels
 from ...imageio import image_data_from_blender
-from ...recipe import RecipeError, load_recipe
+from ...recipe import DEFAULT_SUN_NOTE, RecipeError, load_recipe
 from ...samples import list_samples
 from ...shape_maker import looks_like_height, read_as_made
 from ...shape_methods import make_shape
@@ -86,12 +86,14 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
             if recipe.layered:                  # a scene of layers (§15): one plane each
                 return add_layered(context, recipes[0], size=self.size, rotation=rotation,
                                    progress=progress, lights=self.add_lights)
+            # a recipe that names no light gets the add-on's own default: a Sun only where
+            # the scene has no light (said by create_painting)
+            named = self.add_lights and not recipe.default_lights
             plane, _, messages = create_painting(
-                context, recipe.images, recipe.params,
-                recipe.lights if self.add_lights else None, name=recipe.name or "Dynamic Painting",
-                size=self.size, location=location, rotation=rotation, progress=progress,
-                frames=recipe.frames)
-            return plane, messages
+                context, recipe.images, recipe.params, recipe.lights if named else None,
+                name=recipe.name or "Dynamic Painting", size=self.size, location=location,
+                rotation=rotation, progress=progress, frames=recipe.frames)
+            return plane, [n for n in recipe.notes if n != DEFAULT_SUN_NOTE] + messages
         bad = [p for p in paths if os.path.splitext(p)[1].lower() not in IMAGE_EXTENSIONS]
         if bad:
             raise ValueError(f"{os.path.basename(bad[0])}: not an image or a .toml recipe")

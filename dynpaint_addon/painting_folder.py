@@ -1,0 +1,99 @@
+"""What a folder given where a recipe is expected holds (issue 38): a recipe, one painting's
+images, or the layers of a scene — one rule for the command line and the add-on.
+
+- a folder with a `painting.toml` (or one `.toml` file) is that recipe;
+- a folder of one painting's channels, matched by their names as *From Images* matches the
+  files an artist picks (`channel_names.guess_channels`: `…normal…`, `…dark…`, `…lit…`, …),
+  is one painting: it names a shape image, or two channels or more, or every image names one;
+- any other folder of images (Photoshop's `_0000_` numbering, subfolders of one layer's
+  channels, names without channel words: `01_sky.png`, `02_figure.png`) is a scene of
+  layers (§15, layered_files).
+
+    >>> kind_of_names(["face_normal.png", "face_dark.png", "face_lit.png", "thumbnail.png"])
+    'painting'
+    >>> kind_of_names(["01_sky.png", "02_hills.png", "03_figure.png"])
+    'layers'
+    >>> kind_of_names(["_0001_background.png", "_0000_figure_lit.png"])
+    'layers'
+    >>> kind_of_names(["background.png", "tree.png", "figure.png"])
+    'layers'
+"""
+import os
+
+from .channel_names import IMAGE_EXTENSIONS, common_name, guess_channels
+from .errors import UserError
+from .imageio import read_image
+from .shape_maker import looks_like_height
+
+RECIPE_NAME = "painting.toml"
+PAINTING_BASICS = ("shape", "dark", "bright")
+
+
+class FolderError(UserError):
+    """A folder that holds nothing to paint; the message names it and what was looked for."""
+
+
+def images_in(path):
+    """The image files directly in a folder, by name."""
+    return sorted(e for e in os.listdir(path) if e.lower().endswith(IMAGE_EXTENSIONS)
+                  and os.path.isfile(os.path.join(path, e)))
+
+
+def recipe_in(path):
+    """The recipe a folder holds (its painting.toml, or its only .toml file) or ''."""
+    if os.path.isfile(os.path.join(path, RECIPE_NAME)):
+        return os.path.join(path, RECIPE_NAME)
+    tomls = [e for e in os.listdir(path) if e.lower().endswith(".toml")]
+    return os.path.join(path, tomls[0]) if len(tomls) == 1 else ""
+
+
+def kind_of_names(names, groups=()):
+    """'painting' or 'layers' for a folder's image names (and its subfolders of images)."""
+    # Photoshop's Export Layers numbers every file: that is a stack, whatever the names say
+    if groups or (names and all(n.startswith("_") and n[1:5].isdigit() for n in names)):
+        return "layers"
+    channels, rest = guess_channels(names)
+    basics = [c for c in channels if c in PAINTING_BASICS]
+    if "shape" in channels or (basics and (len(channels) >= 2 or not rest)):
+        return "painting"
+    return "layers"
+
+
+def folder_kind(path):
+    """'recipe', 'painting' or 'layers' (see the module's rule); FolderError for a folder with
+    nothing in it to paint."""
+    if recipe_in(path):
+        return "recipe"
+    names = images_in(path)
+    groups = [e for e in sorted(os.listdir(path)) if os.path.isdir(os.path.join(path, e))
+              and images_in(os.path.join(path, e))]
+    if not names and not groups:
+        raise FolderError(f"{path}: no recipe ({RECIPE_NAME}) and no images in this folder "
+                          f"({', '.join(IMAGE_EXTENSIONS)})")
+    return kind_of_names(names, groups)
+
+
+def painting_recipe_data(path):
+    """A folder of one painting's images → (recipe data as a painting.toml holds it, notes
+    saying what was guessed): the channels by name, the shape image's kind by its colour."""
+    names = images_in(path)
+    channels, rest = guess_channels(names)
+    notes = [f"{path}: read as one painting: " +
+             ", ".join(f"{c} = {f}" for c, f in channels.items())]
+    if rest:
+        notes.append(f"not used: {', '.join(rest)} (no channel word in the name: shape, "
+                     f"normal, height, dark, bright, lit, …)")
+    if "shape" not in channels:
+        painted = channels.get("bright") or channels.get("dark") or names[0]
+        raise FolderError(
+            f"{path}: no shape image (a file named …normal… or …height…): make one from the "
+            f"painting, `dynpaint make-shape inflate {os.path.join(path, painted)} --out "
+            f"{os.path.join(path, 'height.exr')}`, or let `dynpaint new {path}` make it")
+    data = {"name": common_name(list(channels.values())) or os.path.basename(
+        os.path.normpath(path)), "images": channels}
+    shape = read_image(os.path.join(path, channels["shape"]))
+    kind = "height" if looks_like_height(shape) else "normal"
+    data["shape"] = {"kind": kind}
+    notes.append(f"{channels['shape']}: read as a {kind} map "
+                 f"({'grey' if kind == 'height' else 'coloured'})")
+    return data, notes
