@@ -81,6 +81,31 @@ def normal_map_halving(normals):
     return normal_map_rgb(m)
 
 
+def normal_map_all_away(normals, length=1.4):
+    """A map like the original research system's (issue 38: Picasso's self-portrait): painted
+    for the halving decoder with every drawn tilt between 55° and 90° (the stored, doubled ones
+    110°–180°: every pixel faces away, blue 0 … 0.17) and vectors `length` long, not unit (each
+    channel clipped to 0..1, as a file holds it)."""
+    n = np.asarray(normals, float)
+    tilt = np.radians(55) + np.arccos(np.clip(n[..., 2], -1, 1)) * (35 / 90)
+    azimuth = np.arctan2(n[..., 1], n[..., 0])
+    stored = length * np.stack([np.sin(2 * tilt) * np.cos(azimuth),
+                                np.sin(2 * tilt) * np.sin(azimuth), np.cos(2 * tilt)], -1)
+    return np.clip(normal_map_rgb(stored), 0, 1)
+
+
+def antialiased_cutout(normal_map, inside, size, samples=4):
+    """A cut-out normal map as painting programs export one: RGBA whose alpha is the figure's
+    coverage (`samples`² per pixel, so its edge is antialiased) and whose colour is
+    premultiplied by it (a black fringe: the edge's vectors face away)."""
+    y, x = (np.mgrid[0:size * samples, 0:size * samples] + 0.5) / (size * samples) - 0.5
+    fine = (np.hypot(x, y) < 0.4).astype(float)
+    cover = fine.reshape(size, samples, size, samples).mean(axis=(1, 3))
+    rgb = np.where(inside[..., None] | (cover[..., None] > 0), normal_map, normal_map_rgb(
+        np.array([0.0, 0.0, 1.0])))
+    return np.concatenate([rgb * cover[..., None], cover[..., None]], -1)
+
+
 def red_mask(mask):
     """A mask painted in pure red on black (one colour channel), as RGB."""
     m = np.asarray(mask, float)

@@ -14,7 +14,7 @@ import bpy
 from mathutils import Vector
 
 from .. import params
-from ..core.lights import default_sun
+from ..core.lights import default_sun as new_default_sun   # create_painting has a flag of that name
 from ..core.input_rules import input_notes
 from ..imageio import image_data_from_blender
 from .frames import frames_of, painting_size
@@ -170,7 +170,7 @@ def _create_painting(context, images, p, lights, name, size, location, rotation,
             for light in lights:
                 created.append(add_light(scene, light, obj.matrix_world, context.collection))
         elif default_sun and not linked_lights(mat, scene):
-            created.append(add_light(scene, default_sun(), obj.matrix_world, context.collection))
+            created.append(add_light(scene, new_default_sun(), obj.matrix_world, context.collection))
             messages.append("the scene had no light: added a Sun")
         context.view_layer.update()
         # force: a painting of an earlier file may have had this name (cached shapes)

@@ -122,7 +122,30 @@ def input_notes(images, p):
                      f"slopes along each ray (shadows.relief auto); give it the figure's alpha "
                      f"to cut the figure out, or set shadows.relief = \"integrated\" "
                      f"(docs/relief-choice.md)")
-    return notes + silhouette_notes(images, p)
+    return notes + silhouette_notes(images, p) + see_through_notes(images, p)
+
+
+# A background image darker than this everywhere (99th percentile of its values) shows black
+BLACK = 0.03
+
+
+def see_through_notes(images, p):
+    """What a see-through painting (§11: k > 0) likely did not mean: its glass shows a black
+    (or no) background — a mirror drawn under the physical Fresnel, which reflects a few per
+    cent facing the viewer (§10), or glass painted for a lighter k."""
+    if transparency_branch(p.transparency.amount, "transparency" in images) == "none":
+        return []
+    background = images.get("background")
+    if background is not None and np.percentile(background.rgb(), 99) > BLACK:
+        return []
+    behind = "no background image" if background is None else "a black background"
+    if "environment" in images and p.fresnel.mode == "physical":
+        return [f"the see-through parts show {behind} under the physical Fresnel (it reflects "
+                f"the environment a few per cent facing the viewer): for a mirror set "
+                f"fresnel.mode = \"art\" and fresnel.kappa = 1 (total reflection)"]
+    return [f"the see-through parts (transparency {p.transparency.amount}) show {behind}: "
+            f"give a background image, or set transparency.amount lower (0.3 lets the "
+            f"painting show through)"]
 
 
 def silhouette_notes(images, p):

@@ -10,15 +10,19 @@
 - A normal map must be coloured: a grey image (one channel, or R = G = B everywhere) read as
   one is refused with a message naming the setting that reads it as a height map. Any coloured
   image is read. A map of unit vectors some of which face away can only be a map made for a
-  decoder that halves each tilt: strength 'auto' reads it at 0.5, and says so; a map of other
-  lengths that faces away cannot tell (no map of the usual convention does, but neither does
-  a colour image read as one): its note names shape strength 0.5.
+  decoder that halves each tilt, and so can a map of which (nearly) every pixel faces away:
+  strength 'auto' reads them at 0.5, and says so; a map of other lengths that faces away in
+  part cannot tell (no map of the usual convention does, but neither does a colour image read
+  as one): its note names shape strength 0.5. The note on pixels facing away counts only those
+  whose tilting back up changes the picture: inside the figure (not its antialiased edge) and
+  beyond the minimum N.z (AWAY_NOTE, measured in docs/detection-numbers.md).
 - Per-pixel images of another size than the shape image are resampled to it (reported).
 No bpy here.
 """
 import numpy as np
 
-from .shape import facing_away, normal_vectors, resolve_encoding, resolve_strength, scale_tilt
+from .shape import (DEGENERATE_LENGTH, Z_MIN_DEFAULT, facing_away, normal_vectors, resolve_encoding,
+                    resolve_strength, scale_tilt)
 
 FLAT_NORMAL_RGB = (0.5, 0.5, 1.0)
 
@@ -92,14 +96,15 @@ def normal_map_notes(px, name="shape image", encoding="auto", strength="auto"):
     as_painted = normal_vectors(rgb, resolved, 1.0)
     if strength == "auto" and k != 1:
         away = facing_away(as_painted, alpha)
-        notes.append(f"{name}: read as painted for a decoder that halves each tilt (its unit "
-                     f"vectors face away in {away:.0%} of its pixels): strength {k:g}; set "
-                     f"shape strength 1 to read it as it is")
-    away = facing_away(scale_tilt(as_painted, k), alpha)
-    if away > 0.01:
+        notes.append(f"{name}: read as painted for a decoder that halves each tilt, as the "
+                     f"original research system's maps are (its vectors face away in "
+                     f"{away:.0%} of its pixels): strength {k:g}; set shape strength 1 to read "
+                     f"it as it is")
+    away = noticeably_away(scale_tilt(as_painted, k), alpha)
+    if away > AWAY_NOTE:
         hint = ""
         if strength == "auto" and k == 1 and not looks_rg:
-            if facing_away(scale_tilt(as_painted, 0.5), alpha) < away / 4:
+            if noticeably_away(scale_tilt(as_painted, 0.5), alpha) < away / 4:
                 hint = ("; painted for a decoder that halves each tilt? shape strength 0.5 "
                         "(recipe: shape.strength = 0.5) reads it so — its vectors are not "
                         "unit length, so the map cannot tell; or is it a colour or height "
@@ -107,6 +112,34 @@ def normal_map_notes(px, name="shape image", encoding="auto", strength="auto"):
         notes.append(f"{name}: {away:.0%} of its opaque pixels face away from the viewer and "
                      f"are tilted up to the minimum N.z{hint}")
     return notes
+
+
+# The note on pixels facing away: more than this share of the figure's inside faces away by
+# more than the minimum N.z. Measured (docs/detection-numbers.md): usual maps, two-channel
+# maps and maps with antialiased edges (alpha, colour premultiplied) ≤ 0.000 down to JPEG
+# quality 30; a halving decoder's map read at strength 1 ≥ 0.2.
+AWAY_NOTE = 0.01
+
+
+def noticeably_away(n, alpha=None):
+    """The share of a normal map's vectors n (…, 3) that face away by more than the minimum
+    N.z (tilting them up changes the picture), among the non-degenerate ones inside the
+    figure: opaque (alpha ≥ 0.99) with every neighbour opaque, for an antialiased edge mixes
+    the normals with what lies outside. 0 if there are none."""
+    length = np.sqrt(np.sum(n * n, axis=-1))
+    keep = length >= DEGENERATE_LENGTH
+    if alpha is not None:
+        solid = np.pad(np.nan_to_num(alpha) >= 0.99, 1, constant_values=True)
+        h, w = keep.shape[-2:]
+        inside = np.ones(keep.shape, bool)
+        for dy in (0, 1, 2):
+            for dx in (0, 1, 2):
+                inside &= solid[..., dy:dy + h, dx:dx + w]
+        keep &= inside
+    if not keep.any():
+        return 0.0
+    z = n[..., 2][keep] / length[keep]
+    return float(np.mean(z < -Z_MIN_DEFAULT))
 
 
 MASK_CHANNELS = ("auto", "luminance", "red", "green", "blue", "alpha")

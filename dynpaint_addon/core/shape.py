@@ -121,6 +121,12 @@ UNIT_SHARE = 0.65
 # pixels) face away at strength 0.5. Measured (docs/detection-numbers.md): usual maps ≤ 0.001
 # down to JPEG quality 30, halving maps of a hemisphere ≥ 0.24.
 HALVING_AWAY = 0.05
+# A map of which (nearly) every pixel faces away has one sensible reading whatever its
+# lengths: painted for the halving decoder (the original research system's maps: blue 0–0.11,
+# vectors not unit length). Measured (docs/detection-numbers.md): such maps ≥ 0.99; a
+# photograph read as a normal map ≤ 0.46, usual maps ≤ 0.001 (two-channel maps, blue 0, are
+# read as such before this rule).
+ALL_AWAY = 0.9
 
 
 def unit_share(rgb):
@@ -145,12 +151,16 @@ def facing_away(n, alpha=None):
 
 def resolve_strength(rgb, strength="auto", encoding="auto", alpha=None):
     """shape.strength as a number (§2): 'auto' is 0.5 for a map painted for a decoder that
-    halves each tilt (unit vectors, HALVING_AWAY or more of them facing away), else 1.
+    halves each tilt (unit vectors, HALVING_AWAY or more of them facing away; or vectors of
+    any length, ALL_AWAY or more of them facing away), else 1.
 
     >>> n = np.array([[[0.0, 0.8, -0.6], [0.0, 0.0, 1.0]]])   # one of two unit normals faces away
     >>> resolve_strength((n + 1) / 2), resolve_strength((0.7 * n + 1) / 2), resolve_strength(
     ...     (n + 1) / 2, 1.0)
     (0.5, 1.0, 1.0)
+    >>> away = np.array([[[0.9, 0.8, -0.9], [-1.0, 0.6, -0.8]]])   # every vector faces away
+    >>> resolve_strength((away + 1) / 2)
+    0.5
     """
     if strength != "auto":
         return float(strength)
@@ -158,9 +168,12 @@ def resolve_strength(rgb, strength="auto", encoding="auto", alpha=None):
     if resolve_encoding(rgb, encoding) == "rg":
         return 1.0
     opaque = np.ones(rgb.shape[:-1], bool) if alpha is None else np.nan_to_num(alpha) > 0.5
-    if not opaque.any() or unit_share(rgb[opaque]) < UNIT_SHARE:
+    if not opaque.any():
         return 1.0
-    return 0.5 if facing_away(2 * rgb - 1, alpha) >= HALVING_AWAY else 1.0
+    away = facing_away(2 * rgb - 1, alpha)
+    if away >= ALL_AWAY and resolve_encoding(rgb) != "rg":   # a two-channel map read as RGB
+        return 0.5                                           # faces away too: its note says so
+    return 0.5 if away >= HALVING_AWAY and unit_share(rgb[opaque]) >= UNIT_SHARE else 1.0
 
 
 def normal_vectors(rgb, encoding="rgb", strength=1.0, alpha=None):
