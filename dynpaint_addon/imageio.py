@@ -104,7 +104,9 @@ def quiet_native(fd=2):
 
 def _read_with_blender(path):
     import bpy
-    with quiet_native(2):       # decoding happens lazily: keep the whole read quiet
+    # decoding happens lazily: keep the whole read quiet (Blender logs to stdout, its image
+    # libraries complain on stderr; the error below says it in one line of ours)
+    with quiet_native(1), quiet_native(2):
         try:
             img = bpy.data.images.load(path, check_existing=False)
         except RuntimeError as exc:
@@ -141,7 +143,38 @@ def image_data_from_blender(img, path=None):
     px = px.reshape(h, w, c)   # Blender buffers are bottom row first: already y-up
     keep = file_channels(img)
     px = px[..., :1] if keep == 1 else px[..., :keep]
-    return ImageData(np.ascontiguousarray(px), bits=bits, name=os.path.basename(where))
+    name = os.path.basename(where)
+    return ImageData(np.ascontiguousarray(px), bits=bits, name=name,
+                     notes=cut_short_notes(path or bpy_path(img), px, name))
+
+
+def bpy_path(img):
+    """The file a Blender image was read from ('' for a packed or generated one)."""
+    if img.source != "FILE" or img.packed_file is not None:
+        return ""
+    import bpy
+    return bpy.path.abspath(img.filepath)
+
+
+def cut_short_notes(path, px, name):
+    """A JPEG whose file stops before its end marker (a download or copy cut short) decodes
+    with its missing rows filled in one grey: say how much of the picture holds data."""
+    if not path or not os.path.isfile(path):
+        return []
+    with open(path, "rb") as fh:
+        head = fh.read(2)
+        fh.seek(max(0, os.path.getsize(path) - 64))
+        tail = fh.read()
+    if head != b"\xff\xd8" or b"\xff\xd9" in tail:
+        return []
+    # y-up: the file's last rows are the array's first; count the filled ones
+    flat = np.all(px == px[:1, :1], axis=(1, 2))
+    filled = int(np.argmin(flat)) if not flat.all() else len(flat)
+    if filled == 0:
+        return []
+    return [f"{name}: the file is cut short (it ends before the JPEG's end marker): only the "
+            f"top {1 - filled / len(flat):.0%} of the picture holds data, the rest is flat "
+            f"grey; save or download it again"]
 
 
 # Blender always hands out RGBA; its `depth` (bits per pixel) says what the file held.

@@ -60,6 +60,7 @@ class FileLayer:
     y: int = 0
     hidden: bool = False
     notes: list = field(default_factory=list)
+    sources: dict = field(default_factory=dict)   # {channel or "painted": file}, from a folder
 
 
 def order_in_folder(names):
@@ -166,7 +167,8 @@ def read_folder(path):
         full = os.path.join(path, entry)
         name = PHOTOSHOP.sub("", os.path.splitext(entry)[0] if entry in files else entry)
         if entry in files:
-            layers.append(FileLayer(name, {"painted": read_image(full)}))
+            layers.append(FileLayer(name, {"painted": read_image(full)},
+                                    sources={"painted": full}))
             continue
         parts = [p for p in sorted(os.listdir(full)) if p.lower().endswith(IMAGE_EXTENSIONS)]
         channels, rest = guess_channels(parts)
@@ -174,8 +176,9 @@ def read_folder(path):
             raise LayeredFileError(f"{full}: no image named for a channel (dark, bright, "
                                    f"normal, height, …)")
         notes = [f"{name}: not used: {', '.join(rest)}"] if rest else []
-        layers.append(FileLayer(name, {c: read_image(os.path.join(full, f))
-                                       for c, f in channels.items()}, notes=notes))
+        sources = {c: os.path.join(full, f) for c, f in channels.items()}
+        layers.append(FileLayer(name, {c: read_image(p) for c, p in sources.items()},
+                                notes=notes, sources=sources))
     sizes = [img.size for layer in layers for img in layer.images.values()]
     return max(sizes, key=lambda s: s[0] * s[1]), layers
 

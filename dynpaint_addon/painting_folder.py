@@ -19,8 +19,9 @@ images, or the layers of a scene — one rule for the command line and the add-o
     'layers'
 """
 import os
+from dataclasses import dataclass, field
 
-from .channel_names import IMAGE_EXTENSIONS, common_name, guess_channels
+from .channel_names import CHANNEL_WORDS, IMAGE_EXTENSIONS, common_name, guess_channels, words
 from .errors import UserError
 from .imageio import read_image
 from .shape_maker import looks_like_height
@@ -73,27 +74,69 @@ def folder_kind(path):
     return kind_of_names(names, groups)
 
 
-def painting_recipe_data(path):
-    """A folder of one painting's images → (recipe data as a painting.toml holds it, notes
-    saying what was guessed): the channels by name, the shape image's kind by its colour."""
+@dataclass
+class FolderReading:
+    """What a folder of one painting's images was read as: the recipe's data (as a
+    painting.toml holds it), the notes every command prints, and why each key was chosen
+    (`dynpaint new` writes them as comments)."""
+    data: dict
+    notes: list
+    reasons: dict = field(default_factory=dict)     # "images.shape", "shape.kind", … → why
+
+    @property
+    def has_shape(self):
+        return "shape" in self.data["images"]
+
+
+def read_painting_folder(path):
+    """A folder of one painting's images → FolderReading: the channels by name, the shape
+    image's kind by its colour, shadows on (a painting with a shape image casts them)."""
     names = images_in(path)
     channels, rest = guess_channels(names)
-    notes = [f"{path}: read as one painting: " +
+    notes = [f"{os.path.basename(os.path.normpath(path))}/: read as one painting: " +
              ", ".join(f"{c} = {f}" for c, f in channels.items())]
     if rest:
         notes.append(f"not used: {', '.join(rest)} (no channel word in the name: shape, "
                      f"normal, height, dark, bright, lit, …)")
-    if "shape" not in channels:
-        painted = channels.get("bright") or channels.get("dark") or names[0]
-        raise FolderError(
-            f"{path}: no shape image (a file named …normal… or …height…): make one from the "
-            f"painting, `dynpaint make-shape inflate {os.path.join(path, painted)} --out "
-            f"{os.path.join(path, 'height.exr')}`, or let `dynpaint new {path}` make it")
+    reasons = {f"images.{c}": f"its name says '{_channel_word(c, f)}'"
+               for c, f in channels.items()}
     data = {"name": common_name(list(channels.values())) or os.path.basename(
-        os.path.normpath(path)), "images": channels}
-    shape = read_image(os.path.join(path, channels["shape"]))
-    kind = "height" if looks_like_height(shape) else "normal"
-    data["shape"] = {"kind": kind}
-    notes.append(f"{channels['shape']}: read as a {kind} map "
-                 f"({'grey' if kind == 'height' else 'coloured'})")
-    return data, notes
+        os.path.normpath(path)), "images": dict(channels),
+        "shadows": {"enabled": True}}
+    reasons["shadows.enabled"] = ("cast shadows and the subsurface look (§6); false draws "
+                                  "faster")
+    if "shape" in channels:
+        shape = read_image(os.path.join(path, channels["shape"]))
+        kind = "height" if looks_like_height(shape) else "normal"
+        data["shape"] = {"kind": kind}
+        reasons["shape.kind"] = (f"{channels['shape']} is "
+                                 f"{'grey: a height map' if kind == 'height' else 'coloured: a normal map'}")
+        notes.append(f"{channels['shape']}: read as a {kind} map "
+                     f"({'grey' if kind == 'height' else 'coloured'})")
+    return FolderReading(data, notes, reasons)
+
+
+def _channel_word(channel, name):
+    """The word of a file's name that made it `channel`'s."""
+    synonyms = dict(CHANNEL_WORDS)[channel]
+    return next(w for w in synonyms if w in words(name))
+
+
+def painted_image(path, reading):
+    """The image a folder's shape is made from when it has none: its bright (else dark)."""
+    channels = reading.data["images"]
+    return os.path.join(path, channels.get("bright") or channels.get("dark")
+                        or images_in(path)[0])
+
+
+def painting_recipe_data(path):
+    """A folder of one painting's images → (recipe data, notes), as read_painting_folder reads
+    it; FolderError when it has no shape image (`dynpaint new` makes one)."""
+    reading = read_painting_folder(path)
+    if not reading.has_shape:
+        raise FolderError(
+            f"{path}: no shape image (a file named …normal… or …height…): let `dynpaint new "
+            f"{path}` make one from the painting's silhouette, or make it yourself: `dynpaint "
+            f"make-shape inflate {painted_image(path, reading)} --out "
+            f"{os.path.join(path, 'height.exr')}`")
+    return reading.data, reading.notes

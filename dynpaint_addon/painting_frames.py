@@ -354,7 +354,7 @@ class PaintingFrames:
                     f"pre-blur")
             if note not in self.notes:
                 self.notes.append(note)
-            return ImageData(data.pixels, bits, data.name)
+            return ImageData(data.pixels, bits, data.name, data.notes)
         return data
 
     @property

@@ -299,7 +299,7 @@ def no_effect_notes(p, written, images, where=""):
             now = getattr(getattr(p, path.split(".")[0]), path.split(".")[1])
             if now != wanted:
                 notes.append(f"{where}{param.path} has no effect while {path} = "
-                             f"{_toml_value(now)}: set {path} = {_toml_value(wanted)} too")
+                             f"{toml_value(now)}: set {path} = {toml_value(wanted)} too")
         elif switch is not None and param is not switch and not section.enabled:
             notes.append(f"{where}{param.path} has no effect while {switch.path} = false: set "
                          f"{switch.path} = true too")
@@ -382,13 +382,13 @@ def _not_found(path):
             f"{_suggest(path, names)} (samples: {', '.join(names)})")
 
 
-def _toml_value(v):
+def toml_value(v):
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, (int, float)):
         return repr(v)
     if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_toml_value(c) for c in v) + "]"
+        return "[" + ", ".join(toml_value(c) for c in v) + "]"
     return '"' + str(v).replace("\\", "\\\\").replace('"', '\\"') + '"'
 
 
@@ -400,34 +400,34 @@ def recipe_to_toml(recipe, base_dir, only_changed=True):
     """
     lines = ["# Dynamic Painting recipe (see `dynpaint params`)"]
     if recipe.name:
-        lines.append(f"name = {_toml_value(recipe.name)}")
+        lines.append(f"name = {toml_value(recipe.name)}")
     if recipe.description:
-        lines.append(f"description = {_toml_value(recipe.description)}")
+        lines.append(f"description = {toml_value(recipe.description)}")
     if recipe.credits:
-        lines.append(f"credits = {_toml_value(recipe.credits)}")
+        lines.append(f"credits = {toml_value(recipe.credits)}")
     lines += _painting_toml(recipe, base_dir, "", params.defaults(), only_changed)
     for layer in recipe.layers:
-        lines += ["", "[[layers]]", f"name = {_toml_value(layer.name)}",
-                  f"depth = {_toml_value(layer.depth)}"]
+        lines += ["", "[[layers]]", f"name = {toml_value(layer.name)}",
+                  f"depth = {toml_value(layer.depth)}"]
         if layer.thickness is not None:
-            lines.append(f"thickness = {_toml_value(layer.thickness)}")
-        lines += [f"offset = {_toml_value(list(layer.offset))}",
-                  f"scale = {_toml_value(layer.scale)}"]
+            lines.append(f"thickness = {toml_value(layer.thickness)}")
+        lines += [f"offset = {toml_value(list(layer.offset))}",
+                  f"scale = {toml_value(layer.scale)}"]
         if not layer.visible:
             lines.append("visible = false")
         lines += _painting_toml(layer.recipe, base_dir, "layers.", recipe.params, only_changed)
     for light in [] if recipe.default_lights else recipe.lights:    # read back: the same sun
-        lines += ["", "[[lights]]", f"type = {_toml_value(light.kind)}"]
+        lines += ["", "[[lights]]", f"type = {toml_value(light.kind)}"]
         lines.append(f"{'direction' if light.kind == 'sun' else 'position'} = "
-                     f"{_toml_value(list(light.vector))}")
-        lines.append(f"color = {_toml_value(list(light.colour))}")
-        lines.append(f"strength = {_toml_value(light.strength)}")
+                     f"{toml_value(list(light.vector))}")
+        lines.append(f"color = {toml_value(list(light.colour))}")
+        lines.append(f"strength = {toml_value(light.strength)}")
         if light.name:
-            lines.append(f"name = {_toml_value(light.name)}")
+            lines.append(f"name = {toml_value(light.name)}")
         if light.size:
             key = LIGHT_SIZE_KEYS[light.kind]
             size = math.degrees(light.size) if light.kind == "sun" else light.size
-            lines.append(f"{key} = {_toml_value(size)}")
+            lines.append(f"{key} = {toml_value(size)}")
     return "\n".join(lines) + "\n"
 
 
@@ -439,16 +439,16 @@ def _painting_toml(recipe, base_dir, prefix, base, only_changed):
         lines += ["", f"[{prefix}images]"]
         for ch, full in recipe.images.items():
             rel = os.path.relpath(full, base_dir).replace(os.sep, "/")
-            lines.append(f"{ch} = {_toml_value(rel)}")
+            lines.append(f"{ch} = {toml_value(rel)}")
     for ch, table in sorted(recipe.frames.items()):
         if table:
             lines += ["", f"[{prefix}frames{'.' + ch if ch else ''}]"]
-            lines += [f"{k} = {_toml_value(v)}" for k, v in table.items()]
+            lines += [f"{k} = {toml_value(v)}" for k, v in table.items()]
     start = params.as_dict(base)
     for section, values in params.as_dict(recipe.params).items():
         changed = {k: v for k, v in values.items() if not only_changed or v != start[section][k]}
         if changed:
-            lines += ["", f"[{prefix}{section}]"] + [f"{k} = {_toml_value(v)}"
+            lines += ["", f"[{prefix}{section}]"] + [f"{k} = {toml_value(v)}"
                                                      for k, v in changed.items()]
     return lines
 

@@ -1,7 +1,7 @@
 """Command line: `dynpaint <command>` (see --help of each command); `python -m dynpaint_addon`
 runs the same.
 
-One module per command, each with its `add_parser(sub)`: render, bake_shadow, turntable,
+One module per command, each with its `add_parser(sub)`: new, render, bake_shadow, turntable,
 demo, make_test_painting, parameters (`params`), make_shape, export_web; notes.py is how they
 all say what they guessed. User mistakes (missing files, unreadable images, bad recipes or
 options: errors.UserError) end with one line `error: …` on stderr and exit status 1 (2 for
@@ -13,11 +13,11 @@ import os
 import sys
 
 from ..errors import UserError
-from . import (bake_shadow, demo, export_web, make_shape, make_test_painting, parameters, render,
-               turntable)
+from . import (bake_shadow, demo, export_web, make_shape, make_test_painting, new, parameters,
+               render, turntable)
 
-COMMANDS = (render, bake_shadow, turntable, demo, make_test_painting, parameters, make_shape,
-            export_web)
+COMMANDS = (new, render, turntable, export_web, bake_shadow, make_shape, demo, make_test_painting,
+            parameters)
 
 
 def build_parser():

@@ -7,7 +7,7 @@ transparency branch exists, what a normal map's shadows fall from, how non-finit
 replaced, and the notes every command prints about the images. core/pipeline.py renders
 with them; nodegraph/features.py and derived_inputs.py take the same rules for the graphs.
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -28,6 +28,7 @@ class ImageData:
     pixels: np.ndarray
     bits: int = 8
     name: str = ""
+    notes: list = field(default_factory=list, compare=False)   # what reading the file found
 
     def __post_init__(self):
         px = np.asarray(self.pixels)
@@ -107,7 +108,7 @@ def input_notes(images, p):
     """
     shape = images["shape"]
     name = shape.name or "shape image"
-    notes = []
+    notes = [note for c in images for note in images[c].notes]     # a file cut short, …
     if p.shape.kind == "normal":
         problem = normal_map_problem(shape.pixels, name, p.shape.encoding)
         if problem:
@@ -206,6 +207,6 @@ def resample_painting(images, width):
     """
     h0, w0 = images["shape"].pixels.shape[:2]
     height = max(1, round(h0 * width / w0))
-    return {ch: ImageData(resample(img.pixels, height, width), img.bits, img.name)
+    return {ch: ImageData(resample(img.pixels, height, width), img.bits, img.name, img.notes)
             if ch == "shape" or ch in PER_PIXEL_CHANNELS else img
             for ch, img in images.items()}

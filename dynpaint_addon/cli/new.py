@@ -1,0 +1,173 @@
+"""`dynpaint new FOLDER`: *From Images* on the command line (issue 38) — a folder of an
+artist's files → a commented starter recipe (painting.toml) that says what it guessed and why,
+ready for render, turntable and export-web.
+
+A folder of one painting's images is read as every command reads it (painting_folder: the
+channels by their names, the shape image's kind by its colour); without a shape image one is
+inflated from the painting's silhouette and written beside the recipe. A folder of layers
+gets a [[layers]] recipe (layered_files' reading: depths from the stack, each plain layer's
+shaded dark image and inflated shape written to `made/`).
+"""
+import os
+
+from ..core.lights import DEFAULT_SUN_DIRECTION
+from ..errors import CommandError
+from ..imageio import read_image, write_exr, write_png
+from ..layered_files import read_folder, scene_from_file_layers
+from ..painting_folder import (RECIPE_NAME, folder_kind, painted_image, read_painting_folder,
+                               recipe_in)
+from ..core.input_rules import input_notes
+from ..recipe import load_images, load_recipe, toml_value
+from ..shape_maker import SHAPE_READS
+from ..shape_methods import make_shape
+from .. import params
+from .notes import print_notes
+
+MADE = "made"       # the folder, beside the recipe, of the images `new` makes for layers
+
+
+def cmd_new(args):
+    folder = os.path.abspath(args.folder)
+    if not os.path.isdir(folder):
+        raise CommandError(f"{args.folder}: not a folder (new reads a folder of a painting's "
+                           f"images, or of its layers)")
+    out = os.path.abspath(args.out or os.path.join(folder, RECIPE_NAME))
+    if os.path.exists(out) and not args.force:
+        raise CommandError(f"{out} exists: render it as it is, or pass --force to write it "
+                           f"again (or --out another.toml)")
+    kind = folder_kind(folder)
+    if kind == "recipe" and os.path.abspath(recipe_in(folder)) != out:
+        raise CommandError(f"{folder} holds a recipe already ({recipe_in(folder)}): render it "
+                           f"as it is")
+    base = os.path.dirname(out)
+    if kind == "layers":
+        lines, made, notes = _layers_recipe(folder, base)
+    else:
+        lines, made, notes = _painting_recipe(folder, base)
+    with open(out, "w", encoding="utf-8") as fh:
+        fh.write("\n".join(lines) + "\n")
+    recipe = load_recipe(out)          # what every command will read: checked now
+    if not recipe.layered:
+        notes += input_notes(load_images(recipe), recipe.params)
+    print_notes(notes)
+    if notes:                          # … and kept with the recipe, for later
+        with open(out, "a", encoding="utf-8") as fh:
+            fh.write("\n# What new noticed:\n" + "".join(f"#   {n}\n" for n in notes))
+    for path in made:
+        print(f"made {os.path.relpath(path)}")
+    what = f"{len(recipe.layers)} layers" if recipe.layered else \
+        ", ".join(recipe.images)
+    print(f"wrote {os.path.relpath(out)} ({what}): try `dynpaint render {os.path.relpath(out)} "
+          f"--out render.png`")
+
+
+def _header(folder):
+    return [f"# Dynamic Painting recipe, started by `dynpaint new {os.path.basename(folder)}`:",
+            "# what it guessed is said beside each key. Change anything; every key is listed",
+            "# by `dynpaint params` (docs/parameters.md shows each with pictures)."]
+
+
+def _section(title, values, reasons, prefix=""):
+    """A TOML table of {key: value}, each line with its reason as a comment."""
+    lines = ["", f"[{title}]"]
+    for key, value in values.items():
+        line = f"{key} = {toml_value(value)}"
+        why = reasons.get(f"{prefix}{key}")
+        lines.append(f"{line:<34}# {why}" if why else line)
+    return lines
+
+
+def _light_lines():
+    return ["", "[[lights]]                        # a sun from the upper left, in front: move it "
+            "(a point light: type = \"point\", position = [x, y, z])",
+            'type = "sun"', f"direction = {toml_value(list(DEFAULT_SUN_DIRECTION))}",
+            "strength = 1.0", 'name = "Key"']
+
+
+def _painting_recipe(folder, base):
+    """A folder of one painting → (recipe lines, files made)."""
+    reading = read_painting_folder(folder)
+    data, reasons, made = reading.data, dict(reading.reasons), []
+    images = {c: os.path.join(folder, f) for c, f in data["images"].items()}
+    if not reading.has_shape:
+        painted = painted_image(folder, reading)
+        p = params.defaults()
+        kind, rgba, lines = make_shape("inflate", {"bright": read_image(painted)}, p)
+        path = os.path.join(base, f"{data['name'] or 'painting'}_height.exr".replace(" ", "_"))
+        write_exr(path, rgba[..., :1])
+        images["shape"], made = path, [path]
+        data["shape"] = dict(SHAPE_READS[kind])
+        reasons["images.shape"] = f"made by new: {lines[0]} (dynpaint make-shape changes it)"
+        reasons["shape.height_scale"] = "its heights are in image widths already"
+    lines = _header(folder)
+    lines += [f"name = {toml_value(data['name'])}"]
+    lines += _section("images", {c: _rel(p, base) for c, p in images.items()}, reasons,
+                      "images.")
+    for section in ("shape", "shadows"):
+        lines += _section(section, data[section], reasons, f"{section}.")
+    if "background" in images:
+        lines += ["", "[refraction]",
+                  f"distance = {params.BY_PATH['refraction.distance'].default:<23}# how far the "
+                  f"background lies behind, in image widths: raise it to bend it more (glass "
+                  f"painted for the original research system: about 1)"]
+    return lines + _light_lines(), made, reading.notes
+
+
+def _layers_recipe(folder, base):
+    """A folder of layers → (recipe lines, files made): each layer's images as files (the
+    made ones written to made/)."""
+    canvas, file_layers = read_folder(folder)
+    layers, notes = scene_from_file_layers(canvas, file_layers)
+    notes.insert(0, f"{os.path.basename(folder)}/: read as a scene of {len(layers)} layers, back "
+                    f"to front (no file in it named for a painting's channels)")
+    shown = [fl for fl in file_layers if not fl.hidden]
+    lines, made = _header(folder), []
+    lines += [f"name = {toml_value(os.path.basename(folder))}"]
+    for fl, layer in zip(shown, layers):
+        sources = {("bright" if c == "painted" else c): p for c, p in fl.sources.items()}
+        files, why = {}, {}
+        for channel, img in layer.images.items():
+            if channel in sources:
+                files[channel] = _rel(sources[channel], base)
+                continue
+            stem = os.path.join(base, MADE, f"{fl.name}_{channel}".replace(" ", "_"))
+            if channel == "shape":
+                path = stem + ".exr"
+                write_exr(path, img.pixels[..., :1])
+                why[f"images.{channel}"] = "made by new: inflated from its alpha"
+            else:                        # float images hold linear values: EXR
+                path = stem + (".exr" if img.bits == 32 else ".png")
+                (write_exr if img.bits == 32 else write_png)(path, img.pixels)
+                why[f"images.{channel}"] = "made by new: a shaded copy of its colours"
+            files[channel], made = _rel(path, base), made + [path]
+        lines += ["", "[[layers]]", f"name = {toml_value(layer.name)}",
+                  f"depth = {toml_value(round(layer.depth, 6))}"
+                  f"{'':<18}# image widths in front of the back layer",
+                  f"offset = {toml_value([round(c, 6) for c in layer.offset])}",
+                  f"scale = {toml_value(round(layer.scale, 6))}"]
+        lines += _section("layers.images", files, why, "images.")
+        shape = layer.p.shape
+        lines += _section("layers.shape", {"kind": shape.kind, **(
+            {"height_scale": shape.height_scale} if shape.kind == "height" else {})}, {})
+        lines += _section("layers.shadows", {"enabled": True}, {})
+    return lines + _light_lines(), made, notes
+
+
+def _rel(path, base):
+    return os.path.relpath(path, base).replace(os.sep, "/")
+
+
+def add_parser(sub):
+    """Register `new` on the command line's subparsers."""
+    n = sub.add_parser("new", help="start a recipe from a folder of a painting's images",
+                       description="Read a folder of an artist's files as every command reads "
+                       "it — one painting's images matched to their channels by name "
+                       "(…normal…, …height…, …dark…, …bright…/…lit…, …env…, …background…, "
+                       "…mask…), or a folder of layers — and write a commented starter recipe "
+                       "that says what it guessed and why. Without a shape image one is "
+                       "inflated from the painting's silhouette (its alpha).")
+    n.add_argument("folder", help="the folder of images")
+    n.add_argument("--out", help=f"the recipe to write (default FOLDER/{RECIPE_NAME}); its "
+                   f"image paths are relative to it")
+    n.add_argument("--force", action="store_true", help="write over an existing recipe")
+    n.set_defaults(func=cmd_new)
