@@ -31,6 +31,7 @@ import bpy  # noqa: E402
 from report import command_line, publish  # noqa: E402
 
 from testkit import example_paintings as ex  # noqa: E402
+from testkit.artist_folders import write_jpeg  # noqa: E402
 from dynpaint_addon import params  # noqa: E402
 from dynpaint_addon.core.inputs import MASK_LEAK, mask_channel  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
@@ -89,28 +90,12 @@ def conventions(size):
     return {name: c if len(c) == 4 else c + (c[2],) for name, c in out.items()}
 
 
-def write_jpeg(path, rgb, quality):
-    """RGB 0..1 (y-up) as a JPEG by Blender's writer (the data as is, no view transform)."""
-    h, w = rgb.shape[:2]
-    img = bpy.data.images.new("detection", w, h, alpha=False, float_buffer=True)
-    img.colorspace_settings.name = "Non-Color"
-    rgba = np.ones((h, w, 4), np.float32)
-    rgba[..., :3] = rgb
-    img.pixels.foreach_set(rgba.ravel())
-    scene = bpy.context.scene
-    scene.view_settings.view_transform = "Standard"
-    settings = scene.render.image_settings
-    settings.file_format, settings.color_mode, settings.quality = "JPEG", "RGB", quality
-    img.save_render(path, scene=scene)
-    bpy.data.images.remove(img)
-
-
 def as_file(rgb, variant, folder, name):
     """The pixels written as `variant` and read back → ImageData (as a command reads it)."""
     stem = os.path.join(folder, name.replace(" ", "_").replace(",", ""))
     if variant.startswith("jpeg"):
         path = f"{stem}_{variant}.jpg"
-        write_jpeg(path, rgb, int(variant[4:]))
+        write_jpeg(path, rgb, int(variant[4:]))     # testkit: Blender's writer
     else:
         px = rgb
         if variant == "png8+noise":

@@ -212,7 +212,7 @@ def painting_of(fl, shade=DEFAULT_SHADE):
     p = params.defaults()
     p.shadows.enabled = True
     images = dict(fl.images)
-    notes = []
+    notes = [note for img in images.values() for note in img.notes]     # a file cut short
     if "painted" in images:
         images = {"bright": images.pop("painted")}
     if "bright" not in images and "dark" in images:

@@ -54,11 +54,16 @@ def cmd_new(args):
         with open(out, "a", encoding="utf-8") as fh:
             fh.write("\n# What new noticed:\n" + "".join(f"#   {n}\n" for n in notes))
     for path in made:
-        print(f"made {os.path.relpath(path)}")
+        print(f"made {_shown(path)}")
     what = f"{len(recipe.layers)} layers" if recipe.layered else \
         ", ".join(recipe.images)
-    print(f"wrote {os.path.relpath(out)} ({what}): try `dynpaint render {os.path.relpath(out)} "
-          f"--out render.png`")
+    print(f"wrote {_shown(out)} ({what}): try `dynpaint render {_shown(out)} --out render.png`")
+
+
+def _shown(path):
+    """A path as the user would type it: from the working folder when it is below it."""
+    rel = os.path.relpath(path)
+    return path if rel.startswith("..") else rel
 
 
 def _header(folder):

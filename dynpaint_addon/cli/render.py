@@ -69,7 +69,8 @@ def _render_layers(args):
     ms = (time.perf_counter() - t) * 1000
     write_render(args.out, result.rgba)
     h, w = result.rgba.shape[:2]
-    print(f"rendered {len(layers)} layers on {w}×{h} in {ms:.0f} ms → {args.out}")
+    print(f"rendered {len(layers)} layer{'s' if len(layers) > 1 else ''} on {w}×{h} in "
+          f"{ms:.0f} ms → {args.out}")
 
 
 def _render_blender(args, recipe):

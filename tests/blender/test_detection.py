@@ -14,6 +14,7 @@ sys.path.insert(0, os.path.join(REPO, "benchmarks"))
 import detection  # noqa: E402
 
 from testkit import example_paintings as ex  # noqa: E402
+from testkit.artist_folders import write_jpeg  # noqa: E402
 from dynpaint_addon.core.input_rules import ImageData, input_notes  # noqa: E402
 from dynpaint_addon.imageio import write_png  # noqa: E402
 from dynpaint_addon.recipe import Recipe, recipe_to_toml  # noqa: E402
@@ -77,7 +78,7 @@ def test_an_explicit_setting_is_obeyed_and_a_map_that_cannot_tell_says_the_fix(f
 def _glass_recipe(tmp_path, shape_name):
     """The glass sample's settings with a normal map without alpha (a JPEG) → recipe path."""
     n, _ = ex.sphere(48, 0.4)
-    detection.write_jpeg(str(tmp_path / shape_name), ex.normal_map_rgb(n), 90)
+    write_jpeg(str(tmp_path / shape_name), ex.normal_map_rgb(n), 90)
     write_png(tmp_path / "dark.png", np.full((48, 48, 3), 0.3))
     write_png(tmp_path / "bg.png", ex.photograph(48, 48))
     p = params.defaults()

@@ -1,0 +1,203 @@
+"""The first hour, second pass (issue 38): from a folder of an artist's files to the look they
+meant, on the command line as a newcomer types it — `dynpaint` from any folder, `dynpaint
+new`, folders read as the painting they hold, a default sun, notes that are right on real
+files (testkit/artist_folders.py makes them)."""
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import REPO, run_cli
+from dynpaint_addon.core.input_rules import input_notes
+from dynpaint_addon.core.lights import DEFAULT_SUN_DIRECTION
+from dynpaint_addon.core.pipeline import render
+from dynpaint_addon.imageio import read_image
+from dynpaint_addon.recipe import load_images, load_recipe
+from testkit import artist_folders as af
+
+DYNPAINT = os.path.join(os.path.dirname(sys.executable), "dynpaint")
+
+
+@pytest.fixture(scope="module")
+def folders(tmp_path_factory):
+    root = tmp_path_factory.mktemp("artists")
+    return {name: getattr(af, name)(str(root / name))
+            for name in ("glass_eye", "research_portrait", "cutout", "cut_short")}
+
+
+def copy(folder, tmp_path):
+    return shutil.copytree(folder, tmp_path / os.path.basename(folder))
+
+
+def test_the_dynpaint_command_works_from_any_folder(tmp_path):
+    """The README's set-up installs `dynpaint` into .venv/bin: no PYTHONPATH, no repository
+    as the working folder."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    res = subprocess.run([DYNPAINT, "render", "portrait", "--out", "x.png"], cwd=tmp_path,
+                         capture_output=True, text=True, env=env, timeout=300)
+    assert res.returncode == 0, res.stderr
+    assert read_image(str(tmp_path / "x.png")).size == (512, 512)
+    help_text = subprocess.run([DYNPAINT, "--help"], cwd=tmp_path, capture_output=True,
+                               text=True, env=env).stdout
+    assert help_text.startswith("usage: dynpaint") and "new" in help_text
+
+
+def test_a_folder_holding_a_recipe_renders_as_that_recipe(tmp_path):
+    res = run_cli("render", os.path.join(REPO, "sample_scenes", "portrait"), "--out",
+                  tmp_path / "folder.png")
+    assert res.returncode == 0, res.stderr
+    assert "layers" not in res.stdout and "thumbnail" not in res.stderr
+    assert run_cli("render", "portrait", "--out", tmp_path / "sample.png").returncode == 0
+    np.testing.assert_array_equal(read_image(str(tmp_path / "folder.png")).pixels,
+                                  read_image(str(tmp_path / "sample.png")).pixels)
+
+
+def test_a_folder_of_one_paintings_images_is_one_painting(folders, tmp_path):
+    """Nine files of one glass painting: one painting, each file its channel by name, the
+    reference photo left out (it was a scene of 9 layers: 'at most 8')."""
+    res = run_cli("render", folders["glass_eye"], "--out", tmp_path / "eye.png")
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.startswith("rendered 96×96")
+    assert "read as one painting" in res.stderr and "shape = Eye_normal.png" in res.stderr
+    assert "not used: reference_photo.jpg" in res.stderr
+    recipe = load_recipe(folders["glass_eye"])
+    assert set(recipe.images) == {"shape", "dark", "bright", "environment", "background",
+                                  "transparency", "specular_color", "gloss"}
+    assert recipe.params.shape.kind == "normal" and recipe.params.shadows.enabled
+
+
+def test_new_writes_a_commented_recipe_that_renders_as_the_folder_did(folders, tmp_path):
+    folder = copy(folders["glass_eye"], tmp_path)
+    before = tmp_path / "before.png"
+    assert run_cli("render", folder, "--out", before).returncode == 0
+    res = run_cli("new", folder)
+    assert res.returncode == 0, res.stderr
+    text = open(folder / "painting.toml").read()
+    assert 'shape = "Eye_normal.png"' in text and "# its name says 'normal'" in text
+    assert 'kind = "normal"' in text and "coloured: a normal map" in text
+    assert "[[lights]]" in text and "distance" in text      # glass: the refraction's reach
+    assert "# What new noticed:" in text and "reference_photo.jpg" in text
+    after = tmp_path / "after.png"
+    assert run_cli("render", folder / "painting.toml", "--out", after).returncode == 0
+    np.testing.assert_array_equal(read_image(str(before)).pixels,
+                                  read_image(str(after)).pixels)
+    # a second new keeps the artist's edits unless told
+    again = run_cli("new", folder)
+    assert again.returncode == 1 and "--force" in again.stderr
+
+
+def test_new_makes_the_shape_of_a_painting_that_has_none(folders, tmp_path):
+    folder = tmp_path / "pear"
+    folder.mkdir()
+    shutil.copy(os.path.join(folders["cutout"], "pear.png"), folder / "pear_lit.png")
+    res = run_cli("render", folder, "--out", tmp_path / "x.png")
+    assert res.returncode == 1 and "dynpaint new" in res.stderr       # says how to make one
+    res = run_cli("new", folder)
+    assert res.returncode == 0, res.stderr
+    assert (folder / "pear_height.exr").exists()
+    assert f"made {folder / 'pear_height.exr'}" in res.stdout
+    recipe = load_recipe(str(folder / "painting.toml"))
+    assert recipe.params.shape.kind == "height" and recipe.params.shape.height_scale == 1.0
+    heights = read_image(str(folder / "pear_height.exr")).pixels
+    assert heights.max() > 0.1 and heights[0, 0, 0] == 0           # inflated inside only
+    assert run_cli("render", folder, "--out", tmp_path / "y.png").returncode == 0
+
+
+def test_new_on_a_folder_of_layers_writes_a_scene(tmp_path):
+    from testkit.layered_files import window_scene, write_photoshop_folder
+    folder = tmp_path / "window"
+    write_photoshop_folder(str(folder), 64, window_scene(64))
+    before = tmp_path / "before.png"
+    assert "3 layers" in run_cli("render", folder, "--out", before).stdout
+    res = run_cli("new", folder)
+    assert res.returncode == 0, res.stderr
+    assert "read as a scene of 3 layers" in res.stderr
+    recipe = load_recipe(str(folder / "painting.toml"))
+    assert [lay.name for lay in recipe.layers] == ["sky", "hill", "figure"]
+    after = tmp_path / "after.png"
+    assert "3 layers" in run_cli("render", folder, "--out", after).stdout
+    # the made dark images are 8-bit PNGs: one level of difference at most
+    assert np.abs(read_image(str(before)).pixels - read_image(str(after)).pixels).max() \
+        <= 1.01 / 255
+
+
+def test_a_recipe_without_lights_is_lit_by_a_default_sun_and_says_so(tmp_path):
+    portrait = os.path.join(REPO, "sample_scenes", "portrait")
+    text = (f'[images]\nshape = "{portrait}/height.png"\ndark = "{portrait}/dark.png"\n'
+            f'bright = "{portrait}/bright.png"\n[shape]\nkind = "height"\n')
+    (tmp_path / "lit.toml").write_text(text)
+    (tmp_path / "dark.toml").write_text("lights = []\n" + text)
+    res = run_cli("render", tmp_path / "lit.toml", "--out", tmp_path / "lit.png")
+    assert res.returncode == 0 and "note: no lights named: lit by a default sun" in res.stderr
+    recipe = load_recipe(str(tmp_path / "lit.toml"))
+    assert [lt.vector for lt in recipe.lights] == [DEFAULT_SUN_DIRECTION]
+    res = run_cli("render", tmp_path / "dark.toml", "--out", tmp_path / "dark.png")
+    assert res.returncode == 0 and "default sun" not in res.stderr
+    lit, dark = (read_image(str(tmp_path / f"{n}.png")).pixels for n in ("lit", "dark"))
+    assert lit[..., :3].mean() > dark[..., :3].mean() + 0.05        # lit, not the dark image
+    # the page lists the sun (it said "Lights none" and told the viewer to drag a light)
+    res = run_cli("export-web", tmp_path / "lit.toml", "--out", tmp_path / "lit.html")
+    assert res.returncode == 0 and "1 light(s)" in res.stdout
+
+
+def test_a_setting_with_no_effect_says_what_to_set(tmp_path, folders):
+    folder = copy(folders["glass_eye"], tmp_path)
+    assert run_cli("new", folder).returncode == 0
+    with open(folder / "painting.toml", "a") as fh:
+        fh.write("\n[fresnel]\nkappa = 1.0\n")
+    res = run_cli("render", folder, "--out", tmp_path / "x.png")
+    assert res.returncode == 0, res.stderr
+    assert 'fresnel.kappa has no effect while fresnel.mode = "physical": set fresnel.mode = ' \
+           '"art" too' in res.stderr
+
+
+def test_see_through_paintings_over_black_say_what_is_likely_meant(folders):
+    """Escher's eye and sphere as found: glass over a black background."""
+    recipe = load_recipe(folders["glass_eye"])
+    images = load_images(recipe)
+    said = " ".join(input_notes(images, recipe.params))
+    assert "fresnel.mode = \"art\" and fresnel.kappa = 1" in said     # a mirror, under physical
+    no_env = {c: img for c, img in images.items() if c != "environment"}
+    said = " ".join(input_notes(no_env, recipe.params))
+    assert "show a black background" in said and "transparency.amount lower" in said
+    recipe.params.fresnel.mode = "art"
+    assert "fresnel.kappa = 1" not in " ".join(input_notes(images, recipe.params))
+
+
+def test_a_map_whose_every_pixel_faces_away_renders_as_its_original_system_showed_it(folders):
+    recipe = load_recipe(folders["research_portrait"])
+    images = load_images(recipe)
+    as_found = render(images, recipe.lights, recipe.params)
+    recipe.params.shape.strength = 0.5
+    as_meant = render(images, recipe.lights, recipe.params).rgba
+    np.testing.assert_array_equal(as_found.rgba, as_meant)
+    said = " ".join(as_found.warnings)
+    assert "halves each tilt" in said and "strength 0.5" in said
+    assert "face away from the viewer" not in said          # read as meant: nothing to fix
+
+
+def test_a_jpeg_cut_short_says_how_much_holds_data(folders, tmp_path):
+    res = run_cli("render", folders["cut_short"], "--out", tmp_path / "x.png")
+    assert res.returncode == 0, res.stderr
+    line = next(ln for ln in res.stderr.splitlines() if "cut short" in ln)
+    share = int(line.split("only the top ")[1].split("%")[0])
+    assert 5 <= share <= 60, line
+    img = read_image(os.path.join(folders["cut_short"], "pear_bright.jpg"))
+    assert img.notes == [line.removeprefix("note: ")]
+
+
+def test_a_corrupt_image_gets_our_line_only(tmp_path):
+    """Blender's own log lines (`image.read | ERROR …`, on stdout) stay off the terminal."""
+    good = open(os.path.join(REPO, "sample_scenes", "portrait", "height.png"), "rb").read()
+    (tmp_path / "height.png").write_bytes(good[:len(good) // 3])
+    (tmp_path / "r.toml").write_text('[images]\nshape = "height.png"\n'
+                                     'dark = "height.png"\n[shape]\nkind = "height"\n')
+    res = run_cli("render", tmp_path / "r.toml", "--out", tmp_path / "x.png")
+    assert res.returncode == 1
+    assert "image.read" not in res.stdout + res.stderr and "OpenImageIO" not in \
+        res.stdout + res.stderr
+    assert [ln for ln in res.stderr.splitlines() if ln.startswith("error:")][0].endswith(
+        "height.png: not an image Blender can read (unknown or corrupt format)")
