@@ -44,6 +44,63 @@ def read_image(path):
     return _read_with_blender(path)
 
 
+def image_header(path):
+    """(width, height, channels, bytes per channel) from a file's header, without decoding its
+    pixels (PNG, JPEG, OpenEXR, BMP); None for a format or file it cannot tell. What memory is
+    checked against before an image is read (memory.py)."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(64)
+            if head[:8] == b"\x89PNG\r\n\x1a\n" and head[12:16] == b"IHDR":
+                w, h, depth, colour = struct.unpack(">IIBB", head[16:26])
+                return w, h, {0: 1, 2: 3, 3: 3, 4: 2, 6: 4}.get(colour, 4), max(1, depth // 8)
+            if head[:2] == b"\xff\xd8":
+                return _jpeg_header(fh)
+            if head[:4] == EXR_MAGIC:
+                return _exr_header(head + fh.read(1 << 16))
+            if head[:2] == b"BM":
+                w, h = struct.unpack("<ii", head[18:26])
+                return w, abs(h), 4 if struct.unpack("<H", head[28:30])[0] == 32 else 3, 1
+    except (OSError, struct.error, ValueError):
+        return None
+    return None
+
+
+def _jpeg_header(fh):
+    """A JPEG's size from its first start-of-frame marker (SOF0–SOF15 but DHT, JPG, DAC)."""
+    fh.seek(2)
+    while True:
+        marker = fh.read(2)
+        if len(marker) < 2 or marker[0] != 0xFF:
+            return None
+        length = struct.unpack(">H", fh.read(2))[0]
+        if 0xC0 <= marker[1] <= 0xCF and marker[1] not in (0xC4, 0xC8, 0xCC):
+            bits, h, w, channels = struct.unpack(">BHHB", fh.read(6))
+            return w, h, channels, max(1, bits // 8)
+        fh.seek(length - 2, 1)
+
+
+def _exr_header(data):
+    """An OpenEXR file's size (its dataWindow) and channel count from its header bytes."""
+    pos, window, channels = 8, None, 0
+    while pos < len(data) and data[pos] != 0:
+        name_end = data.index(b"\0", pos)
+        type_end = data.index(b"\0", name_end + 1)
+        name, kind = data[pos:name_end], data[name_end + 1:type_end]
+        size = struct.unpack("<i", data[type_end + 1:type_end + 5])[0]
+        value = data[type_end + 5:type_end + 5 + size]
+        if name == b"dataWindow" and kind == b"box2i":
+            x0, y0, x1, y1 = struct.unpack("<iiii", value)
+            window = (x1 - x0 + 1, y1 - y0 + 1)
+        elif name == b"channels":            # each: its name, \0, then 16 bytes
+            at = 0
+            while at < len(value) and value[at] != 0:
+                at = value.index(b"\0", at) + 17
+                channels += 1
+        pos = type_end + 5 + size
+    return None if window is None else (*window, max(1, min(4, channels)), 4)
+
+
 def _read_exr(path):
     import OpenEXR
     try:

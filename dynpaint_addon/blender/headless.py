@@ -11,7 +11,8 @@ import bpy
 
 from ..imageio import quiet_native
 from . import register_once
-from .scene import create_painting, exact_camera, exact_render_settings, output_settings
+from .scene import (NO_CAMERA, create_painting, exact_camera, exact_render_settings,
+                    output_settings)
 from . import turntable
 from .frames import painting_size
 from .layered_build import add_layered
@@ -37,8 +38,8 @@ def build_recipe_scene(recipe, size=1.0, notes=None):
                                                recipe.lights, name=recipe.name or
                                                "Dynamic Painting", size=size, default_sun=False,
                                                frames=recipe.frames)
-    if notes is not None:
-        notes(messages)
+    if notes is not None:        # the exact camera comes next, and the painting faces it
+        notes([m for m in messages if not m.startswith(NO_CAMERA)])
     exact_camera(context.scene, plane)
     context.view_layer.update()
     return plane, mat

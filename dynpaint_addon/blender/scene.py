@@ -90,10 +90,13 @@ def face_camera(obj, camera):
     con.target = camera
 
 
+NO_CAMERA = "no camera in the scene"
+
+
 def face_scene_camera(obj, scene, otherwise):
     """Keep `obj` facing the scene's camera → [], or, without a camera, [what to say]."""
     if scene.camera is None:
-        return [f"no camera in the scene: {otherwise}"]
+        return [f"{NO_CAMERA}: {otherwise}"]
     face_camera(obj, scene.camera)
     return []
 

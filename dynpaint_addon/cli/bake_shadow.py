@@ -2,6 +2,7 @@
 cos-θ term of one light (pipeline.md §6) at a quality level (§13), as a float EXR; with
 `--layers SCENE.toml --out DIR` the term of every layer of a scene, the layers in front
 casting their shadows (§15), as DIR/layer_<i>.exr."""
+import argparse
 import os
 import time
 
@@ -41,19 +42,27 @@ def add_param_option(parser, flag, path):
     (K and the resolution follow --quality, the pre-blur the image's bit depth)."""
     prm = params.BY_PATH[path]
     unit = f" {prm.unit}" if prm.unit else ""
-    if path in ("shadows.steps", "shadows.resolution"):
-        shown = "from --quality"
-    elif prm.kind == "auto_float":
-        shown = "from the image's bit depth"
-    else:
-        shown = str(prm.default)
+    shown = "from --quality" if path in ("shadows.steps", "shadows.resolution") else \
+        str(prm.default)
     text = f"{prm.help}{unit and f' (in{unit})'}; default: {shown}"
     if prm.kind is bool:
         parser.add_argument(flag, action="store_true", default=None, help=text)
     elif prm.kind == "enum":
         parser.add_argument(flag, choices=prm.choices, help=text)
+    elif prm.kind == "auto_float":        # a number, or 'auto' as the help describes it
+        parser.add_argument(flag, type=_auto_or_number, metavar="{auto,NUMBER}", help=text)
     else:
         parser.add_argument(flag, type=int if prm.kind is int else float, help=text)
+
+
+def _auto_or_number(text):
+    """An option that takes 'auto' or a number (argparse's type)."""
+    if text == "auto":
+        return text
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected 'auto' or a number, got {text!r}") from None
 
 
 def _given(args, options):
@@ -171,10 +180,13 @@ def cmd_bake_shadow(args):
 def add_parser(sub):
     """Register `bake-shadow` on the command line's subparsers."""
     b = sub.add_parser("bake-shadow", help="bake the raw cos-θ shadow term t = d/max(r, d) to EXR",
+                       usage="dynpaint bake-shadow (SHAPE --kind {height,normal} | --layers "
+                             "SCENE) (--light X Y Z | --point-light X Y Z) [options] --out OUT",
                        description="Bake the raw cos-θ term (pipeline.md §6) of one light as a "
                                    "one-channel float EXR of the shape image's size.")
     b.add_argument("shape", metavar="SHAPE", nargs="?", help="normal map or height map image")
-    b.add_argument("--kind", choices=("height", "normal"), help="what SHAPE holds")
+    b.add_argument("--kind", choices=("height", "normal"),
+                   help="what SHAPE holds (needed with SHAPE)")
     b.add_argument("--layers", metavar="SCENE",
                    help="bake every layer of a layered recipe, an .ora file or a folder of "
                         "layer images instead (§15): the layers in front cast their shadows; "

@@ -20,7 +20,10 @@ def cmd_demo(args):
 def add_parser(sub):
     """Register `demo` on the command line's subparsers."""
     d = sub.add_parser("demo", help="render the built-in test painting with the numpy core (no "
-                       "Blender needed; the README's main job is `turntable portrait`)")
+                       "Blender needed; the README's main job is `turntable portrait`)",
+                       description="Render the built-in test painting (a normal map, two "
+                       "lights, cos-θ shadows) with the numpy core to an image: a check that "
+                       "the math runs, with no file and no Blender.")
     d.add_argument("--out", default="out/demo.png", help="output image (default out/demo.png)")
     d.add_argument("--size", type=int, default=256, help="size in pixels (default 256)")
     d.set_defaults(func=cmd_demo)

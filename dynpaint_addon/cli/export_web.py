@@ -71,9 +71,13 @@ def _export_layers(args, start):
     place, the shadows between layers marched in the page."""
     layers, lights, notes = load_layered(args.recipe)
     print_notes(notes)
-    name = os.path.splitext(os.path.basename(os.fspath(args.recipe).rstrip(os.sep)))[0]
+    recipe = None if is_layered_file(args.recipe) else load_recipe(args.recipe)
+    name = recipe.name if recipe is not None and recipe.name else \
+        os.path.splitext(os.path.basename(os.fspath(args.recipe).rstrip(os.sep)))[0]
+    credits = recipe.credits if recipe is not None else ""
     data, warnings = scene_data(layers, lights, title=name if args.title is None else args.title,
-                                credits=args.credits or "", steps=args.steps,
+                                credits=credits if args.credits is None else args.credits,
+                                steps=args.steps,
                                 max_size=args.max_size,
                                 turntable_seconds=args.turntable_seconds)
     size = write_page(args.out, data)

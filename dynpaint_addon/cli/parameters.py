@@ -33,5 +33,8 @@ def cmd_params(args):
 
 def add_parser(sub):
     """Register `params` on the command line's subparsers."""
-    pa = sub.add_parser("params", help="list every recipe parameter with its unit, range, default")
+    pa = sub.add_parser("params", help="list every recipe parameter with its unit, range, default",
+                        description="List every key a recipe (painting.toml) may set, section "
+                        "by section, with its default, unit, range, the § of docs/pipeline.md "
+                        "it implements and what it does.")
     pa.set_defaults(func=cmd_params)

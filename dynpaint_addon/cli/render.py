@@ -95,7 +95,8 @@ def add_parser(sub):
     r.add_argument("--engine", default="numpy", choices=ENGINES,
                    help="numpy (the reference core, default), or cycles / eevee (the add-on's "
                         "material in background Blender, framed pixel for pixel)")
-    r.add_argument("--frame", type=int, help="scene frame to render: a painting that moves "
+    r.add_argument("--frame", type=int, help="scene frame to render (they count from 1, as "
+                   "Blender's do): a painting that moves "
                    "shows that frame's drawing (§16); with eevee/cycles keyframed lights and "
                    "parameters move with it too")
     r.add_argument("--width", type=int, help="output width in pixels (default: the shape image's); "

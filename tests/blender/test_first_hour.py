@@ -201,3 +201,50 @@ def test_a_corrupt_image_gets_our_line_only(tmp_path):
         res.stdout + res.stderr
     assert [ln for ln in res.stderr.splitlines() if ln.startswith("error:")][0].endswith(
         "height.png: not an image Blender can read (unknown or corrupt format)")
+
+
+# -- the smaller items ------------------------------------------------------------------------
+def test_every_command_describes_itself_and_options_take_what_their_help_offers(tmp_path):
+    from dynpaint_addon.cli import build_parser
+    import argparse
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    assert all(p.description for p in sub.choices.values()), \
+        [n for n, p in sub.choices.items() if not p.description]
+    bake = run_cli("bake-shadow", "--help").stdout
+    assert bake.startswith("usage: dynpaint bake-shadow (SHAPE --kind")
+    shape = os.path.join(REPO, "sample_scenes", "portrait", "height.png")
+    res = run_cli("bake-shadow", shape, "--kind", "height", "--light", 0, 0.5, 1, "--strength",
+                  "auto", "--preblur", "auto", "--out", tmp_path / "t.exr")
+    assert res.returncode == 0, res.stderr
+    assert "count from 1" in run_cli("render", "--help").stdout
+
+
+def test_the_layered_page_takes_the_recipes_name(tmp_path):
+    res = run_cli("export-web", "window", "--out", tmp_path / "w.html")
+    assert res.returncode == 0, res.stderr
+    import json
+    page = open(tmp_path / "w.html", encoding="utf-8").read()
+    data = json.loads(page.split('id="dp-data">')[1].split("</script>")[0])
+    assert data["title"] == load_recipe("window").name != "window"
+
+
+def test_the_main_job_says_nothing_a_newcomer_cannot_act_on(tmp_path):
+    res = run_cli("turntable", "portrait", "--frames", 2, "--out", tmp_path / "t.mp4")
+    assert res.returncode == 0, res.stderr
+    assert "note:" not in res.stderr, res.stderr
+
+
+def test_the_readme_names_every_sample_command_and_measured_ratio():
+    from dynpaint_addon.cli import COMMANDS
+    from dynpaint_addon.samples import list_samples
+    readme = open(os.path.join(REPO, "README.md"), encoding="utf-8").read()
+    names = ", ".join(f"`{s.id}`" for s in list_samples())
+    assert f"sample's name ({names})" in " ".join(readme.split())
+    table = [ln for ln in readme.splitlines() if ln.startswith("| `")]
+    for command in COMMANDS:
+        name = command.__name__.rsplit(".", 1)[1].replace("_", "-")
+        name = {"parameters": "params"}.get(name, name)
+        assert any(ln.startswith(f"| `{name}") for ln in table), name
+    main_job = open(os.path.join(REPO, "docs", "main-job.md"), encoding="utf-8").read()
+    ratio = main_job.split("EEVEE takes ")[1].split("×")[0]
+    assert f"takes about {ratio}× Cycles' time" in readme
