@@ -16,6 +16,7 @@ import numpy as np
 from .core.colour import linear_to_srgb
 from .core.input_rules import ImageData
 from .errors import UserError
+from .memory import check_read
 
 EXR_MAGIC = b"\x76\x2f\x31\x01"
 
@@ -39,9 +40,22 @@ def read_image(path):
         head = fh.read(4)
     if not head:
         raise ImageReadError(f"{path}: file is empty")
+    header = file_header(path)
+    if header is not None:          # a size that cannot fit is refused before decoding
+        check_read(header, os.path.basename(path))
     if head == EXR_MAGIC:
         return _read_exr(path)
     return _read_with_blender(path)
+
+
+def file_header(path):
+    """image_header(path) and whether the file is an OpenEXR one (read by OpenEXR, not
+    Blender), or None."""
+    header = image_header(path)
+    if header is None:
+        return None
+    with open(path, "rb") as fh:
+        return (*header, fh.read(4) == EXR_MAGIC)
 
 
 def image_header(path):
@@ -64,6 +78,15 @@ def image_header(path):
     except (OSError, struct.error, ValueError):
         return None
     return None
+
+
+def painting_headers(files):
+    """{channel: file_header} of a painting's files ({channel: path}), or None when the shape
+    image's header cannot be read (the estimate then waits for the pixels)."""
+    headers = {c: file_header(path) for c, path in files.items()}
+    if headers.get("shape") is None:
+        return None
+    return {c: h for c, h in headers.items() if h is not None}
 
 
 def _jpeg_header(fh):

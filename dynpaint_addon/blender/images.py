@@ -9,7 +9,8 @@ import bpy
 from .. import params
 from ..core.frames import expand_pattern, is_pattern
 from ..core.input_rules import pixel_role
-from ..imageio import file_channels
+from ..imageio import file_channels, file_header
+from ..memory import check_read
 from ..nodegraph.derived_inputs import grey_rgba, make_derived
 from ..painting_frames import BoundedCache, sequence_numbers
 
@@ -54,6 +55,9 @@ def load_image(path, channel):
         return img
     if not os.path.isfile(path):
         raise FileNotFoundError(f"{path}: file not found")
+    header = file_header(path)
+    if header is not None:      # a size that cannot fit is refused before Blender loads it
+        check_read(header, os.path.basename(path))
     known = set(bpy.data.images)
     try:
         img = bpy.data.images.load(path, check_existing=True)

@@ -13,10 +13,11 @@ from dataclasses import replace
 import bpy
 from mathutils import Vector
 
-from .. import params
+from .. import memory, params
+from ..core.frames import is_pattern
 from ..core.lights import default_sun as new_default_sun   # create_painting has a flag of that name
 from ..core.input_rules import input_notes
-from ..imageio import image_data_from_blender
+from ..imageio import file_channels, file_header, image_data_from_blender
 from .frames import frames_of, painting_size
 from .images import load_image, prepare_channel_image
 from .lights import add_light, linked_lights
@@ -90,6 +91,24 @@ def face_camera(obj, camera):
     con.target = camera
 
 
+def check_add_memory(images, p, lights):
+    """Refuse an Add that would not fit in memory (memory.py) before any image is loaded:
+    Blender going out of memory takes the artist's unsaved work with it."""
+    headers = {}
+    for channel, src in images.items():
+        if isinstance(src, bpy.types.Image):
+            headers[channel] = (*src.size, file_channels(src), 4 if src.is_float else 1, False)
+        elif not is_pattern(os.path.basename(os.fspath(src))) and os.path.isfile(src):
+            headers[channel] = file_header(src)
+    if headers.get("shape") is None:
+        return
+    headers = {c: h for c, h in headers.items() if h is not None}
+    w, h = headers["shape"][:2]
+    memory.check(memory.add_bytes(headers, p, lights), f"adding a {w}×{h} painting",
+                 "scale its images down (the shape image sets the painting's size), or turn "
+                 "Shadows off before adding")
+
+
 NO_CAMERA = "no camera in the scene"
 
 
@@ -125,6 +144,7 @@ def _create_painting(context, images, p, lights, name, size, location, rotation,
     scene = context.scene
     p = p or params.defaults()
     messages = []
+    check_add_memory(images, p, lights or [new_default_sun()])
     loaded = {}
     for channel, src in images.items():
         loaded[channel] = load_image(src, channel) if isinstance(src, (str, os.PathLike)) else src

@@ -5,8 +5,10 @@ import time
 
 import numpy as np
 
-from .. import params
+from .. import memory, params
+from ..core.input_rules import relief_of
 from ..core.pipeline import shadow_term, shape_normals
+from ..imageio import file_channels
 from ..painting_frames import BoundedCache
 from .frames import frame_data, painting_size, slot_frame
 from .images import grey_image
@@ -137,6 +139,7 @@ def bake_shadows(mat, scene, depsgraph=None, force=True, progress=None, p=None):
     t_start = time.perf_counter()
     due = [i for i, t in enumerate(results) if t is None]
     if due:
+        check_bake_memory(mat, p, [todo[i][1] for i in due])
         n, z_px, slopes = bake_shape(mat, p, fresh=force)
     for j, i in enumerate(due):
         part = None if progress is None else \
@@ -151,6 +154,22 @@ def bake_shadows(mat, scene, depsgraph=None, force=True, progress=None, p=None):
         write_shadow(mat, item, t, key)
     s.shadows_stale = False
     return ms
+
+
+def check_bake_memory(mat, p, lights):
+    """Refuse a final bake that would not fit in memory (the last baked images are kept; the
+    lower qualities bake a fraction of the pixels, so only a full-size bake is asked)."""
+    if p.shadows.quality not in ("final", "reference"):
+        return
+    w, h = painting_size(mat)
+    shape = "height" if p.shape.kind == "height" else \
+        relief_of(p.shadows.relief, file_channels(mat.dynamic_painting.image_shape) in (2, 4))
+    kept_px = memory.PREPARE[shape][0]
+    needed = memory.BASE_BYTES + max(memory.bake_bytes(w, h, light, p.shadows.offset, kept_px)
+                                     for light in lights)
+    memory.check(needed, f"baking the shadows of {w}×{h} pixels at {p.shadows.quality} "
+                 f"quality", "bake at preview or draft quality (Shadows › Quality), or use a "
+                 "smaller shape image (the last baked shadows are kept)")
 
 
 def write_shadow(mat, item, t, key):

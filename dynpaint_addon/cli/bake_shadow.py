@@ -15,7 +15,8 @@ from ..core.lights import Light
 from ..core.pipeline import shape_normals
 from ..core.shadow import ShadowStats
 from ..errors import CommandError
-from ..imageio import read_image, write_exr
+from .. import memory
+from ..imageio import painting_headers, read_image, write_exr
 from ..layered_files import load_layered
 from .notes import check_and_print, print_notes
 
@@ -156,6 +157,12 @@ def cmd_bake_shadow(args):
     steps, scale, dtype = quality_settings(
         quality, level["steps"] if args.steps is None else args.steps,
         level["scale"] if args.scale is None else args.scale)
+    headers = painting_headers({"shape": args.shape}) if os.path.isfile(args.shape) else None
+    if headers is not None:             # memory asked for before it is spent
+        painting = memory.painting(headers, p)
+        memory.check(memory.bake_shadow_bytes(painting, p, light),
+                     f"baking {painting.width}×{painting.height}",
+                     "give a smaller shape image (scale it down in a painting program)")
     shape = read_image(args.shape)
     check_and_print({"shape": shape}, p)
     n, z, slopes = shape_normals(shape, p, dtype)

@@ -9,7 +9,8 @@ from ..core.input_rules import resample_painting
 from ..core.layers import render_scene
 from ..core.pipeline import render
 from ..errors import CommandError
-from ..imageio import write_render
+from .. import memory
+from ..imageio import painting_headers, write_render
 from ..layered_files import is_layered_file, load_layered
 from ..painting_frames import PaintingFrames
 from ..recipe import load_recipe
@@ -21,8 +22,9 @@ ENGINES = ("numpy", "cycles", "eevee")
 
 
 def cmd_render(args):
-    if args.width is not None and args.width < 1:
-        raise CommandError(f"--width must be at least 1 pixel, got {args.width}")
+    for flag, value in (("--width", args.width), ("--max-size", args.max_size)):
+        if value is not None and value < 1:
+            raise CommandError(f"{flag} must be at least 1 pixel, got {value}")
     if is_layered_file(args.recipe):
         return _render_blender(args, args.recipe) if args.engine != "numpy" else \
             _render_layers(args)
@@ -32,19 +34,21 @@ def cmd_render(args):
         return _render_blender(args, recipe)
     if recipe.layered:
         return _render_layers(args)
-    painting = PaintingFrames(recipe.slots())
+    slots = recipe.slots()
+    painting = PaintingFrames(slots)
     if args.frame is not None and not painting.animated:
         raise CommandError("--frame needs --engine eevee or cycles, or a painting that moves "
                            "(the numpy engine renders the recipe's lights as written)")
+    width = _width(args, painting_headers({c: s.files()[0] for c, s in slots.items()}), recipe)
     frame = painting.start if args.frame is None else args.frame
     images = painting.images(frame)
-    if args.width:
-        images = resample_painting(images, args.width)
+    if width:
+        images = resample_painting(images, width)
     dtype = np.float64 if args.float64 else np.float32
     h, w = images["shape"].pixels.shape[:2]
     if w * h >= 4096 * 4096:     # say what a long render is doing before it starts
-        print(f"rendering {w}×{h} ({w * h / 1e6:.0f} Mpx) with the numpy core: about "
-              f"{w * h * 80 / 2**30:.0f} GiB of memory and a minute or more", flush=True)
+        print(f"rendering {w}×{h} ({w * h / 1e6:.0f} Mpx) with the numpy core: a minute or "
+              f"more", flush=True)
     t = time.perf_counter()
     result = render(images, recipe.lights, recipe.params, dtype, keep_passes=False)
     ms = (time.perf_counter() - t) * 1000
@@ -55,13 +59,43 @@ def cmd_render(args):
     print(f"rendered {w}×{h}{shown} in {ms:.0f} ms → {args.out}")
 
 
+def _width(args, headers, recipe):
+    """The render's width (--width, or the shape's capped by --max-size), its memory checked
+    against the machine's before any image is read (memory.py)."""
+    if headers is None:
+        return args.width
+    sw, sh = headers["shape"][:2]
+    width = args.width or (min(sw, round(sw * args.max_size / max(sw, sh))) if args.max_size
+                           else None)
+    painting = memory.painting(headers, recipe.params, width)
+    # float64: every per-pixel array twice as large
+    needed = memory.render_bytes(painting, recipe.params, recipe.lights) * (1 + args.float64)
+    fits = _largest_that_fits(headers, recipe, args.float64, painting.width)
+    memory.check(needed, f"rendering {painting.width}×{painting.height}",
+                 f"render it smaller (--width {fits}, or --max-size)" if fits else
+                 "give smaller images")
+    return width
+
+
+def _largest_that_fits(headers, recipe, float64, width):
+    """The largest width, halving from `width`, whose render fits the memory free now."""
+    have = memory.available_bytes()
+    while have is not None and width > 16:
+        width //= 2
+        painting = memory.painting(headers, recipe.params, width)
+        if memory.render_bytes(painting, recipe.params, recipe.lights) * (1 + float64) <= \
+                memory.HEADROOM * have:
+            return width
+    return None
+
+
 def _render_layers(args):
     """A layered recipe, .ora or folder (§15) by the numpy core: each layer lit through the
     layers in front of it, composited back to front on the canvas."""
-    if args.frame is not None or args.width:
+    if args.frame is not None or args.width or args.max_size:
         raise CommandError("the numpy engine renders a layered painting at its canvas's size "
-                           "with the lights as written (no --frame or --width; --engine eevee "
-                           "or cycles take --frame)")
+                           "with the lights as written (no --frame, --width or --max-size; "
+                           "--engine eevee or cycles take --frame)")
     layers, lights, notes = load_layered(args.recipe)
     print_notes(notes)
     t = time.perf_counter()
@@ -75,8 +109,8 @@ def _render_layers(args):
 
 def _render_blender(args, recipe):
     """EEVEE or Cycles in background Blender, the scene built as the add-on builds it."""
-    if args.width or args.float64:
-        raise CommandError("--width and --float64 apply to the numpy engine only")
+    if args.width or args.max_size or args.float64:
+        raise CommandError("--width, --max-size and --float64 apply to the numpy engine only")
     if os.path.splitext(args.out)[1].lower() not in (".png", ".exr"):
         raise CommandError(f"{args.out}: unsupported output format (use .png or .exr)")
     from ..blender.headless import render_recipe     # Blender only when asked for
@@ -101,5 +135,8 @@ def add_parser(sub):
                    "parameters move with it too")
     r.add_argument("--width", type=int, help="output width in pixels (default: the shape image's); "
                                              "every per-pixel image is resampled to it")
+    r.add_argument("--max-size", type=int, metavar="PX",
+                   help="longest side of the render at most PX pixels: larger inputs are "
+                        "downsampled on reading (less memory and time)")
     r.add_argument("--float64", action="store_true", help="compute in float64 (reference)")
     r.set_defaults(func=cmd_render)

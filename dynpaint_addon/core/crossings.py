@@ -407,15 +407,34 @@ def table_bytes(light, h, w, offset, step=POINT_STEP):
     """(all blocks, the largest block): the memory the profiles and tables of a crossing bake
     of this light take at (h, w); its blocks are built in groups within MAX_TABLE_BYTES
     (_BlockGrid.groups), so a bake needs the largest block to fit."""
+    sizes = _grid(light, h, w, offset, step)
+    return (0, 0) if sizes is None else (sum(sizes), max(sizes))
+
+
+def _grid(light, h, w, offset, step):
+    """The table bytes of each block of this light's grid at (h, w); None: no grid (a sun
+    below the horizon, or straight up)."""
     if light.kind == "sun":
         lvec = np.asarray(light.vector, np.float64) / np.linalg.norm(light.vector)
         if lvec[2] <= 0 or np.hypot(lvec[0], lvec[1]) < 1e-6:
-            return 0, 0              # no grid: below the horizon, or straight up
+            return None
         grid = _SunGrid(lvec, h, w)
     else:
         grid = _PointGrid(light, h, w, offset, step=step)
-    sizes = grid.block_bytes()
-    return sum(sizes), max(sizes)
+    return grid.block_bytes()
+
+
+def table_peak(light, h, w, offset, step=POINT_STEP):
+    """The most memory the tables of a crossing bake of this light hold at once at (h, w):
+    its largest group of blocks (_BlockGrid.groups); 0 where it has no grid."""
+    sizes = _grid(light, h, w, offset, step)
+    if sizes is None:
+        return 0
+    peak = total = 0
+    for size in sizes:              # the grouping of _BlockGrid.groups, on the sizes alone
+        total = size if total and total + size > MAX_TABLE_BYTES else total + size
+        peak = max(peak, total)
+    return peak
 
 
 class _PointGrid(_BlockGrid):
