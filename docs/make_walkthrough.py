@@ -1,8 +1,9 @@
-"""Generate docs/your-painting.md: your own painting from files to a web page on the command
-line, step by step (issue 27) — the commands are run here as a user types them, and the
-pictures show what each one wrote.
+"""Generate docs/your-painting.md: the first hour on the command line (issues 27, 38) — a folder
+of a painting's images to a render, a turntable and a web page with `dynpaint new` and the
+README alone. The commands run here as a user types them (`.venv/bin/dynpaint` from the
+painting's own folder, no PYTHONPATH), and the pictures show what each one wrote.
 
-    .venv/bin/python docs/make_walkthrough.py        # ≈ 15 s (needs Chromium for the page)
+    .venv/bin/python docs/make_walkthrough.py        # ≈ 20 s (needs Chromium for the page)
 """
 import os
 import re
@@ -20,22 +21,7 @@ from dynpaint_addon.imageio import read_image, write_png        # noqa: E402
 from testkit.chromium import find_chromium           # noqa: E402
 
 PX = 256
-RECIPE = """name = "Pear"
-[images]
-shape = "pear_height.exr"     # made by make-shape: heights in image widths
-bright = "pear.png"           # the painting (its alpha is the figure)
-dark = "pear_dark.png"        # optional: a shaded copy (without it, bright serves both)
-[shape]
-kind = "height"
-height_scale = 1.0            # make-shape's heights are already in image widths
-[shadows]
-enabled = true
-[[lights]]
-type = "sun"
-direction = [-0.6, 0.45, 0.5]
-color = [1.0, 0.95, 0.85]
-name = "Key"
-"""
+DYNPAINT = os.path.join(os.path.dirname(sys.executable), "dynpaint")
 
 
 def pear(size=PX):
@@ -58,10 +44,11 @@ def pear(size=PX):
 
 
 def run(folder, *args):
-    """`python -m dynpaint_addon ARGS` in `folder` as a user runs it → what it printed, with
-    each line's timing left out (it differs from run to run)."""
-    res = subprocess.run([sys.executable, "-m", "dynpaint_addon", *args], cwd=folder,
-                         capture_output=True, text=True, env={**os.environ, "PYTHONPATH": REPO})
+    """`dynpaint ARGS` in `folder` as a user runs it (the command the README's set-up
+    installs, no PYTHONPATH) → what it printed, each line's timing left out (it differs from
+    run to run)."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    res = subprocess.run([DYNPAINT, *args], cwd=folder, capture_output=True, text=True, env=env)
     if res.returncode:
         raise RuntimeError(res.stderr)
     return re.sub(r" in \d+(\.\d+)? ?m?s\b", "", (res.stderr + res.stdout).strip())
@@ -83,89 +70,98 @@ def screenshot(page, path):
 def main(out=DOCS):
     pictures = os.path.join(out, "img", "walkthrough")
     os.makedirs(pictures, exist_ok=True)
-    with tempfile.TemporaryDirectory() as folder:
+    with tempfile.TemporaryDirectory() as work:
+        folder = os.path.join(work, "pear")       # the artist's folder, as it arrives
+        os.makedirs(folder)
         bright, dark = pear()
         write_png(os.path.join(folder, "pear.png"), bright)
         write_png(os.path.join(folder, "pear_dark.png"), dark)
-        said_shape = run(folder, "make-shape", "inflate", "pear.png", "--out", "pear_height.exr")
-        with open(os.path.join(folder, "painting.toml"), "w", encoding="utf-8") as fh:
-            fh.write(RECIPE)
-        said_render = run(folder, "render", "painting.toml", "--out", "render.png")
-        said_page = run(folder, "export-web", "painting.toml", "--out", "pear.html")
+        said_new = run(work, "new", "pear")
+        recipe = open(os.path.join(folder, "painting.toml"), encoding="utf-8").read()
+        said_render = run(work, "render", "pear", "--out", "render.png")
+        said_page = run(work, "export-web", "pear", "--out", "pear.html")
         height = read_image(os.path.join(folder, "pear_height.exr")).pixels[..., 0]
-        render = read_image(os.path.join(folder, "render.png")).pixels
-        shot = screenshot(os.path.join(folder, "pear.html"), os.path.join(folder, "shot.png"))
+        render = read_image(os.path.join(work, "render.png")).pixels
+        shot = screenshot(os.path.join(work, "pear.html"), os.path.join(work, "shot.png"))
     grey = np.clip(height / max(float(height.max()), 1e-9), 0, 1)
     tiles = {"painting.png": over_white(bright), "dark.png": over_white(dark),
              "height.png": np.dstack([grey, grey, grey, np.ones_like(grey)]),
              "render.png": over_white(render), "page.png": shot}
     for name, px in tiles.items():
         write_png(os.path.join(pictures, name), np.clip(px, 0, 1), bits=8)
-    page = f"""# Your own painting, from files to a web page (command line)
+    page = f"""# Your own painting, from a folder of files to a web page (command line)
 
-Made by `docs/make_walkthrough.py`, which runs these commands as you would type them (the
-output shown is theirs, timings left out). In Blender the same takes two clicks: *Add ›
-Dynamic Painting › From Images or Recipe…* ([addon.md](addon.md)).
+Made by `docs/make_walkthrough.py`, which runs these commands as you would type them, from
+the folder that holds your painting's folder (the output shown is theirs, timings left out).
+Set-up: the README's (`scripts/bootstrap.sh`), then `source /path/to/the/repo/.venv/bin/activate`
+once per shell so that `dynpaint` works from any folder. In Blender the same takes two clicks:
+*Add › Dynamic Painting › From Images or Recipe…* ([addon.md](addon.md)).
 
-| 1. your painting (`pear.png`, the figure in its alpha) | its shaded copy (`pear_dark.png`, optional) | 2. the shape made from it | 3. rendered | 4. the web page |
+| 1. your painting (`pear/pear.png`, the figure in its alpha) | its shaded copy (`pear/pear_dark.png`, optional) | 2. the shape `new` made | 3. rendered | 4. the web page |
 |---|---|---|---|---|
 | ![](img/walkthrough/painting.png) | ![](img/walkthrough/dark.png) | ![](img/walkthrough/height.png) | ![](img/walkthrough/render.png) | ![](img/walkthrough/page.png) |
 
-**1. The painting.** One PNG with the figure in its alpha is enough; a second, shaded copy
-(the *dark* image) gives the shadow side its own colours — without it the bright image serves
-both. Any size; colour images are sRGB.
+**1. The folder.** Put the painting's images in a folder: one PNG with the figure in its
+alpha is enough; a shaded copy (a name with `dark` in it) gives the shadow side its own
+colours, and a normal or height map (`…normal…`, `…height…`) its shape. Files are matched to
+their channels by the words in their names, as *Add › From Images* matches them (`…lit…`,
+`…env…`, `…background…`, `…mask…`, … — [addon.md](addon.md)).
 
-**2. The shape.** No normal or height map? Inflate the silhouette
-([shape-from-painting.md](shape-from-painting.md) has the other ways: from lighting profiles,
-a red/green photo, a normal map):
+**2. The recipe.** `dynpaint new` reads the folder as every command will read it and writes
+a commented starter recipe, `painting.toml`, saying what it guessed and why. Without a shape
+image it inflates one from the painting's silhouette
+([shape-from-painting.md](shape-from-painting.md) has the other ways: lighting profiles, a
+red/green photo, a normal map):
 
 ```sh
-python -m dynpaint_addon make-shape inflate pear.png --out pear_height.exr
+dynpaint new pear
 ```
 ```
-{said_shape}
+{said_new}
 ```
 
-**3. The recipe.** A small text file, `painting.toml`, names the images and says how to read
-them (every key: `python -m dynpaint_addon params`; [parameters.md](parameters.md)):
+It wrote `pear/painting.toml` (every key: `dynpaint params`; [parameters.md](parameters.md)):
 
 ```toml
-{RECIPE.strip()}
+{recipe.strip()}
 ```
 
-Render it (the numpy core; `--engine cycles` or `eevee` renders the add-on's material in
-background Blender, the same pixels):
+**3. Render it.** Every command takes the folder (its `painting.toml`) or the recipe; the
+numpy core renders by default, `--engine cycles` or `eevee` the add-on's material in
+background Blender, the same pixels:
 
 ```sh
-python -m dynpaint_addon render painting.toml --out render.png
+dynpaint render pear --out render.png
 ```
 ```
 {said_render}
 ```
 
 Each command says what it guessed about your files in a `note:` line (a mask painted in one
-colour channel, a two-channel normal map, a shape image without the alpha a glass painting
-needs …): read them, they name the setting that changes the guess.
+colour channel, a two-channel normal map, glass over a black background, a setting that does
+nothing as the recipe stands, a file cut short …): read them, they name the setting that
+changes the guess.
 
 **4. Share it.** One self-contained page, images inside; drag the light, the wheel lifts it
 ([web.md](web.md)):
 
 ```sh
-python -m dynpaint_addon export-web painting.toml --out pear.html
+dynpaint export-web pear --out pear.html
 ```
 ```
 {said_page}
 ```
 
 A picture of the page for a README or a post — the page draws its first frame before its load
-event, so a headless screenshot shows the painting (picture 4 was taken so):
+event, so a headless screenshot shows the painting (picture 4 was taken so; as root, Chromium
+also needs `--no-sandbox`):
 
 ```sh
 chromium --headless --screenshot=pear_page.png --window-size={PX},{PX} "file://$PWD/pear.html?embed"
 ```
 
-A video of the light going round: `python -m dynpaint_addon turntable painting.toml --out
-pear.mp4` (48 frames; [main-job.md](main-job.md) times it on the portrait).
+**5. A video** of the light going round: `dynpaint turntable pear --out pear.mp4` (48 frames;
+[main-job.md](main-job.md) times it on the portrait).
 """
     with open(os.path.join(out, "your-painting.md"), "w", encoding="utf-8") as fh:
         fh.write(page)

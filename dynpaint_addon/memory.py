@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 from .core import crossings
 from .core.input_rules import PER_PIXEL_CHANNELS, relief_of
+from .core.shadow import BAND_PIXELS
 from .errors import UserError
 
 MiB = 2 ** 20
@@ -30,8 +31,10 @@ SHADE_BAND_BYTES = 114
 PREPARE = {"height": (16, 23, 16 * MiB), "along_ray": (20, 41, 8 * MiB),
            "integrated": (16, 118, 0)}
 # A bake beside its crossings' tables: per pixel up to the rays traced at once, per pixel
-# always (the terms and starts at full size), fixed
+# always (the terms and starts at full size), fixed; a light whose largest block of tables
+# would not fit marches instead (core.bake): per pixel of the band marched at once
 BAKE_TRACED, BAKE_PX, BAKE_FIXED = 90, 13, 24 * MiB
+MARCH_BAND_BYTES = 200
 # Leave this share of what the machine has free for Blender, the desktop and the rest
 HEADROOM = 0.9
 
@@ -126,9 +129,11 @@ def bake_bytes(w, h, light, offset, kept_px):
     bake at a fraction of the pixels): the crossings' largest group of tables, the rays
     traced at once, the terms."""
     px = w * h
+    fixed = (BAKE_PX + kept_px) * px + BAKE_FIXED
+    if crossings.table_bytes(light, h, w, offset)[1] > crossings.MAX_TABLE_BYTES:
+        return MARCH_BAND_BYTES * min(px, BAND_PIXELS) + fixed       # the march (§6)
     traced = min(px, crossings.TRACE_PIXELS)
-    return crossings.table_peak(light, h, w, offset) + BAKE_TRACED * traced + \
-        (BAKE_PX + kept_px) * px + BAKE_FIXED
+    return crossings.table_peak(light, h, w, offset) + BAKE_TRACED * traced + fixed
 
 
 def render_bytes(pt, p, lights):

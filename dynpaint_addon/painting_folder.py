@@ -4,7 +4,8 @@ images, or the layers of a scene — one rule for the command line and the add-o
 - a folder with a `painting.toml` (or one `.toml` file) is that recipe;
 - a folder of one painting's channels, matched by their names as *From Images* matches the
   files an artist picks (`channel_names.guess_channels`: `…normal…`, `…dark…`, `…lit…`, …),
-  is one painting: it names a shape image, or two channels or more, or every image names one;
+  is one painting: it names a shape image, or two channels or more, or a dark or bright image
+  beside at most one file named for none (the painting itself: its bright image);
 - any other folder of images (Photoshop's `_0000_` numbering, subfolders of one layer's
   channels, names without channel words: `01_sky.png`, `02_figure.png`) is a scene of
   layers (§15, layered_files).
@@ -17,6 +18,8 @@ images, or the layers of a scene — one rule for the command line and the add-o
     'layers'
     >>> kind_of_names(["background.png", "tree.png", "figure.png"])
     'layers'
+    >>> kind_of_names(["pear.png", "pear_dark.png"])       # the painting and its shaded copy
+    'painting'
 """
 import os
 from dataclasses import dataclass, field
@@ -55,7 +58,7 @@ def kind_of_names(names, groups=()):
         return "layers"
     channels, rest = guess_channels(names)
     basics = [c for c in channels if c in PAINTING_BASICS]
-    if "shape" in channels or (basics and (len(channels) >= 2 or not rest)):
+    if "shape" in channels or (basics and (len(channels) >= 2 or len(rest) <= 1)):
         return "painting"
     return "layers"
 
@@ -93,13 +96,17 @@ def read_painting_folder(path):
     image's kind by its colour, shadows on (a painting with a shape image casts them)."""
     names = images_in(path)
     channels, rest = guess_channels(names)
+    reasons = {f"images.{c}": f"its name says '{_channel_word(c, f)}'"
+               for c, f in channels.items()}
+    # the painting itself, named for no channel, beside its shaded copy or its shape alone
+    if "bright" not in channels and len(rest) == 1 and not {"shape", "dark"} <= set(channels):
+        channels["bright"] = rest.pop()
+        reasons["images.bright"] = "the one image named for no channel: the painting"
     notes = [f"{os.path.basename(os.path.normpath(path))}/: read as one painting: " +
              ", ".join(f"{c} = {f}" for c, f in channels.items())]
     if rest:
         notes.append(f"not used: {', '.join(rest)} (no channel word in the name: shape, "
                      f"normal, height, dark, bright, lit, …)")
-    reasons = {f"images.{c}": f"its name says '{_channel_word(c, f)}'"
-               for c, f in channels.items()}
     data = {"name": common_name(list(channels.values())) or os.path.basename(
         os.path.normpath(path)), "images": dict(channels),
         "shadows": {"enabled": True}}

@@ -8,11 +8,15 @@ writer): what `dynpaint new`, `render FOLDER` and the walkthrough are tried on.
 - `research_portrait`: a normal map made for the original research system (every pixel faces
   away under a standard decoder, vectors not unit length) with its dark and bright images;
 - `cutout`: one painting with its figure in the alpha and no shape image;
-- `cut_short`: a painting whose bright image is a JPEG cut short in copying.
+- `cut_short`: a painting whose bright image is a JPEG cut short in copying;
+- `write_bomb`: a small PNG file that declares a huge image (a decompression bomb, or a poster
+  scan's size).
 
 Each writer returns the folder's path.
 """
 import os
+import struct
+import zlib
 
 import numpy as np
 
@@ -98,3 +102,19 @@ def cut_short(folder, size=256, keep=0.3):
     with open(os.path.join(folder, "pear_bright.jpg"), "wb") as fh:
         fh.write(data[:int(len(data) * keep)])
     return folder
+
+
+def write_bomb(path, size=30000):
+    """A PNG of size × size black RGB pixels, about 2.6 MB for 30000² (zlib packs the rows of
+    zeros a thousand times over): what a reader must refuse before decoding."""
+    pack = zlib.compressobj(9)
+    row = bytes(1 + 3 * size)                      # filter byte 0, then the row's zeros
+    data = b"".join(pack.compress(row) for _ in range(size)) + pack.flush()
+
+    def chunk(tag, body):
+        return struct.pack(">I", len(body)) + tag + body + struct.pack(">I", zlib.crc32(tag + body))
+    with open(path, "wb") as fh:
+        fh.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", size, size, 8, 2,
+                                                                  0, 0, 0))
+                 + chunk(b"IDAT", data) + chunk(b"IEND", b""))
+    return path

@@ -101,8 +101,10 @@ def _painting_recipe(folder, base):
         path = os.path.join(base, f"{data['name'] or 'painting'}_height.exr".replace(" ", "_"))
         write_exr(path, rgba[..., :1])
         images["shape"], made = path, [path]
-        data["shape"] = dict(SHAPE_READS[kind])
+        data["shape"] = {k: v for k, v in SHAPE_READS[kind].items()     # defaults unwritten
+                         if k == "kind" or v != params.BY_PATH[f"shape.{k}"].default}
         reasons["images.shape"] = f"made by new: {lines[0]} (dynpaint make-shape changes it)"
+        reasons["shape.kind"] = f"new made a {kind} map"
         reasons["shape.height_scale"] = "its heights are in image widths already"
     lines = _header(folder)
     lines += [f"name = {toml_value(data['name'])}"]

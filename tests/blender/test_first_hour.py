@@ -203,6 +203,60 @@ def test_a_corrupt_image_gets_our_line_only(tmp_path):
         "height.png: not an image Blender can read (unknown or corrupt format)")
 
 
+# -- memory asked for before it is spent ------------------------------------------------------
+@pytest.fixture(scope="module")
+def bomb(tmp_path_factory):
+    return af.write_bomb(str(tmp_path_factory.mktemp("bomb") / "poster.png"))
+
+
+def _peak_mb(*args, cwd):
+    """(CompletedProcess, peak RSS in MiB) of `dynpaint ARGS` in a fresh process."""
+    probe = ("import resource, subprocess, sys; r = subprocess.run(sys.argv[1:], "
+             "capture_output=True, text=True); sys.stdout.write(r.stderr); "
+             "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss // 1024)")
+    res = subprocess.run([sys.executable, "-c", probe, DYNPAINT, *map(str, args)], cwd=cwd,
+                         capture_output=True, text=True, timeout=300)
+    *lines, mb = res.stdout.splitlines()
+    return "\n".join(lines), int(mb)
+
+
+def test_a_huge_image_is_refused_before_it_is_decoded(bomb, tmp_path):
+    """A 2.6 MB PNG that declares 30000 × 30000 (27 GiB to decode): one line with both numbers,
+    at once, without the memory (it ran 15 s and ended in MemoryError, or a TypeError)."""
+    recipe = tmp_path / "poster.toml"
+    recipe.write_text(f'[images]\nshape = "{bomb}"\ndark = "{bomb}"\n')
+    for args in (("render", recipe, "--out", "x.png"),
+                 ("bake-shadow", bomb, "--kind", "normal", "--light", 0, 0, 1, "--out", "t.exr")):
+        said, mb = _peak_mb(*args, cwd=tmp_path)
+        assert said.startswith("error: ") and "30000×30000 would need about" in said, said
+        assert "GiB of memory; this machine has" in said and "GiB free" in said
+        assert mb < 1024, mb                                    # nothing large was allocated
+    from dynpaint_addon.imageio import read_image
+    from dynpaint_addon.memory import NotEnoughMemory
+    with pytest.raises(NotEnoughMemory, match="reading poster.png"):
+        read_image(bomb)
+
+
+def test_a_render_too_large_for_the_machine_says_what_fits(tmp_path):
+    said, mb = _peak_mb("render", "portrait", "--width", 100000, "--out", "x.png", cwd=tmp_path)
+    assert said.startswith("error: rendering 100000×100000 would need about"), said
+    assert "render it smaller (--width " in said and mb < 1024
+    width = int(said.split("--width ")[1].split(",")[0])
+    from dynpaint_addon import memory
+    assert width >= 512 and memory.available_bytes() * memory.HEADROOM > 260 * 2**20
+
+
+def test_the_estimates_meet_measured_peaks_at_1024(tmp_path):
+    """benchmarks/memory.py's check at one size (its report covers 1024², 4096² and 8192²)."""
+    sys.path.insert(0, os.path.join(REPO, "benchmarks"))
+    import memory as bench
+    path = bench.painting_at("portrait", 1024, str(tmp_path))
+    guess, cmds = bench.estimates(path), bench.commands(path, str(tmp_path))
+    for command in ("render", "bake-shadow"):
+        measured = bench.peak_rss(cmds[command])
+        assert abs(guess[command] / measured - 1) <= bench.GOAL, (command, guess, measured)
+
+
 # -- the smaller items ------------------------------------------------------------------------
 def test_every_command_describes_itself_and_options_take_what_their_help_offers(tmp_path):
     from dynpaint_addon.cli import build_parser
@@ -248,3 +302,16 @@ def test_the_readme_names_every_sample_command_and_measured_ratio():
     main_job = open(os.path.join(REPO, "docs", "main-job.md"), encoding="utf-8").read()
     ratio = main_job.split("EEVEE takes ")[1].split("×")[0]
     assert f"takes about {ratio}× Cycles' time" in readme
+
+
+def test_add_refuses_a_painting_that_would_not_fit_and_loads_nothing(empty_scene, bomb):
+    """Blender out of memory takes the artist's unsaved work with it: Add says so first."""
+    import bpy
+    from dynpaint_addon.blender import status
+    folder, name = os.path.split(bomb)
+    before = set(bpy.data.images)
+    with pytest.raises(RuntimeError, match=r"30000×30000\)? would need about .* GiB free"):
+        bpy.ops.dynpaint.add("EXEC_DEFAULT", directory=folder, files=[{"name": name}],
+                             confirm=False)
+    assert set(bpy.data.images) == before and not bpy.data.objects
+    status.LAST_ERRORS.clear()
