@@ -27,7 +27,6 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
-import bpy  # noqa: E402
 from report import command_line, publish  # noqa: E402
 
 from testkit import example_paintings as ex  # noqa: E402

@@ -20,7 +20,6 @@ blend modes other than normal read as normal, layer opacity as 1 — each said i
     ['01_sky.png', '02_hills.png']
 """
 import os
-import re
 import tempfile
 import xml.etree.ElementTree as ElementTree
 import zipfile
@@ -36,14 +35,13 @@ from .core.layers import MAX_LAYERS, Layer, scene_notes
 from .core.lights import default_sun
 from .errors import UserError
 from .imageio import read_image
-from .painting_folder import folder_kind
+from .painting_folder import PHOTOSHOP, folder_kind
 from .recipe import DEFAULT_SUN_NOTE, hidden_notes, load_layers, load_recipe
 from .shape_maker import ShapeError, looks_like_height, read_as_made
 from .shape_methods import make_shape
 
 DEFAULT_SPACING = 0.05     # image widths between one layer and the next in front
 DEFAULT_SHADE = 0.35       # a plain layer's dark image: this share of its linear colour
-PHOTOSHOP = re.compile(r"^_(\d{4})_")
 
 
 class LayeredFileError(UserError):

@@ -37,6 +37,9 @@ BAKE_TRACED, BAKE_PX, BAKE_FIXED = 90, 13, 24 * MiB
 MARCH_BAND_BYTES = 200
 # Leave this share of what the machine has free for Blender, the desktop and the rest
 HEADROOM = 0.9
+# glibc keeps a freed block below its mmap threshold (at most 32 MiB on 64-bit) for reuse
+# instead of giving it back: a phase's temporaries that small stay in the resident set
+STICKY_BYTES = 32 * MiB
 
 
 class NotEnoughMemory(UserError):
@@ -96,16 +99,23 @@ def read_bytes(width, height, channels, bytes_per_channel, exr=False):
 @dataclass
 class Painting:
     """What a painting's estimate reads: its shape's size at the work's resolution, the bytes
-    its images keep, the most reading one takes above that, how its shape is prepared."""
+    its images keep, the most reading one takes above that and what reading them leaves in
+    the resident set (STICKY_BYTES), how its shape is prepared."""
     width: int
     height: int
     kept: int
     reading: int
+    read_left: int
     shape: str             # 'height', 'along_ray' or 'integrated'
 
     @property
     def px(self):
         return self.width * self.height
+
+    def left(self, held_px):
+        """What a phase that held `held_px` bytes a pixel leaves resident after it: all of
+        it when its one-channel arrays are below glibc's threshold."""
+        return held_px * self.px if 4 * self.px < STICKY_BYTES else 0
 
 
 def painting(headers, p, width=None):
@@ -113,15 +123,16 @@ def painting(headers, p, width=None):
     parameters p, rendered at `width` (None: the shape image's)."""
     sw, sh = headers["shape"][:2]
     w, h = (sw, sh) if not width else (width, max(1, round(sh * width / sw)))
-    kept, reading = 0, 0
+    kept, reading, left = 0, 0, 0
     for channel, (iw, ih, c, b, exr) in headers.items():
         peak, keep = read_bytes(iw, ih, c, b, exr)
         reading = max(reading, peak - keep)
+        left += peak - keep if 16 * iw * ih < STICKY_BYTES else 0
         at_size = channel == "shape" or channel in PER_PIXEL_CHANNELS
         kept += keep if not at_size or (iw, ih) == (w, h) else 4 * c * w * h + keep
     shape = "height" if p.shape.kind == "height" else \
         relief_of(p.shadows.relief, headers["shape"][2] in (2, 4))
-    return Painting(w, h, kept, reading, shape)
+    return Painting(w, h, kept, reading, left, shape)
 
 
 def bake_bytes(w, h, light, offset, kept_px):
@@ -141,20 +152,22 @@ def render_bytes(pt, p, lights):
     kept_px, prep_px, prep_fixed = PREPARE[pt.shape]
     px = pt.px
     shadows = 4 * px * len(lights) if p.shadows.enabled else 0
-    phases = [pt.reading, prep_px * px + prep_fixed,
-              kept_px * px + shadows + 16 * px + SHADE_BAND_BYTES * min(px, SHADE_BAND_PX)]
+    prepared = pt.read_left + pt.left(prep_px)          # what the phases after it start on
+    later = [kept_px * px + shadows + 16 * px + SHADE_BAND_BYTES * min(px, SHADE_BAND_PX)]
     if p.shadows.enabled:
-        phases += [bake_bytes(pt.width, pt.height, light, p.shadows.offset, kept_px) + shadows
-                   for light in lights]
-    return BASE_BYTES + pt.kept + max(phases)
+        later += [bake_bytes(pt.width, pt.height, light, p.shadows.offset, kept_px) + shadows
+                  for light in lights]
+    return BASE_BYTES + pt.kept + max(pt.reading, pt.read_left + prep_px * px + prep_fixed,
+                                      prepared + max(later))
 
 
 def bake_shadow_bytes(pt, p, light):
     """The peak of `bake-shadow`: the shape read and prepared, one light baked, written."""
     kept_px, prep_px, prep_fixed = PREPARE[pt.shape]
-    return BASE_BYTES + pt.kept + max(pt.reading, prep_px * pt.px + prep_fixed,
-                                      bake_bytes(pt.width, pt.height, light, p.shadows.offset,
-                                                 kept_px) + 4 * pt.px)
+    return BASE_BYTES + pt.kept + max(
+        pt.reading, pt.read_left + prep_px * pt.px + prep_fixed,
+        pt.read_left + pt.left(prep_px) + bake_bytes(pt.width, pt.height, light,
+                                                     p.shadows.offset, kept_px) + 4 * pt.px)
 
 
 def blender_image_bytes(header):

@@ -22,6 +22,7 @@ images, or the layers of a scene — one rule for the command line and the add-o
     'painting'
 """
 import os
+import re
 from dataclasses import dataclass, field
 
 from .channel_names import CHANNEL_WORDS, IMAGE_EXTENSIONS, common_name, guess_channels, words
@@ -30,6 +31,7 @@ from .imageio import read_image
 from .shape_maker import looks_like_height
 
 RECIPE_NAME = "painting.toml"
+PHOTOSHOP = re.compile(r"^_(\d{4})_")     # Export Layers to Files: _0000_ the top layer
 PAINTING_BASICS = ("shape", "dark", "bright")
 
 
@@ -54,7 +56,7 @@ def recipe_in(path):
 def kind_of_names(names, groups=()):
     """'painting' or 'layers' for a folder's image names (and its subfolders of images)."""
     # Photoshop's Export Layers numbers every file: that is a stack, whatever the names say
-    if groups or (names and all(n.startswith("_") and n[1:5].isdigit() for n in names)):
+    if groups or (names and all(PHOTOSHOP.match(n) for n in names)):
         return "layers"
     channels, rest = guess_channels(names)
     basics = [c for c in channels if c in PAINTING_BASICS]
