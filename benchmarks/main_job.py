@@ -68,7 +68,7 @@ def turntable_scene(recipe, frames):
     size = tuple(mat.dynamic_painting.image_shape.size)
     headless.fit_camera(scene, plane, *size)
     headless.video_render_settings(scene, "cycles", None, exact=True)
-    light, elev, azimuth, radius = headless.turntable_light(recipe, mat, scene)
+    light, elev, azimuth, radius = headless.turntable_light(recipe.lights, mat, scene)
     turntable.add_light_turntable(bpy.context, mat, light, "SUN", 1, frames, elev, radius,
                                   azimuth)
     return plane, mat, scene, light

@@ -176,8 +176,9 @@ def blender_image_bytes(header):
     return w * h * (4 if bytes_per_channel == 1 and not exr else 16)
 
 
-def add_bytes(headers, p, lights):
+def add_bytes(headers, p, lights, width=None):
     """The peak of Add › Dynamic Painting: Blender's copy of every image beside the numpy
-    work of the first bake and the derived images (a render's phases)."""
-    pt = painting(headers, p)
+    work of the first bake and the derived images (a render's phases), the painting worked
+    at `width` (Add's Max Size; None: its shape image's)."""
+    pt = painting(headers, p, width)
     return render_bytes(pt, p, lights) + sum(blender_image_bytes(h) for h in headers.values())

@@ -9,6 +9,7 @@ import time
 
 import bpy
 
+from ..core.lights import default_sun
 from ..imageio import quiet_native
 from . import register_once
 from .scene import (NO_CAMERA, create_painting, exact_camera, exact_render_settings,
@@ -96,21 +97,21 @@ def video_render_settings(scene, engine, samples=None, exact=False):
     return samples
 
 
-def turntable_light(recipe, mat, scene, name=None):
-    """The light a turntable orbits: the named one, else the recipe's first Sun, else its first
-    light → (object or None, elevation, azimuth, radius) from where the recipe puts it."""
-    lights = linked_lights(mat, scene)
-    by_name = {o.name: o for o in lights}
+def turntable_light(lights, mat, scene, name=None):
+    """The light a turntable orbits: the named one, else the first Sun of `lights` (the
+    recipe's), else its first light → (object or None, elevation, azimuth, radius) from
+    where the recipe puts it."""
+    by_name = {o.name: o for o in linked_lights(mat, scene)}
     chosen = None
     if name is not None:
         if name not in by_name:
             raise ValueError(f"--light {name}: no such light (the recipe's lights: "
                              f"{', '.join(by_name) or 'none'})")
-        chosen = next((lt for lt in recipe.lights if lt.name == name), None)
+        chosen = next((lt for lt in lights if lt.name == name), None)
         obj = by_name[name]
     else:
-        chosen = next((lt for lt in recipe.lights if lt.kind == "sun"), None) or \
-            (recipe.lights[0] if recipe.lights else None)
+        chosen = next((lt for lt in lights if lt.kind == "sun"), None) or \
+            (lights[0] if lights else None)
         obj = by_name.get(chosen.name or ("Sun" if chosen.kind == "sun" else "Point")) \
             if chosen is not None else None
     if chosen is None:
@@ -140,7 +141,9 @@ def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevati
     w, h = size or image_size
     fit_camera(scene, plane, w, h)
     samples = video_render_settings(scene, engine, samples, exact=(w, h) == image_size)
-    light, elev, azimuth, radius = turntable_light(recipe, mat, scene, light_name)
+    # a layered file (.ora, a folder of layers) names no light: the default sun lights it
+    lights = [default_sun()] if isinstance(recipe, str) else recipe.lights
+    light, elev, azimuth, radius = turntable_light(lights, mat, scene, light_name)
     if elevation is not None:
         elev = math.radians(elevation)
     kind = "SUN" if light is None or light.data.type == "SUN" else "POINT"

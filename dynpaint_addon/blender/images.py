@@ -45,6 +45,23 @@ def prepare_channel_image(img, channel):
     img.use_half_precision = False   # 16-bit GPU textures cost EEVEE ~1e-2 on steep slopes
 
 
+def downsampled(img, max_size):
+    """A still image's copy scaled so its longest side is `max_size` pixels (Add's Max Size),
+    packed with the .blend (the file on disk is unchanged) → (image, report line); the image
+    itself, and '', when it is no larger or max_size is 0."""
+    w, h = img.size
+    if not max_size or max(w, h) <= max_size or img.source in ("SEQUENCE", "MOVIE", "TILED"):
+        return img, ""
+    k = max_size / max(w, h)
+    nw, nh = max(1, round(w * k)), max(1, round(h * k))
+    small = img.copy()
+    small.name = f"{img.name} ({nw}×{nh})"
+    small.scale(nw, nh)
+    small.pack()            # float images pack as OpenEXR, byte ones as PNG: nothing lost
+    return small, (f"{os.path.basename(img.filepath) or img.name}: {w}×{h} downsampled to "
+                   f"{nw}×{nh} (Max Size; packed with the .blend, the file is unchanged)")
+
+
 def load_image(path, channel):
     """Load (or reuse) an image file for a channel, colour-managed as §0 says. A frame-numbered
     name (`walk_####.png`, §16) loads its first file as a Blender image sequence."""

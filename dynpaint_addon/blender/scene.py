@@ -19,7 +19,7 @@ from ..core.lights import default_sun as new_default_sun   # create_painting has
 from ..core.input_rules import input_notes
 from ..imageio import file_channels, file_header, image_data_from_blender
 from .frames import frames_of, painting_size
-from .images import load_image, prepare_channel_image
+from .images import downsampled, load_image, prepare_channel_image
 from .lights import add_light, linked_lights
 from .settings import frames_to_settings, params_to_settings
 from .sync import batch, update
@@ -91,9 +91,10 @@ def face_camera(obj, camera):
     con.target = camera
 
 
-def check_add_memory(images, p, lights):
+def check_add_memory(images, p, lights, max_size=0):
     """Refuse an Add that would not fit in memory (memory.py) before any image is loaded:
-    Blender going out of memory takes the artist's unsaved work with it."""
+    Blender going out of memory takes the artist's unsaved work with it. max_size: Add's
+    Max Size (the painting is worked at that size; each image is still read whole)."""
     headers = {}
     for channel, src in images.items():
         if isinstance(src, bpy.types.Image):
@@ -104,9 +105,10 @@ def check_add_memory(images, p, lights):
         return
     headers = {c: h for c, h in headers.items() if h is not None}
     w, h = headers["shape"][:2]
-    memory.check(memory.add_bytes(headers, p, lights), f"adding a {w}×{h} painting",
-                 "scale its images down (the shape image sets the painting's size), or turn "
-                 "Shadows off before adding")
+    width = round(w * max_size / max(w, h)) if max_size and max(w, h) > max_size else None
+    memory.check(memory.add_bytes(headers, p, lights, width), f"adding a {w}×{h} painting",
+                 "set a Max Size in Add's options (the painting is worked at that size), "
+                 "scale its images down, or turn Shadows off before adding")
 
 
 NO_CAMERA = "no camera in the scene"
@@ -122,34 +124,38 @@ def face_scene_camera(obj, scene, otherwise):
 
 def create_painting(context, images, p=None, lights=None, name="Dynamic Painting", size=1.0,
                     location=(0.0, 0.0, 0.0), rotation=None, default_sun=True, progress=None,
-                    frames=None):
+                    frames=None, max_size=0):
     """Create the plane, its material and (optionally) lights → (plane, material, messages).
 
     images: {channel: file path or bpy Image}; p: a params namespace (defaults if None);
     lights: core Lights in the painting frame to create; with none given, a Sun is added if
     the scene has no light (unless default_sun is False). size: the plane's width in scene
-    units. frames: a recipe's frames table (§16: sequences and sprite sheets).
+    units. frames: a recipe's frames table (§16: sequences and sprite sheets). max_size: the
+    longest side, in pixels, a still image keeps (larger ones are downsampled copies, packed;
+    0 keeps every image as it is).
     The scene is left as it was if anything fails.
     """
     with unchanged_images_on_failure():
         return _create_painting(context, images, p, lights, name, size, location, rotation,
-                                default_sun, progress, frames or {})
+                                default_sun, progress, frames or {}, max_size)
 
 
 LARGE_PX = 4096 * 4096     # from here on, say what a painting costs
 
 
 def _create_painting(context, images, p, lights, name, size, location, rotation, default_sun,
-                     progress, frames):
+                     progress, frames, max_size):
     scene = context.scene
     p = p or params.defaults()
     messages = []
-    check_add_memory(images, p, lights or [new_default_sun()])
+    check_add_memory(images, p, lights or [new_default_sun()], max_size)
     loaded = {}
     for channel, src in images.items():
         loaded[channel] = load_image(src, channel) if isinstance(src, (str, os.PathLike)) else src
         if isinstance(src, bpy.types.Image):
             prepare_channel_image(src, channel)
+        loaded[channel], note = downsampled(loaded[channel], max_size)
+        messages += [note] if note else []
     if "shape" not in loaded:
         raise ValueError("a painting needs a shape image (normal or height map)")
     if "dark" not in loaded and "bright" not in loaded:

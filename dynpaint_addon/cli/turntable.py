@@ -3,6 +3,7 @@ painting once, rendered by Cycles or EEVEE in background Blender, each frame's s
 import os
 
 from ..errors import CommandError
+from ..layered_files import is_layered_file
 from ..recipe import load_recipe
 from ..samples import recipe_help
 from .notes import print_notes
@@ -22,8 +23,11 @@ def cmd_turntable(args):
         raise CommandError(f"--samples must be at least 1, got {args.samples}")
     if args.elevation is not None and not -90 <= args.elevation <= 90:
         raise CommandError(f"--elevation must be in [-90, 90] degrees, got {args.elevation}")
-    recipe = load_recipe(args.recipe)
-    print_notes(recipe.notes)
+    if is_layered_file(args.recipe):       # an .ora or a folder of layers: built from its path
+        recipe = os.path.abspath(args.recipe)
+    else:
+        recipe = load_recipe(args.recipe)
+        print_notes(recipe.notes)
     from ..blender.headless import render_turntable  # Blender only when asked for
     try:
         seconds, samples = render_turntable(

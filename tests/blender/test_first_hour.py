@@ -315,3 +315,25 @@ def test_add_refuses_a_painting_that_would_not_fit_and_loads_nothing(empty_scene
                              confirm=False)
     assert set(bpy.data.images) == before and not bpy.data.objects
     status.LAST_ERRORS.clear()
+
+
+def test_max_size_downsamples_what_add_reads(empty_scene, tmp_path):
+    """Add's Max Size: the painting worked at 128 px, the images packed copies (the files
+    unchanged), said; saved and reopened it stays so."""
+    import bpy
+    from dynpaint_addon.blender.frames import painting_size
+    recipe = os.path.join(REPO, "sample_scenes", "portrait", "painting.toml")
+    res = bpy.ops.dynpaint.add("EXEC_DEFAULT", filepath=recipe,
+                               directory=os.path.dirname(recipe),
+                               files=[{"name": "painting.toml"}], max_size=128)
+    assert res == {"FINISHED"}
+    mat = bpy.context.object.active_material
+    name = mat.name
+    assert tuple(painting_size(mat)) == (128, 128)
+    s = mat.dynamic_painting
+    assert s.image_shape.packed_file is not None and tuple(s.image_bright.size) == (128, 128)
+    assert read_image(os.path.join(os.path.dirname(recipe), "bright.png")).size == (512, 512)
+    path = str(tmp_path / "small.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    assert tuple(painting_size(bpy.data.materials[name])) == (128, 128)

@@ -3,7 +3,7 @@ import os
 
 import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty,
-                       StringProperty)
+                       IntProperty, StringProperty)
 from bpy.utils import previews
 from bpy_extras.io_utils import ImportHelper
 
@@ -46,13 +46,18 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
     confirm: BoolProperty(name="Confirm Channels", default=True, options={"SKIP_SAVE"},
                           description="Show which channel each picked image becomes, to check "
                                       "or change it, before the painting is made")
+    max_size: IntProperty(name="Max Size", default=0, min=0, subtype="PIXEL",
+                          description="Downsample images whose longest side is larger than "
+                          "this as they are added (copies packed with the .blend; the files "
+                          "are unchanged): less memory and faster bakes for huge scans. 0 "
+                          "keeps every image as it is")
 
     def confirmation(self, images):
         """The confirm dialog's properties for the picked images."""
         channels, _ = proposed_channels(images)
         by_file = {path: channel for channel, path in channels.items()}
         return {"directory": os.path.dirname(images[0]), "shape_kind": self.shape_kind,
-                "size": self.size,
+                "size": self.size, "max_size": self.max_size,
                 "choices": [{"name": os.path.basename(p), "channel": by_file.get(p, NOT_USED)}
                             for p in images]}
 
@@ -92,14 +97,15 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
             plane, _, messages = create_painting(
                 context, recipe.images, recipe.params, recipe.lights if named else None,
                 name=recipe.name or "Dynamic Painting", size=self.size, location=location,
-                rotation=rotation, progress=progress, frames=recipe.frames)
+                rotation=rotation, progress=progress, frames=recipe.frames,
+                max_size=self.max_size)
             return plane, [n for n in recipe.notes if n != DEFAULT_SUN_NOTE] + messages
         bad = [p for p in paths if os.path.splitext(p)[1].lower() not in IMAGE_EXTENSIONS]
         if bad:
             raise ValueError(f"{os.path.basename(bad[0])}: not an image or a .toml recipe")
         channels, rest = proposed_channels(paths)
         return painting_from_images(context, channels, rest, self.shape_kind, self.size,
-                                    location, rotation, progress)
+                                    location, rotation, progress, self.max_size)
 
     @staticmethod
     def _view_rotation(context):
@@ -136,7 +142,7 @@ def inflated_shape(channels, name, p):
 
 
 def painting_from_images(context, channels, rest, shape_kind, size, location, rotation,
-                         progress=None):
+                         progress=None, max_size=0):
     """A painting from image files assigned to channels → (plane, messages). Without a shape
     image, the painting's silhouette is inflated into one."""
     if "dark" not in channels and "bright" not in channels:
@@ -157,7 +163,8 @@ def painting_from_images(context, channels, rest, shape_kind, size, location, ro
         notes.append(note)
     plane, _, messages = create_painting(context, {**channels, "shape": shape}, p, None,
                                          name=name, size=size, location=location,
-                                         rotation=rotation, progress=progress)
+                                         rotation=rotation, progress=progress,
+                                         max_size=max_size)
     if rest:
         messages.append(f"not used: {', '.join(os.path.basename(r) for r in rest)}")
     return plane, messages + notes
@@ -185,6 +192,11 @@ class DYNPAINT_OT_add_images(bpy.types.Operator):
     shape_kind: EnumProperty(name="Shape Image", default="AUTO", items=SHAPE_KINDS)
     size: FloatProperty(name="Width", default=2.0, min=0.001, unit="LENGTH",
                         description="Width of the painting's plane in the scene")
+    max_size: IntProperty(name="Max Size", default=0, min=0, subtype="PIXEL",
+                          description="Downsample images whose longest side is larger than "
+                          "this as they are added (copies packed with the .blend; the files "
+                          "are unchanged): less memory and faster bakes for huge scans. 0 "
+                          "keeps every image as it is")
 
     def invoke(self, context, event):
         return context.window_manager.invoke_props_dialog(self, width=420,
@@ -202,6 +214,7 @@ class DYNPAINT_OT_add_images(bpy.types.Operator):
                               "inflated into one", icon="INFO")
         layout.prop(self, "shape_kind")
         layout.prop(self, "size")
+        layout.prop(self, "max_size")
 
     def execute(self, context):
         chosen = [(i.channel, os.path.join(self.directory, i.name)) for i in self.choices]
@@ -218,7 +231,7 @@ class DYNPAINT_OT_add_images(bpy.types.Operator):
                 plane, messages = painting_from_images(
                     context, channels, rest, self.shape_kind, self.size,
                     tuple(context.scene.cursor.location),
-                    DYNPAINT_OT_add._view_rotation(context), progress)
+                    DYNPAINT_OT_add._view_rotation(context), progress, self.max_size)
             select_only(context, plane)
             return [("WARNING", m) for m in messages] + \
                 [("INFO", f"Added Dynamic Painting '{plane.name}'")]
