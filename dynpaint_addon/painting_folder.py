@@ -117,11 +117,10 @@ def read_painting_folder(path):
     if "shape" in channels:
         shape = read_image(os.path.join(path, channels["shape"]))
         kind = "height" if looks_like_height(shape) else "normal"
+        colour = "grey" if kind == "height" else "coloured"
         data["shape"] = {"kind": kind}
-        reasons["shape.kind"] = (f"{channels['shape']} is "
-                                 f"{'grey: a height map' if kind == 'height' else 'coloured: a normal map'}")
-        notes.append(f"{channels['shape']}: read as a {kind} map "
-                     f"({'grey' if kind == 'height' else 'coloured'})")
+        reasons["shape.kind"] = f"{channels['shape']} is {colour}: a {kind} map"
+        notes.append(f"{channels['shape']}: read as a {kind} map ({colour})")
     return FolderReading(data, notes, reasons)
 
 

@@ -305,8 +305,9 @@ def no_effect_notes(p, written, images, where=""):
                          f"{switch.path} = true too")
         elif param.section in SECTION_IMAGES and SECTION_IMAGES[param.section] not in images:
             image = SECTION_IMAGES[param.section]
-            notes.append(f"{where}{param.path} has no effect without {'an' if image[0] in 'aeiou' else 'a'} "
-                         f"{image} image ([images] {image} = \"…\")")
+            article = "an" if image[0] in "aeiou" else "a"
+            notes.append(f"{where}{param.path} has no effect without {article} {image} image "
+                         f"([images] {image} = \"…\")")
     return notes
 
 
