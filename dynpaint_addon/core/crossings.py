@@ -181,15 +181,8 @@ class _BlockGrid:
 
     def groups(self):
         """The blocks in runs whose tables fit MAX_TABLE_BYTES together (one run up to about
-        3000² px), each built, searched and freed in turn; a block too big alone is a run of
-        its own (the bake's plan marches rather than build it, table_bytes)."""
-        groups, total = [[]], 0
-        for b, size in enumerate(self.block_bytes()):
-            if groups[-1] and total + size > MAX_TABLE_BYTES:
-                groups, total = groups + [[]], 0
-            groups[-1].append(b)
-            total += size
-        return groups
+        3000² px), each built, searched and freed in turn (_groups)."""
+        return _groups(self.block_bytes())
 
     def trace(self, pool, normals, offset, heights_px, slopes, cancel=None, progress=None):
         """t: per group of blocks (groups), their profiles and tables side by side, then the
@@ -424,17 +417,23 @@ def _grid(light, h, w, offset, step):
     return grid.block_bytes()
 
 
+def _groups(sizes):
+    """Block indices in runs whose table bytes `sizes` fit MAX_TABLE_BYTES together; a block
+    too big alone is a run of its own (the bake's plan marches rather than build it)."""
+    groups, total = [[]], 0
+    for b, size in enumerate(sizes):
+        if groups[-1] and total + size > MAX_TABLE_BYTES:
+            groups, total = groups + [[]], 0
+        groups[-1].append(b)
+        total += size
+    return groups
+
+
 def table_peak(light, h, w, offset, step=POINT_STEP):
     """The most memory the tables of a crossing bake of this light hold at once at (h, w):
-    its largest group of blocks (_BlockGrid.groups); 0 where it has no grid."""
-    sizes = _grid(light, h, w, offset, step)
-    if sizes is None:
-        return 0
-    peak = total = 0
-    for size in sizes:              # the grouping of _BlockGrid.groups, on the sizes alone
-        total = size if total and total + size > MAX_TABLE_BYTES else total + size
-        peak = max(peak, total)
-    return peak
+    its largest group of blocks; 0 where it has no grid (memory.py's estimate)."""
+    sizes = _grid(light, h, w, offset, step) or []
+    return max((sum(sizes[b] for b in g) for g in _groups(sizes)), default=0)
 
 
 class _PointGrid(_BlockGrid):
