@@ -5,8 +5,8 @@ import pytest
 
 from dynpaint_addon import params
 from dynpaint_addon.core.input_rules import ImageData
-from dynpaint_addon.core.layers import (Layer, Occluder, Scene, placement, render_scene,
-                                        scene_notes, transmittance)
+from dynpaint_addon.core.layers import Layer, Scene, placement, render_scene, scene_notes
+from dynpaint_addon.core.transmittance import Occluder, transmittance
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.pipeline import render
 from dynpaint_addon.core.sampling import pixel_centres

@@ -1,0 +1,479 @@
+"""What the layers in front let through (pipeline.md §15): T along a ray from each pixel's
+surface point toward the light, through the solids of the layers in front.
+
+Layer k, seen from the layers behind it, is the solid
+S_k = {(x, y, z): α_k(x, y) ≥ ½, z_k − τ_k ≤ z ≤ z_k + relief_k(x, y)} of opacity
+ρ_k = 1 − k_k, and T = Π_{k in front} (1 − ρ_k·v_k), v_k saying whether the ray passes
+through S_k. A light with a size (a sun's angular diameter, a point light's radius) replaces
+v_k by the share of its disc whose rays do. Distances here are pixels of the canvas, z toward
+the viewer from the plane of depth 0. Three ways find v_k, fastest first: a sun's table over
+a layer of one opacity (`SunTable`), a line map marched once on the occluder's own pixels
+(`line_map`), the reference march (`_march`); core/layers.py makes the scene they serve.
+
+    >>> import numpy as np
+    >>> from dynpaint_addon.core.lights import Light
+    >>> card = Occluder(alpha=np.ones((8, 8)), relief_px=np.zeros((8, 8)), z_px=4.0,
+    ...                 thickness_px=1.0, opacity=np.ones((8, 8)))
+    >>> origins = np.zeros((8, 8, 3)); origins[..., 0] = 4.5; origins[..., 1] = 4.5
+    >>> float(transmittance(origins, Light("sun", (0, 0, 1)), [card]).max())
+    0.0
+"""
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .sampling import pixel_centres, sample_bilinear_extend
+
+MAPS_KEPT = 4            # line maps an occluder keeps (per light point; a drag makes new ones)
+
+
+@dataclass(frozen=True)
+class Placement:
+    """Where a layer's pixels lie on the canvas (§15): canvas pixel = corner + px × layer
+    pixel (x right, y up), its plane at depth z (canvas pixels toward the viewer)."""
+    corner: tuple = (0.0, 0.0)
+    px: float = 1.0
+    z: float = 0.0
+
+    def to_canvas(self, x, y, z):
+        return (self.corner[0] + self.px * x, self.corner[1] + self.px * y, self.z + self.px * z)
+
+    def to_layer(self, x, y):
+        return (x - self.corner[0]) / self.px, (y - self.corner[1]) / self.px
+
+    @property
+    def identity(self):
+        return self.corner == (0.0, 0.0) and self.px == 1.0
+
+
+@dataclass
+class Occluder:
+    """A layer in front, as the rays of the layers behind it meet it (§15 "Occluders").
+    alpha, relief_px and opacity are images of its own pixels; relief_px, z_px and
+    thickness_px are canvas pixels; place maps canvas x, y to its pixels."""
+    alpha: np.ndarray         # (H, W): its silhouette's alpha; the solid is where α ≥ ½
+    relief_px: np.ndarray     # (H, W): its relief above its plane (0 for a flat card)
+    z_px: float               # its plane's depth
+    thickness_px: float       # τ: how far the solid reaches behind its plane
+    opacity: np.ndarray       # (H, W): ρ = 1 − k (§11's transparency): 1 opaque, 0 clear
+    place: Placement = field(default_factory=Placement)
+    maps: dict = field(default_factory=dict, repr=False)   # line_map's cache
+
+    def __post_init__(self):
+        self.alpha, self.relief_px, self.opacity = (
+            _at_least_2x2(np.asarray(a, np.float32)) for a in (self.alpha, self.relief_px,
+                                                                self.opacity))
+        self.top = self.z_px + float(np.max(self.relief_px, initial=0.0))
+        self.bottom = self.z_px - self.thickness_px
+        # the canvas box of its solid (where α ≥ ½): rays that miss it skip the layer
+        solid = np.asarray(self.alpha) >= 0.5
+        rows, cols = np.nonzero(solid)
+        # one opacity over the whole solid (no transparency map): ρ needs no first hit
+        inside = self.opacity[solid]
+        self.uniform = float(inside[0]) if inside.size and np.all(inside == inside[0]) \
+            else None
+        if rows.size:
+            x0, y0, _ = self.place.to_canvas(cols.min(), rows.min(), 0.0)
+            x1, y1, _ = self.place.to_canvas(cols.max() + 1.0, rows.max() + 1.0, 0.0)
+            self.box = (x0, y0, x1, y1)
+        else:
+            self.box = None
+
+
+def _at_least_2x2(img):
+    """The fast sampler reads 2×2 neighbours: a 1-pixel-wide image is repeated."""
+    return np.pad(img, [(0, max(0, 2 - img.shape[0])), (0, max(0, 2 - img.shape[1]))], "edge")
+
+
+def disc_points(n):
+    """n points spread evenly over the unit disc (a sunflower spiral; the centre for n = 1),
+    each standing for an equal share of its area → (n, 2)."""
+    if n <= 1:
+        return np.zeros((1, 2))
+    j = np.arange(n) + 0.5
+    r, phi = np.sqrt(j / n), j * np.pi * (3.0 - np.sqrt(5.0))
+    return np.stack([r * np.cos(phi), r * np.sin(phi)], axis=1)
+
+
+def _basis(d):
+    """Two unit vectors perpendicular to the unit vector d and to each other."""
+    helper = np.array([0.0, 0.0, 1.0]) if abs(d[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
+    u = np.cross(d, helper)
+    u /= np.linalg.norm(u)
+    return u, np.cross(d, u)
+
+
+def light_points(light, canvas, disc):
+    """The points a light is sampled at (§15 "Light size") → [(kind, vector)]: a sun's
+    directions (unit) over its angular disc, a point light's positions (canvas pixels) over
+    its disc facing the canvas's centre; the light itself when it has no size."""
+    points = disc_points(disc if light.size > 0 else 1)
+    if light.kind == "sun":
+        d = np.asarray(light.vector, np.float64)
+        d /= np.linalg.norm(d)
+        u, v = _basis(d)
+        spread = np.tan(light.size / 2)
+        tilted = [d + spread * (a * u + b * v) for a, b in points]
+        return [("sun", t / np.linalg.norm(t)) for t in tilted]
+    centre = light.position_px(*canvas)
+    axis = centre - np.array([canvas[1] / 2, canvas[0] / 2, 0.0])
+    u, v = _basis(axis / max(np.linalg.norm(axis), 1e-12))
+    radius = light.size * canvas[1]
+    return [("point", centre + radius * (a * u + b * v)) for a, b in points]
+
+
+def _toward(o, kind, vector):
+    """Unit directions (N, 3) from origins o (N, 3) toward a light point, and the rays'
+    lengths (a sun's never end)."""
+    if kind == "sun":
+        return np.broadcast_to(vector, o.shape), np.full(len(o), np.inf)
+    to = vector[None, :] - o
+    length = np.linalg.norm(to, axis=-1)
+    return to / np.maximum(length, 1e-12)[:, None], length
+
+
+def _march(o, d, length, k, spacing, steps):
+    """(v, ρ) of one occluder for rays (N, 3) from o along d up to length, marched: whether
+    each ray passes through its solid, and the opacity where it first does."""
+    hit, rho = np.zeros(len(o), bool), np.zeros(len(o), np.float32)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s0 = np.where(d[:, 2] > 0, (k.bottom - o[:, 2]) / d[:, 2], np.inf)
+        s1 = np.where(d[:, 2] > 0, (k.top - o[:, 2]) / d[:, 2], -np.inf)
+    s0, s1 = np.maximum(s0, 0.0), np.minimum(s1, length)
+    live = s1 > s0
+    if k.box is None or not live.any():
+        return hit, rho
+    # rays whose crossing of the slab misses the solid's box never meet it
+    ends = [o[:, :2] + np.where(live, s, 0.0)[:, None] * d[:, :2] for s in (s0, s1)]
+    lo, hi = np.minimum(*ends), np.maximum(*ends)
+    x0, y0, x1, y1 = k.box
+    live &= (hi[:, 0] >= x0) & (lo[:, 0] <= x1) & (hi[:, 1] >= y0) & (lo[:, 1] <= y1)
+    idx = np.flatnonzero(live)
+    if not idx.size:
+        return hit, rho
+    o, d, s0, s1 = o[idx], d[idx], s0[idx], s1[idx]
+    # The slab in two parts, each sampled on its own: the card below the plane (τ thin: a
+    # march over the whole slab could step over it) and the relief above it, each with one
+    # sample per `spacing` pixels of the layer it crosses, at least one, at most `steps`.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s_plane = np.clip((k.z_px - o[:, 2]) / d[:, 2], s0, s1)
+    todo = np.arange(idx.size)       # the rays not yet inside, as positions into idx
+    for a, b in ((s0, s_plane), (s_plane, s1)):
+        todo = _march_part(o, d, a, b, k, spacing, steps, todo, idx, hit, rho)
+        if not todo.size:
+            break
+    return hit, rho
+
+
+def _march_part(o, d, a, b, k, spacing, steps, todo, idx, hit, rho):
+    """March rays `todo` (positions into idx) over [a, b] of their crossing, from below:
+    each step samples the silhouette of the rays not yet inside, the relief only where it
+    covers, the opacity only where the ray is inside; marks hit and ρ (arrays over all
+    rays, indexed by idx) → the rays still not inside."""
+    if not todo.size:
+        return todo
+    across = float(np.max((b[todo] - a[todo]) * np.hypot(d[todo, 0], d[todo, 1]))) / k.place.px
+    n = int(min(max(steps, 1), max(1, np.ceil(across / spacing) + 1)))
+    lh, lw = k.alpha.shape
+    todo = todo[b[todo] > a[todo]]
+    for j in range(n):                          # midpoints of n equal parts, from below
+        if not todo.size:
+            break
+        s = a[todo] + (b[todo] - a[todo]) * ((j + 0.5) / n)
+        p = o[todo] + s[:, None] * d[todo]
+        x, y = k.place.to_layer(p[:, 0], p[:, 1])
+        over = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
+        over[over] = _sample(k.alpha, x[over], y[over]) >= 0.5
+        over[over] = p[over, 2] <= k.z_px + _sample(k.relief_px, x[over], y[over])
+        if over.any():
+            hit[idx[todo[over]]] = True
+            rho[idx[todo[over]]] = _sample(k.opacity, x[over], y[over])
+            todo = todo[~over]
+    return todo
+
+
+def _sample(img, x, y):
+    """An occluder's image (float32, at least 2×2) at layer pixels x, y (finite): bilinear,
+    edges extended."""
+    return sample_bilinear_extend(img, x.astype(np.float32), y.astype(np.float32))
+
+
+def line_map(k, kind, vector, spacing, steps):
+    """Which lines toward a light point pass through occluder k's solid, by where they cross
+    its plane: (hit, ρ) images on its pixel grid (float32; hit 1 or 0, ρ the opacity where
+    the line first meets the solid from below). Every ray that starts below the solid's
+    slab and ends above it is decided by its line alone, so one march on the occluder's own
+    pixels serves every pixel of every layer behind it (a shadow map of the solid, cached
+    on the occluder per light point)."""
+    return _kept(k, (kind, tuple(np.round(vector, 9)), spacing, steps),
+                 lambda: _line_map(k, kind, vector, spacing, steps))
+
+
+def _kept(k, key, make):
+    """What `make()` makes for occluder k, kept on it under `key` (line maps, sun tables):
+    the newest MAPS_KEPT (a dragged light makes new ones at every step)."""
+    if key not in k.maps:
+        if len(k.maps) >= MAPS_KEPT:
+            k.maps.clear()
+        k.maps[key] = make()
+    return k.maps[key]
+
+
+def _line_map(k, kind, vector, spacing, steps):
+    """line_map's march on the occluder's pixels near its solid → (hit, ρ) images."""
+    lh, lw = k.alpha.shape
+    hmap, rmap = np.zeros((lh, lw), np.float32), np.zeros((lh, lw), np.float32)
+    rows, cols = _lines_near(k, kind, vector)
+    if rows.stop > rows.start and cols.stop > cols.start:
+        x, y = pixel_centres(lh, lw, np.float64)
+        qx, qy, _ = k.place.to_canvas(x[rows, cols], y[rows, cols], 0.0)
+        q = np.stack([qx.ravel(), qy.ravel(), np.full(qx.size, k.z_px)], axis=1)
+        d, _ = _toward(q, kind, vector)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            back = np.where(d[:, 2] > 0, (k.z_px - k.bottom) / d[:, 2], 0.0)
+            length = np.where(d[:, 2] > 0, (k.top - k.bottom) / d[:, 2], 0.0)
+        start = q - back[:, None] * d                 # where the line enters the slab
+        hit, rho = _march(start - 1e-9 * d, d, length + 2e-9, k, spacing, steps)
+        shape = (rows.stop - rows.start, cols.stop - cols.start)
+        hmap[rows, cols], rmap[rows, cols] = hit.reshape(shape), rho.reshape(shape)
+    return hmap, rmap
+
+
+def _lines_near(k, kind, vector):
+    """The rows and columns (slices) of occluder k's pixels whose lines toward a light point
+    can meet its solid: its solid's box grown by how far a line moves sideways across the
+    slab (a sun's once; a point light's the most at any corner of the layer)."""
+    lh, lw = k.alpha.shape
+    if k.box is None:
+        return slice(0, 0), slice(0, 0)
+    if kind == "sun":
+        tan = np.hypot(vector[0], vector[1]) / max(vector[2], 1e-12)
+    else:
+        corners = np.array([k.place.to_canvas(cx, cy, 0.0)[:2] for cx in (0, lw) for cy in (0, lh)])
+        rise = vector[2] - k.top
+        tan = np.inf if rise <= 0 else np.max(np.hypot(*(corners - vector[:2]).T)) / rise
+    grow = min((k.top - k.bottom) * tan, 1e12) / k.place.px + 1.0
+    x0, y0 = k.place.to_layer(k.box[0], k.box[1])
+    x1, y1 = k.place.to_layer(k.box[2], k.box[3])
+    cols = slice(int(max(0, np.floor(x0 - grow))), int(min(lw, np.ceil(x1 + grow))))
+    rows = slice(int(max(0, np.floor(y0 - grow))), int(min(lh, np.ceil(y1 + grow))))
+    return rows, cols
+
+
+@dataclass
+class _Receiver:
+    """The rays of one receiving layer as one occluder sees them: those that start under the
+    top of its slab (the others rise away from it), where they start in its pixels and how
+    far below its plane (negative inside the slab, above the plane)."""
+    under: np.ndarray         # (N,) bool: the origin lies below the slab's top
+    below: np.ndarray         # (M,) bool: of those, below the slab's bottom
+    x: np.ndarray             # (M,) float32: the origins under the top, in the occluder's px
+    y: np.ndarray
+    rise: np.ndarray          # (M,) float32: from each up to the occluder's plane, canvas px
+
+
+def _receiver(o, k):
+    under = o[:, 2] < k.top
+    x, y = k.place.to_layer(o[under, 0], o[under, 1])
+    return _Receiver(under, o[under, 2] < k.bottom, x.astype(np.float32),
+                     y.astype(np.float32), (k.z_px - o[under, 2]).astype(np.float32))
+
+
+class SunTable:
+    """Which lines along a sun meet occluder k's solid, for any line at once (§15): the
+    solid's relief H resampled on a grid whose rows run along the light's horizontal
+    direction e (u along it, v across, one occluder pixel apart; H = −∞ outside the
+    silhouette), G = H − m·u (m: the line's rise per pixel of u) and its suffix maximum
+    S(u) = max_{u' ≥ u} G(u'). The line crossing the occluder's plane at (u_q, v_q) rises
+    from z_k − τ at u_q − τ/m toward the light: it meets the solid where some
+    H(u') ≥ m·(u' − u_q) with u' ≥ u_q − τ/m, i.e. S(u_q − τ/m) ≥ −m·u_q — one lookup per
+    ray. Columns are STEP_U pixels apart and each stands for its whole width (the line's
+    lowest point over it), so a card thinner than a column is never stepped over; edges
+    move by at most half a column along e and half a pixel across."""
+    STEP_U = 0.25
+
+    def __init__(self, k, direction):
+        self.k = k
+        flat = float(np.hypot(direction[0], direction[1]))
+        self.vertical = flat < 1e-9
+        if self.vertical:
+            return
+        self.e = np.array(direction[:2]) / flat
+        self.n = np.array([-self.e[1], self.e[0]])
+        self.m = direction[2] / flat * k.place.px   # canvas px of rise per occluder px of u
+        (x0, y0), (x1, y1) = (k.place.to_layer(*k.box[:2]), k.place.to_layer(*k.box[2:]))
+        corners = np.array([[x0, y0], [x0, y1], [x1, y0], [x1, y1]])
+        u, v = corners @ self.e, corners @ self.n
+        self.u0, self.v0 = np.floor(u.min()) - 1, np.floor(v.min()) - 1
+        # the silhouette and relief sampled a pixel apart along u, then interpolated to the
+        # finer columns (sampling every column costs 1/STEP_U times more for the same picture)
+        per = int(round(1 / self.STEP_U))
+        coarse = int(np.ceil(u.max() - self.u0)) + 2
+        rows = int(np.ceil(v.max() - self.v0)) + 2
+        gu, gv = np.meshgrid(self.u0 + np.arange(coarse, dtype=np.float64),
+                             self.v0 + np.arange(rows, dtype=np.float64))
+        x, y = gu * self.e[0] + gv * self.n[0], gu * self.e[1] + gv * self.n[1]
+        lh, lw = k.alpha.shape
+        on = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
+        cover, relief = np.zeros(x.shape, np.float32), np.zeros(x.shape, np.float32)
+        cover[on] = _sample(k.alpha, x[on], y[on])
+        relief[on] = _sample(k.relief_px, x[on], y[on])
+        f = (np.arange((coarse - 1) * per + 1) / per).astype(np.float32)
+        j = np.minimum(f.astype(np.int64), coarse - 2)
+        w = f - j
+        cover = cover[:, j] * (1 - w) + cover[:, j + 1] * w
+        relief = relief[:, j] * (1 - w) + relief[:, j + 1] * w
+        gu = self.u0 + f.astype(np.float64)[None, :]
+        h = np.where(cover >= 0.5, relief, -np.inf).astype(np.float32)
+        g = h - (self.m * (gu - self.STEP_U / 2)).astype(np.float32)   # lowest over its width
+        self.suffix = np.maximum.accumulate(g[:, ::-1], axis=1)[:, ::-1]
+        # where a line may cross the plane and still meet the solid: its box, grown by how far
+        # a line travels sideways over the slab's heights (occluder px)
+        travel = (k.top - k.bottom) / self.m + 1.0
+        self.reach = (min(x0, x1) - travel, min(y0, y1) - travel, max(x0, x1) + travel,
+                      max(y0, y1) + travel)
+
+    def meets(self, x, y, rise):
+        """Whether the rays whose lines cross the occluder's plane at its pixels (x, y) meet
+        it, each starting `rise` canvas px below the plane (negative: inside the slab, above
+        the plane: only the part of its line beyond its start counts)."""
+        k = self.k
+        if self.vertical:
+            lh, lw = k.alpha.shape
+            on = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
+            out = np.zeros(len(x), bool)      # straight up: the solid over it, above the start
+            out[on] = (_sample(k.alpha, x[on], y[on]) >= 0.5) & \
+                (rise[on] >= -_sample(k.relief_px, x[on], y[on]))
+            return out
+        # only lines that cross the plane within the slab's sideways reach of the solid
+        x0, y0, x1, y1 = self.reach
+        near = np.flatnonzero((x >= x0) & (x <= x1) & (y >= y0) & (y <= y1))
+        out = np.zeros(len(x), bool)
+        if near.size:
+            out[near] = self._meets(x[near], y[near], rise[near])
+        return out
+
+    def _meets(self, x, y, rise):
+        k = self.k
+        uq = x * self.e[0] + y * self.e[1]
+        vq = x * self.n[0] + y * self.n[1]
+        rows, cols = self.suffix.shape
+        r = np.rint(vq - self.v0).astype(np.int64)
+        behind = np.minimum(np.float32(k.thickness_px), rise)       # the slab's or the start's
+        start = uq - behind / np.float32(self.m) - self.STEP_U / 2   # columns reaching it
+        c = np.ceil((start - self.u0) / self.STEP_U - 1e-6).astype(np.int64)
+        c = np.maximum(c, 0)
+        ok = (r >= 0) & (r < rows) & (c < cols)
+        out = np.zeros(len(x), bool)
+        out[ok] = self.suffix[r[ok], c[ok]] >= -self.m * uq[ok]
+        return out
+
+
+def sun_table(k, direction):
+    """The SunTable of occluder k for a sun along `direction`, cached on the occluder."""
+    return _kept(k, ("table", tuple(np.round(direction, 9))),
+                 lambda: SunTable(k, np.asarray(direction, np.float64)))
+
+
+def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre):
+    """(v, ρ) of occluder k for rays from o (N, 3) toward one light point (r: _receiver(o, k)).
+    With `maps`: a sun over a layer of one opacity by its SunTable, every ray that starts
+    under the slab's top; otherwise the line map toward the light's centre point (`centre`),
+    read where a ray crosses the occluder's plane, for rays that start below the slab and
+    whose light lies above it; the rest by a march of each ray. (For a point of a light's
+    disc the centre's table or map stands in for its own: the lines differ in slope by at
+    most half the light's angle, which moves where they cross a slab of thickness τ by
+    τ·tan(β/2) — the light-size filtering of a shadow map.)"""
+    hit, rho = np.zeros(len(o), bool), np.zeros(len(o), np.float32)
+    table = maps and kind == "sun" and k.uniform is not None
+    if table:                       # every ray under the top
+        by_line = np.ones(len(r.x), bool)
+    elif maps and (kind == "sun" or vector[2] > k.top):
+        by_line = r.below
+    else:
+        by_line = np.zeros(len(r.x), bool)
+    under = np.flatnonzero(r.under)
+    if by_line.any():               # where each line crosses the occluder's plane (its px)
+        rx, ry, rise = r.x[by_line], r.y[by_line], r.rise[by_line]
+        if kind == "sun":
+            along = rise * np.float32(1 / (vector[2] * k.place.px))
+            x = rx + along * np.float32(vector[0])
+            y = ry + along * np.float32(vector[1])
+        else:
+            reach = rise / (np.float32(vector[2] - k.z_px) + rise)
+            lx, ly = k.place.to_layer(vector[0], vector[1])
+            x = rx + reach * (np.float32(lx) - rx)
+            y = ry + reach * (np.float32(ly) - ry)
+        where = under[by_line]
+    if table and by_line.any():
+        got = sun_table(k, centre).meets(x, y, rise)
+        hit[where], rho[where] = got, np.float32(k.uniform) * got
+    elif by_line.any():
+        hmap, rmap = line_map(k, kind, centre, spacing, steps)
+        lh, lw = hmap.shape
+        on = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
+        cover = np.zeros(len(x), np.float32)
+        cover[on] = _sample(hmap, x[on], y[on])
+        got = cover >= 0.5
+        r_got = np.zeros(len(x), np.float32)
+        r_got[got] = _sample(rmap, x[got], y[got]) / cover[got]   # ρ of the covering lines
+        hit[where], rho[where] = got, r_got
+    rest = np.zeros(len(o), bool)
+    rest[under[~by_line]] = True
+    if rest.any():
+        d, length = _toward(o[rest], kind, vector)
+        hit[rest], rho[rest] = _march(o[rest], d, length, k, spacing, steps)
+    return hit, rho
+
+
+def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=None, disc=16,
+                  maps=True):
+    """T (H, W) of §15: what `occluders` (the layers in front) let through along each ray.
+
+    Parameters
+    ----------
+    origins : ndarray (H, W, 3)
+        Each pixel's surface point P_S (on its relief), canvas pixels, z toward the viewer.
+    light : core.lights.Light
+        A sun (direction toward the light) or a point light (position, image widths from the
+        canvas's centre, §0); its `size` (a sun's angular diameter in radians, a point
+        light's radius in image widths) softens the shadows of the layers.
+    occluders : list of Occluder
+        The layers in front of the receiving one (those behind never occlude: rays rise).
+    steps : int
+        At most this many samples along the part of a ray inside an occluder's slab
+        [z_k − τ_k, z_k + max relief].
+    canvas : (H, W)
+        The canvas's size in pixels (where a point light is); default origins' own.
+    spacing : float
+        Samples along a crossing this many pixels of the crossed layer apart (default: one
+        sample per pixel of the crossing's length over `steps`, as a plain K-step march).
+    disc : int
+        Points of the light's disc sampled for a light with a size (light_points).
+    maps : bool
+        Decide rays that start below an occluder by its line map (line_map) rather than
+        each by its own march: the same solid, sampled on the occluder's pixels.
+
+    Returns
+    -------
+    ndarray (H, W)
+        T in [0, 1]: 1 where nothing in front is met, Π (1 − ρ_k) over the layers met,
+        averaged over the light's disc.
+    """
+    o = np.asarray(origins)
+    o = o if o.dtype in (np.float32, np.float64) else o.astype(np.float64)
+    shape = o.shape[:2]
+    o = o.reshape(-1, 3)
+    canvas = canvas or shape
+    gap = spacing if spacing is not None else 1e-9   # None: always `steps` samples
+    points = light_points(light, canvas, disc)
+    _, centre = light_points(light, canvas, 1)[0]
+    receivers = [_receiver(o, k) for k in occluders]
+    total = np.zeros(len(o))
+    for kind, vector in points:
+        t = np.ones(len(o))
+        for k, r in zip(occluders, receivers):
+            hit, rho = _through_one(o, r, kind, vector, k, gap, steps, maps, centre)
+            t *= 1.0 - np.clip(rho, 0.0, 1.0) * hit
+        total += t
+    return (total / len(points)).reshape(shape)
