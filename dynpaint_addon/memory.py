@@ -66,11 +66,20 @@ def gib(n):
     return f"{n / 2**30:.1f} GiB"
 
 
+def fits(needed):
+    """Whether `needed` bytes fit in the memory free now (less HEADROOM); True where the
+    machine cannot tell."""
+    have = available_bytes()
+    return have is None or needed <= HEADROOM * have
+
+
 def check(needed, what, advice):
     """Raise NotEnoughMemory naming both numbers and `advice` when `needed` bytes are more than
-    the machine has (less HEADROOM); return `needed`."""
-    have = available_bytes()
-    if have is not None and needed > HEADROOM * have:
+    the machine has (less HEADROOM); return `needed`. advice: a line, or a function that
+    makes it (asked only when refusing)."""
+    if not fits(needed):
+        have = available_bytes()
+        advice = advice() if callable(advice) else advice
         raise NotEnoughMemory(f"{what} would need about {gib(needed)} of memory; this machine "
                               f"has {gib(have)} free: {advice}")
     return needed
@@ -130,9 +139,20 @@ def painting(headers, p, width=None):
         left += peak - keep if 16 * iw * ih < STICKY_BYTES else 0
         at_size = channel == "shape" or channel in PER_PIXEL_CHANNELS
         kept += keep if not at_size or (iw, ih) == (w, h) else 4 * c * w * h + keep
-    shape = "height" if p.shape.kind == "height" else \
-        relief_of(p.shadows.relief, headers["shape"][2] in (2, 4))
-    return Painting(w, h, kept, reading, left, shape)
+    return Painting(w, h, kept, reading, left, shape_work(p, headers["shape"][2] in (2, 4)))
+
+
+def shape_work(p, shape_has_alpha):
+    """How the shape is prepared (PREPARE's key): a height map, or a normal map's relief."""
+    return "height" if p.shape.kind == "height" else relief_of(p.shadows.relief,
+                                                               shape_has_alpha)
+
+
+def final_bake_bytes(w, h, shape, lights, offset):
+    """The peak of a final bake of `lights` on a prepared shape (w, h) of PREPARE key `shape`:
+    the lights bake one after the other, each at its own peak."""
+    kept_px = PREPARE[shape][0]
+    return BASE_BYTES + max(bake_bytes(w, h, light, offset, kept_px) for light in lights)
 
 
 def bake_bytes(w, h, light, offset, kept_px):

@@ -6,7 +6,6 @@ import time
 import numpy as np
 
 from .. import memory, params
-from ..core.input_rules import relief_of
 from ..core.pipeline import shadow_term, shape_normals
 from ..imageio import file_channels
 from ..painting_frames import BoundedCache
@@ -162,12 +161,8 @@ def check_bake_memory(mat, p, lights):
     if p.shadows.quality not in ("final", "reference"):
         return
     w, h = painting_size(mat)
-    shape = "height" if p.shape.kind == "height" else \
-        relief_of(p.shadows.relief, file_channels(mat.dynamic_painting.image_shape) in (2, 4))
-    kept_px = memory.PREPARE[shape][0]
-    needed = memory.BASE_BYTES + max(memory.bake_bytes(w, h, light, p.shadows.offset, kept_px)
-                                     for light in lights)
-    memory.check(needed, f"baking the shadows of {w}×{h} pixels at {p.shadows.quality} "
+    shape = memory.shape_work(p, file_channels(mat.dynamic_painting.image_shape) in (2, 4))
+    memory.check(memory.final_bake_bytes(w, h, shape, lights, p.shadows.offset), f"baking the shadows of {w}×{h} pixels at {p.shadows.quality} "
                  f"quality", "bake at preview or draft quality (Shadows › Quality), or use a "
                  "smaller shape image (the last baked shadows are kept)")
 

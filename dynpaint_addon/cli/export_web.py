@@ -38,9 +38,9 @@ def cmd_export_web(args):
     if not 0 < args.fps <= 240:
         raise ExportError(f"--fps {args.fps:g}: frames per second in 0 … 240")
     start = time.perf_counter()
-    if is_layered_file(args.recipe) or load_recipe(args.recipe).layered:
-        return _export_layers(args, start)
-    recipe = load_recipe(args.recipe)
+    recipe = None if is_layered_file(args.recipe) else load_recipe(args.recipe)
+    if recipe is None or recipe.layered:
+        return _export_layers(args, start, recipe)
     print_notes(recipe.notes)
     painting = PaintingFrames(recipe.slots())
     images = painting.images(painting.start)
@@ -66,12 +66,11 @@ def cmd_export_web(args):
           f"{seconds:.1f} s")
 
 
-def _export_layers(args, start):
-    """export-web of a layered recipe, .ora file or folder (§15): each layer drawn at its
-    place, the shadows between layers marched in the page."""
+def _export_layers(args, start, recipe):
+    """export-web of a layered recipe (`recipe`), .ora file or folder (§15; recipe None): each
+    layer drawn at its place, the shadows between layers marched in the page."""
     layers, lights, notes = load_layered(args.recipe)
     print_notes(notes)
-    recipe = None if is_layered_file(args.recipe) else load_recipe(args.recipe)
     name = recipe.name if recipe is not None and recipe.name else \
         os.path.splitext(os.path.basename(os.fspath(args.recipe).rstrip(os.sep)))[0]
     credits = recipe.credits if recipe is not None else ""

@@ -70,23 +70,21 @@ def _width(args, headers, recipe):
     painting = memory.painting(headers, recipe.params, width)
     # float64: every per-pixel array twice as large
     needed = memory.render_bytes(painting, recipe.params, recipe.lights) * (1 + args.float64)
-    fits = _largest_that_fits(headers, recipe, args.float64, painting.width)
     memory.check(needed, f"rendering {painting.width}×{painting.height}",
-                 f"render it smaller (--width {fits}, or --max-size)" if fits else
-                 "give smaller images")
+                 lambda: _smaller(headers, recipe, args.float64, painting.width))
     return width
 
 
-def _largest_that_fits(headers, recipe, float64, width):
-    """The largest width, halving from `width`, whose render fits the memory free now."""
-    have = memory.available_bytes()
-    while have is not None and width > 16:
+def _smaller(headers, recipe, float64, width):
+    """What to do when a render does not fit: the largest width, halving from `width`, whose
+    render fits the memory free now, else smaller images."""
+    while width > 16:
         width //= 2
         painting = memory.painting(headers, recipe.params, width)
-        if memory.render_bytes(painting, recipe.params, recipe.lights) * (1 + float64) <= \
-                memory.HEADROOM * have:
-            return width
-    return None
+        if memory.fits(memory.render_bytes(painting, recipe.params, recipe.lights) *
+                       (1 + float64)):
+            return f"render it smaller (--width {width}, or --max-size)"
+    return "give smaller images"
 
 
 def _render_layers(args):
