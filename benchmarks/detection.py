@@ -32,15 +32,15 @@ from report import command_line, publish  # noqa: E402
 from testkit import example_paintings as ex  # noqa: E402
 from testkit.artist_folders import write_jpeg  # noqa: E402
 from dynpaint_addon import params  # noqa: E402
-from dynpaint_addon.core.inputs import MASK_LEAK, mask_channel  # noqa: E402
-from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.input_rules import ImageData  # noqa: E402
-from dynpaint_addon.core.pipeline import render  # noqa: E402
+from dynpaint_addon.core.inputs import MASK_LEAK, mask_channel  # noqa: E402
 from dynpaint_addon.core.inputs import AWAY_NOTE, normal_map_notes, noticeably_away  # noqa: E402
+from dynpaint_addon.core.lights import Light  # noqa: E402
+from dynpaint_addon.core.pipeline import render  # noqa: E402
 from dynpaint_addon.core.shape import (ALL_AWAY, HALVING_AWAY, TWO_CHANNEL_BLUE,  # noqa: E402
                                        UNIT_SHARE, facing_away, normal_vectors,
                                        resolve_encoding, resolve_strength, unit_share)
-from dynpaint_addon.imageio import read_image, write_png  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image, write_png  # noqa: E402
 
 VARIANTS = ("png8", "png16", "png8+noise", "jpeg95", "jpeg75", "jpeg50", "jpeg30")
 SUN = Light("sun", (-0.55, 0.45, 0.7), (1.0, 0.97, 0.9), 1.0, "Key")

@@ -24,12 +24,13 @@ import bpy  # noqa: E402
 
 from report import publish  # noqa: E402
 
-from dynpaint_addon.blender import compositor, headless  # noqa: E402
-from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.blender import headless  # noqa: E402
+from dynpaint_addon.blender.scenes import compositor  # noqa: E402
+from dynpaint_addon.blender.scenes.painting_scene import exact_render_settings, output_settings  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render, shadow_term, shape_normals  # noqa: E402
-from dynpaint_addon.imageio import read_image  # noqa: E402
-from dynpaint_addon.recipe import load_images, load_recipe  # noqa: E402
-from dynpaint_addon.testpainting import write_test_painting  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
+from dynpaint_addon.inputs.recipe import load_images, load_recipe  # noqa: E402
+from dynpaint_addon.inputs.testpainting import write_test_painting  # noqa: E402
 
 
 def reference(recipe):

@@ -43,8 +43,8 @@ from dynpaint_addon import params  # noqa: E402
 from dynpaint_addon.core.frames import SheetGrid  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import prepare, render  # noqa: E402
-from dynpaint_addon.painting_frames import BoundedCache, PaintingFrames, painting_slots  # noqa: E402
-from dynpaint_addon.recipe import Recipe, load_recipe, recipe_to_toml  # noqa: E402
+from dynpaint_addon.inputs.painting_frames import BoundedCache, PaintingFrames, painting_slots  # noqa: E402
+from dynpaint_addon.inputs.recipe import Recipe, load_recipe, recipe_to_toml  # noqa: E402
 from testkit.animated import moving_dome, write_sequence, write_sheet  # noqa: E402
 
 PLAYBACK_GOAL = 24.0
@@ -163,7 +163,7 @@ def play(recipe_path, frames):
     (what the frame handler itself takes where a UI runs the bake in the live worker)]."""
     import bpy
     from dynpaint_addon.blender.headless import build_recipe_scene
-    from dynpaint_addon.blender.turntable import turn_first_sun
+    from dynpaint_addon.blender.scenes.turntable import turn_first_sun
     _, mat = build_recipe_scene(load_recipe(recipe_path))
     scene = bpy.context.scene
     turn_first_sun(bpy.context, mat, 1, 2 * frames)

@@ -7,7 +7,7 @@ Each frame's shape is made as `make-shape` makes it — inflation from the silho
 flat profiles), integration of the true normals cut at the silhouette — two ways, in the same
 run:
   - by parts (today's): each connected part solved and reshaped alone, the sequence's heights
-    on one floor (core/laplace.solve_parts, shape_frames);
+    on one floor (core/laplace.solve_parts, shapes.frames);
   - whole image (the baseline: before §16): one solve per frame, the profile's tallest point
     and the integration's lowest point taken over the whole frame.
 Measured on consecutive frames f, f + 1:
@@ -45,7 +45,7 @@ def made_heights(truth, method, by_parts):
         if method.startswith("inflate"):
             profile = method.split()[-1]
             out.append(inflate(mask, profile, by_parts=by_parts).height)
-        elif by_parts:                       # one floor for the whole sequence (shape_frames)
+        elif by_parts:                       # one floor for the whole sequence (shapes.frames)
             out.append(integrate(truth["normal"][f], mask, floor=0.0).height)
         else:
             out.append(integrate(truth["normal"][f], mask, by_parts=False).height)

@@ -30,12 +30,12 @@ import bpy  # noqa: E402
 
 from report import command_line, publish  # noqa: E402
 
-from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
-from dynpaint_addon.core.lights import Light  # noqa: E402
+from dynpaint_addon.blender.scenes.painting_scene import exact_render_settings, output_settings  # noqa: E402
 from dynpaint_addon.core.input_rules import ImageData  # noqa: E402
+from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.shadow import cos_theta_shadow  # noqa: E402
 from dynpaint_addon.core.shape import decode_normal_map, normals_from_height_px  # noqa: E402
-from dynpaint_addon.imageio import read_image, write_png  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image, write_png  # noqa: E402
 from testkit.render3d import emission_material  # noqa: E402
 
 # (name, kind, location, size): heights in image widths, the image spans [-0.5, 0.5]²

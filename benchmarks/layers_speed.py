@@ -29,8 +29,8 @@ from report import best, command_line, publish  # noqa: E402
 from dynpaint_addon.core.layers import Scene, bake_scene  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import prepare, shadow_term  # noqa: E402
-from dynpaint_addon.recipe import load_layers, load_recipe  # noqa: E402
-from dynpaint_addon.testpainting import write_test_scene  # noqa: E402
+from dynpaint_addon.inputs.recipe import load_layers, load_recipe  # noqa: E402
+from dynpaint_addon.inputs.testpainting import write_test_scene  # noqa: E402
 
 SUN = Light("sun", (0.55, 0.35, 0.76))
 GOALS = {"final": 1.5, "live_ms": 50.0, "memory": 2.0}

@@ -32,14 +32,15 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import bpy  # noqa: E402
 from report import command_line, publish  # noqa: E402
 
-from dynpaint_addon.blender import headless, turntable  # noqa: E402
-from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
-from dynpaint_addon.blender.scene import output_settings  # noqa: E402
-from dynpaint_addon.blender.shadow_images import plane_matrix  # noqa: E402
+from dynpaint_addon.blender import headless  # noqa: E402
+from dynpaint_addon.blender.bake.shadow_images import plane_matrix  # noqa: E402
+from dynpaint_addon.blender.scenes import turntable  # noqa: E402
+from dynpaint_addon.blender.scenes.painting_scene import output_settings  # noqa: E402
+from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render, shape_normals, shadow_term  # noqa: E402,E501
-from dynpaint_addon.imageio import quiet_native, read_image  # noqa: E402
-from dynpaint_addon.recipe import load_images, load_recipe  # noqa: E402
-from dynpaint_addon.samples import recipe_path  # noqa: E402
+from dynpaint_addon.inputs.imageio import quiet_native, read_image  # noqa: E402
+from dynpaint_addon.inputs.recipe import load_images, load_recipe  # noqa: E402
+from dynpaint_addon.inputs.samples import recipe_path  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FRAMES = 48

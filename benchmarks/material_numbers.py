@@ -28,15 +28,15 @@ from report import publish  # noqa: E402
 
 from dynpaint_addon import params  # noqa: E402
 from dynpaint_addon.blender import headless  # noqa: E402
-from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
-from dynpaint_addon.blender.shadow_images import bake_shadows  # noqa: E402
+from dynpaint_addon.blender.bake.shadow_images import bake_shadows  # noqa: E402
+from dynpaint_addon.blender.nodes.build import count_nodes  # noqa: E402
+from dynpaint_addon.blender.scenes.painting_scene import exact_render_settings, output_settings  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.core.shape import normals_from_height_px  # noqa: E402
-from dynpaint_addon.imageio import read_image, write_png  # noqa: E402
-from dynpaint_addon.blender.nodes.build import count_nodes  # noqa: E402
-from dynpaint_addon.recipe import Recipe, load_images  # noqa: E402
-from dynpaint_addon.testpainting import builtin_images  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image, write_png  # noqa: E402
+from dynpaint_addon.inputs.recipe import Recipe, load_images  # noqa: E402
+from dynpaint_addon.inputs.testpainting import builtin_images  # noqa: E402
 
 
 def write_paintings(folder, size):

@@ -22,10 +22,10 @@ sys.path.insert(0, REPO)
 
 from report import command_line, publish  # noqa: E402
 
-from dynpaint_addon import memory  # noqa: E402
 from dynpaint_addon.core.input_rules import resample_painting  # noqa: E402
-from dynpaint_addon.imageio import painting_headers, write_png  # noqa: E402
-from dynpaint_addon.recipe import load_images, load_recipe  # noqa: E402
+from dynpaint_addon.inputs import memory  # noqa: E402
+from dynpaint_addon.inputs.imageio import painting_headers, write_png  # noqa: E402
+from dynpaint_addon.inputs.recipe import load_images, load_recipe  # noqa: E402
 
 GOAL = 0.25
 SAMPLES = {"portrait": "height map", "impossible": "normal map"}

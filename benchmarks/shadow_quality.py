@@ -24,14 +24,14 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from report import publish  # noqa: E402
 
-from dynpaint_addon.core.integrate import integrate  # noqa: E402
-from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.bake import bake  # noqa: E402
 from dynpaint_addon.core.crossings import MAX_TABLE_BYTES  # noqa: E402
+from dynpaint_addon.core.integrate import integrate  # noqa: E402
+from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.shadow import ShadowStats, cos_theta_shadow  # noqa: E402
 from dynpaint_addon.core.shape import (height_field_px, normals_from_height_px,  # noqa: E402
                                        slopes_from_normals)
-from dynpaint_addon.testpainting import builtin_images  # noqa: E402
+from dynpaint_addon.inputs.testpainting import builtin_images  # noqa: E402
 
 RELIEF = 0.5          # image widths: "tall relief, up to half the image width high"
 OFFSET = 0.01
@@ -154,9 +154,10 @@ def live_latency(size):
     {kind: (median ms of the last half of the moves, their levels, final ms, budget ms)}.
     Blender is imported here only: the other measurements run without it."""
     import bpy
-    from dynpaint_addon.blender import headless, live_bake
-    from dynpaint_addon.recipe import load_recipe
-    from dynpaint_addon.testpainting import write_test_painting
+    from dynpaint_addon.blender import headless
+    from dynpaint_addon.blender.bake import live_bake
+    from dynpaint_addon.inputs.recipe import load_recipe
+    from dynpaint_addon.inputs.testpainting import write_test_painting
     import tempfile
     folder = tempfile.mkdtemp()
     out = {}

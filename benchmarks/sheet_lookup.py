@@ -28,9 +28,9 @@ import bpy  # noqa: E402
 
 from report import command_line, publish  # noqa: E402
 
-from dynpaint_addon.blender.images import float_image  # noqa: E402
+from dynpaint_addon.blender.state.images import float_image  # noqa: E402
 from dynpaint_addon.core.frames import SheetGrid, sheet_cell  # noqa: E402
-from dynpaint_addon.imageio import read_image  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
 from testkit.animated import sheet_of  # noqa: E402
 from testkit.render3d import ortho_camera  # noqa: E402
 

@@ -37,11 +37,11 @@ from report import publish  # noqa: E402
 from dynpaint_addon import blender  # noqa: E402
 from dynpaint_addon.cli import main as cli_main  # noqa: E402
 from dynpaint_addon.cli.export_web import FPS  # noqa: E402
-from dynpaint_addon.painting_frames import PaintingFrames  # noqa: E402
-from dynpaint_addon.recipe import image_bytes, load_layers, load_recipe  # noqa: E402
-from dynpaint_addon.samples import list_samples, recipe_path  # noqa: E402
 from dynpaint_addon.core.layers import render_scene  # noqa: E402
 from dynpaint_addon.core.pipeline import render  # noqa: E402
+from dynpaint_addon.inputs.painting_frames import PaintingFrames  # noqa: E402
+from dynpaint_addon.inputs.recipe import image_bytes, load_layers, load_recipe  # noqa: E402
+from dynpaint_addon.inputs.samples import list_samples, recipe_path  # noqa: E402
 from dynpaint_addon.web.page import page_data, scene_data, shrink, write_page  # noqa: E402
 from testkit.chromium import Chromium  # noqa: E402
 

@@ -21,9 +21,9 @@ from dynpaint_addon import params                       # noqa: E402
 from dynpaint_addon.core.input_rules import resample_painting  # noqa: E402
 from dynpaint_addon.core.lights import Light                 # noqa: E402
 from dynpaint_addon.core.pipeline import render              # noqa: E402
-from dynpaint_addon.imageio import write_png      # noqa: E402
-from dynpaint_addon.recipe import load_images, load_recipe   # noqa: E402
-from dynpaint_addon.samples import recipe_path               # noqa: E402
+from dynpaint_addon.inputs.imageio import write_png      # noqa: E402
+from dynpaint_addon.inputs.recipe import load_images, load_recipe   # noqa: E402
+from dynpaint_addon.inputs.samples import recipe_path               # noqa: E402
 
 PX = 176          # width of a parameter picture
 GAP = 4

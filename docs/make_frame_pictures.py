@@ -20,8 +20,8 @@ from make_docs import side_by_side  # noqa: E402
 from dynpaint_addon.core.colour import linear_to_srgb  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import render  # noqa: E402
-from dynpaint_addon.imageio import write_png  # noqa: E402
-from dynpaint_addon.recipe import load_images, load_recipe  # noqa: E402
+from dynpaint_addon.inputs.imageio import write_png  # noqa: E402
+from dynpaint_addon.inputs.recipe import load_images, load_recipe  # noqa: E402
 
 FRAMES = (1, 9, 17, 25, 33, 41)
 LOOP = 48           # the sample's scene: its 24 frames twice, the light once round

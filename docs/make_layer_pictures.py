@@ -21,14 +21,14 @@ import bpy  # noqa: E402
 from make_docs import side_by_side  # noqa: E402
 
 from dynpaint_addon.blender import register_once  # noqa: E402
-from dynpaint_addon.blender.layered_build import add_layered  # noqa: E402
-from dynpaint_addon.blender.scene import output_settings  # noqa: E402
+from dynpaint_addon.blender.scenes.layered_build import add_layered  # noqa: E402
+from dynpaint_addon.blender.scenes.painting_scene import output_settings  # noqa: E402
 from dynpaint_addon.core.colour import linear_to_srgb  # noqa: E402
 from dynpaint_addon.core.layers import MAX_LAYERS, render_scene  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
-from dynpaint_addon.imageio import read_image, write_png  # noqa: E402
-from dynpaint_addon.recipe import load_layers, load_recipe  # noqa: E402
-from dynpaint_addon.testpainting import write_test_scene  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image, write_png  # noqa: E402
+from dynpaint_addon.inputs.recipe import load_layers, load_recipe  # noqa: E402
+from dynpaint_addon.inputs.testpainting import write_test_scene  # noqa: E402
 
 PX = 192
 SUN = Light("sun", (0.55, 0.35, 0.76), name="Key")

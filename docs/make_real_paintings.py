@@ -17,11 +17,11 @@ sys.path.insert(0, os.path.dirname(DOCS))
 from testkit import example_paintings as ex            # noqa: E402
 from dynpaint_addon import params                             # noqa: E402
 from dynpaint_addon.core.colour import linear_to_srgb         # noqa: E402
-from dynpaint_addon.core.lights import Light                  # noqa: E402
 from dynpaint_addon.core.input_rules import ImageData  # noqa: E402
+from dynpaint_addon.core.lights import Light                  # noqa: E402
 from dynpaint_addon.core.pipeline import render  # noqa: E402
 from dynpaint_addon.core.shading import barycentric_mix       # noqa: E402
-from dynpaint_addon.imageio import write_png                  # noqa: E402
+from dynpaint_addon.inputs.imageio import write_png                  # noqa: E402
 
 PX = 200
 GAP = 4

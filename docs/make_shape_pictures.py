@@ -18,15 +18,15 @@ from make_docs import sample_images, side_by_side              # noqa: E402
 
 from dynpaint_addon.core.colour import linear_to_srgb           # noqa: E402
 from dynpaint_addon.core.inflate import inflate                 # noqa: E402
+from dynpaint_addon.core.input_rules import ImageData  # noqa: E402
 from dynpaint_addon.core.integrate import integrate             # noqa: E402
 from dynpaint_addon.core.lights import Light                    # noqa: E402
 from dynpaint_addon.core.occlusion import ambient_occlusion     # noqa: E402
 from dynpaint_addon.core.photometric import (normals_from_profiles,  # noqa: E402
                                              normals_from_rg_photo, profile_directions)
-from dynpaint_addon.core.input_rules import ImageData  # noqa: E402
 from dynpaint_addon.core.pipeline import render, shape_normals  # noqa: E402
-from dynpaint_addon.imageio import write_png                    # noqa: E402
-from dynpaint_addon.shape_maker import encode_normals, normals_of_height  # noqa: E402
+from dynpaint_addon.inputs.imageio import write_png                    # noqa: E402
+from dynpaint_addon.shapes.maker import encode_normals, normals_of_height  # noqa: E402
 
 PX = 192
 LOW_SUN = Light("sun", (-0.8, 0.35, 0.42), (1.0, 0.95, 0.85), 1.0, "Low sun")

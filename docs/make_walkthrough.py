@@ -17,7 +17,7 @@ DOCS = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(DOCS)
 sys.path.insert(0, REPO)
 
-from dynpaint_addon.imageio import read_image, write_png        # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image, write_png        # noqa: E402
 from testkit.chromium import find_chromium           # noqa: E402
 
 PX = 256

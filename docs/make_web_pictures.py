@@ -16,8 +16,8 @@ import tempfile
 DOCS = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(DOCS))
 
-from dynpaint_addon.recipe import load_images, load_recipe      # noqa: E402
-from dynpaint_addon.samples import recipe_path                  # noqa: E402
+from dynpaint_addon.inputs.recipe import load_images, load_recipe      # noqa: E402
+from dynpaint_addon.inputs.samples import recipe_path                  # noqa: E402
 from testkit.chromium import Chromium                # noqa: E402
 from dynpaint_addon.web.page import page_data, write_page       # noqa: E402
 

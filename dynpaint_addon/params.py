@@ -1,6 +1,6 @@
 """Every painting parameter, once: type, default, range, unit and tooltip.
 
-The recipe reader (recipe.py), the command line's help, the docs and the add-on's Blender
+The recipe reader (inputs/recipe.py), the command line's help, the docs and the add-on's Blender
 properties are all generated from this table, so a parameter is added in one place.
 No bpy import here. Lengths are in image widths (pipeline.md §0) unless a unit says otherwise.
 """
@@ -8,15 +8,15 @@ import math
 from dataclasses import dataclass, replace
 from types import SimpleNamespace
 
+from .core.bake import QUALITIES
 from .core.frames import MODES
 from .core.fresnel import DOMAINS
 from .core.inputs import MASK_CHANNELS
 from .core.lights import FALLOFFS
 from .core.sampling import EXTENSIONS
-from .core.shape import ENCODINGS
 from .core.shading import CURVES, MIX_SPACES
-from .core.bake import QUALITIES
 from .core.shadow import OCCUPANCIES
+from .core.shape import ENCODINGS
 from .core.warps import REFLECTION_MODES, REFRACTION_MODES
 
 

@@ -13,7 +13,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import bpy  # noqa: E402
 
-from dynpaint_addon.blender.compositor import build_group, features_for_options  # noqa: E402
+from dynpaint_addon.blender.scenes.compositor import build_group, features_for_options  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 # name: (shape kind, suns, points, shadows, highlights, channels, silhouette, what it is for)

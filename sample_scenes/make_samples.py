@@ -33,8 +33,8 @@ from dynpaint_addon import params                                   # noqa: E402
 from dynpaint_addon.core.colour import linear_to_srgb    # noqa: E402
 from dynpaint_addon.core.lights import Light                             # noqa: E402
 from dynpaint_addon.core.sampling import gaussian_blur, resample        # noqa: E402
-from dynpaint_addon.imageio import read_image, write_exr, write_png     # noqa: E402
-from dynpaint_addon.recipe import Recipe, RecipeLayer, recipe_to_toml   # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image, write_exr, write_png     # noqa: E402
+from dynpaint_addon.inputs.recipe import Recipe, RecipeLayer, recipe_to_toml   # noqa: E402
 from testkit.animated import sheet_of                                   # noqa: E402
 from testkit.render3d import cycles_to_exr, ortho_camera                # noqa: E402
 
@@ -407,8 +407,8 @@ def thumbnail(recipe_path, out, px=THUMB_PX):
     from dynpaint_addon.core.input_rules import resample_painting
     from dynpaint_addon.core.layers import render_scene
     from dynpaint_addon.core.pipeline import render
-    from dynpaint_addon.imageio import write_render
-    from dynpaint_addon.recipe import load_images, load_layers, load_recipe
+    from dynpaint_addon.inputs.imageio import write_render
+    from dynpaint_addon.inputs.recipe import load_images, load_layers, load_recipe
     recipe = load_recipe(recipe_path)
     if recipe.layered:
         layers = load_layers(recipe)

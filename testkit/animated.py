@@ -7,7 +7,7 @@ import os
 import numpy as np
 
 from dynpaint_addon.core.frames import expand_pattern
-from dynpaint_addon.imageio import write_exr, write_png
+from dynpaint_addon.inputs.imageio import write_exr, write_png
 
 
 def moving_dome(size, frames, radius=0.22, travel=0.25, blink=()):

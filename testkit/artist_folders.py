@@ -20,7 +20,7 @@ import zlib
 
 import numpy as np
 
-from dynpaint_addon.imageio import write_png
+from dynpaint_addon.inputs.imageio import write_png
 from testkit import example_paintings as ex
 
 

@@ -14,7 +14,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from dynpaint_addon.imageio import write_png
+from dynpaint_addon.inputs.imageio import write_png
 
 
 def window_scene(size=96):

@@ -16,7 +16,7 @@ import tempfile
 import numpy as np
 
 from dynpaint_addon.core.laplace import graph_parts
-from dynpaint_addon.imageio import read_image
+from dynpaint_addon.inputs.imageio import read_image
 from testkit.render3d import cycles_to_exr, emission_material, ortho_camera
 
 

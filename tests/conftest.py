@@ -60,7 +60,7 @@ def empty_scene():
     reported by the add-on's handlers."""
     import bpy
     from dynpaint_addon import blender
-    from dynpaint_addon.blender import status
+    from dynpaint_addon.blender.state import status
     bpy.ops.wm.read_homefile(use_empty=True)
     blender.register_once()
     status.LAST_ERRORS.clear()

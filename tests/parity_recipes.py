@@ -12,8 +12,8 @@ import numpy as np
 
 from dynpaint_addon import params
 from dynpaint_addon.core.lights import Light
-from dynpaint_addon.imageio import write_exr, write_png
-from dynpaint_addon.recipe import Recipe
+from dynpaint_addon.inputs.imageio import write_exr, write_png
+from dynpaint_addon.inputs.recipe import Recipe
 
 W, H = 40, 30
 

@@ -1,17 +1,21 @@
-"""Blender glue: properties, operators, panels and handlers; the only folder that imports bpy. `register()` is called by the extension's root __init__.
+"""Blender glue: the only folder that imports bpy. `register()` is called by the extension's
+root __init__; `headless.py` is the command line's way in.
 
-Imports run one way, from what Blender calls down to the helpers:
+Grouped by job; imports run one way, from what Blender calls down (tests/core/test_import_graph.py
+states the order):
 
-    properties, preferences, operators/, panels, handlers      (registered with Blender)
-      → sync (keep a painting current), scene, turntable, compositor, headless
-        → tree, osl, live_bake, shadow_images
-          → painting_state (settings, images and lights read once per update)
-            → images, lights, status, settings
-              → nodes/ (the graph built as node trees) → nodegraph/ → core/
+    properties, preferences, panels, handlers, headless    what Blender (or the command line) calls
+      → operators/     one module per operator (a poll mixin in common.py)
+        → scenes/      a painting's plane, material, lights, camera; layers; turntable; compositor
+          → material/  keep a painting current (sync), its node tree and OSL script
+            → bake/    the cos-θ shadow images: baked, live while a light moves, a layer group's
+              → state/ a painting's settings, images, lights and frame, read once per update
+                → nodes/  the graph built as node trees → nodegraph/ → core/
 """
 import bpy
 
-from . import handlers, live_bake, operators, panels, preferences, properties
+from . import handlers, operators, panels, preferences, properties
+from .bake import live_bake
 
 _MODULES = (properties, preferences, operators, panels, handlers)
 

@@ -23,15 +23,15 @@ images (shadow_images.bake_shadows writes only after a complete bake).
 import bpy
 from bpy.app.handlers import persistent
 
-from .frame_sampling import only_reading_lights
-from .frames import forget_frames, moves
-from .images import forget_frames_made
-from .layers import bake_painting, forget_scenes
-from .live_bake import rendering
-from .shadow_images import forget_cached_shapes
-from .status import problems, report
-from .sync import invalidate_generated, update
-from .tree import rebuild_tree, tree_is_stale
+from .bake.layers import bake_painting, forget_scenes
+from .bake.live_bake import rendering
+from .bake.shadow_images import forget_cached_shapes
+from .material.sync import invalidate_generated, update
+from .material.tree import rebuild_tree, tree_is_stale
+from .state.frame_sampling import only_reading_lights
+from .state.frames import forget_frames, moves
+from .state.images import forget_frames_made
+from .state.status import problems, report
 
 
 def paintings(scene):

@@ -9,16 +9,16 @@ import time
 
 import bpy
 
-from ..core.lights import default_sun
-from ..imageio import quiet_native
 from . import register_once
-from .scene import (NO_CAMERA, create_painting, exact_camera, exact_render_settings,
+from ..core.lights import default_sun
+from ..inputs.imageio import quiet_native
+from .bake.layers import group_materials
+from .scenes import turntable
+from .scenes.layered_build import add_layered
+from .scenes.painting_scene import (NO_CAMERA, create_painting, exact_camera, exact_render_settings,
                     output_settings)
-from . import turntable
-from .frames import painting_size
-from .layered_build import add_layered
-from .layers import group_materials
-from .lights import linked_lights
+from .state.frames import painting_size
+from .state.lights import linked_lights
 
 
 def build_recipe_scene(recipe, size=1.0, notes=None):

@@ -9,13 +9,13 @@ import bpy
 
 from .. import params
 from ..looks import LOOKS
-from .frames import painting_frames
-from .layers import layer_parent
-from .live_bake import LIVE
+from .bake.layers import layer_parent
+from .bake.live_bake import LIVE
 from .operators.add import draw_add_menu
 from .operators.common import active_painting
-from .settings import channel_images
-from .status import errors_of, problems
+from .state.frames import painting_frames
+from .state.settings import channel_images
+from .state.status import errors_of, problems
 
 
 def _draw_param(layout, group, param):

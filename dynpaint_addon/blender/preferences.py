@@ -3,8 +3,8 @@ not a painting, decides — how much of a moving painting's frames stays in memo
 import bpy
 from bpy.props import IntProperty
 
-from ..painting_frames import DEFAULT_CACHE_MB
-from .frames import ADDON, forget_frames
+from ..inputs.painting_frames import DEFAULT_CACHE_MB
+from .state.frames import ADDON, forget_frames
 
 
 def _cache_changed(self, context):

@@ -10,7 +10,7 @@ from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProp
                        FloatVectorProperty, IntProperty, PointerProperty, StringProperty)
 
 from .. import params
-from .sync import on_setting_changed
+from .material.sync import on_setting_changed
 
 CHOICE_LABELS = {"baked": "Baked (numpy)", "osl": "In-shader (Cycles OSL)",
                  "art": "Art-directed", "cos": "1 − cos θ", "sin": "sin θ",

@@ -15,9 +15,9 @@ from ..core.lights import Light
 from ..core.pipeline import shape_normals
 from ..core.shadow import ShadowStats
 from ..errors import CommandError
-from .. import memory
-from ..imageio import painting_headers, read_image, write_exr
-from ..layered_files import load_layered
+from ..inputs import memory
+from ..inputs.imageio import painting_headers, read_image, write_exr
+from ..inputs.layered_files import load_layered
 from .notes import check_and_print, print_notes
 
 

@@ -3,8 +3,8 @@ Blender needed)."""
 import time
 
 from ..core.pipeline import render
-from ..imageio import write_render
-from ..testpainting import builtin_images, builtin_recipe
+from ..inputs.imageio import write_render
+from ..inputs.testpainting import builtin_images, builtin_recipe
 
 
 def cmd_demo(args):

@@ -8,10 +8,10 @@ import time
 
 from .. import params
 from ..errors import UserError
-from ..layered_files import is_layered_file, load_layered
-from ..painting_frames import PaintingFrames
-from ..recipe import image_bytes, load_recipe
-from ..samples import recipe_help
+from ..inputs.layered_files import is_layered_file, load_layered
+from ..inputs.painting_frames import PaintingFrames
+from ..inputs.recipe import image_bytes, load_recipe
+from ..inputs.samples import recipe_help
 from ..web.page import TURNTABLE_SECONDS, page_data, scene_data, write_page
 from .notes import check_and_print, print_notes
 

@@ -1,6 +1,6 @@
 """`dynpaint make-shape METHOD …`: height and normal maps made from what the
 artist has (docs/shape-from-painting.md). Registered by cli/__init__.py; the options are
-shape_methods.OPTIONS; the work is shape_maker's and the core's."""
+shapes.methods.OPTIONS; the work is shapes.maker's and the core's."""
 import argparse
 import json
 import os
@@ -10,22 +10,24 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import params
+from ..core.frames import SheetGrid, expand_pattern, is_pattern
 from ..core.inflate import inflate
 from ..core.input_rules import input_notes
 from ..core.integrate import integrate
 from ..core.occlusion import ambient_occlusion
 from ..core.photometric import SIDES, normals_from_profiles, normals_from_rg_photo
 from ..core.pipeline import normal_map_relief_px, shape_normals
-from ..core.frames import SheetGrid, expand_pattern, is_pattern
-from ..imageio import read_image, write_exr, write_png
-from ..painting_frames import PaintingFrames, grid_of, painting_slots
+from ..inputs.channel_names import sprite_lamp_side
+from ..inputs.imageio import read_image, write_exr, write_png
+from ..inputs.painting_frames import FrameInputs, PaintingFrames, grid_of, painting_slots
+from ..inputs.recipe import DEFAULT_SUN_NOTE, load_recipe
+from ..inputs.samples import recipe_help
 from ..params import FRAME_BY_KEY
-from ..recipe import DEFAULT_SUN_NOTE, load_recipe
-from ..shape_maker import (ShapeError, decode_normals, encode_normals, figure_and_source,
-                          figure_mask, height_widths, linear_luminance, normals_of_height, same_size,
-                          sprite_lamp_side)
-from ..shape_frames import FrameInputs, MadeFrames, fill_sheet, on_one_floor
-from ..shape_methods import METHODS, options
+from ..shapes.frames import MadeFrames, fill_sheet, on_one_floor
+from ..shapes.maker import (ShapeError, decode_normals, encode_normals, figure_and_source,
+                            figure_mask, height_widths, linear_luminance, normals_of_height,
+                            same_size)
+from ..shapes.methods import METHODS, options
 from .notes import check_and_print, figure_note, print_notes
 
 
@@ -165,7 +167,7 @@ def _write(args, path, made, values, top=None):
 
 
 def _input_paths(args):
-    """The method's input images (shape_methods.OPTIONS of kind 'file')."""
+    """The method's input images (shapes.methods.OPTIONS of kind 'file')."""
     paths = []
     for option in options(args.method_key, "cli"):
         if option.kind == "file":
@@ -178,7 +180,7 @@ def _input_paths(args):
 
 def run_method(args):
     """make-shape METHOD: its maker on the input image, or on every frame of a sequence or
-    sprite sheet (§16, shape_frames), the shapes written in the input's layout."""
+    sprite sheet (§16, shapes.frames), the shapes written in the input's layout."""
     make = MAKERS[args.method_key]
     inputs = FrameInputs(_input_paths(args), grid_of(vars(args)))
     if not inputs.animated:
@@ -345,9 +347,11 @@ def _value_type(option):
 
 
 def add_option(parser, option):
-    """One row of shape_methods.OPTIONS as a command-line argument."""
+    """One row of shapes.methods.OPTIONS as a command-line argument."""
     if option.positional:
-        parser.add_argument(option.name, metavar=option.positional, help=option.help,
+        # a recipe argument names the samples there are, as every command's does
+        text = recipe_help() if option.positional == "RECIPE" else option.help
+        parser.add_argument(option.name, metavar=option.positional, help=text,
                             nargs="*" if option.many else None)
         return
     shown = (option.default is not None and option.kind is not bool
@@ -385,8 +389,8 @@ def _param_type(prm):
 
 
 def add_parser(sub):
-    """Register `make-shape` and its methods (shape_methods.METHODS, their options from
-    shape_methods.OPTIONS) on the command line's subparsers."""
+    """Register `make-shape` and its methods (shapes.methods.METHODS, their options from
+    shapes.methods.OPTIONS) on the command line's subparsers."""
     ms = sub.add_parser("make-shape", help="make a height or normal map from what you have",
                         description="Make the shape image: integrate a normal map into heights, "
                         "take a height map's normals, solve lighting profiles or a red/green "

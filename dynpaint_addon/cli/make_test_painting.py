@@ -1,5 +1,5 @@
 """`dynpaint make-test-painting FOLDER`: the built-in test painting as files."""
-from ..testpainting import write_test_painting
+from ..inputs.testpainting import write_test_painting
 
 
 def cmd_make_test_painting(args):

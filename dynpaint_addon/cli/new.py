@@ -10,17 +10,17 @@ shaded dark image and inflated shape written to `made/`).
 """
 import os
 
+from .. import params
+from ..core.input_rules import input_notes
 from ..core.lights import DEFAULT_SUN_DIRECTION
 from ..errors import CommandError
-from ..imageio import read_image, write_exr, write_png
-from ..layered_files import read_folder, scene_from_file_layers
-from ..painting_folder import (RECIPE_NAME, folder_kind, painted_image, read_painting_folder,
+from ..inputs.imageio import read_image, write_exr, write_png
+from ..inputs.layered_files import read_folder, scene_from_file_layers
+from ..inputs.painting_folder import (RECIPE_NAME, folder_kind, painted_image, read_painting_folder,
                                recipe_in)
-from ..core.input_rules import input_notes
-from ..recipe import load_images, load_recipe, toml_value
-from ..shape_maker import SHAPE_READS
-from ..shape_methods import make_shape
-from .. import params
+from ..inputs.recipe import load_images, load_recipe, toml_value
+from ..shapes.maker import SHAPE_READS
+from ..shapes.methods import make_shape
 from .notes import print_notes
 
 MADE = "made"       # the folder, beside the recipe, of the images `new` makes for layers

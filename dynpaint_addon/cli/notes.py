@@ -3,7 +3,7 @@
 Each command runs the same checks (core.input_rules.input_notes on a recipe's images, or the
 part of them its inputs have) and prints each note as `note: …` on stderr, before its own
 result line on stdout; errors stay one `error: …` line (cli.main). The add-on's Add reports
-the same lines (blender/scene.check_images).
+the same lines (blender/scenes/painting_scene.check_images).
 """
 import sys
 

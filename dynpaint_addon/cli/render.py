@@ -9,12 +9,12 @@ from ..core.input_rules import resample_painting
 from ..core.layers import render_scene
 from ..core.pipeline import render
 from ..errors import CommandError
-from .. import memory
-from ..imageio import painting_headers, write_render
-from ..layered_files import is_layered_file, load_layered
-from ..painting_frames import PaintingFrames
-from ..recipe import load_recipe
-from ..samples import recipe_help
+from ..inputs import memory
+from ..inputs.imageio import painting_headers, write_render
+from ..inputs.layered_files import is_layered_file, load_layered
+from ..inputs.painting_frames import PaintingFrames
+from ..inputs.recipe import load_recipe
+from ..inputs.samples import recipe_help
 from .notes import print_notes
 
 

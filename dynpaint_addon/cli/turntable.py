@@ -3,9 +3,9 @@ painting once, rendered by Cycles or EEVEE in background Blender, each frame's s
 import os
 
 from ..errors import CommandError
-from ..layered_files import is_layered_file
-from ..recipe import load_recipe
-from ..samples import recipe_help
+from ..inputs.layered_files import is_layered_file
+from ..inputs.recipe import load_recipe
+from ..inputs.samples import recipe_help
 from .notes import print_notes
 
 

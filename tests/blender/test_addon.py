@@ -9,12 +9,12 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from dynpaint_addon import blender, params  # noqa: E402
-from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
-from dynpaint_addon.blender.scene import FACE_CAMERA, exact_camera, exact_render_settings, output_settings  # noqa: E402
-from dynpaint_addon.blender.settings import channel_images, settings_to_params  # noqa: E402
+from dynpaint_addon.blender.scenes.painting_scene import FACE_CAMERA, exact_camera, exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
+from dynpaint_addon.blender.state.settings import channel_images, settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
-from dynpaint_addon.imageio import read_image  # noqa: E402
-from dynpaint_addon.recipe import load_images, load_recipe  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
+from dynpaint_addon.inputs.recipe import load_images, load_recipe  # noqa: E402
 
 from parity_recipes import write_images  # noqa: E402
 

@@ -10,14 +10,14 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from dynpaint_addon import params  # noqa: E402
-from dynpaint_addon.blender import status  # noqa: E402
-from dynpaint_addon.blender.lights import linked_lights  # noqa: E402
-from dynpaint_addon.blender.scene import create_painting  # noqa: E402
-from dynpaint_addon.blender.status import problems  # noqa: E402
-from dynpaint_addon.blender.tree import tree_is_stale  # noqa: E402
+from dynpaint_addon.blender.material.tree import tree_is_stale  # noqa: E402
+from dynpaint_addon.blender.scenes.painting_scene import create_painting  # noqa: E402
+from dynpaint_addon.blender.state import status  # noqa: E402
+from dynpaint_addon.blender.state.lights import linked_lights  # noqa: E402
+from dynpaint_addon.blender.state.status import problems  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
-from dynpaint_addon.imageio import read_image, write_exr, write_png  # noqa: E402
-from dynpaint_addon.recipe import Recipe, recipe_to_toml  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image, write_exr, write_png  # noqa: E402
+from dynpaint_addon.inputs.recipe import Recipe, recipe_to_toml  # noqa: E402
 
 from conftest import run_cli  # noqa: E402
 from odd_images import write_cmyk_tiff, write_palette_png  # noqa: E402
@@ -338,7 +338,7 @@ sys.path.insert(0, sys.argv[2])
 import numpy as np
 import bpy
 from dynpaint_addon import blender
-from dynpaint_addon.imageio import write_png
+from dynpaint_addon.inputs.imageio import write_png
 blender.register_once()
 folder, size = sys.argv[1], int(sys.argv[3])
 y, x = np.mgrid[0:size, 0:size].astype(np.float32) / size
@@ -396,7 +396,7 @@ import os, resource, sys
 sys.path.insert(0, sys.argv[2])
 import numpy as np
 from dynpaint_addon import cli
-from dynpaint_addon.imageio import write_png
+from dynpaint_addon.inputs.imageio import write_png
 folder, size = sys.argv[1], int(sys.argv[3])
 y, x = np.mgrid[0:size, 0:size].astype(np.float32) / size
 write_png(os.path.join(folder, "height.png"), np.clip(1 - ((x - .5)**2 + (y - .5)**2) * 6, 0, 1), 16)

@@ -8,12 +8,12 @@ import pytest
 from conftest import REPO, run_cli, unit
 from dynpaint_addon.core.layers import bake_scene, render_scene
 from dynpaint_addon.core.lights import Light
+from dynpaint_addon.core.pipeline import render
 from dynpaint_addon.core.shadow import cos_theta_shadow
 from dynpaint_addon.core.shape import height_field_px, normals_from_height_px
-from dynpaint_addon.core.pipeline import render
-from dynpaint_addon.imageio import read_image, write_png
-from dynpaint_addon.recipe import load_images, load_layers, load_recipe
-from dynpaint_addon.testpainting import write_test_painting, write_test_scene
+from dynpaint_addon.inputs.imageio import read_image, write_png
+from dynpaint_addon.inputs.recipe import load_images, load_layers, load_recipe
+from dynpaint_addon.inputs.testpainting import write_test_painting, write_test_scene
 
 
 @pytest.fixture(scope="module")

@@ -5,11 +5,12 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon.blender import compositor, headless  # noqa: E402
-from dynpaint_addon.blender.scene import output_settings  # noqa: E402
+from dynpaint_addon.blender import headless  # noqa: E402
+from dynpaint_addon.blender.scenes import compositor  # noqa: E402
+from dynpaint_addon.blender.scenes.painting_scene import output_settings  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
-from dynpaint_addon.imageio import read_image  # noqa: E402
-from dynpaint_addon.recipe import load_images  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
+from dynpaint_addon.inputs.recipe import load_images  # noqa: E402
 
 from parity_recipes import RECIPES, make_recipe, write_images  # noqa: E402
 

@@ -15,10 +15,10 @@ import detection  # noqa: E402
 
 from testkit import example_paintings as ex  # noqa: E402
 from testkit.artist_folders import write_jpeg  # noqa: E402
-from dynpaint_addon.core.input_rules import ImageData, input_notes  # noqa: E402
-from dynpaint_addon.imageio import write_png  # noqa: E402
-from dynpaint_addon.recipe import Recipe, recipe_to_toml  # noqa: E402
 from dynpaint_addon import params  # noqa: E402
+from dynpaint_addon.core.input_rules import ImageData, input_notes  # noqa: E402
+from dynpaint_addon.inputs.imageio import write_png  # noqa: E402
+from dynpaint_addon.inputs.recipe import Recipe, recipe_to_toml  # noqa: E402
 
 
 @pytest.fixture(scope="module")

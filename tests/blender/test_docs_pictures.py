@@ -6,7 +6,7 @@ import pytest
 
 from conftest import REPO
 from doc_generators import load_generator
-from dynpaint_addon.imageio import read_image
+from dynpaint_addon.inputs.imageio import read_image
 
 
 @pytest.mark.parametrize("generator, page, pictures", [

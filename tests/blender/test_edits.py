@@ -11,15 +11,16 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from dynpaint_addon import params  # noqa: E402
-from dynpaint_addon.blender import headless, status  # noqa: E402
-from dynpaint_addon.blender.images import load_image  # noqa: E402
-from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
-from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
-from dynpaint_addon.blender.settings import channel_images, settings_to_params  # noqa: E402
-from dynpaint_addon.blender.sync import update  # noqa: E402
+from dynpaint_addon.blender import headless  # noqa: E402
+from dynpaint_addon.blender.material.sync import update  # noqa: E402
+from dynpaint_addon.blender.scenes.painting_scene import exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.blender.state import status  # noqa: E402
+from dynpaint_addon.blender.state.images import load_image  # noqa: E402
+from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
+from dynpaint_addon.blender.state.settings import channel_images, settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
-from dynpaint_addon.imageio import read_image  # noqa: E402
-from dynpaint_addon.recipe import Recipe  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
+from dynpaint_addon.inputs.recipe import Recipe  # noqa: E402
 
 from parity_recipes import SUN, write_images  # noqa: E402
 
@@ -277,7 +278,7 @@ def test_one_update_reads_the_settings_once(paths):
     """A setting change, a light move and a rebake each read the painting's settings once
     (painting_state.read_state), and every part of the update (derived images, bakes, tree)
     works from that one reading (issue 28: it converted them four to eight times)."""
-    from dynpaint_addon.blender import settings
+    from dynpaint_addon.blender.state import settings
     mat, scene = painting(paths)
     s = mat.dynamic_painting
     calls = []

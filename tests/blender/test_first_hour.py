@@ -14,8 +14,8 @@ from conftest import REPO, run_cli
 from dynpaint_addon.core.input_rules import input_notes
 from dynpaint_addon.core.lights import DEFAULT_SUN_DIRECTION
 from dynpaint_addon.core.pipeline import render
-from dynpaint_addon.imageio import read_image
-from dynpaint_addon.recipe import load_images, load_recipe
+from dynpaint_addon.inputs.imageio import read_image
+from dynpaint_addon.inputs.recipe import load_images, load_recipe
 from testkit import artist_folders as af
 
 DYNPAINT = os.path.join(os.path.dirname(sys.executable), "dynpaint")
@@ -231,8 +231,8 @@ def test_a_huge_image_is_refused_before_it_is_decoded(bomb, tmp_path):
         assert said.startswith("error: ") and "30000×30000 would need about" in said, said
         assert "GiB of memory; this machine has" in said and "GiB free" in said
         assert mb < 1024, mb                                    # nothing large was allocated
-    from dynpaint_addon.imageio import read_image
-    from dynpaint_addon.memory import NotEnoughMemory
+    from dynpaint_addon.inputs.imageio import read_image
+    from dynpaint_addon.inputs.memory import NotEnoughMemory
     with pytest.raises(NotEnoughMemory, match="reading poster.png"):
         read_image(bomb)
 
@@ -242,7 +242,7 @@ def test_a_render_too_large_for_the_machine_says_what_fits(tmp_path):
     assert said.startswith("error: rendering 100000×100000 would need about"), said
     assert "render it smaller (--width " in said and mb < 1024
     width = int(said.split("--width ")[1].split(",")[0])
-    from dynpaint_addon import memory
+    from dynpaint_addon.inputs import memory
     assert width >= 512 and memory.available_bytes() * memory.HEADROOM > 260 * 2**20
 
 
@@ -290,7 +290,7 @@ def test_the_main_job_says_nothing_a_newcomer_cannot_act_on(tmp_path):
 
 def test_the_readme_names_every_sample_command_and_measured_ratio():
     from dynpaint_addon.cli import COMMANDS
-    from dynpaint_addon.samples import list_samples
+    from dynpaint_addon.inputs.samples import list_samples
     readme = open(os.path.join(REPO, "README.md"), encoding="utf-8").read()
     names = ", ".join(f"`{s.id}`" for s in list_samples())
     assert f"sample's name ({names})" in " ".join(readme.split())
@@ -307,7 +307,7 @@ def test_the_readme_names_every_sample_command_and_measured_ratio():
 def test_add_refuses_a_painting_that_would_not_fit_and_loads_nothing(empty_scene, bomb):
     """Blender out of memory takes the artist's unsaved work with it: Add says so first."""
     import bpy
-    from dynpaint_addon.blender import status
+    from dynpaint_addon.blender.state import status
     folder, name = os.path.split(bomb)
     before = set(bpy.data.images)
     with pytest.raises(RuntimeError, match=r"30000×30000\)? would need about .* GiB free"):
@@ -321,7 +321,7 @@ def test_max_size_downsamples_what_add_reads(empty_scene, tmp_path):
     """Add's Max Size: the painting worked at 128 px, the images packed copies (the files
     unchanged), said; saved and reopened it stays so."""
     import bpy
-    from dynpaint_addon.blender.frames import painting_size
+    from dynpaint_addon.blender.state.frames import painting_size
     recipe = os.path.join(REPO, "sample_scenes", "portrait", "painting.toml")
     res = bpy.ops.dynpaint.add("EXEC_DEFAULT", filepath=recipe,
                                directory=os.path.dirname(recipe),

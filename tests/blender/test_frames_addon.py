@@ -10,17 +10,18 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon.blender import shadow_images, status  # noqa: E402
-from dynpaint_addon.blender.frames import frame_data, painting_frames, slot_frame  # noqa: E402
-from dynpaint_addon.blender.settings import settings_to_params  # noqa: E402
+from dynpaint_addon.blender.bake import shadow_images  # noqa: E402
+from dynpaint_addon.blender.bake import live_bake  # noqa: E402
+from dynpaint_addon.blender.bake.live_bake import LIVE  # noqa: E402
 from dynpaint_addon.blender.headless import build_recipe_scene  # noqa: E402
-from dynpaint_addon.blender import live_bake  # noqa: E402
-from dynpaint_addon.blender.live_bake import LIVE  # noqa: E402
-from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.blender.scenes.painting_scene import exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.blender.state import status  # noqa: E402
+from dynpaint_addon.blender.state.frames import frame_data, painting_frames, slot_frame  # noqa: E402
+from dynpaint_addon.blender.state.settings import settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import render  # noqa: E402
-from dynpaint_addon.imageio import image_data_from_blender, read_image, write_png  # noqa: E402
-from dynpaint_addon.recipe import load_images, load_recipe  # noqa: E402
-from dynpaint_addon.shape_methods import make_shape  # noqa: E402
+from dynpaint_addon.inputs.imageio import image_data_from_blender, read_image, write_png  # noqa: E402
+from dynpaint_addon.inputs.recipe import load_images, load_recipe  # noqa: E402
+from dynpaint_addon.shapes.methods import make_shape  # noqa: E402
 from testkit.animated import moving_dome, write_sequence, write_sheet  # noqa: E402
 
 SIZE = 48

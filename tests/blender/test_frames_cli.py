@@ -10,8 +10,8 @@ import pytest
 
 from conftest import run_cli
 from dynpaint_addon.core.frames import sheet_cell
-from dynpaint_addon.imageio import read_image
-from dynpaint_addon.recipe import load_recipe
+from dynpaint_addon.inputs.imageio import read_image
+from dynpaint_addon.inputs.recipe import load_recipe
 
 BLINK = load_recipe("blink")
 FOLDER = os.path.dirname(BLINK.path)

@@ -2,11 +2,11 @@
 import numpy as np
 import pytest
 
-from dynpaint_addon.core.input_rules import ImageData
-from dynpaint_addon.core.pipeline import render
 from dynpaint_addon import params
+from dynpaint_addon.core.input_rules import ImageData
 from dynpaint_addon.core.lights import Light
-from dynpaint_addon.imageio import ImageReadError, read_image, write_exr, write_png
+from dynpaint_addon.core.pipeline import render
+from dynpaint_addon.inputs.imageio import ImageReadError, read_image, write_exr, write_png
 
 
 def test_exr_round_trip_multichannel_float32(tmp_path, rng):

@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from conftest import run_cli
-from dynpaint_addon.core.layers import render_scene
-from dynpaint_addon.layered_files import (DEFAULT_SHADE, LayeredFileError, load_scene, read_ora,
-                                          shaded)
 from dynpaint_addon.core.input_rules import ImageData
+from dynpaint_addon.core.layers import render_scene
+from dynpaint_addon.inputs.layered_files import (DEFAULT_SHADE, LayeredFileError, load_scene, read_ora,
+                                          shaded)
 from testkit.layered_files import window_scene, write_ora, write_photoshop_folder
 
 SIZE = 64

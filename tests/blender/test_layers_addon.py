@@ -9,15 +9,15 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon.blender.layers import (LAYERED, core_scene, forget_scenes,  # noqa: E402
+from dynpaint_addon.blender.bake.layers import (LAYERED, core_scene, forget_scenes,  # noqa: E402
                                            group_materials, layer_parent, settle)
-from dynpaint_addon.blender.lights import painting_frame_light  # noqa: E402
 from dynpaint_addon.blender.headless import build_recipe_scene  # noqa: E402
-from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.blender.scenes.painting_scene import exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.blender.state.lights import painting_frame_light  # noqa: E402
 from dynpaint_addon.core.layers import bake_scene, render_scene  # noqa: E402
-from dynpaint_addon.imageio import image_data_from_blender, read_image  # noqa: E402
-from dynpaint_addon.recipe import load_layers, load_recipe  # noqa: E402
-from dynpaint_addon.testpainting import write_test_scene  # noqa: E402
+from dynpaint_addon.inputs.imageio import image_data_from_blender, read_image  # noqa: E402
+from dynpaint_addon.inputs.recipe import load_layers, load_recipe  # noqa: E402
+from dynpaint_addon.inputs.testpainting import write_test_scene  # noqa: E402
 from mathutils import Matrix  # noqa: E402
 from test_addon import render_cycles  # noqa: E402
 from testkit.layered_files import window_scene, write_ora  # noqa: E402

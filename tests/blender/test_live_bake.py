@@ -6,13 +6,13 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from dynpaint_addon import blender  # noqa: E402
-from dynpaint_addon.blender import live_bake, shadow_images  # noqa: E402
-from dynpaint_addon.blender.shadow_images import light_bakes, light_key, stale_lights  # noqa: E402
-from dynpaint_addon.blender.lights import painting_frame_light  # noqa: E402
-from dynpaint_addon.blender.settings import settings_to_params  # noqa: E402
+from dynpaint_addon.blender.bake import live_bake, shadow_images  # noqa: E402
+from dynpaint_addon.blender.bake.shadow_images import light_bakes, light_key, stale_lights  # noqa: E402
+from dynpaint_addon.blender.state.lights import painting_frame_light  # noqa: E402
+from dynpaint_addon.blender.state.settings import settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import shadow_term, shape_normals  # noqa: E402
-from dynpaint_addon.imageio import image_data_from_blender  # noqa: E402
-from dynpaint_addon.painting_frames import BoundedCache  # noqa: E402
+from dynpaint_addon.inputs.imageio import image_data_from_blender  # noqa: E402
+from dynpaint_addon.inputs.painting_frames import BoundedCache  # noqa: E402
 
 from parity_recipes import write_images  # noqa: E402
 
@@ -92,7 +92,7 @@ def test_a_failing_bake_keeps_the_last_good_image(painting, monkeypatch):
     broken = BoundedCache(0)                 # the decoded shape the bake reads: broken
     broken.put(key, (np.full((2, 2, 3), np.nan), None, None), 0)
     monkeypatch.setitem(shadow_images._SHAPES, painting.name, broken)
-    from dynpaint_addon.blender.status import LAST_ERRORS
+    from dynpaint_addon.blender.state.status import LAST_ERRORS
     LAST_ERRORS.clear()
     live.request(painting, bpy.context.scene)
     assert live.wait() == 0

@@ -6,10 +6,10 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
-from dynpaint_addon.blender.settings import channel_images, settings_to_params  # noqa: E402
+from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
+from dynpaint_addon.blender.state.settings import channel_images, settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
-from dynpaint_addon.imageio import (image_data_from_blender, read_image, write_exr,  # noqa: E402
+from dynpaint_addon.inputs.imageio import (image_data_from_blender, read_image, write_exr,  # noqa: E402
                                     write_png)
 
 from test_addon import render_cycles  # noqa: E402
@@ -133,10 +133,10 @@ def test_a_lone_opaque_painting_is_refused_with_what_to_do_and_nothing_is_made(e
 
 
 def test_the_operator_is_generated_from_the_one_table():
-    """Make Shape's properties are shape_methods.OPTIONS' add-on rows (issue 28), with the
+    """Make Shape's properties are shapes.methods.OPTIONS' add-on rows (issue 28), with the
     table's defaults and ranges; its menu holds the methods that make a shape."""
     from dynpaint_addon import blender
-    from dynpaint_addon.shape_methods import METHODS, OPTIONS
+    from dynpaint_addon.shapes.methods import METHODS, OPTIONS
     blender.register_once()
     props = bpy.ops.dynpaint.make_shape.get_rna_type().properties
     addon = [o for o in OPTIONS if o.where != "cli"]

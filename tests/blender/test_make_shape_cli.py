@@ -7,8 +7,8 @@ import shutil
 import numpy as np
 import pytest
 
-from dynpaint_addon.imageio import read_image, write_exr, write_png
-from dynpaint_addon.samples import recipe_path
+from dynpaint_addon.inputs.imageio import read_image, write_exr, write_png
+from dynpaint_addon.inputs.samples import recipe_path
 
 from conftest import run_cli
 

@@ -7,13 +7,14 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon.blender import headless, status  # noqa: E402
-from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
-from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
-from dynpaint_addon.blender.sync import batch  # noqa: E402
+from dynpaint_addon.blender import headless  # noqa: E402
+from dynpaint_addon.blender.material.sync import batch  # noqa: E402
+from dynpaint_addon.blender.scenes.painting_scene import exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.blender.state import status  # noqa: E402
+from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
-from dynpaint_addon.imageio import read_image  # noqa: E402
-from dynpaint_addon.recipe import load_images  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
+from dynpaint_addon.inputs.recipe import load_images  # noqa: E402
 
 from parity_recipes import make_recipe, write_images  # noqa: E402
 
@@ -71,7 +72,7 @@ def test_keyframed_lights_in_one_animation_render(name, paths, tmp_path):
 def test_per_frame_bake_depends_only_on_the_frame(paths, tmp_path):
     """A farm renders frame chunks in fresh processes: the bake of frame k must not depend on
     what was rendered before. Frame 17 after playing 1…16 equals frame 17 alone."""
-    from dynpaint_addon.imageio import image_data_from_blender
+    from dynpaint_addon.inputs.imageio import image_data_from_blender
 
     def scene_at(frames):
         recipe = make_recipe("shadows_height", paths)
@@ -111,7 +112,7 @@ def test_animation_frame_equals_a_single_frame_render(paths, tmp_path):
 
 
 def test_a_failing_frame_bake_keeps_the_image_and_never_raises(paths):
-    from dynpaint_addon.imageio import image_data_from_blender
+    from dynpaint_addon.inputs.imageio import image_data_from_blender
     recipe = make_recipe("shadows_height", paths)
     plane, mat = headless.build_recipe_scene(recipe)
     lights = linked_lights(mat, bpy.context.scene)

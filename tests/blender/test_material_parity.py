@@ -11,10 +11,10 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from dynpaint_addon.blender import headless  # noqa: E402
-from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
-from dynpaint_addon.imageio import read_image  # noqa: E402
 from dynpaint_addon.blender.nodes.build import count_nodes  # noqa: E402
-from dynpaint_addon.recipe import load_images  # noqa: E402
+from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
+from dynpaint_addon.inputs.recipe import load_images  # noqa: E402
 
 from parity_recipes import RECIPES, make_recipe, write_images  # noqa: E402
 

@@ -6,14 +6,14 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from dynpaint_addon.blender import headless  # noqa: E402
-from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.blender.scenes.painting_scene import exact_render_settings, output_settings  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render, shape_normals  # noqa: E402
 from dynpaint_addon.core.shadow import cos_theta_shadow  # noqa: E402
-from dynpaint_addon.imageio import read_image  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
+from dynpaint_addon.inputs.recipe import load_images  # noqa: E402
 from dynpaint_addon.nodegraph import osl_codegen  # noqa: E402
 from dynpaint_addon.nodegraph.pipeline_graph import Features, describe  # noqa: E402
-from dynpaint_addon.recipe import load_images  # noqa: E402
 
 from parity_recipes import RECIPES, make_recipe, write_images  # noqa: E402
 
@@ -103,7 +103,7 @@ def test_shipped_shaders_are_current():
 
 def test_shipped_shader_compiles_with_cycles(tmp_path):
     import os
-    from dynpaint_addon.blender import osl
+    from dynpaint_addon.blender.material import osl
     from conftest import REPO as repo
     bpy.ops.wm.read_homefile(use_empty=True)
     tree = bpy.data.materials.new("t").node_tree

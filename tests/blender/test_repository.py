@@ -64,7 +64,7 @@ print("SAMPLE", mat.name, mat.dynamic_painting.is_painting, len(mat.dynamic_pain
 print("MODULE", [m for m in sys.modules if m.endswith("dynamic_painting")])
 prefs = bpy.context.preferences.addons["bl_ext.user_default.dynamic_painting"].preferences
 prefs.frame_cache_mb = 300                   # the preference the frame cache is bounded by
-from bl_ext.user_default.dynamic_painting.dynpaint_addon.blender.frames import cache_mb
+from bl_ext.user_default.dynamic_painting.dynpaint_addon.blender.state.frames import cache_mb
 print("FRAME CACHE", cache_mb())
 assert bpy.ops.dynpaint.add_sample(sample="blink") == {"FINISHED"}
 print("BLINK", bpy.context.scene.frame_end)
@@ -120,7 +120,7 @@ print("AFTER", ours(), len(mat.node_tree.animation_data.drivers) == drivers,
       set(bpy.app.driver_namespace) == namespace, mat.dynamic_painting.is_painting,
       all(d.is_valid for d in mat.node_tree.animation_data.drivers))
 bpy.context.scene.frame_set(5)
-print("ERRORS", [e for e in sys.modules[MOD + ".dynpaint_addon.blender.status"].LAST_ERRORS])
+print("ERRORS", [e for e in sys.modules[MOD + ".dynpaint_addon.blender.state.status"].LAST_ERRORS])
 """
 
 

@@ -11,14 +11,14 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from dynpaint_addon.blender import headless  # noqa: E402
-from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
-from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
-from dynpaint_addon.blender.turntable import add_light_turntable, orbit_position  # noqa: E402
+from dynpaint_addon.blender.scenes.painting_scene import exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.blender.scenes.turntable import add_light_turntable, orbit_position  # noqa: E402
+from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
-from dynpaint_addon.imageio import read_image  # noqa: E402
-from dynpaint_addon.recipe import load_images, load_recipe  # noqa: E402
-from dynpaint_addon.samples import SAMPLES_DIR, list_samples, recipe_path  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
+from dynpaint_addon.inputs.recipe import load_images, load_recipe  # noqa: E402
+from dynpaint_addon.inputs.samples import SAMPLES_DIR, list_samples, recipe_path  # noqa: E402
 
 from conftest import REPO, run_cli  # noqa: E402
 from parity_recipes import make_recipe, write_images  # noqa: E402

@@ -12,7 +12,7 @@ import pytest
 
 pytest.importorskip("bpy")
 
-from dynpaint_addon.imageio import read_image  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
 
 from conftest import REPO  # noqa: E402
 from parity_recipes import write_images  # noqa: E402
@@ -22,10 +22,11 @@ import os, sys
 sys.path.insert(0, {REPO!r})
 import bpy
 from dynpaint_addon import blender
-from dynpaint_addon.blender import handlers, headless, status
-from dynpaint_addon.blender.lights import linked_lights, painting_frame_light
-from dynpaint_addon.blender.scene import exact_render_settings, output_settings
-from dynpaint_addon.blender.turntable import add_light_turntable
+from dynpaint_addon.blender import handlers, headless
+from dynpaint_addon.blender.state import status
+from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light
+from dynpaint_addon.blender.scenes.painting_scene import exact_render_settings, output_settings
+from dynpaint_addon.blender.scenes.turntable import add_light_turntable
 blender.register_once()
 """
 
@@ -133,7 +134,7 @@ def test_without_the_load_handler_a_reopened_file_would_be_wrong(authored):
     load handler is what makes reopening exact."""
     code = PRELUDE + textwrap.dedent("""
         import numpy as np
-        from dynpaint_addon.imageio import image_data_from_blender
+        from dynpaint_addon.inputs.imageio import image_data_from_blender
         bpy.app.handlers.load_post.remove(handlers.remake_generated_images)
         bpy.ops.wm.open_mainfile(filepath=sys.argv[1])
         mat = next(m for m in bpy.data.materials if m.dynamic_painting.is_painting)
@@ -149,9 +150,9 @@ def test_without_the_load_handler_a_reopened_file_would_be_wrong(authored):
 
 OLD = PRELUDE + """
 import numpy as np
-from dynpaint_addon.blender.settings import settings_to_params
+from dynpaint_addon.blender.state.settings import settings_to_params
 from dynpaint_addon.core.pipeline import render as core_render
-from dynpaint_addon.imageio import image_data_from_blender, read_image
+from dynpaint_addon.inputs.imageio import image_data_from_blender, read_image
 bpy.ops.wm.open_mainfile(filepath=sys.argv[1])
 scene = bpy.context.scene
 mat = next(m for m in bpy.data.materials if m.dynamic_painting.is_painting)

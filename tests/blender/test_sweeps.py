@@ -8,10 +8,11 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon.blender import compositor, headless  # noqa: E402
+from dynpaint_addon.blender import headless  # noqa: E402
+from dynpaint_addon.blender.scenes import compositor  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
-from dynpaint_addon.imageio import read_image  # noqa: E402
-from dynpaint_addon.recipe import load_images  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
+from dynpaint_addon.inputs.recipe import load_images  # noqa: E402
 
 from parity_recipes import random_recipe, write_images  # noqa: E402
 from test_material_parity import EEVEE_OPAQUE_SNAP  # noqa: E402

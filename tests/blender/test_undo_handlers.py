@@ -10,13 +10,14 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon.blender import handlers, headless, status  # noqa: E402
-from dynpaint_addon.blender.lights import linked_lights, painting_frame_light  # noqa: E402
-from dynpaint_addon.blender.scene import exact_render_settings, output_settings  # noqa: E402
-from dynpaint_addon.blender.shadow_images import bake_shape  # noqa: E402
-from dynpaint_addon.blender.settings import settings_to_params  # noqa: E402
+from dynpaint_addon.blender import handlers, headless  # noqa: E402
+from dynpaint_addon.blender.bake.shadow_images import bake_shape  # noqa: E402
+from dynpaint_addon.blender.scenes.painting_scene import exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.blender.state import status  # noqa: E402
+from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
+from dynpaint_addon.blender.state.settings import settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import shadow_term  # noqa: E402
-from dynpaint_addon.imageio import image_data_from_blender  # noqa: E402
+from dynpaint_addon.inputs.imageio import image_data_from_blender  # noqa: E402
 
 from parity_recipes import make_recipe, write_images  # noqa: E402
 from test_addon import core_of, render_cycles  # noqa: E402

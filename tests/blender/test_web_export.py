@@ -13,14 +13,14 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon.blender.frame_sampling import reading_lights  # noqa: E402
-from dynpaint_addon.blender.lights import painting_lights  # noqa: E402
 from dynpaint_addon.blender.operators import menu_export  # noqa: E402
-from dynpaint_addon.blender.settings import channel_images, settings_to_params  # noqa: E402
+from dynpaint_addon.blender.state.frame_sampling import reading_lights  # noqa: E402
+from dynpaint_addon.blender.state.lights import painting_lights  # noqa: E402
+from dynpaint_addon.blender.state.settings import channel_images, settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
-from dynpaint_addon.imageio import read_image  # noqa: E402
-from dynpaint_addon.recipe import image_bytes, load_recipe  # noqa: E402
-from dynpaint_addon.samples import recipe_path  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
+from dynpaint_addon.inputs.recipe import image_bytes, load_recipe  # noqa: E402
+from dynpaint_addon.inputs.samples import recipe_path  # noqa: E402
 
 from conftest import REPO, open_page, page_pixels, run_cli  # noqa: E402
 from parity_recipes import write_images  # noqa: E402

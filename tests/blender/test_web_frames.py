@@ -9,8 +9,8 @@ import pytest
 
 from conftest import open_page, page_pixels, run_cli, shown
 from dynpaint_addon.core.pipeline import render as core_render
-from dynpaint_addon.painting_frames import PaintingFrames
-from dynpaint_addon.recipe import image_bytes, load_recipe
+from dynpaint_addon.inputs.painting_frames import PaintingFrames
+from dynpaint_addon.inputs.recipe import image_bytes, load_recipe
 from dynpaint_addon.web.page import page_data, write_page
 
 BORDER = 1

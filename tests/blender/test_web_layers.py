@@ -10,8 +10,8 @@ from conftest import open_page, run_cli, shown
 from dynpaint_addon.core.colour import linear_to_srgb
 from dynpaint_addon.core.layers import render_scene
 from dynpaint_addon.core.lights import Light
-from dynpaint_addon.recipe import load_layers, load_recipe
-from dynpaint_addon.testpainting import write_test_scene
+from dynpaint_addon.inputs.recipe import load_layers, load_recipe
+from dynpaint_addon.inputs.testpainting import write_test_scene
 from dynpaint_addon.web.page import scene_data, write_page
 
 SIZE = 96

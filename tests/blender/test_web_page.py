@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from dynpaint_addon.core.pipeline import render as core_render
-from dynpaint_addon.imageio import read_image
+from dynpaint_addon.inputs.imageio import read_image
 from testkit.chromium import find_chromium
+from dynpaint_addon.inputs.recipe import load_images
 from dynpaint_addon.looks import with_look
-from dynpaint_addon.recipe import load_images
 from dynpaint_addon.web.page import page_data, write_page
 
 from conftest import open_page, page_pixels, run_cli

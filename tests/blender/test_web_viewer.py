@@ -10,8 +10,8 @@ import pytest
 
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.pipeline import render as core_render
-from dynpaint_addon.recipe import load_images
-from dynpaint_addon.testpainting import builtin_images, builtin_recipe
+from dynpaint_addon.inputs.recipe import load_images
+from dynpaint_addon.inputs.testpainting import builtin_images, builtin_recipe
 from testkit.chromium import Chromium
 from dynpaint_addon.web.page import page_data, write_page
 

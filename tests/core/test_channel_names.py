@@ -3,8 +3,8 @@ import doctest
 
 import pytest
 
-from dynpaint_addon import channel_names
-from dynpaint_addon.channel_names import common_name, guess_channels
+from dynpaint_addon.inputs import channel_names
+from dynpaint_addon.inputs.channel_names import common_name, guess_channels
 
 
 def test_the_docstring_examples_hold():

@@ -26,7 +26,7 @@ def modules_with_examples():
 
 def test_the_examples_are_found():
     assert {"dynpaint_addon.core.integrate", "dynpaint_addon.core.shape",
-            "dynpaint_addon.channel_names"} <= set(modules_with_examples())
+            "dynpaint_addon.inputs.channel_names"} <= set(modules_with_examples())
 
 
 @pytest.mark.parametrize("name", modules_with_examples())

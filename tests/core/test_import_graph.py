@@ -1,11 +1,10 @@
-"""The package's imports run one way (issue 14), and bpy lives in one folder (issue 28): read
-from the source, no Blender needed.
+"""The package's imports run one way (issue 14), its top shows its parts (issue 40), and bpy
+lives in one folder (issue 28): read from the source, no Blender needed.
 
-    command line, add-on glue (blender/)  →  nodegraph/  →  core/
-    params, recipe, imageio, … sit beside: the core imports none of them, they import the core
+    cli/ → blender/ (grouped by job) → web/ → inputs/ → shapes/ → nodegraph/ → the tables → core/
 
-Only blender/ imports bpy; nothing under core/, nodegraph/, web/ or cli/ does, even inside a
-function; a module beside them may reach Blender on first use only (imageio's image loader).
+Only blender/ imports bpy; nothing under core/, nodegraph/, shapes/, web/ or cli/ does, even
+inside a function; inputs/ may reach Blender on first use only (imageio's image loader).
 
 Every import of a dynpaint_addon module counts, also one inside a function: a cycle kept alive
 by a late import is still a cycle.
@@ -111,30 +110,55 @@ def test_no_import_inside_a_function_but_optional_ones():
                 assert target.split(".")[0] in LAZY_EXTERNAL, f"{name}:{line} imports {target}"
 
 
-FOLDERS = ("core", "nodegraph", "blender", "web", "cli")
+# The package's parts, lowest first: a module imports from its own part and the parts below it
+# only. The tables sit at the top of the package beside the parts; blender/ is grouped by job,
+# and its own modules (what Blender calls: properties, panels, handlers; headless, the command
+# line's way in) sit above its groups.
+ORDER = ("core", "tables", "nodegraph", "shapes", "inputs", "web",
+         "blender.nodes", "blender.state", "blender.bake", "blender.material", "blender.scenes",
+         "blender.operators", "blender", "cli", "entry")
+TABLES = ("params", "looks", "errors")
+ENTRIES = ("__init__", "__main__")
 
 
-def layer(module):
-    """The folder a module sits in under the package ("core", "blender", …), or "top"."""
-    parts = module.split(".")
-    if len(parts) > 2 or (len(parts) == 2 and parts[1] in FOLDERS):
-        return parts[1]
-    return "top"
+def part(module):
+    """The part of the package a module belongs to: a folder ("core", "inputs", …), a group of
+    blender/ ("blender.bake", …), "blender" for blender/'s own modules, "tables", "entry"."""
+    parts = module.split(".")[1:]
+    if not parts or parts == ["__main__"]:
+        return "entry"
+    if len(parts) == 1:
+        return "tables" if parts[0] in TABLES else parts[0]
+    if parts[0] == "blender" and len(parts) > 2:
+        return f"blender.{parts[1]}"
+    return parts[0]
 
 
-def test_layers_import_downward_only():
-    """core imports only core; nodegraph never the glue; nothing but the glue (and the command
-    line's Blender commands) imports the glue."""
-    _, edges = graph()
+def test_the_top_lists_the_parts_and_the_tables_only():
+    """Every entry at the package's top is a part in ORDER, a table, or the package's entry."""
+    top = sorted(e for e in os.listdir(PACKAGE) if e != "__pycache__")
+    folders = {p for p in ORDER if "." not in p} - {"tables", "entry"}
+    expected = sorted(folders | {t + ".py" for t in TABLES} | {e + ".py" for e in ENTRIES})
+    assert top == expected
+    groups = {p.split(".")[1] for p in ORDER if p.startswith("blender.")}
+    blender = os.path.join(PACKAGE, "blender")
+    assert {e for e in os.listdir(blender) if os.path.isdir(os.path.join(blender, e))
+            and e != "__pycache__"} == groups
+
+
+def test_parts_import_downward_only():
+    """A module imports its own part and those below it in ORDER; the glue is imported by
+    nothing outside blender/ but the command line's Blender commands, on first use."""
+    known, edges = graph()
+    assert {part(m) for m in known} == set(ORDER)
     wrong = []
     for m, targets in edges.items():
         for t, lazy, line in targets:
-            src, dst = layer(m), layer(t)
-            if src == "core" and dst != "core":
-                wrong.append(f"{m}:{line} → {t}")
-            if src == "nodegraph" and dst == "blender":
-                wrong.append(f"{m}:{line} → {t}")
-            if dst == "blender" and src != "blender" and (m, t) not in LAZY:
+            src, dst = ORDER.index(part(m)), ORDER.index(part(t))
+            if dst > src:
+                wrong.append(f"{m}:{line} → {t} ({part(m)} is below {part(t)})")
+            if part(t).startswith("blender") and not part(m).startswith("blender") \
+                    and (m, t) not in LAZY:
                 wrong.append(f"{m}:{line} → {t}")
     assert wrong == []
 
@@ -150,7 +174,7 @@ def test_no_single_letter_module_aliases():
     assert short == []
 
 
-BPY_FREE_FOLDERS = ("core", "nodegraph", "web", "cli")
+BPY_FREE = ("core", "tables", "nodegraph", "shapes", "web", "cli", "entry")
 
 
 def bpy_imports(path):
@@ -166,21 +190,21 @@ def bpy_imports(path):
 
 
 def test_bpy_lives_in_blender_only():
-    """The folder rule: core/, nodegraph/, web/ and cli/ never import bpy; the modules beside them
-    only inside a function (on first use); blender/ is the glue."""
+    """The folder rule: core/, nodegraph/, shapes/, web/, cli/ and the tables never import bpy;
+    inputs/ only inside a function (on first use); blender/ is the glue."""
     wrong = []
     for name, path in modules().items():
-        folder = layer(name)
         for line, lazy in bpy_imports(path):
-            if folder in BPY_FREE_FOLDERS or (folder == "top" and not lazy):
+            if part(name) in BPY_FREE or (part(name) == "inputs" and not lazy):
                 wrong.append(f"{name}:{line}")
     assert wrong == []
     # the rule holds at run time too: every module outside blender/ imports with bpy absent
-    outside = sorted(m for m in modules() if layer(m) != "blender" and m != "dynpaint_addon.__main__")
+    outside = sorted(m for m in modules() if not part(m).startswith("blender")
+                     and m != "dynpaint_addon.__main__")
     code = ("import sys, importlib; sys.modules['bpy'] = None\n"
             f"for m in {outside!r}: importlib.import_module(m)\n"
             "from dynpaint_addon.core import pipeline\n"
-            "from dynpaint_addon.testpainting import builtin_images, builtin_recipe\n"
+            "from dynpaint_addon.inputs.testpainting import builtin_images, builtin_recipe\n"
             "r = builtin_recipe(); print(pipeline.render(builtin_images(16), r.lights, r.params).rgba.shape)")
     res = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True,
                          env={**os.environ, "PYTHONPATH": REPO})

@@ -6,13 +6,13 @@ import pytest
 from dynpaint_addon import params
 from dynpaint_addon.core.input_rules import ImageData
 from dynpaint_addon.core.layers import Layer, Scene, placement, render_scene, scene_notes
-from dynpaint_addon.core.transmittance import Occluder, transmittance
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.pipeline import render
 from dynpaint_addon.core.sampling import pixel_centres
-from dynpaint_addon.recipe import load_images, load_recipe
-from dynpaint_addon.samples import recipe_path
-from dynpaint_addon.testpainting import builtin_scene_layers
+from dynpaint_addon.core.transmittance import Occluder, transmittance
+from dynpaint_addon.inputs.recipe import load_images, load_recipe
+from dynpaint_addon.inputs.samples import recipe_path
+from dynpaint_addon.inputs.testpainting import builtin_scene_layers
 
 N = 64
 

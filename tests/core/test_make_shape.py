@@ -10,17 +10,17 @@ import pytest
 
 from dynpaint_addon import params
 from dynpaint_addon.core.inflate import PROFILES, inflate
+from dynpaint_addon.core.input_rules import ImageData
 from dynpaint_addon.core.integrate import components, integrate
 from dynpaint_addon.core.laplace import Grid, poisson_neumann, solve
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.occlusion import ambient_occlusion
 from dynpaint_addon.core.photometric import (normals_from_profiles, normals_from_rg_photo,
                                              profile_directions)
-from dynpaint_addon.core.input_rules import ImageData
 from dynpaint_addon.core.pipeline import render
-from dynpaint_addon.shape_methods import make_shape
-from dynpaint_addon.shape_maker import (encode_normals, figure_mask, normals_of_height,
-                                        sprite_lamp_side)
+from dynpaint_addon.inputs.channel_names import sprite_lamp_side
+from dynpaint_addon.shapes.maker import encode_normals, figure_mask, normals_of_height
+from dynpaint_addon.shapes.methods import make_shape
 
 
 def grid_xy(h, w):
@@ -356,11 +356,11 @@ def test_an_opaque_alpha_cuts_nothing_when_integrating():
 
 
 def test_the_command_line_is_generated_from_the_one_table():
-    """make-shape METHOD takes exactly the table's options for it (shape_methods.OPTIONS, issue
+    """make-shape METHOD takes exactly the table's options for it (shapes.methods.OPTIONS, issue
     28), each range checked by Option.check as the operator's sliders clamp."""
     import argparse
     from dynpaint_addon.cli import build_parser
-    from dynpaint_addon.shape_methods import METHODS, options
+    from dynpaint_addon.shapes.methods import METHODS, options
     sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
     methods = next(a for a in sub.choices["make-shape"]._actions
                    if isinstance(a, argparse._SubParsersAction))

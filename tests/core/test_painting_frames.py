@@ -8,12 +8,12 @@ import pytest
 
 from dynpaint_addon.core.input_rules import ImageData
 from dynpaint_addon.core.pipeline import render
-from dynpaint_addon.imageio import read_image, write_exr
-from dynpaint_addon.painting_frames import (FrameError, PaintingFrames, painting_slots,
+from dynpaint_addon.inputs.imageio import read_image, write_exr
+from dynpaint_addon.inputs.painting_frames import (FrameError, PaintingFrames, painting_slots,
                                             sequence_numbers, slot_frames, slot_settings)
-from dynpaint_addon.params import frame_defaults
-from dynpaint_addon.recipe import (RecipeError, load_images, load_recipe, parse_recipe,
+from dynpaint_addon.inputs.recipe import (RecipeError, load_images, load_recipe, parse_recipe,
                                    recipe_to_toml)
+from dynpaint_addon.params import frame_defaults
 from testkit.animated import moving_dome, sheet_of, write_sequence, write_sheet
 
 
@@ -222,7 +222,7 @@ def test_a_loop_lasts_until_every_slot_comes_round_together():
     multiple (a 24- and a 16-frame cycle: 48; ping-pong over 4: 6; on twos: 8), or, beyond
     MAX_LOOP frames or for periods that never line up, the longest."""
     from dynpaint_addon.core.frames import SheetGrid
-    from dynpaint_addon.painting_frames import SlotFrames
+    from dynpaint_addon.inputs.painting_frames import SlotFrames
 
     def loop(*slots):
         return PaintingFrames({f"c{i}": SlotFrames("c", "p", "sheet", mode=m, count=n, rate=r,

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 from dynpaint_addon import params
-from dynpaint_addon.recipe import (RecipeError, load_layers, load_recipe, parse_recipe,
+from dynpaint_addon.inputs.recipe import (RecipeError, load_layers, load_recipe, parse_recipe,
                                    recipe_to_toml)
-from dynpaint_addon.testpainting import write_test_painting
+from dynpaint_addon.inputs.testpainting import write_test_painting
 
 
 @pytest.fixture(scope="module")

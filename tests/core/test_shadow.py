@@ -3,8 +3,8 @@ import numpy as np
 import pytest
 
 from conftest import flat_normals, unit
-from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.bake import QUALITY
+from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.shadow import ShadowStats, cos_theta_shadow
 from dynpaint_addon.core.shape import decode_normal_map, height_field_px, normals_from_height_px, \
     slopes_from_normals
@@ -204,7 +204,7 @@ def test_plane_is_cos_theta_at_every_quality(quality):
 
 
 def test_quality_levels_converge_to_the_reference():
-    from dynpaint_addon.testpainting import builtin_images
+    from dynpaint_addon.inputs.testpainting import builtin_images
     from dynpaint_addon.core.shape import height_field_px, normals_from_height_px
     z = height_field_px(builtin_images(192)["shape"].grey(), 0.25)
     n = normals_from_height_px(z)
@@ -237,7 +237,7 @@ from dynpaint_addon.core import crossing_search, crossings  # noqa: E402
 @pytest.mark.parametrize("kind", ["height", "normal"])
 def test_sun_crossings_match_the_reference(kind):
     """Exact crossings against the K = 1024 float64 march, on tall relief."""
-    from dynpaint_addon.testpainting import builtin_images
+    from dynpaint_addon.inputs.testpainting import builtin_images
     from dynpaint_addon.core.shape import height_field_px, normals_from_height_px
     z = height_field_px(builtin_images(192)["shape"].grey().astype(np.float64), 0.25)
     n = normals_from_height_px(z)
@@ -361,7 +361,7 @@ def test_point_crossings_of_normal_maps_follow_the_reference(pos, reach):
     """A normal map's relief rebuilt along each ray (each ray its own shift of its rows'
     running integral, _Rows' bend): close to the K = 1024 march for every light, with the
     default reach and without one."""
-    from dynpaint_addon.testpainting import builtin_images
+    from dynpaint_addon.inputs.testpainting import builtin_images
     z = height_field_px(builtin_images(128)["shape"].grey().astype(np.float64), 0.25)
     n = normals_from_height_px(z)
     sl = slopes_from_normals(n)
@@ -379,7 +379,7 @@ def test_point_crossings_of_normal_maps_follow_the_reference(pos, reach):
 def test_point_crossings_follow_the_reference(pos):
     """Tall relief (0.25 image widths): close to the K = 1024 march everywhere, finite and
     in [0, 1] for lights far, near, low and below."""
-    from dynpaint_addon.testpainting import builtin_images
+    from dynpaint_addon.inputs.testpainting import builtin_images
     z = height_field_px(builtin_images(128)["shape"].grey().astype(np.float64), 0.25)
     n = normals_from_height_px(z)
     light = Light("point", pos)
@@ -396,7 +396,7 @@ def test_point_lights_use_crossings_at_every_level_from_512_px(monkeypatch):
     """Draft, preview and final bake point lights by crossings (final from
     FAST_FINAL_MIN_PX up: below it the K = 64 march is more accurate and cheap), each level
     closer to the reference than the one before; normal maps too."""
-    from dynpaint_addon.testpainting import builtin_images
+    from dynpaint_addon.inputs.testpainting import builtin_images
     z = height_field_px(builtin_images(256)["shape"].grey(), 0.25)
     n = normals_from_height_px(z)
     light = Light("point", (0.3, -0.2, 0.6))
@@ -485,7 +485,7 @@ def test_a_long_crossing_bake_reports_progress_and_can_be_superseded(kind, monke
 def _relief_case(kind):
     """(normals, relief keywords, light, crossing function) for "sun|point, height|normal":
     the built-in relief at 160², as a height map or as a normal map's slopes."""
-    from dynpaint_addon.testpainting import builtin_images
+    from dynpaint_addon.inputs.testpainting import builtin_images
     z = height_field_px(builtin_images(160)["shape"].grey().astype(np.float32), 0.3)
     n = normals_from_height_px(z)
     kw = {"heights_px": z} if kind.endswith("height") else {"slopes": slopes_from_normals(n)}
@@ -550,7 +550,7 @@ def test_descents_capped_by_the_tables_top_level_are_resumed(levels, monkeypatch
     """Tables stop at TABLE_LEVELS: a descent then advances at most 2**levels − 1 columns and
     its caller resumes it until it finds the crossing, however far (a low sun's long shadows;
     with a fixed number of resumptions this failed: t off by up to 0.87)."""
-    from dynpaint_addon.testpainting import builtin_images
+    from dynpaint_addon.inputs.testpainting import builtin_images
     z = height_field_px(builtin_images(256)["shape"].grey().astype(np.float32), 0.5)
     n = normals_from_height_px(z)
     light = Light("sun", (np.cos(0.26) * np.cos(0.5), np.cos(0.26) * np.sin(0.5), np.sin(0.26)))
@@ -567,7 +567,7 @@ from dynpaint_addon.core.shadow import vertical_cos_theta  # noqa: E402
 
 @pytest.mark.parametrize("kind", ["height", "normal"])
 def test_a_sun_straight_above_has_the_marchs_answer_in_closed_form(kind):
-    from dynpaint_addon.testpainting import builtin_images
+    from dynpaint_addon.inputs.testpainting import builtin_images
     z = height_field_px(builtin_images(96)["shape"].grey().astype(np.float64), 0.25)
     n = normals_from_height_px(z)
     kw = {"heights_px": z} if kind == "height" else {"slopes": slopes_from_normals(n)}
@@ -582,7 +582,7 @@ def test_a_sun_straight_above_has_the_marchs_answer_in_closed_form(kind):
 def test_a_sun_straight_above_never_marches(monkeypatch):
     """Overhead was the slowest case (the crossings fell back to a K = 64 march: 7–34× a
     45° sun, benchmarks/overhead_lights.py); now it is the cheapest, at every level."""
-    from dynpaint_addon.testpainting import builtin_images
+    from dynpaint_addon.inputs.testpainting import builtin_images
     z = height_field_px(builtin_images(512)["shape"].grey().astype(np.float32), 0.25)
     n = normals_from_height_px(z)
 

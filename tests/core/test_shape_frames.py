@@ -8,7 +8,7 @@ from conftest import run_cli
 from dynpaint_addon.core.frames import SheetGrid, sheet_cell
 from dynpaint_addon.core.inflate import inflate
 from dynpaint_addon.core.integrate import integrate
-from dynpaint_addon.imageio import read_image, write_exr
+from dynpaint_addon.inputs.imageio import read_image, write_exr
 from testkit.animated import moving_dome, write_sequence, write_sheet
 
 

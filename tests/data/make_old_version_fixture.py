@@ -17,8 +17,8 @@ sys.path[:0] = [REPO, os.path.dirname(HERE)]
 import bpy  # noqa: E402
 
 from dynpaint_addon.blender import headless  # noqa: E402
-from dynpaint_addon.blender.lights import linked_lights  # noqa: E402
-from dynpaint_addon.blender.scene import exact_render_settings  # noqa: E402
+from dynpaint_addon.blender.scenes.painting_scene import exact_render_settings  # noqa: E402
+from dynpaint_addon.blender.state.lights import linked_lights  # noqa: E402
 from parity_recipes import make_recipe, write_images  # noqa: E402
 
 

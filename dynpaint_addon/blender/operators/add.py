@@ -8,17 +8,17 @@ from bpy.utils import previews
 from bpy_extras.io_utils import ImportHelper
 
 from ... import params
-from ...channel_names import IMAGE_EXTENSIONS, common_name, guess_channels
-from ...imageio import image_data_from_blender
-from ...recipe import DEFAULT_SUN_NOTE, RecipeError, load_recipe
-from ...samples import list_samples
-from ...shape_maker import looks_like_height, read_as_made
-from ...shape_methods import make_shape
-from ..frames import moves, painting_frames
-from ..images import load_image, made_shape_image
-from ..layered_build import add_camera, add_layered, animate_scene
-from ..scene import create_painting, unchanged_images_on_failure
-from ..turntable import turn_first_sun
+from ...inputs.channel_names import IMAGE_EXTENSIONS, common_name, guess_channels
+from ...inputs.imageio import image_data_from_blender
+from ...inputs.recipe import DEFAULT_SUN_NOTE, RecipeError, load_recipe
+from ...inputs.samples import list_samples
+from ...shapes.maker import looks_like_height, read_as_made
+from ...shapes.methods import make_shape
+from ..scenes.layered_build import add_camera, add_layered, animate_scene
+from ..scenes.painting_scene import create_painting, unchanged_images_on_failure
+from ..scenes.turntable import turn_first_sun
+from ..state.frames import moves, painting_frames
+from ..state.images import load_image, made_shape_image
 from .common import run_and_report
 
 
@@ -131,7 +131,7 @@ def proposed_channels(paths):
 
 def inflated_shape(channels, name, p):
     """No shape image: inflate the painting's silhouette (its alpha) into one (Make Shape's
-    inflate, round) → (packed height image, report line); shape_maker.ShapeError (a
+    inflate, round) → (packed height image, report line); shapes.maker.ShapeError (a
     ValueError) without a silhouette."""
     images = {c: image_data_from_blender(load_image(channels[c], c))
               for c in ("dark", "bright") if c in channels}

@@ -3,7 +3,7 @@
 Every operator is undoable and reports one clear line; a failure reports why and leaves the
 scene as it was (CANCELLED).
 """
-from ..layers import LAYERED, group_materials
+from ..bake.layers import LAYERED, group_materials
 
 
 

@@ -2,9 +2,9 @@
 import bpy
 from bpy.props import BoolProperty, EnumProperty, IntProperty
 
-from ..compositor import (add_group_node, build_group, features_for_options,
+from ..scenes.compositor import (add_group_node, build_group, features_for_options,
                           wire_painting)
-from ..painting_state import read_state
+from ..state.painting_state import read_state
 from .common import active_painting, run_and_report
 
 

@@ -5,10 +5,10 @@ import bpy
 from bpy.props import BoolProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper
 
-from ...recipe import Recipe, recipe_to_toml
-from ..lights import painting_lights
-from ..frames import sequence_pattern
-from ..settings import channel_images, frames_table, settings_to_params
+from ...inputs.recipe import Recipe, recipe_to_toml
+from ..state.frames import sequence_pattern
+from ..state.lights import painting_lights
+from ..state.settings import channel_images, frames_table, settings_to_params
 from .common import PaintingOperator, active_painting, run_and_report
 
 

@@ -6,9 +6,9 @@ from bpy.props import EnumProperty, StringProperty
 from bpy_extras.io_utils import ImportHelper
 
 from ... import params
-from ...channel_names import IMAGE_EXTENSIONS
-from ..images import load_image
-from ..settings import channel_images
+from ...inputs.channel_names import IMAGE_EXTENSIONS
+from ..state.images import load_image
+from ..state.settings import channel_images
 from .common import PaintingOperator, active_painting, run_and_report
 
 

@@ -1,14 +1,14 @@
 """Add › Dynamic Painting › Layered…: a scene of layers (pipeline.md §15) from an .ora file,
-a folder of layer images or a layered recipe (built by blender/layered_build.py)."""
+a folder of layer images or a layered recipe (built by blender/scenes/layered_build.py)."""
 import os
 
 import bpy
 from bpy.props import BoolProperty, FloatProperty, StringProperty
 from bpy_extras.io_utils import ImportHelper
 
-from ...layered_files import DEFAULT_SHADE, DEFAULT_SPACING
-from ..layered_build import add_layered
-from ..scene import unchanged_images_on_failure
+from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING
+from ..scenes.layered_build import add_layered
+from ..scenes.painting_scene import unchanged_images_on_failure
 from .add import DYNPAINT_OT_add, select_only
 from .common import run_and_report
 

@@ -3,11 +3,11 @@ import bpy
 from bpy.props import EnumProperty
 
 from ...looks import LOOKS
-from ..frames import painting_size
-from ..scene import face_camera
-from ..layers import bake_painting
-from ..sync import batch, update
-from ..tree import rebuild_tree
+from ..bake.layers import bake_painting
+from ..material.sync import batch, update
+from ..material.tree import rebuild_tree
+from ..scenes.painting_scene import face_camera
+from ..state.frames import painting_size
 from .common import PaintingOperator, active_painting, run_and_report
 
 

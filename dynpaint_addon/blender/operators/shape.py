@@ -10,14 +10,15 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
 
 from ...core.frames import SheetGrid
 from ...core.photometric import SIDES
-from ...imageio import image_data_from_blender, read_image
-from ...shape_frames import fill_sheet, on_one_floor
-from ...shape_maker import read_as_made, sprite_lamp_siblings
-from ...shape_methods import METHODS, OPTIONS, SHAPE_MAKERS, make_shape, options
-from ..images import made_shape_image
-from ..frames import frame_data, painting_frames
-from ..settings import channel_images, params_to_settings, set_own_frames, settings_to_params
-from ..sync import batch, update
+from ...inputs.channel_names import sprite_lamp_siblings
+from ...inputs.imageio import image_data_from_blender, read_image
+from ...shapes.frames import fill_sheet, on_one_floor
+from ...shapes.maker import read_as_made
+from ...shapes.methods import METHODS, OPTIONS, SHAPE_MAKERS, make_shape, options
+from ..material.sync import batch, update
+from ..state.frames import frame_data, painting_frames
+from ..state.images import made_shape_image
+from ..state.settings import channel_images, params_to_settings, set_own_frames, settings_to_params
 from .common import PaintingOperator, active_painting, run_and_report
 
 
@@ -26,7 +27,7 @@ READ = ("shape", "dark", "bright")        # what a method reads of the painting
 
 def made_per_frame(mat, painting, method, p, values, progress):
     """Make Shape on a painting that moves (§16): the method run on each drawing one loop
-    shows (shape_frames' rules: one floor for integrated heights), laid out as a sheet of one
+    shows (shapes.frames' rules: one floor for integrated heights), laid out as a sheet of one
     cell per frame of the loop → (kind, sheet RGBA, report lines, the shape slot's own frame
     mapping that shows each cell on its frame)."""
     shown, sequence = painting.drawings()
@@ -51,7 +52,7 @@ def made_per_frame(mat, painting, method, p, values, progress):
 
 
 def blender_property(option):
-    """One row of shape_methods.OPTIONS as an operator property."""
+    """One row of shapes.methods.OPTIONS as an operator property."""
     kw = {"name": option.ui_label, "description": option.help}
     if option.kind is bool:
         return BoolProperty(default=option.default, **kw)

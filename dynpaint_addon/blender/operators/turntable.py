@@ -2,8 +2,8 @@
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 
-from ..lights import linked_lights
-from ..turntable import add_light_turntable, video_output
+from ..scenes.turntable import add_light_turntable, video_output
+from ..state.lights import linked_lights
 from .common import PaintingOperator, active_painting, run_and_report
 
 

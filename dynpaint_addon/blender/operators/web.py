@@ -8,13 +8,13 @@ from bpy.props import BoolProperty, IntProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper
 
 from ... import params
-from ...imageio import ImageReadError, image_data_from_blender
+from ...inputs.imageio import ImageReadError, image_data_from_blender
 from ...web.page import page_data, scene_data, write_page
-from ..frame_sampling import reading_lights
-from ..frames import frame_data, moves, painting_frames
-from ..layers import group_layers, group_materials, layer_parent
-from ..lights import painting_lights
-from ..settings import channel_images, settings_to_params
+from ..bake.layers import group_layers, group_materials, layer_parent
+from ..state.frame_sampling import reading_lights
+from ..state.frames import frame_data, moves, painting_frames
+from ..state.lights import painting_lights
+from ..state.settings import channel_images, settings_to_params
 from .common import PaintingOperator, active_painting, run_and_report
 
 STEPS = params.BY_PATH["shadows.steps"]

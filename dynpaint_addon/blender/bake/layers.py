@@ -1,0 +1,198 @@
+"""Layered paintings in Blender (pipeline.md §15, issue 30): one plane per layer under one
+parent Empty, each with today's material; the shadows of the layers in front baked into each
+layer's shadow images.
+
+The scene the core lights (core.layers.Scene) is read off the planes themselves: the canvas
+is the back layer's painting frame (its plane's object space, §0: image widths), and each
+layer's depth, offset and scale are where its plane lies in that frame — so moving a plane,
+or its Depth, moves its shadows, and the parallax scaling of Add › Layered… is in the
+geometry the bake sees. The lights are read in the same frame. A bake of the group writes
+every layer's cos-θ images at once; each image keeps the key of the whole group (every
+plane's place, every layer's bake settings, the light), so a change anywhere rebakes all.
+
+While a light is dragged the group bakes at draft quality at once and at its own quality
+once the light has been still for DEBOUNCE_S (a timer), like the live bake of one painting.
+"""
+import time
+
+import numpy as np
+
+import bpy
+
+from ...core.layers import Layer, Scene
+from ...inputs.imageio import image_data_from_blender
+from ..state.lights import painting_frame_light, plane_matrix
+from ..state.settings import channel_images, settings_to_params
+from .live_bake import DEBOUNCE_S
+from .shadow_images import bake_shadows, light_key, settings_key, write_shadow
+
+LAYERED = "dynamic_painting_layered"     # custom property that marks a layered scene's parent
+LAYER_CHANNELS = ("shape", "dark", "bright", "transparency")   # what T and t_own read
+
+
+def layer_parent(mat):
+    """The parent Empty of a layered scene the painting belongs to, or None."""
+    plane = mat.dynamic_painting.plane
+    parent = plane.parent if plane is not None else None
+    return parent if parent is not None and parent.get(LAYERED) else None
+
+
+def group_materials(parent):
+    """The paintings of a layered scene whose planes are shown in renders, back to front by
+    their depth under the parent (equal depths: by name)."""
+    mats = []
+    for child in parent.children:
+        mat = child.active_material
+        if mat is not None and mat.dynamic_painting.is_painting and not child.hide_render:
+            mats.append(mat)
+    return sorted(mats, key=lambda m: (_relative(parent, m.dynamic_painting.plane)[2, 3],
+                                       m.dynamic_painting.plane.name))
+
+
+def _relative(frame, obj, depsgraph=None):
+    """`obj`'s matrix in `frame`'s object space (evaluated when a depsgraph is given)."""
+    ev = (lambda o: o.evaluated_get(depsgraph)) if depsgraph is not None else (lambda o: o)
+    return np.linalg.inv(np.array(ev(frame).matrix_world)) @ np.array(ev(obj).matrix_world)
+
+
+def _placement(back, plane, depsgraph=None):
+    """(depth, offset, scale) of a plane in the back plane's painting frame (§15, image widths
+    of the back layer), from the two planes' world matrices (planes face the same way)."""
+    rel = _relative(back, plane, depsgraph)
+    scale = float(np.linalg.norm(rel[:3, 0]))
+    return float(rel[2, 3]), (float(rel[0, 3]), float(rel[1, 3])), scale
+
+
+def group_key(mats, depsgraph=None):
+    """What every layer's bake depends on besides its light: the planes' places, each layer's
+    bake settings and shape image, its thickness."""
+    back = mats[0].dynamic_painting.plane
+    parts = []
+    for mat in mats:
+        s = mat.dynamic_painting
+        depth, offset, scale = _placement(back, s.plane, depsgraph)
+        parts.append((mat.name, round(depth, 7), tuple(np.round(offset, 7)), round(scale, 7),
+                      round(s.layer_thickness, 7), settings_key(settings_to_params(s), s)))
+    return repr(parts)
+
+
+_SCENES = {}     # parent name → (key without lights, core Scene): a drag keeps it
+
+
+def core_scene(parent, mats, depsgraph=None, key=None):
+    """The core Scene of a layered group, made once per group key (its layers' inputs read
+    from Blender and prepared once: a moving light reuses them); key: group_key's, when the
+    caller has it."""
+    key = key or group_key(mats, depsgraph)
+    hit = _SCENES.get(parent.name)
+    if hit is None or hit[0] != key:
+        layers = group_layers(mats, depsgraph, LAYER_CHANNELS)
+        for layer in layers:
+            layer.p.shadows.enabled = True
+        hit = (key, Scene(layers))
+        _SCENES[parent.name] = hit
+    return hit[1]
+
+
+def group_layers(mats, depsgraph=None, channels=None):
+    """The paintings of a group (group_materials) as the core's layers (§15): their images
+    (only `channels` when given), parameters, and places in the back layer's frame."""
+    back = mats[0].dynamic_painting.plane
+    layers = []
+    for mat in mats:
+        s = mat.dynamic_painting
+        depth, offset, scale = _placement(back, s.plane, depsgraph)
+        images = {c: image_data_from_blender(img) for c, img in channel_images(s).items()
+                  if channels is None or c in channels}
+        layers.append(Layer(images, settings_to_params(s), mat.name, depth,
+                            s.layer_thickness or None, offset, scale))
+    return layers
+
+
+def forget_scenes():
+    """Another file is open, or undo: the cached scenes may show other planes."""
+    _SCENES.clear()
+    _FINAL_DUE.clear()
+
+
+def bake_group(parent, depsgraph=None, quality=None, force=False):
+    """Bake every layer's cos-θ images (t = t_own·T, §15) for its linked lights, at the
+    layers' own quality or `quality` for all; skipped when every image already has this
+    bake's key (unless `force`). → milliseconds taken (0: nothing to do)."""
+    mats = group_materials(parent)
+    if not mats:
+        return 0.0
+    group = group_key(mats, depsgraph)
+    key = group + f"|{quality or 'own'}"
+    back = plane_matrix(mats[0], depsgraph)
+    items = [(mat, item) for mat in mats for item in mat.dynamic_painting.lights
+             if item.object is not None]
+    lights = {}            # light object name → core Light in the back layer's frame
+    for _, item in items:
+        if item.object.name not in lights:
+            lights[item.object.name] = painting_frame_light(item.object, back, depsgraph)
+    todo = {item.object.name: lights[item.object.name] for _, item in items
+            if force or item.shadow is None or
+            item.bake_key != _key(key, lights[item.object.name])}
+    if not todo:
+        return 0.0
+    start = time.perf_counter()
+    scene = core_scene(parent, mats, depsgraph, group)
+    results = {name: scene.bake(light, quality) for name, light in todo.items()}
+    for i, mat in enumerate(mats):       # written only once every bake is done
+        for item in mat.dynamic_painting.lights:
+            if item.object is not None and item.object.name in results:
+                write_shadow(mat, item, results[item.object.name][i],
+                             _key(key, todo[item.object.name]))
+        mat.dynamic_painting.shadows_stale = False
+    return (time.perf_counter() - start) * 1000
+
+
+def bake_painting(mat, scene, depsgraph=None, force=True, progress=None, p=None):
+    """Bake a painting's cos-θ images: a layer's whole group (bake_group), any other painting
+    its own lights (shadow_images.bake_shadows). → milliseconds taken."""
+    parent = layer_parent(mat)
+    if parent is not None:
+        return bake_group(parent, depsgraph, force=force)
+    return bake_shadows(mat, scene, depsgraph, force=force, progress=progress, p=p)
+
+
+def _key(group, light):
+    return f"{group}|{light_key(light)}|{light.size!r}"
+
+
+_FINAL_DUE = {}    # parent name → when its lights were last moved (a final bake is due)
+
+
+def bake_group_live(parent, depsgraph=None):
+    """A light moved interactively: the group at draft quality now, its own quality once the
+    light has been still for DEBOUNCE_S."""
+    ms = bake_group(parent, depsgraph, quality="draft")
+    if ms:
+        _FINAL_DUE[parent.name] = time.perf_counter()
+        if not bpy.app.timers.is_registered(_final_bakes):
+            bpy.app.timers.register(_final_bakes, first_interval=DEBOUNCE_S)
+    return ms
+
+
+def _final_bakes():
+    """Timer: bake at the layers' own quality the groups whose lights are still."""
+    now = time.perf_counter()
+    for name, since in list(_FINAL_DUE.items()):
+        if now - since < DEBOUNCE_S:
+            continue
+        del _FINAL_DUE[name]
+        parent = bpy.data.objects.get(name)
+        try:
+            if parent is not None:
+                bake_group(parent)
+        except Exception as exc:          # a timer never raises into Blender
+            print(f"Dynamic Painting: layered bake of {name}: {exc}")
+    return DEBOUNCE_S if _FINAL_DUE else None
+
+
+def settle():
+    """Run the final bakes that are due now (tests and background mode, where no timer runs)."""
+    for name in list(_FINAL_DUE):
+        _FINAL_DUE[name] = 0.0
+    _final_bakes()

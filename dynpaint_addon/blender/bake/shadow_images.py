@@ -1,0 +1,176 @@
+"""The cos-θ images of a painting's lights (docs/pipeline.md §6): baked with the numpy core,
+each remembered with the key of what it was baked from, so a bake runs only when its light
+moved or a parameter with the `bake` role (params.py) changed."""
+import time
+
+import numpy as np
+
+from ... import params
+from ...core.pipeline import shadow_term, shape_normals
+from ...inputs import memory
+from ...inputs.imageio import file_channels
+from ...inputs.painting_frames import BoundedCache
+from ..state.frames import frame_data, painting_size, slot_frame
+from ..state.images import grey_image
+from ..state.lights import painting_frame_light, plane_matrix
+from ..state.settings import settings_to_params
+
+BAKE_PARAMS = tuple(prm for prm in params.PARAMS if prm.bake)
+
+
+def light_key(light):
+    """Where a light is, as far as its bake is concerned."""
+    return repr((light.kind, np.round(light.vector, 9).tolist()))
+
+
+def bake_key(light, p, s):
+    """What a bake depends on: the light's place, the bake's parameters, the shape image."""
+    return light_key(light) + "|" + settings_key(p, s)
+
+
+def settings_key(p, s):
+    """What a bake depends on besides its light: the bake's parameters, the shape image and,
+    of a moving shape, the frame shown (§16: not the scene frame — frames that show one
+    drawing share their bakes)."""
+    values = [getattr(getattr(p, prm.section), prm.key) for prm in BAKE_PARAMS]
+    if s.image_shape is None:
+        return repr((values, None))
+    frame = slot_frame(s.id_data, "shape")
+    return repr((values, s.image_shape.name) if frame is None else
+                (values, s.image_shape.name, frame))
+
+
+# material name → BoundedCache: shape key → (normals, heights_px, slopes), the bakes' decoded
+# shape: the newest one of a still painting; of a moving one (§16) its frames', up to
+# SHAPE_FRAMES_MB (a frame that comes round again is not decoded, or integrated, again)
+_SHAPES = {}
+SHAPE_FRAMES_MB = 512
+
+
+def bake_shape(mat, p, fresh=False):
+    """The shape decoded for the bake (§2), cached per painting until its shape image or the
+    shape settings change, so per-frame and live bakes do not read and decode it each time;
+    `fresh` decodes again (the image's pixels may have been edited)."""
+    s = mat.dynamic_painting
+    key = shape_key(s, p)
+    moving = key[1] is not None
+    cache = _SHAPES.get(mat.name)
+    if cache is None or cache.mb != (SHAPE_FRAMES_MB if moving else 0):
+        cache = _SHAPES[mat.name] = BoundedCache(SHAPE_FRAMES_MB if moving else 0)
+    hit = None if fresh else cache.get(key)
+    if hit is None:
+        hit = shape_normals(frame_data(mat, "shape"), p, np.float32)
+        cache.put(key, hit, sum(a.nbytes for a in hit if a is not None))
+    return hit
+
+
+def shape_key(settings, p):
+    """What the decoded shape depends on: the image (of a moving one, the frame shown) and the
+    §2 settings, and for a normal map the relief its shadows fall from (§6)."""
+    return (settings.image_shape.name, slot_frame(settings.id_data, "shape"),
+            repr(vars(p.shape)), p.shadows.relief)
+
+
+# material name → BoundedCache: bake key → t, the bakes of a moving shape (§16). A loop that
+# comes round with its lights where they were shows each drawing's shadows again without
+# baking them (playback of a looping animation under a still light); at most KEPT_BAKES_MB
+# per painting (24 frames at 1024² hold 96 MB).
+_BAKES = {}
+KEPT_BAKES_MB = 256
+
+
+def kept_bake(mat, key):
+    """The cos-θ image baked before for this key, or None."""
+    cache = _BAKES.get(mat.name)
+    return None if cache is None else cache.get(key)
+
+
+def forget_cached_shapes():
+    """Another file is open: cached shapes may belong to same-named paintings of the last one."""
+    _SHAPES.clear()
+    _BAKES.clear()
+
+
+def forget_cached_shape(mat):
+    """The painting's shape image was replaced: decode it (and bake it) again."""
+    _SHAPES.pop(mat.name, None)
+    _BAKES.pop(mat.name, None)
+
+
+def light_bakes(mat, depsgraph=None, p=None):
+    """[(light item, core Light in the painting frame, bake key)] of the painting's lights."""
+    s = mat.dynamic_painting
+    p = p or settings_to_params(s)
+    m = plane_matrix(mat, depsgraph)
+    return [(item, light, bake_key(light, p, s)) for item, light in
+            ((i, painting_frame_light(i.object, m, depsgraph)) for i in s.lights
+             if i.object is not None)]
+
+
+def stale_lights(mat, depsgraph=None, p=None):
+    """The light_bakes whose image is missing or was baked for another place or settings."""
+    return [(item, light, key) for item, light, key in light_bakes(mat, depsgraph, p)
+            if item.shadow is None or item.bake_key != key]
+
+
+def shadow_image_name(mat, light_name):
+    return f"DP {mat.name} shadow {light_name}"
+
+
+def bake_shadows(mat, scene, depsgraph=None, force=True, progress=None, p=None):
+    """Bake the cos-θ term (§6) of the linked lights into their images. → milliseconds taken.
+    p: the painting's parameters when the caller has them (read from its settings if not).
+
+    Without `force`, a light whose painting-frame position and shadow inputs are those of its
+    last bake is skipped (static lights in an animation bake once). A failure leaves the
+    previous images untouched: new pixels are written only after every light is baked.
+    """
+    s = mat.dynamic_painting
+    p = p or settings_to_params(s)
+    if s.image_shape is None:
+        raise ValueError("no shape image to bake shadows from: assign one under Images "
+                         "(the last baked shadows are kept)")
+    todo = light_bakes(mat, depsgraph, p) if force else stale_lights(mat, depsgraph, p)
+    if not todo:
+        return 0.0
+    if force:                  # the shape's pixels may have changed: nothing kept holds
+        _BAKES.pop(mat.name, None)
+    results = [kept_bake(mat, key) for _, _, key in todo]
+    t_start = time.perf_counter()
+    due = [i for i, t in enumerate(results) if t is None]
+    if due:
+        check_bake_memory(mat, p, [todo[i][1] for i in due])
+        n, z_px, slopes = bake_shape(mat, p, fresh=force)
+    for j, i in enumerate(due):
+        part = None if progress is None else \
+            (lambda f, j=j: progress((j + f) / len(due)))     # noqa: E731
+        results[i] = shadow_term(n, z_px, slopes, todo[i][1], p, progress=part)
+    ms = (time.perf_counter() - t_start) * 1000
+    if ms > 2000:      # long bakes (huge images, reference quality) say what they did
+        w, h = painting_size(mat)
+        print(f"Dynamic Painting: {mat.name}: baked {len(due)} light(s) at {w}×{h} "
+              f"({p.shadows.quality}) in {ms / 1000:.1f} s")
+    for (item, _, key), t in zip(todo, results):
+        write_shadow(mat, item, t, key)
+    s.shadows_stale = False
+    return ms
+
+
+def check_bake_memory(mat, p, lights):
+    """Refuse a final bake that would not fit in memory (the last baked images are kept; the
+    lower qualities bake a fraction of the pixels, so only a full-size bake is asked)."""
+    if p.shadows.quality not in ("final", "reference"):
+        return
+    w, h = painting_size(mat)
+    shape = memory.shape_work(p, file_channels(mat.dynamic_painting.image_shape) in (2, 4))
+    memory.check(memory.final_bake_bytes(w, h, shape, lights, p.shadows.offset), f"baking the shadows of {w}×{h} pixels at {p.shadows.quality} "
+                 f"quality", "bake at preview or draft quality (Shadows › Quality), or use a "
+                 "smaller shape image (the last baked shadows are kept)")
+
+
+def write_shadow(mat, item, t, key):
+    """Write a finished bake into the light's image (a moving shape's also kept, _BAKES)."""
+    item.shadow = grey_image(shadow_image_name(mat, item.object.name), t)
+    item.bake_key = key
+    if slot_frame(mat, "shape") is not None:
+        _BAKES.setdefault(mat.name, BoundedCache(KEPT_BAKES_MB)).put(key, t, t.nbytes)

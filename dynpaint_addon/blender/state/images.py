@@ -1,0 +1,216 @@
+"""A painting's images in Blender: its inputs (colour management, loading) and the images numpy
+derives from them (nodegraph/derived_inputs.py), remade exactly when their keys change."""
+import os
+
+import numpy as np
+
+import bpy
+
+from ... import params
+from ...core.frames import expand_pattern, is_pattern
+from ...core.input_rules import pixel_role
+from ...inputs.imageio import file_channels, file_header
+from ...inputs.memory import check_read
+from ...inputs.painting_frames import BoundedCache, sequence_numbers
+from ...nodegraph.derived_inputs import grey_rgba, make_derived
+
+COLOUR_CHANNELS = {c for c, (_, kind) in params.CHANNELS.items() if kind == "colour"}
+
+
+def bits_of(img):
+    """Bits per channel of a loaded image (8, 16 or 32), without reading its pixels. 16-bit PNG
+    and TIFF get float buffers in Blender but hold sRGB-encoded codes like 8-bit files."""
+    if not img.is_float:
+        return 8
+    return 16 if img.file_format in ("PNG", "TIFF") else 32
+
+
+def is_float_file(img):
+    """Does the image come from a float file (EXR, HDR: linear values)?"""
+    return bits_of(img) == 32
+
+
+def has_alpha(img):
+    return file_channels(img) in (2, 4)
+
+
+def prepare_channel_image(img, channel):
+    """Colour images are sRGB-decoded by Blender (8/16-bit) or linear (float); data images
+    are never colour-managed (§0). Alpha is kept apart from colour (channel packed)."""
+    if channel in COLOUR_CHANNELS and not is_float_file(img):
+        img.colorspace_settings.name = "sRGB"     # 8- and 16-bit files hold sRGB codes (§0)
+    else:
+        img.colorspace_settings.name = "Non-Color"
+    img.alpha_mode = "CHANNEL_PACKED"
+    img.use_half_precision = False   # 16-bit GPU textures cost EEVEE ~1e-2 on steep slopes
+
+
+def downsampled(img, max_size):
+    """A still image's copy scaled so its longest side is `max_size` pixels (Add's Max Size),
+    packed with the .blend (the file on disk is unchanged) → (image, report line); the image
+    itself, and '', when it is no larger or max_size is 0."""
+    w, h = img.size
+    if not max_size or max(w, h) <= max_size or img.source in ("SEQUENCE", "MOVIE", "TILED"):
+        return img, ""
+    k = max_size / max(w, h)
+    nw, nh = max(1, round(w * k)), max(1, round(h * k))
+    small = img.copy()
+    small.name = f"{img.name} ({nw}×{nh})"
+    small.scale(nw, nh)
+    small.pack()            # float images pack as OpenEXR, byte ones as PNG: nothing lost
+    return small, (f"{os.path.basename(img.filepath) or img.name}: {w}×{h} downsampled to "
+                   f"{nw}×{nh} (Max Size; packed with the .blend, the file is unchanged)")
+
+
+def load_image(path, channel):
+    """Load (or reuse) an image file for a channel, colour-managed as §0 says. A frame-numbered
+    name (`walk_####.png`, §16) loads its first file as a Blender image sequence."""
+    path = os.path.abspath(path)
+    if is_pattern(os.path.basename(path)):
+        img = load_image(expand_pattern(path, sequence_numbers(path)[0]), channel)
+        img.source = "SEQUENCE"
+        return img
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"{path}: file not found")
+    header = file_header(path)
+    if header is not None:      # a size that cannot fit is refused before Blender loads it
+        check_read(header, os.path.basename(path))
+    known = set(bpy.data.images)
+    try:
+        img = bpy.data.images.load(path, check_existing=True)
+    except RuntimeError as exc:
+        raise ValueError(f"{path}: Blender cannot read it ({str(exc).strip()})") from None
+    if img.size[0] == 0 or img.size[1] == 0 or not img.has_data:
+        if img not in known:
+            bpy.data.images.remove(img)      # leave no broken image behind
+        raise ValueError(f"{path}: not an image Blender can read (unknown or corrupt format)")
+    prepare_channel_image(img, channel)
+    return img
+
+
+def float_image(name, rgba):
+    """A float RGBA image holding `rgba` (y-up (H, W, 4)), reused when the name exists."""
+    h, w = rgba.shape[:2]
+    img = bpy.data.images.get(name)
+    if img is None or tuple(img.size) != (w, h) or not img.is_float:
+        if img is not None:
+            bpy.data.images.remove(img)
+        img = bpy.data.images.new(name, w, h, alpha=True, float_buffer=True, is_data=True)
+    # before the pixels, and only when it differs: assigning a colour space, even the same
+    # one, regenerates the image's buffer (a moving painting's uploads took 2.5× as long)
+    if img.colorspace_settings.name != "Non-Color":
+        img.colorspace_settings.name = "Non-Color"
+    img.alpha_mode = "CHANNEL_PACKED"
+    img.use_half_precision = False
+    img.pixels.foreach_set(np.ascontiguousarray(rgba, dtype=np.float32).ravel())
+    return img
+
+
+def grey_image(name, grey):
+    return float_image(name, grey_rgba(grey))
+
+
+# -- derived images -------------------------------------------------------------------------
+def derived_image(settings, channel):
+    return next((d.image for d in settings.derived if d.channel == channel), None)
+
+
+def update_derived_images(mat, state, force=False):
+    """Make the images numpy derives from the inputs (state.plan: PaintingState's), only those
+    whose key changed (or all: `force`), reading each source once; drop the rest.
+    → warnings (non-finite pixels replaced)."""
+    s = mat.dynamic_painting
+    imgs, plan = state.images, state.plan
+    stored = {d.channel: d for d in s.derived}
+    todo = [d for d in plan if force or d.channel not in stored or stored[d.channel].image is None
+            or stored[d.channel].key != d.key]
+    made, warnings = _make(mat, state, todo)
+    images = {}
+    base = f"DP {mat.name}"
+    for item in todo:
+        rgba = made[item.channel]
+        if item.same_as:
+            image = images.get(item.same_as) or derived_image(s, item.same_as)
+        elif rgba is None:               # checked: the input itself has no NaN/Inf
+            image = imgs[item.source]
+        else:
+            suffix = " finite" if item.finite_copy else ""
+            image = float_image(f"{base} {item.channel}{suffix}", rgba)
+        images[item.channel] = image
+        _store(s, item.channel, image, item.key)
+    wanted = {d.channel for d in plan}
+    for i in reversed(range(len(s.derived))):
+        if s.derived[i].channel not in wanted:
+            s.derived.remove(i)
+    return warnings
+
+
+# A painting that moves (§16) comes round to its frames again: what they derived is kept by
+# key, at most FRAME_DERIVED_MB per painting (the least recently shown dropped first), so a
+# frame shown before costs the upload of its pixels, not their making.
+FRAME_DERIVED_MB = 512
+_MADE = {}       # material name → BoundedCache: derived key → RGBA (None: the source does)
+
+
+def _make(mat, state, todo):
+    """make_derived for `todo`, from the cache where a moving painting made them before."""
+    def role(channel):
+        return pixel_role(channel, state.params)
+    if not state.frame:
+        return make_derived(todo, state.read, role)
+    cache = _MADE.setdefault(mat.name, BoundedCache(FRAME_DERIVED_MB))
+    found = {d.channel: cache.get(d.key) for d in todo}
+    missing = [d for d in todo if found[d.channel] is None]
+    made, warnings = make_derived(missing, state.read, role)
+    for item in missing:
+        rgba = made[item.channel]
+        cache.put(item.key, (rgba,), 0 if rgba is None else rgba.nbytes)
+        found[item.channel] = (rgba,)
+    return {c: hit[0] for c, hit in found.items()}, warnings
+
+
+def forget_frames_made():
+    """Another file is open: what was derived may belong to same-named paintings of the last."""
+    _MADE.clear()
+
+
+def _store(settings, channel, image, key):
+    item = next((d for d in settings.derived if d.channel == channel), None)
+    if item is None:
+        item = settings.derived.add()
+        item.channel = channel
+    item.image, item.key = image, key
+
+
+def packed_image(name, data, channel):
+    """An image numpy holds (core ImageData: a layer of an .ora file, a shaded copy) → a new
+    image packed into the .blend, as the channel reads it (§0): 8- and 16-bit values stay
+    file values (sRGB codes for colour), floats are linear or data."""
+    px = data.pixels
+    rgba = np.concatenate([px[..., :1].repeat(3, -1) if px.shape[2] < 3 else px[..., :3],
+                           px[..., -1:] if data.has_alpha else np.ones(px.shape[:2] + (1,))],
+                          axis=2).astype(np.float32)
+    if data.bits == 32:
+        return made_shape_image(name, rgba)
+    h, w = rgba.shape[:2]
+    img = bpy.data.images.new(name, w, h, alpha=True)
+    prepare_channel_image(img, channel)
+    img.pixels.foreach_set(np.ascontiguousarray(rgba).ravel())
+    img.file_format = "PNG"
+    img.pack()
+    return img
+
+
+def made_shape_image(name, rgba):
+    """A shape image numpy made (Make Shape) → a new float image packed into the .blend: undo
+    removes it with the rest of the step, and no file appears beside the artist's images
+    (Image › Save As keeps one)."""
+    h, w = rgba.shape[:2]
+    img = bpy.data.images.new(name, w, h, alpha=True, float_buffer=True, is_data=True)
+    img.colorspace_settings.name = "Non-Color"
+    img.alpha_mode = "CHANNEL_PACKED"
+    img.use_half_precision = False
+    img.pixels.foreach_set(np.ascontiguousarray(rgba, dtype=np.float32).ravel())
+    img.file_format = "OPEN_EXR"
+    img.pack()
+    return img

@@ -1,0 +1,277 @@
+"""Layered files → a scene of layers (pipeline.md §15; issue 30): OpenRaster and folders.
+
+OpenRaster (`.ora`, written by Krita, GIMP and MyPaint) is a zip of PNG layers and a
+`stack.xml` listing them top first; Photoshop's *Export Layers to Files* writes a folder of
+layer images named `_0000_Name.png`, `_0001_…` (0000 the top layer); any other folder of
+images is read back to front by name (`01_sky.png` behind `02_hills.png`). No new
+dependency: `zipfile`, `xml.etree` and the image reader.
+
+A layer is either **one painted image** — then its bright image is that layer, its dark
+image a shaded copy (`shade` × its linear colour) and its shape its silhouette inflated
+(Make Shape's inflate; an opaque layer is a flat card) — or **a group** (an OpenRaster stack,
+a subfolder) holding one layer's channels, matched by their names as *From Images* matches
+files (`figure_normal`, `figure_dark`, …). Depths follow the stack: the back layer at 0,
+each layer `spacing` image widths in front of the one behind. Hidden layers are left out,
+blend modes other than normal read as normal, layer opacity as 1 — each said in a note.
+
+    >>> order_in_folder(["_0001_sky.png", "_0000_figure.png"])
+    ['_0001_sky.png', '_0000_figure.png']
+    >>> order_in_folder(["02_hills.png", "01_sky.png"])
+    ['01_sky.png', '02_hills.png']
+"""
+import os
+import tempfile
+import xml.etree.ElementTree as ElementTree
+import zipfile
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import params
+from ..core.colour import linear_to_srgb, srgb_to_linear
+from ..core.input_rules import ImageData
+from ..core.layers import MAX_LAYERS, Layer, scene_notes
+from ..core.lights import default_sun
+from ..errors import UserError
+from ..shapes.maker import ShapeError, looks_like_height, read_as_made
+from ..shapes.methods import make_shape
+from .channel_names import IMAGE_EXTENSIONS, guess_channels
+from .imageio import read_image
+from .painting_folder import PHOTOSHOP, folder_kind
+from .recipe import DEFAULT_SUN_NOTE, hidden_notes, load_layers, load_recipe
+
+DEFAULT_SPACING = 0.05     # image widths between one layer and the next in front
+DEFAULT_SHADE = 0.35       # a plain layer's dark image: this share of its linear colour
+
+
+class LayeredFileError(UserError):
+    """A layered file that cannot be read; the message names the file and what is wrong."""
+
+
+@dataclass
+class FileLayer:
+    """A layer as a file holds it: its images by channel (or one painted image), where its
+    top-left corner lies on the canvas (pixels, y down) and whether it is shown."""
+    name: str
+    images: dict                       # {channel: ImageData}, or {"painted": ImageData}
+    x: int = 0
+    y: int = 0
+    hidden: bool = False
+    notes: list = field(default_factory=list)
+    sources: dict = field(default_factory=dict)   # {channel or "painted": file}, from a folder
+
+
+def order_in_folder(names):
+    """Image files of a folder back to front: Photoshop's numbers (0000 the top layer)
+    reversed, else by name."""
+    if names and all(PHOTOSHOP.match(n) for n in names):
+        return sorted(names, key=lambda n: -int(PHOTOSHOP.match(n).group(1)))
+    return sorted(names)
+
+
+def read_ora(path):
+    """An OpenRaster file → ((canvas W, H), [FileLayer] back to front)."""
+    try:
+        archive = zipfile.ZipFile(path)
+    except (zipfile.BadZipFile, OSError) as exc:
+        raise LayeredFileError(f"{path}: not an OpenRaster file (.ora is a zip archive: "
+                               f"{exc})") from None
+    with archive, tempfile.TemporaryDirectory() as folder:
+        try:
+            stack = ElementTree.fromstring(archive.read("stack.xml"))
+        except KeyError:
+            raise LayeredFileError(f"{path}: not an OpenRaster file: it has no stack.xml "
+                                   f"(the list of its layers)") from None
+        except ElementTree.ParseError as exc:
+            raise LayeredFileError(f"{path}: its stack.xml is not valid XML ({exc})") from None
+        top = stack.find("stack")
+        if stack.tag != "image" or top is None:
+            raise LayeredFileError(f"{path}: its stack.xml has no <image><stack> (not "
+                                   f"OpenRaster)")
+        canvas = (_int(stack, "w", path), _int(stack, "h", path))
+
+        def image(layer):
+            src = layer.get("src", "")
+            if not src.lower().endswith(".png"):
+                raise LayeredFileError(f"{path}: layer '{layer.get('name', src)}' is "
+                                       f"{src or 'missing its src'}: OpenRaster layers are PNG")
+            try:
+                target = archive.extract(src, folder)
+            except KeyError:
+                raise LayeredFileError(f"{path}: layer '{layer.get('name', src)}': {src} is "
+                                       f"not in the file") from None
+            return read_image(target)
+        layers = []
+        for element in reversed(list(top)):          # stack.xml lists the top layer first
+            layers.append(_ora_layer(element, image, path))
+        return canvas, layers
+
+
+def _int(element, key, path):
+    try:
+        return int(float(element.get(key)))
+    except (TypeError, ValueError):
+        raise LayeredFileError(f"{path}: stack.xml: <{element.tag}> needs a number {key}, got "
+                               f"{element.get(key)!r}") from None
+
+
+def _ora_layer(element, image, path):
+    """One child of the top stack: a layer (one painted image) or a stack (a group of one
+    layer's channels) → FileLayer."""
+    name = element.get("name") or "layer"
+    x, y = int(float(element.get("x", 0))), int(float(element.get("y", 0)))
+    hidden = element.get("visibility", "visible") == "hidden"
+    notes = _blend_notes(name, element)
+    if element.tag == "layer":
+        return FileLayer(name, {"painted": image(element)}, x, y, hidden, notes)
+    parts = [child for child in element if child.tag == "layer"
+             and child.get("visibility", "visible") != "hidden"]
+    channels, rest = guess_channels([child.get("name", "") or child.get("src", "")
+                                     for child in parts])
+    by_name = {child.get("name", "") or child.get("src", ""): child for child in parts}
+    images = {c: image(by_name[n]) for c, n in channels.items()}
+    if rest:
+        notes.append(f"{name}: not used: {', '.join(rest)} (no channel word in the name)")
+    if not images:
+        raise LayeredFileError(f"{path}: group '{name}' has no layer named for a channel "
+                               f"(dark, bright, normal, height, …)")
+    first = by_name[next(iter(channels.values()))]
+    return FileLayer(name, images, x + int(float(first.get("x", 0))),
+                     y + int(float(first.get("y", 0))), hidden, notes)
+
+
+def _blend_notes(name, element):
+    notes = []
+    op = element.get("composite-op", "svg:src-over")
+    if op != "svg:src-over":
+        notes.append(f"{name}: blend mode {op.split(':')[-1]} read as normal")
+    if float(element.get("opacity", 1.0)) < 1.0:
+        notes.append(f"{name}: opacity {float(element.get('opacity')):.2g} read as 1 "
+                     f"(its alpha cuts it out)")
+    return notes
+
+
+def read_folder(path):
+    """A folder of layer images (subfolders: groups of one layer's channels) →
+    ((canvas W, H), [FileLayer] back to front); the canvas is the largest layer's size."""
+    entries = sorted(os.listdir(path))
+    files = [e for e in entries if e.lower().endswith(IMAGE_EXTENSIONS)]
+    groups = [e for e in entries if os.path.isdir(os.path.join(path, e))]
+    if not files and not groups:
+        raise LayeredFileError(f"{path}: no layer images in this folder "
+                               f"({', '.join(IMAGE_EXTENSIONS)})")
+    layers = []
+    for entry in order_in_folder(files + groups):
+        full = os.path.join(path, entry)
+        name = PHOTOSHOP.sub("", os.path.splitext(entry)[0] if entry in files else entry)
+        if entry in files:
+            layers.append(FileLayer(name, {"painted": read_image(full)},
+                                    sources={"painted": full}))
+            continue
+        parts = [p for p in sorted(os.listdir(full)) if p.lower().endswith(IMAGE_EXTENSIONS)]
+        channels, rest = guess_channels(parts)
+        if not channels:
+            raise LayeredFileError(f"{full}: no image named for a channel (dark, bright, "
+                                   f"normal, height, …)")
+        notes = [f"{name}: not used: {', '.join(rest)}"] if rest else []
+        sources = {c: os.path.join(full, f) for c, f in channels.items()}
+        layers.append(FileLayer(name, {c: read_image(p) for c, p in sources.items()},
+                                notes=notes, sources=sources))
+    sizes = [img.size for layer in layers for img in layer.images.values()]
+    return max(sizes, key=lambda s: s[0] * s[1]), layers
+
+
+def scene_from_file_layers(canvas, file_layers, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE):
+    """FileLayers (back to front) on a canvas (W, H) → ([core.layers.Layer], notes): each
+    layer's missing channels made (a shaded dark, an inflated shape), its depth from the
+    stack, its place from its corner and size."""
+    notes, layers = [], []
+    shown = [fl for fl in file_layers if not fl.hidden]
+    notes += [f"{fl.name}: hidden: left out" for fl in file_layers if fl.hidden]
+    if not shown:
+        raise LayeredFileError("no visible layer: every layer is hidden")
+    if len(shown) > MAX_LAYERS:
+        raise LayeredFileError(f"{len(shown)} visible layers; a scene holds at most "
+                               f"{MAX_LAYERS} (merge some, or hide them)")
+    width, height = canvas
+    for i, fl in enumerate(shown):
+        images, p, made = painting_of(fl, shade)
+        notes += fl.notes + made
+        w, h = images["shape"].size
+        offset = ((fl.x + w / 2 - width / 2) / width, (height / 2 - fl.y - h / 2) / width)
+        layers.append(Layer(images, p, fl.name, i * spacing, None, offset, w / width))
+    return layers, notes
+
+
+def painting_of(fl, shade=DEFAULT_SHADE):
+    """A file layer's painting → ({channel: ImageData}, params, notes): a painted image
+    becomes bright, a shaded dark and an inflated shape; a group's missing channels are
+    made the same way."""
+    p = params.defaults()
+    p.shadows.enabled = True
+    images = dict(fl.images)
+    notes = [note for img in images.values() for note in img.notes]     # a file cut short
+    if "painted" in images:
+        images = {"bright": images.pop("painted")}
+    if "bright" not in images and "dark" in images:
+        images["bright"] = images["dark"]
+    if "dark" not in images:
+        images["dark"] = shaded(images["bright"], shade)
+    if "shape" in images:
+        p.shape.kind = "height" if looks_like_height(images["shape"]) else "normal"
+        return images, p, notes
+    try:
+        kind, rgba, lines = make_shape("inflate", images, p)
+        notes.append(f"{fl.name}: {lines[0]}")
+    except ShapeError:                                 # opaque: a flat card
+        w, h = images["bright"].size
+        kind, rgba = "height", np.zeros((h, w, 1), np.float32)
+        notes.append(f"{fl.name}: no transparent part to inflate: a flat card")
+    read_as_made(p, kind)
+    images["shape"] = ImageData(np.asarray(rgba, np.float32), 32, f"{fl.name} shape")
+    return images, p, notes
+
+
+def shaded(img, shade):
+    """A dark image for a painted one: `shade` × its linear colour, its alpha kept."""
+    rgb = np.asarray(img.rgb(), np.float64)
+    linear = rgb if img.bits == 32 else srgb_to_linear(rgb)
+    dark = linear * float(shade)
+    dark = dark if img.bits == 32 else linear_to_srgb(dark)
+    alpha = img.alpha()
+    px = dark if alpha is None else np.dstack([dark, alpha])
+    return ImageData(px.astype(np.float32), img.bits, f"{img.name} (shaded)")
+
+
+def is_layered_file(path):
+    """Whether `path` is read here (an .ora file or a folder of layers) rather than as a
+    recipe (a folder holding one, or one painting's images: painting_folder)."""
+    if os.path.isdir(path):
+        return folder_kind(path) == "layers"
+    return os.fspath(path).lower().endswith(".ora")
+
+
+def load_scene(path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE):
+    """An .ora file or a folder of layer images → ([Layer], [Light], notes)."""
+    path = os.fspath(path)
+    if not os.path.exists(path):
+        raise LayeredFileError(f"{path}: file not found")
+    if os.path.isdir(path):
+        canvas, file_layers = read_folder(path)
+    elif path.lower().endswith(".ora"):
+        canvas, file_layers = read_ora(path)
+    else:
+        raise LayeredFileError(f"{path}: not a layered file (an .ora, or a folder of layer "
+                               f"images)")
+    layers, notes = scene_from_file_layers(canvas, file_layers, spacing, shade)
+    return layers, [default_sun()], notes + [DEFAULT_SUN_NOTE]
+
+
+def load_layered(path):
+    """Any scene source — an .ora, a folder of layer images, a layered recipe — →
+    ([Layer], [Light], notes); a one-painting recipe is one layer."""
+    if is_layered_file(path):
+        return load_scene(path)
+    recipe = load_recipe(path)
+    layers = load_layers(recipe)
+    return layers, recipe.lights, recipe.notes + scene_notes(layers) + hidden_notes(recipe)

@@ -1,0 +1,204 @@
+"""Memory asked for before it is spent (issue 38): what reading an image, a render, a bake
+and the add-on's Add will need, from the image headers and the settings, against what the
+machine has — refused with both numbers and what to do, before any large allocation.
+
+The estimates follow the work's phases (read, prepare the shape, bake each light, shade,
+write): each phase's peak is what it keeps plus what it holds for a while; bounded parts
+(shading in bands of rows, tracing rays in chunks, the crossings' tables in groups) are
+bounded here as in the core. The per-pixel figures were measured with tracemalloc on 512²
+and 2048² paintings; `benchmarks/memory.py` checks the whole estimate against measured peaks
+(RSS) at 1024², 4096² and 8192² → docs/memory-numbers.md.
+
+    >>> shape = (4096, 4096, 1, 2)                  # a 16-bit height map's header
+    >>> round(read_bytes(*shape)[0] / 2**20)        # Blender's float buffer, ours, the copy
+    576
+"""
+import os
+from dataclasses import dataclass
+
+from ..core import crossings
+from ..core.input_rules import PER_PIXEL_CHANNELS, relief_of
+from ..core.shadow import BAND_PIXELS
+from ..errors import UserError
+
+MiB = 2 ** 20
+# Python, numpy and Blender's module loaded: what a command holds before its first image
+BASE_BYTES = 260 * MiB
+# Shading in bands of rows (core.pipeline.RENDER_BAND_PIXELS): its temporaries per pixel
+SHADE_BAND_PX = 1 << 20
+SHADE_BAND_BYTES = 114
+# Preparing the shape (§2): (bytes kept per pixel, held a while per pixel, fixed)
+PREPARE = {"height": (16, 23, 16 * MiB), "along_ray": (20, 41, 8 * MiB),
+           "integrated": (16, 118, 0)}
+# A bake beside its crossings' tables: per pixel up to the rays traced at once, per pixel
+# always (the terms and starts at full size), fixed; a light whose largest block of tables
+# would not fit marches instead (core.bake): per pixel of the band marched at once
+BAKE_TRACED, BAKE_PX, BAKE_FIXED = 90, 13, 24 * MiB
+MARCH_BAND_BYTES = 200
+# Leave this share of what the machine has free for Blender, the desktop and the rest
+HEADROOM = 0.9
+# glibc keeps a freed block below its mmap threshold (at most 32 MiB on 64-bit) for reuse
+# instead of giving it back: a phase's temporaries that small stay in the resident set
+STICKY_BYTES = 32 * MiB
+
+
+class NotEnoughMemory(UserError):
+    """A command or an Add that would need more memory than the machine has."""
+
+
+def available_bytes():
+    """The memory the machine can give now (Linux: MemAvailable; elsewhere the free physical
+    pages), or None where it cannot tell (then nothing is refused)."""
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+def gib(n):
+    return f"{n / 2**30:.1f} GiB"
+
+
+def fits(needed):
+    """Whether `needed` bytes fit in the memory free now (less HEADROOM); True where the
+    machine cannot tell."""
+    have = available_bytes()
+    return have is None or needed <= HEADROOM * have
+
+
+def check(needed, what, advice):
+    """Raise NotEnoughMemory naming both numbers and `advice` when `needed` bytes are more than
+    the machine has (less HEADROOM); return `needed`. advice: a line, or a function that
+    makes it (asked only when refusing)."""
+    if not fits(needed):
+        have = available_bytes()
+        advice = advice() if callable(advice) else advice
+        raise NotEnoughMemory(f"{what} would need about {gib(needed)} of memory; this machine "
+                              f"has {gib(have)} free: {advice}")
+    return needed
+
+
+def check_read(header, name):
+    """Refuse to read an image whose decoding would not fit (a decompression bomb, a poster
+    scan): header as imageio.image_header gives it, with whether it is an EXR."""
+    w, h, c, b, exr = header
+    return check(BASE_BYTES + read_bytes(w, h, c, b, exr)[0], f"reading {name} ({w}×{h})",
+                 "give a smaller image (scale it down in a painting program)")
+
+
+def read_bytes(width, height, channels, bytes_per_channel, exr=False):
+    """(peak while reading, kept after) of one image file decoded to core ImageData: OpenEXR's
+    channels, their stack and the flipped copy; or Blender's buffer (bytes for 8-bit files,
+    floats for 16-bit and float ones), our float copy of it, and the channels kept."""
+    px = width * height
+    kept = 4 * channels * px
+    if exr:
+        return 3 * kept, kept
+    blender = 4 if bytes_per_channel == 1 else 16
+    return (blender + 16) * px + kept, kept
+
+
+@dataclass
+class Painting:
+    """What a painting's estimate reads: its shape's size at the work's resolution, the bytes
+    its images keep, the most reading one takes above that and what reading them leaves in
+    the resident set (STICKY_BYTES), how its shape is prepared."""
+    width: int
+    height: int
+    kept: int
+    reading: int
+    read_left: int
+    shape: str             # 'height', 'along_ray' or 'integrated'
+
+    @property
+    def px(self):
+        return self.width * self.height
+
+    def left(self, held_px):
+        """What a phase that held `held_px` bytes a pixel leaves resident after it: all of
+        it when its one-channel arrays are below glibc's threshold."""
+        return held_px * self.px if 4 * self.px < STICKY_BYTES else 0
+
+
+def painting(headers, p, width=None):
+    """Painting from {channel: (w, h, channels, bytes per channel, exr)} headers, read with
+    parameters p, rendered at `width` (None: the shape image's)."""
+    sw, sh = headers["shape"][:2]
+    w, h = (sw, sh) if not width else (width, max(1, round(sh * width / sw)))
+    kept, reading, left = 0, 0, 0
+    for channel, (iw, ih, c, b, exr) in headers.items():
+        peak, keep = read_bytes(iw, ih, c, b, exr)
+        reading = max(reading, peak - keep)
+        left += peak - keep if 16 * iw * ih < STICKY_BYTES else 0
+        at_size = channel == "shape" or channel in PER_PIXEL_CHANNELS
+        kept += keep if not at_size or (iw, ih) == (w, h) else 4 * c * w * h + keep
+    return Painting(w, h, kept, reading, left, shape_work(p, headers["shape"][2] in (2, 4)))
+
+
+def shape_work(p, shape_has_alpha):
+    """How the shape is prepared (PREPARE's key): a height map, or a normal map's relief."""
+    return "height" if p.shape.kind == "height" else relief_of(p.shadows.relief,
+                                                               shape_has_alpha)
+
+
+def final_bake_bytes(w, h, shape, lights, offset):
+    """The peak of a final bake of `lights` on a prepared shape (w, h) of PREPARE key `shape`:
+    the lights bake one after the other, each at its own peak."""
+    kept_px = PREPARE[shape][0]
+    return BASE_BYTES + max(bake_bytes(w, h, light, offset, kept_px) for light in lights)
+
+
+def bake_bytes(w, h, light, offset, kept_px):
+    """Peak above what is kept, of one light's final bake at (w, h) (§13; the lower levels
+    bake at a fraction of the pixels): the crossings' largest group of tables, the rays
+    traced at once, the terms."""
+    px = w * h
+    fixed = (BAKE_PX + kept_px) * px + BAKE_FIXED
+    if crossings.table_bytes(light, h, w, offset)[1] > crossings.MAX_TABLE_BYTES:
+        return MARCH_BAND_BYTES * min(px, BAND_PIXELS) + fixed       # the march (§6)
+    traced = min(px, crossings.TRACE_PIXELS)
+    return crossings.table_peak(light, h, w, offset) + BAKE_TRACED * traced + fixed
+
+
+def render_bytes(pt, p, lights):
+    """The peak of `render` by the numpy core (§2–§11) of Painting `pt` with parameters p."""
+    kept_px, prep_px, prep_fixed = PREPARE[pt.shape]
+    px = pt.px
+    shadows = 4 * px * len(lights) if p.shadows.enabled else 0
+    prepared = pt.read_left + pt.left(prep_px)          # what the phases after it start on
+    later = [kept_px * px + shadows + 16 * px + SHADE_BAND_BYTES * min(px, SHADE_BAND_PX)]
+    if p.shadows.enabled:
+        later += [bake_bytes(pt.width, pt.height, light, p.shadows.offset, kept_px) + shadows
+                  for light in lights]
+    return BASE_BYTES + pt.kept + max(pt.reading, pt.read_left + prep_px * px + prep_fixed,
+                                      prepared + max(later))
+
+
+def bake_shadow_bytes(pt, p, light):
+    """The peak of `bake-shadow`: the shape read and prepared, one light baked, written."""
+    kept_px, prep_px, prep_fixed = PREPARE[pt.shape]
+    return BASE_BYTES + pt.kept + max(
+        pt.reading, pt.read_left + prep_px * pt.px + prep_fixed,
+        pt.read_left + pt.left(prep_px) + bake_bytes(pt.width, pt.height, light,
+                                                     p.shadows.offset, kept_px) + 4 * pt.px)
+
+
+def blender_image_bytes(header):
+    """What Blender keeps of a loaded image: its byte (8-bit files) or float buffer, RGBA."""
+    w, h, _, bytes_per_channel, exr = header
+    return w * h * (4 if bytes_per_channel == 1 and not exr else 16)
+
+
+def add_bytes(headers, p, lights, width=None):
+    """The peak of Add › Dynamic Painting: Blender's copy of every image beside the numpy
+    work of the first bake and the derived images (a render's phases), the painting worked
+    at `width` (Add's Max Size; None: its shape image's)."""
+    pt = painting(headers, p, width)
+    return render_bytes(pt, p, lights) + sum(blender_image_bytes(h) for h in headers.values())
