@@ -30,8 +30,11 @@ def _eye_vertices(mesh):
     return np.flatnonzero(labels != head)
 
 
-def render_turning_head(size=256, frames=24, turn=25.0, blink=(10, 11), box=True):
-    """→ dict of y-up float arrays per frame: 'height' (frames, H, W) in image widths above the
+def render_turning_head(size=256, frames=24, turn=25.0, blink=(10, 11), box=True,
+                        sphere=False):
+    """sphere: also a ball that never moves, at the lower left (a still part whose shading
+    shows its own relief's shadows: benchmarks/frames_stability.py's render flicker).
+    → dict of y-up float arrays per frame: 'height' (frames, H, W) in image widths above the
     lowest point of the head's range, 'normal' (frames, H, W, 3) unit vectors (flat (0, 0, 1)
     outside), 'alpha' (frames, H, W) 0 … 1 (pixel-centre coverage: 0 or 1)."""
     import bpy
@@ -51,6 +54,11 @@ def render_turning_head(size=256, frames=24, turn=25.0, blink=(10, 11), box=True
     parts = [head]
     if box:
         bpy.ops.mesh.primitive_cube_add(size=0.5, location=(1.25, -1.15, -0.45))
+        parts.append(bpy.context.object)
+    if sphere:
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.3, location=(-1.3, -1.3, -0.6),
+                                             segments=64, ring_count=32)
+        bpy.ops.object.shade_smooth()
         parts.append(bpy.context.object)
     z_low = -1.0                                 # heights are measured from here (world units)
     width = 3.4                                  # the camera's view: one image width

@@ -78,9 +78,13 @@ def normal_map_relief_px(n, shape, precise=False, floor=None):
     least-squares integral of its slopes (core/integrate.py), its figure (the shape image's
     alpha) integrated apart from the background. `precise`: to 1e-6 rather than the 1e-4 a
     shadow bake needs (exported height maps); floor: the height (image widths) made 0, None:
-    the lowest (integrate's)."""
+    for a cut-out the background's (its parts stand at mean 0: each part then keeps its
+    heights bit for bit while another part of a moving painting changes, §16), else the
+    lowest (integrate's)."""
     alpha = shape.alpha()
     mask = None if alpha is None else np.nan_to_num(alpha) >= 0.5
+    if floor is None and mask is not None:
+        floor = 0.0
     return (integrate(n, mask, precise=precise, floor=floor).height * n.shape[1]).astype(n.dtype)
 
 

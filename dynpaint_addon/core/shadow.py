@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .lights import light_vectors
+from .path_bounds import BOUNDS, PATH_SEGMENTS
 from .sampling import pixel_centres, sample_bilinear
 
 OCCUPANCIES = ("linear", "midpoint")
@@ -98,7 +99,8 @@ BAND_PIXELS = 1 << 20    # pixels marched at once: bounds the per-step state at 
 
 
 def cos_theta_shadow(normals, light, offset, steps, *, heights_px=None, slopes=None,
-                     occupancy="linear", reach=np.inf, stats=None, cancel=None, progress=None):
+                     occupancy="linear", reach=np.inf, stats=None, cancel=None, progress=None,
+                     bounds="path"):
     """The raw cos-θ term t = d / max(r, d) ∈ [0, 1] for one light (§6), shape (H, W).
 
     normals: unit normals (H, W, 3) (N.z ≥ z_min, §2), in the dtype to compute in.
@@ -118,6 +120,10 @@ def cos_theta_shadow(normals, light, offset, steps, *, heights_px=None, slopes=N
     heights that never come back down, cast no shadow longer than R.
     cancel: optional callable, asked before every step; True aborts with BakeCancelled (a newer
     bake supersedes this one). progress: optional callable(fraction done), once per band.
+    bounds: where a ray's march ends — "path": past the last point of its own path the relief
+    could still reach (path_bounds.py: a part that does not change is marched the same
+    whatever the rest of the image does, §16); "image": the whole image's highest point or
+    steepest slope (as before; the benchmarks' baseline).
 
     Rows are marched in bands of about BAND_PIXELS pixels (each pixel's ray is independent;
     the relief is sampled whole), so memory beyond the inputs and the result stays bounded.
@@ -127,7 +133,7 @@ def cos_theta_shadow(normals, light, offset, steps, *, heights_px=None, slopes=N
     h, w = normals.shape[:2]
     rows = max(1, BAND_PIXELS // max(w, 1))
     bands = [(r, min(h, r + rows)) for r in range(0, h, rows)] or [(0, 0)]
-    ctx = _MarchInputs(normals, light, offset, heights_px, slopes, reach)
+    ctx = _MarchInputs(normals, light, offset, heights_px, slopes, reach, bounds)
     # K is the same for every band (it follows the longest march of the whole image), so a
     # banded bake equals an unbanded one bit for bit. The first band's setup is kept: up to
     # BAND_PIXELS pixels it is the only band.
@@ -157,6 +163,7 @@ class _MarchInputs:
     heights_px: object
     slopes: object
     reach: float = np.inf
+    bounds: str = "path"
 
     def __post_init__(self):
         self.dtype = self.normals.dtype
@@ -167,9 +174,47 @@ class _MarchInputs:
         self.d = self.f(max(0.0, float(self.offset)) * self.w)
         self.reach_px = max(0.0, float(self.reach)) * self.w if self.slopes is not None \
             else np.inf
-        self.zmax = self.f(np.max(self.zs)) if self.zs is not None and self.zs.size else None
-        self.s_max = self.f(np.max(np.hypot(self.slopes[..., 0], self.slopes[..., 1]))) \
-            if self.slopes is not None and self.slopes.size else self.f(0)
+        # what each ray's path can meet (path_bounds): its relief, or its steepest slope
+        field = self.zs if self.zs is not None else \
+            np.hypot(self.slopes[..., 0], self.slopes[..., 1]).astype(self.dtype, copy=False)
+        self.bounds = BOUNDS[self.bounds](field) if field.size else None
+
+
+def _path_pieces(c, x0, y0, lx, ly, span):
+    """The bounds of c's field over each ray's path (path_bounds), piece by piece, and the
+    length along the ray (s) of one piece; span: how far each ray can go (s)."""
+    lxy = np.hypot(lx, ly)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ux, uy = np.where(lxy > 0, lx / lxy, 0), np.where(lxy > 0, ly / lxy, 0)
+        length = np.where(lxy > 0, np.minimum(span, c.f(4 * (c.h + c.w))) * lxy, 0)
+    return c.bounds.along(x0, y0, ux, uy, length), span / c.f(PATH_SEGMENTS)
+
+
+def _relief_ceiling(c, x0, y0, z0, lx, ly, lz, span):
+    """How far along each ray it can still be inside the relief (s): past the last piece of
+    its path whose bound the ray has not yet risen above (lz ≤ 0: its whole span)."""
+    pieces, step = _path_pieces(c, x0, y0, lx, ly, span)
+    top = np.zeros_like(z0)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        for j, bound in enumerate(pieces):
+            start = np.zeros_like(z0) if j == 0 else c.f(j) * step
+            above_at = (bound - z0) / lz           # where the ray rises above the bound
+            met = z0 + start * lz < bound
+            top = np.where(met, np.maximum(top, np.minimum(c.f(j + 1) * step, above_at)), top)
+    return np.where(lz > 0, top, np.inf)
+
+
+def _slope_ceiling(c, x0, y0, lx, ly, lz, span, delta):
+    """A normal map's ray (§6, height rebuilt along it): the rebuilt height climbs at most
+    S·|L.xy| per unit s, S the steepest slope on the ray's path; once the ray outclimbs that
+    it can never be inside again."""
+    pieces, _ = _path_pieces(c, x0, y0, lx, ly, span)
+    steepest = np.zeros_like(delta)
+    for bound in pieces:
+        steepest = np.maximum(steepest, bound)
+    climb = lz - steepest * np.hypot(lx, ly)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(climb > 0, delta / climb, np.inf)
 
 
 def _ray_setup(c, r0, r1):
@@ -188,24 +233,22 @@ def _ray_setup(c, r0, r1):
     lvec, light_dist = light_vectors(light, x0, y0, z0, c.dtype, image_size=(h, w))
     lx, ly, lz = lvec[..., 0], lvec[..., 1], lvec[..., 2]
     ndl = nx * lx + ny * ly + nz * lz
+    to_edge = exit_distance(x0, y0, lx, ly, h, w)
+    span = to_edge if light_dist is None else np.minimum(to_edge, light_dist)
+    span = np.minimum(span, c.f(c.reach_px)) if np.isfinite(c.reach_px) else span
     h_rec = None
     if c.zs is not None:
         # δ0 from the relief where it is known; on the tangent plane of P_S (d/N.z) where P0
         # lies outside the box of pixel centres (border pixels whose normal points outward).
         delta = np.where(inside_box(x0, y0, h, w), sample_bilinear(c.zs, x0, y0, "extend") - z0,
                          d / nz)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ell_top = np.where(lz > 0, (c.zmax - z0) / lz, np.inf)
+        ell_top = _relief_ceiling(c, x0, y0, z0, lx, ly, lz, span)
     else:
         # Start on the tangent plane of P_S: H(P0.xy) = d|N.xy|²/N.z, δ0 = d/N.z.
         h_rec = d * (nx * nx + ny * ny) / nz
         delta = h_rec - z0
-        # The reconstructed height climbs at most S·|L.xy| per unit s (S = steepest slope):
-        # once the ray outclimbs that, it can never be inside again.
-        climb = lz - c.s_max * np.hypot(lx, ly)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ell_top = np.where(climb > 0, delta / climb, np.inf)
-    ell = np.minimum(exit_distance(x0, y0, lx, ly, h, w), ell_top)
+        ell_top = _slope_ceiling(c, x0, y0, lx, ly, lz, span, delta)
+    ell = np.minimum(to_edge, ell_top)
     if light_dist is not None:
         ell_light = light_dist                  # the aimed ray ends at the light
         stopped_by_light = ell_light <= ell

@@ -77,3 +77,30 @@ def test_sheet_cells_run_row_by_row_from_the_top_left():
 def test_bad_sheets_name_the_numbers(grid, size, message):
     with pytest.raises(ValueError, match=message):
         grid.cell_size(*size)
+
+
+def test_a_still_part_of_a_cut_out_keeps_its_integrated_heights_bit_for_bit():
+    """§16, issue 39: the shadows' integrated relief of a moving painting (a normal map with an
+    alpha) solves each part alone and stands it on its background, so a part whose pixels do
+    not change keeps its heights bit for bit while another part moves and dips lower."""
+    from dynpaint_addon.core.input_rules import ImageData
+    from dynpaint_addon.core.pipeline import normal_map_relief_px
+    size = 64
+    y, x = (np.mgrid[0:size, 0:size] + 0.5) / size
+
+    def frame(cx, radius):
+        n = np.zeros((size, size, 3))
+        n[..., 2] = 1
+        mask = np.zeros((size, size), bool)
+        for c, r in (((0.25, 0.25), 0.15), ((cx, 0.7), radius)):
+            dx, dy = (x - c[0]) / r, (y - c[1]) / r
+            disc = dx * dx + dy * dy < 1
+            n[disc] = np.stack([dx[disc], dy[disc], np.sqrt(1 - dx[disc] ** 2 - dy[disc] ** 2)], -1)
+            mask |= disc
+        rgba = np.dstack([(n + 1) / 2, mask]).astype(np.float32)
+        return normal_map_relief_px(n.astype(np.float32), ImageData(rgba, 32, "n")), mask
+    z0, m0 = frame(0.6, 0.2)
+    z1, _ = frame(0.7, 0.25)              # the other part moves and grows (its rim dips lower)
+    still = m0 & (x < 0.5) & (y < 0.5)
+    assert np.array_equal(z0[still], z1[still])
+    assert not np.array_equal(z0[~still], z1[~still])

@@ -697,3 +697,48 @@ def test_a_shapes_reductions_are_kept_while_it_lives_and_no_longer():
     other = flat_normals(32, 32).astype(np.float32)
     bake_levels.reduced_inputs(other, None, None, 8, 8)
     assert all(refs[0]() is not None for refs, _, _ in bake_levels._REDUCED.values())
+
+
+# -- §6 Step: a march ends where its own path lets it (issue 39, §16) ---------------------------
+def _domes(size, tall):
+    """Two domes far apart (heights in px): a still one at the lower left and one at the upper
+    right whose height is `tall` (a moving part)."""
+    y, x = (np.mgrid[0:size, 0:size] + 0.5) / size
+    z = np.zeros((size, size))
+    for cx, cy, r, top in ((0.25, 0.25, 0.15, 12.0), (0.75, 0.75, 0.15, tall)):
+        d2 = ((x - cx) ** 2 + (y - cy) ** 2) / r ** 2
+        z += np.where(d2 < 1, top * np.sqrt(np.clip(1 - d2, 0, 1)), 0)
+    return z
+
+
+@pytest.mark.parametrize("L", [(0.6, -0.3, 0.7), (-0.2, -0.8, 0.5), (0.1, 0.1, 0.95)])
+def test_a_still_part_is_marched_the_same_whatever_another_part_does(L):
+    """The still dome's cos-θ term (rays toward the lower left, away from the other dome) is
+    the same bit for bit when the other dome doubles its height; with the march ending at the
+    whole image's highest point (before) it was not."""
+    size = 96
+    light = Light("sun", unit(L))
+    still = np.zeros((size, size), bool)
+    still[:size // 2, :size // 2] = True
+    terms = {}
+    for bounds in ("path", "image"):
+        for tall in (20.0, 40.0):
+            z = _domes(size, tall).astype(np.float32)
+            n = normals_from_height_px(z).astype(np.float32)
+            terms[bounds, tall] = cos_theta_shadow(n, light, 0.01, 64, heights_px=z,
+                                                   bounds=bounds)
+    assert np.array_equal(terms["path", 20.0][still], terms["path", 40.0][still])
+    assert np.abs(terms["image", 20.0] - terms["image", 40.0])[still].max() > 1e-4
+
+
+def test_the_march_ending_on_its_path_is_closer_to_the_reference():
+    """A path-bounded end is never later than the image's, so K steps sample more finely:
+    on two domes, final's K = 64 march against K = 4096 is closer than it was."""
+    size = 96
+    z = _domes(size, 30.0)
+    n = normals_from_height_px(z)
+    light = Light("sun", unit((0.6, 0.4, 0.45)))
+    fine = cos_theta_shadow(n, light, 0.01, 4096, heights_px=z, bounds="image")
+    err = {b: np.abs(cos_theta_shadow(n, light, 0.01, 64, heights_px=z, bounds=b) - fine).mean()
+           for b in ("path", "image")}
+    assert err["path"] < err["image"], err
