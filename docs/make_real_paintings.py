@@ -185,7 +185,11 @@ lower bar and the canvas. Right: the default reach of 0.05 image widths: every f
 the plane it is, with short contact shadows at its edges. Measured (tests/core/test_shadow.py,
 256², sun at 35°, azimuths 200°, 60°, 135°): share of pixels farther than 0.05 image widths
 from any other facet whose t is off its facet's N·L by more than 0.1 — before 1.2 %, 3.7 %,
-7.4 %; now 0 at reach 0.05 and at 0.1.
+7.4 %; now 0 at reach 0.05 and at 0.1. The reach is kept for such maps only: the tribar's
+slopes circulate around its loops (4.3 per image width, `core.shape.circulation`; 2.5 is the
+limit), while a map whose normals fit a height field — any map of a 3D object — is marched
+along the whole ray, so a figure's shadow on the ground falls as far as it should
+(docs/relief-choice.md).
 
 ## Colours mixed as painted (`diffuse.mix_space`)
 

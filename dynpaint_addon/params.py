@@ -212,11 +212,12 @@ PARAMS = (
       choices=("integrated", "along_ray", "auto"),   # this order: a .blend stores the index
       spec="§6", label="Normal-Map Relief", structural=True, derives=("relief",), bake=True,
       shown_if=("shape.kind", "normal")),
-    P("shadows", "reach", float, 0.05, "How far along each shadow ray a normal map's relief "
-      "is felt (relief along_ray); beyond it the surface continues flat (its tangent plane). "
-      "A normal map holds "
-      "slopes, not heights: rebuilt along a ray across an impossible figure or a depth jump "
-      "they never come back down and streak; 10 = the whole image", unit="image widths",
+    P("shadows", "reach", float, 0.05, "How far along each shadow ray an impossible figure's "
+      "relief is felt (relief along_ray); beyond it the surface continues flat (its tangent "
+      "plane). A normal map holds slopes, not heights: rebuilt along a ray across an "
+      "impossible figure they never come back down and streak. A map whose normals fit a "
+      "height field (measured: their circulation, docs/relief-choice.md) is felt along the "
+      "whole ray, whatever this says; 10 = the whole image", unit="image widths",
       min=0.0, max=10.0, spec="§6", bake=True, shown_if=("shape.kind", "normal")),
     P("shadows", "occupancy", "enum", "linear", "How a march step counts as inside the relief: "
       "linear crossing (accurate) or the paper's midpoint test", choices=OCCUPANCIES, spec="§6",

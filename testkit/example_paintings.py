@@ -137,3 +137,29 @@ def sphere(size, radius=0.4):
     z = np.sqrt(np.clip(1 - r2, 0, 1))
     n = np.where(inside[..., None], np.stack([x / radius, y / radius, z], -1), [0.0, 0.0, 1.0])
     return n / np.linalg.norm(n, axis=-1, keepdims=True), inside
+
+
+def _far_from_edges(facet, radius):
+    """Pixels with no other facet within `radius` pixels (square window)."""
+    edge = np.zeros(facet.shape, bool)
+    edge[:, 1:] |= facet[:, 1:] != facet[:, :-1]
+    edge[:, :-1] |= facet[:, 1:] != facet[:, :-1]
+    edge[1:] |= facet[1:] != facet[:-1]
+    edge[:-1] |= facet[1:] != facet[:-1]
+    near = edge.copy()
+    for axis in (0, 1):
+        grown = near.copy()
+        for s in range(1, radius + 1):
+            grown |= np.roll(near, s, axis) | np.roll(near, -s, axis)
+        near = grown
+    return ~near
+
+
+def streak_share(t, n, light, facet, radius):
+    """The measure of point 5 of issue 15: on a figure drawn as flat facets, each facet is a
+    plane, lit t = max(N·L, 0) (§6); a streak is a pixel farther than `radius` from any other
+    facet whose t is off that by more than 0.1. → share of such pixels among those far ones."""
+    far = _far_from_edges(facet, radius)
+    v = np.asarray(light.vector, np.float64)
+    want = np.clip(n @ (v / np.linalg.norm(v)), 0, 1)
+    return float((np.abs(t - want) > 0.1)[far].mean())

@@ -60,6 +60,12 @@ def write_images(folder):
     save("normal_rg.png", np.concatenate([(n[..., :2] + 1) / 2, np.zeros_like(x)[..., None]], -1),
          16)
     save("normal_halving.png", (doubled_tilts(n) + 1) / 2, 16)
+    # slopes that fit no height field (a smooth whirl, ∮ ≈ 0.16 px around each pixel's loop:
+    # an impossible figure's kind, core.shape.circulation), so shadows.reach applies (§6)
+    px, py = (x - 0.5) * W, (y - 0.5) * W
+    whirl = np.stack([-0.08 * py, 0.08 * px, np.ones_like(x)], -1)   # slopes (−p, −q): N.xy
+    whirl /= np.linalg.norm(whirl, axis=-1, keepdims=True)
+    save("normal_whirl.png", (whirl + 1) / 2, 16)
     # height maps: a smooth dome plus a ridge, 16-bit and 8-bit
     hgt = 0.7 * np.exp(-((x - 0.4) ** 2 + (y - 0.55) ** 2) / 0.06) \
         + 0.3 * np.exp(-((x - 0.75) ** 2) / 0.01) 
@@ -191,8 +197,9 @@ RECIPES = {
                                       "transparency.amount": 0.5}, [SUN]),
     "mix_linear": (BASE, {"diffuse.mix_space": "linear", "diffuse.curve": "smoothstep"},
                    [_sun((-0.7, 0.2, 0.5), (1.0, 0.5, 0.3), 0.8, "Key")]),
-    "normal_shadows_short_reach": (BASE, {"shadows.enabled": True, "shadows.reach": 0.02,
-                                          "shadows.relief": "along_ray"},
+    "normal_shadows_short_reach": ({**BASE, "shape": "normal_whirl"},
+                                   {"shadows.enabled": True, "shadows.reach": 0.02,
+                                    "shadows.relief": "along_ray"},
                                    [_sun((0.6, -0.4, 0.35))]),
     "normal_halving_strength": ({**BASE, "shape": "normal_halving"},
                                 {"shape.strength": 0.5, "shadows.enabled": True}, [SUN]),

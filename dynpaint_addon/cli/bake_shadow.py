@@ -14,6 +14,7 @@ from ..core.layers import bake_scene
 from ..core.lights import Light
 from ..core.pipeline import shape_normals
 from ..core.shadow import ShadowStats
+from ..core.shape import reach_of
 from ..errors import CommandError
 from ..inputs import memory
 from ..inputs.imageio import painting_headers, read_image, write_exr
@@ -169,7 +170,8 @@ def cmd_bake_shadow(args):
     stats = ShadowStats()
     t0 = time.perf_counter()
     t = bake(n, light, p.shadows.offset, quality, heights_px=z, slopes=slopes, steps=steps,
-             scale=scale, occupancy=p.shadows.occupancy, reach=p.shadows.reach, stats=stats)
+             scale=scale, occupancy=p.shadows.occupancy, reach=reach_of(p.shadows.reach, slopes),
+             stats=stats)
     ms = (time.perf_counter() - t0) * 1000
     write_exr(args.out, t)
     if args.verbose:

@@ -156,7 +156,12 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
                 progress(1.0)
             return t
     else:
-        march = cos_theta_shadow
+        # a level's march ends where each ray's own path lets it (§16: a still part of a moving
+        # painting is marched the same); custom K and the reference end at the image's bounds,
+        # as the in-shader marches do, so the page and the OSL shader are checked against
+        # them step for step
+        march = functools.partial(cos_theta_shadow, bounds="path" if quality in QUALITY and
+                                  quality != "reference" else "image")
     if stats is not None:
         stats.size = (hs, ws)
     if (hs, ws) == (h, w):

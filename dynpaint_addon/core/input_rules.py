@@ -14,6 +14,7 @@ import numpy as np
 from .inputs import (finite_pixels, mask_channel, mask_note, non_finite_message,
                      normal_map_notes, normal_map_problem, size_message)
 from .sampling import resample
+from .shape import CURL_LIMIT, circulation, decode_normal_map, slopes_from_normals
 
 PER_PIXEL_CHANNELS = ("dark", "bright", "specular_color", "gloss", "transparency")
 
@@ -123,7 +124,25 @@ def input_notes(images, p):
                      f"slopes along each ray (shadows.relief auto); give it the figure's alpha "
                      f"to cut the figure out, or set shadows.relief = \"integrated\" "
                      f"(docs/relief-choice.md)")
+    if p.shape.kind == "normal" and p.shadows.enabled and \
+            relief_of(p.shadows.relief, shape.has_alpha) == "along_ray":
+        notes.append(reach_note(shape, p, name))
     return notes + silhouette_notes(images, p) + see_through_notes(images, p)
+
+
+def reach_note(shape, p, name):
+    """What §6 Reach does to a normal map's relief along the ray (core.shape.reach_of): the
+    whole ray where its slopes fit a height field, shadows.reach where they do not."""
+    n = decode_normal_map(shape.rgb().astype(np.float32), p.shape.flip_green, p.shape.z_min,
+                          p.shape.encoding, p.shape.strength, shape.alpha())
+    curl = circulation(slopes_from_normals(n))
+    if curl < CURL_LIMIT:
+        return (f"{name}: its normals fit a height field (circulation {curl:.2f} per image "
+                f"width, under {CURL_LIMIT:g}): its relief along each ray is felt the whole way")
+    return (f"{name}: its normals fit no height field (an impossible figure: circulation "
+            f"{curl:.2f} per image width, {CURL_LIMIT:g} or more), so its relief along each "
+            f"ray is felt only shadows.reach = {p.shadows.reach:g} image widths: longer "
+            f"would streak")
 
 
 # A background image darker than this everywhere (99th percentile of its values) shows black

@@ -32,7 +32,7 @@ from .lights import falloff, light_vectors
 from .sampling import gaussian_blur, pixel_centres, resample, sample_bilinear
 from .bake import bake as shadow_bake
 from .shape import (decode_normal_map, default_preblur_px, height_field_px, normals_from_height_px,
-                    slopes_from_normals)
+                    reach_of, slopes_from_normals)
 
 @dataclass
 class RenderResult:
@@ -92,8 +92,8 @@ def shadow_term(n, z_px, slopes, light, p, cancel=None, progress=None):
     """The raw cos-θ term of one light (§6) at the parameters' quality level (§13)."""
     t = shadow_bake(n, light, p.shadows.offset, p.shadows.quality, heights_px=z_px, slopes=slopes,
                     steps=p.shadows.steps, scale=p.shadows.resolution,
-                    occupancy=p.shadows.occupancy, reach=p.shadows.reach, cancel=cancel,
-                    progress=progress)
+                    occupancy=p.shadows.occupancy, reach=reach_of(p.shadows.reach, slopes),
+                    cancel=cancel, progress=progress)
     return t.astype(n.dtype, copy=False)
 
 

@@ -3,6 +3,8 @@
 Arrays are y-up (row 0 at the bottom, §0). Heights are returned in *pixels* so the shadow
 march can work in one unit; normals are unit vectors in the painting frame.
 """
+import weakref
+
 import numpy as np
 
 from .sampling import gaussian_blur
@@ -243,3 +245,64 @@ def slopes_from_normals(n):
     Finite because N.z ≥ z_min (§2). Returned as an (H, W, 2) array (dz/dx, dz/dy).
     """
     return -n[..., :2] / n[..., 2:3]
+
+
+# §6 Reach: does a normal map's slope field fit a height field? Measured on Cycles renders of
+# objects (benchmarks/relief_choice.py) and on the impossible figures: per image width, the
+# circulation of objects' maps is ≤ 1.7 (the occluding contours of smooth shapes, where walls
+# hide), of the Penrose tribar and the impossible staircase 3.7–4.4, at 128² to 512².
+CURL_STEP = 0.1    # |∮∇H·dl| of one pixel's loop (in pixels) that counts: 8-bit noise is < 0.03
+CURL_STEEP = 3.2   # loops with a slope steeper (N.z < 0.3) are left out: a smooth object's
+#                    occluding contour, whose hidden wall no normal map records
+CURL_LIMIT = 2.5   # circulation per image width above which the normals fit no height field
+
+
+def circulation(slopes, mask=None):
+    """How far a slope field (H, W, 2) is from a height field's (§6 "Reach"): around every
+    loop of four pixels, ∮∇H·dl (the mean slopes of its four edges) — 0 for the normals of
+    any height field; summed where it exceeds CURL_STEP, over loops no steeper than
+    CURL_STEEP (and inside `mask`, where given), per image width: an impossible figure's
+    edges, each counted by its length and its jump.
+
+    >>> y, x = np.mgrid[0:64, 0:64] / 64.0
+    >>> dome = np.dstack([-(x - 0.5), -(y - 0.5)])              # ∇ of −((x−½)² + (y−½)²)/2
+    >>> vortex = np.dstack([-(y - 0.5), x - 0.5]) * 20          # ∮ = 40 × the area inside
+    >>> round(circulation(dome), 3), circulation(vortex) > CURL_LIMIT
+    (0.0, True)
+    """
+    s = np.asarray(slopes, np.float64)
+    gx = (s[:, 1:, 0] + s[:, :-1, 0]) / 2              # edge slopes, as core/integrate.py's
+    gy = (s[1:, :, 1] + s[:-1, :, 1]) / 2
+    loop = gx[:-1, :] + gy[:, 1:] - gx[1:, :] - gy[:, :-1]
+    gentle = np.hypot(s[..., 0], s[..., 1]) <= CURL_STEEP
+    if mask is not None:
+        gentle = gentle & np.asarray(mask, bool)
+    counted = gentle[:-1, :-1] & gentle[:-1, 1:] & gentle[1:, :-1] & gentle[1:, 1:]
+    size = np.abs(loop) * counted
+    return float(size[size > CURL_STEP].sum()) / max(s.shape[1], 1)
+
+
+def fits_height_field(slopes, mask=None):
+    """Whether a normal map's slopes fit a height field (`circulation` below CURL_LIMIT):
+    its relief rebuilt along a ray comes back down, so the whole ray may be marched; an
+    impossible figure's never does, and only `shadows.reach` keeps its streaks short."""
+    return circulation(slopes, mask) < CURL_LIMIT
+
+
+_FITTED = {}    # id(slopes) → (weak ref, fits): a dragged light bakes one shape again and again
+
+
+def reach_of(reach, slopes):
+    """§6 Reach as a bake applies it → image widths: `reach` (shadows.reach) for a normal
+    map's slopes that fit no height field, the whole ray (∞) for slopes that do
+    (fits_height_field, decided once per slopes array while it lives), `reach` unchanged for
+    a height map or an integrated relief (slopes None: it has no reach)."""
+    if slopes is None:
+        return reach
+    hit = _FITTED.get(id(slopes))
+    if hit is None or hit[0]() is not slopes:
+        for gone in [k for k, (ref, _) in _FITTED.items() if ref() is None]:
+            del _FITTED[gone]
+        hit = (weakref.ref(slopes), fits_height_field(slopes))
+        _FITTED[id(slopes)] = hit
+    return np.inf if hit[1] else reach

@@ -45,7 +45,7 @@ from ..core.inputs import mask_values
 from ..core.input_rules import MASKS, PER_PIXEL_CHANNELS, finite_image, mask_setting
 from ..core.pipeline import lookup_copy, shape_normals
 from ..core.shape import (default_preblur_px, normal_vectors, preblurred_height, resolve_encoding,
-                          resolve_strength, slopes_from_normals)
+                          reach_of, resolve_strength, slopes_from_normals)
 from .features import Features
 
 
@@ -153,11 +153,14 @@ def derived_inputs(features, p, sources):
 def march_bounds(n, z_px, slopes):
     """The in-shader march's global bounds (snippets/shared/cos_theta.h, §6), from the core's
     decode of the shape (core.pipeline.shape_normals): the highest relief in image widths (0
-    without heights) and the steepest implied slope of the normals → {'relief_max',
-    'slope_max'}."""
+    without heights), the steepest implied slope of the normals, and whether a normal map's
+    relief along the ray stops at shadows.reach (1: its slopes fit no height field; 0: the
+    whole ray, core.shape.reach_of) → {'relief_max', 'slope_max', 'reach_limited'}."""
     relief = float(z_px.max()) / z_px.shape[1] if z_px is not None else 0.0
     sl = slopes if slopes is not None else slopes_from_normals(n)
-    return {"relief_max": relief, "slope_max": float(np.hypot(sl[..., 0], sl[..., 1]).max())}
+    limited = slopes is not None and np.isfinite(reach_of(1.0, slopes))
+    return {"relief_max": relief, "slope_max": float(np.hypot(sl[..., 0], sl[..., 1]).max()),
+            "reach_limited": float(limited)}
 
 
 def _relief_widths(data, p):

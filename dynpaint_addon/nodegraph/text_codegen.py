@@ -246,5 +246,5 @@ class Program:
                 self.param("shape.flip_green"), self.param("shape.z_min"),
                 num(f.size[0]), num(f.size[1]), scale, self.param("shadows.offset"),
                 self.param("shadows.steps"), self.param("shadows.reach"),
-                self.bound("relief_max"), self.bound("slope_max")]
+                self.bound("relief_max"), self.bound("slope_max"), self.bound("reach_limited")]
         return f"dp_cos_theta({', '.join(args)})"

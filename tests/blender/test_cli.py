@@ -59,7 +59,9 @@ def test_bake_shadow_height_map(tmp_path):
     t = read_image(str(out))
     assert t.pixels.shape == (40, 40, 1) and t.bits == 32
     z = height_field_px(hgt, 0.2)
-    ref = cos_theta_shadow(normals_from_height_px(z), Light("sun", (1, 0, 0.6)), 0.005, 96, heights_px=z)
+    # a custom K marches to the image's bounds, as the in-shader marches do (core/bake.py)
+    ref = cos_theta_shadow(normals_from_height_px(z), Light("sun", (1, 0, 0.6)), 0.005, 96,
+                           heights_px=z, bounds="image")
     np.testing.assert_array_equal(t.pixels[..., 0], ref)
     assert t.pixels[20, 8, 0] < 0.05 and t.pixels[20, 32, 0] == pytest.approx(unit((1, 0, 0.6))[2], abs=1e-3)
     # a quality level says what it ran: a sun at preview bakes by crossings, at ¼ resolution
@@ -157,8 +159,10 @@ def test_render_with_cycles_matches_numpy(tmp_path):
 
 
 def test_bake_shadow_chooses_the_relief_and_its_reach(tmp_path):
-    """--relief and --reach reach the bake (issue 27): auto is along the ray for a full-frame
-    normal map, integrated for one with an alpha (core.input_rules.relief_of)."""
+    """--relief and --reach reach the bake (issues 27, 39): auto is along the ray for a
+    full-frame normal map, integrated for one with an alpha (core.input_rules.relief_of); the
+    reach stops an impossible figure's relief only (core.shape.reach_of)."""
+    from testkit.example_paintings import penrose_triangle
     size = 48
     y, x = (np.mgrid[0:size, 0:size] + 0.5) / size - 0.5
     z = np.sqrt(np.clip(0.3 ** 2 - x * x - y * y, 0, None))
@@ -177,7 +181,13 @@ def test_bake_shadow_chooses_the_relief_and_its_reach(tmp_path):
     assert np.abs(along - integrated).max() > 0.1
     np.testing.assert_array_equal(bake("n.png"), along)
     np.testing.assert_array_equal(bake("na.png"), bake("na.png", "--relief", "integrated"))
-    assert np.abs(bake("n.png", "--relief", "along_ray", "--reach", 0.01) - along).max() > 0.05
+    # the dome's normals fit a height field: its relief is felt along the whole ray, whatever
+    # --reach says (§6 Reach); an impossible figure's stops at --reach
+    np.testing.assert_array_equal(bake("n.png", "--relief", "along_ray", "--reach", 0.01), along)
+    tribar, _ = penrose_triangle(size)
+    write_png(tmp_path / "tribar.png", (tribar + 1) / 2, bits=16)
+    assert np.abs(bake("tribar.png", "--relief", "along_ray", "--reach", 0.01)
+                  - bake("tribar.png", "--relief", "along_ray", "--reach", 10)).max() > 0.05
 
 
 # -- layered recipes (§15) -----------------------------------------------------------------

@@ -350,7 +350,8 @@ def test_auto_relief_integrates_cut_out_figures_and_marches_full_frame_maps_and_
     cut = ImageData(np.dstack([rgb, np.ones((16, 16), np.float32)]), 8, "n.png")
     assert shape_normals(full, p)[1] is None and shape_normals(cut, p)[1] is not None
     notes = input_notes({"shape": full}, p)
-    assert len(notes) == 1 and "along each ray" in notes[0] and "integrated" in notes[0]
+    assert len(notes) == 2 and "along each ray" in notes[0] and "integrated" in notes[0]
+    assert "fit a height field" in notes[1] and "the whole way" in notes[1]   # §6 Reach
     assert input_notes({"shape": cut}, p) == []
-    p.shadows.relief = "along_ray"                       # chosen: nothing to say
-    assert input_notes({"shape": full}, p) == []
+    p.shadows.relief = "along_ray"                       # chosen: only how far it is felt
+    assert input_notes({"shape": full}, p) == notes[1:]

@@ -632,31 +632,6 @@ def test_crossings_follow_the_reach_like_the_reference():
         assert np.abs(fast - ref).mean() < 2e-3, reach   # measured 0.9e-3, 1.2e-3 (∞: 1.6e-3)
 
 
-def _far_from_edges(facet, radius):
-    """Pixels with no other facet within `radius` pixels (square window)."""
-    edge = np.zeros(facet.shape, bool)
-    edge[:, 1:] |= facet[:, 1:] != facet[:, :-1]
-    edge[:, :-1] |= facet[:, 1:] != facet[:, :-1]
-    edge[1:] |= facet[1:] != facet[:-1]
-    edge[:-1] |= facet[1:] != facet[:-1]
-    near = edge.copy()
-    for axis in (0, 1):
-        grown = near.copy()
-        for s in range(1, radius + 1):
-            grown |= np.roll(near, s, axis) | np.roll(near, -s, axis)
-        near = grown
-    return ~near
-
-
-def streak_share(t, n, light, facet, radius):
-    """The measure of point 5 of issue 15: on a figure drawn as flat facets, each facet is a
-    plane, lit t = max(N·L, 0) (§6); a streak is a pixel farther than `radius` from any other
-    facet whose t is off that by more than 0.1. → share of such pixels among those far ones."""
-    far = _far_from_edges(facet, radius)
-    want = np.clip(n @ np.asarray(unit(light.vector)), 0, 1)
-    return float((np.abs(t - want) > 0.1)[far].mean())
-
-
 @pytest.mark.parametrize("azimuth", [200, 60, 135])
 def test_an_impossible_figure_drawn_as_facets_casts_no_streaks(azimuth):
     """Penrose tribar (example_paintings): with the default reach no facet is darkened farther
@@ -665,7 +640,7 @@ def test_an_impossible_figure_drawn_as_facets_casts_no_streaks(azimuth):
     never come back down smear long shadows over facets and the canvas."""
     from dynpaint_addon import params
     from dynpaint_addon.core.bake import bake
-    from testkit.example_paintings import penrose_triangle
+    from testkit.example_paintings import penrose_triangle, streak_share
     size = 256
     n, facet = penrose_triangle(size)
     n = n.astype(np.float32)
@@ -742,3 +717,43 @@ def test_the_march_ending_on_its_path_is_closer_to_the_reference():
     err = {b: np.abs(cos_theta_shadow(n, light, 0.01, 64, heights_px=z, bounds=b) - fine).mean()
            for b in ("path", "image")}
     assert err["path"] < err["image"], err
+
+
+# -- §6 Reach where the normals fit no height field (issue 39) ----------------------------------
+def test_the_circulation_tells_an_impossible_figure_from_an_objects_map():
+    """Objects' normal maps (a dome's, from heights) stay under the limit; the Penrose tribar
+    is over it at every size."""
+    from dynpaint_addon.core.shape import CURL_LIMIT, circulation
+    from testkit.example_paintings import penrose_triangle
+    y, x = (np.mgrid[0:128, 0:128] + 0.5) / 128
+    dome = 30 * np.sqrt(np.clip(1 - ((x - 0.5) ** 2 + (y - 0.5) ** 2) / 0.09, 0, None))
+    curl = circulation(slopes_from_normals(normals_from_height_px(dome)))
+    assert curl < 0.4 * CURL_LIMIT, curl                # the rim: 0.50
+    for size in (128, 256):
+        n, _ = penrose_triangle(size)
+        assert circulation(slopes_from_normals(n)) > 1.4 * CURL_LIMIT
+
+
+def test_a_full_frame_map_that_fits_a_height_field_casts_its_whole_shadow():
+    """A dome's normal map without an alpha (along the ray): with the defaults its shadow on
+    the ground falls as far as its height casts it, beyond shadows.reach (which only an
+    impossible figure needs); the Penrose tribar keeps the default reach (no streaks)."""
+    from dynpaint_addon import params
+    from dynpaint_addon.core.pipeline import shadow_term
+    from dynpaint_addon.core.shape import reach_of
+    from testkit.example_paintings import penrose_triangle
+    size = 128
+    y, x = (np.mgrid[0:size, 0:size] + 0.5) / size
+    z = 20 * np.sqrt(np.clip(1 - ((x - 0.3) ** 2 + (y - 0.5) ** 2) / 0.01, 0, None))  # 20 px
+    n = normals_from_height_px(z).astype(np.float32)
+    slopes = slopes_from_normals(n)
+    p = params.defaults()
+    light = Light("sun", unit((-1.0, 0.0, 0.5)))        # from −x: the shadow falls toward +x
+    assert reach_of(p.shadows.reach, slopes) == np.inf
+    row = shadow_term(n, None, slopes, light, p)[size // 2]
+    ground = (x[0] > 0.42) & (row > 0)
+    shade = (x[0] > 0.42) & (row < 0.5 * unit((-1.0, 0.0, 0.5))[2])
+    reach = x[0][shade].max() - 0.4                     # 20 px / tan 26.6° = 40 px ≈ 0.31
+    assert ground.any() and reach > 4 * p.shadows.reach, reach
+    pn, _ = penrose_triangle(size)
+    assert reach_of(p.shadows.reach, slopes_from_normals(pn)) == p.shadows.reach

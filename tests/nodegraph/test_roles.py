@@ -89,7 +89,10 @@ def images(kind):
     y, x = np.mgrid[0:H, 0:W] / max(H, W)
     hgt = (np.exp(-((x - 0.5) ** 2 + (y - 0.4) ** 2) / 0.05)).astype(np.float32)
     n = np.stack([0.5 + 0.3 * np.sin(6 * x), 0.5 + 0.3 * np.cos(5 * y), np.ones_like(x)], -1)
-    shape = hgt[..., None] if kind == "height" else n
+    # slopes that fit no height field (a whirl): shadows.reach applies to such a map only (§6)
+    whirl = np.stack([0.5 - 0.25 * (y - 0.4) * 8, 0.5 + 0.25 * (x - 0.5) * 8, np.ones_like(x)],
+                     -1)
+    shape = hgt[..., None] if kind == "height" else whirl if kind == "whirl" else n
     alpha = np.clip(2 - 4 * np.hypot(x - 0.5, y - 0.4), 0, 1)[..., None]
     colour = lambda: rng.uniform(0, 1, (H, W, 3)).astype(np.float32)  # noqa: E731
     return {"shape": ImageData(np.concatenate([shape, alpha], -1).astype(np.float32), 16),
@@ -140,9 +143,10 @@ def test_bake_parameters_are_exactly_those_that_change_the_bake():
     """The bake's key is made of the `bake` parameters: any other never changes its result,
     and each of them changes it (for some value, with one kind of shape image or the other)."""
     changes = {}
-    for kind, relief in (("normal", "integrated"), ("normal", "along_ray"), ("height", "")):
+    for kind, relief in (("normal", "integrated"), ("normal", "along_ray"), ("whirl", "along_ray"),
+                         ("height", "")):
         imgs = images(kind)
-        base = base_params(kind)
+        base = base_params("normal" if kind == "whirl" else kind)
         base.shape.preblur = 1.0
         base.shadows.relief = relief or base.shadows.relief      # reach: along the ray only
         before = bake(base, imgs)

@@ -50,11 +50,12 @@ float dp_occupancy(float d0, float d1)
 // t = d / max(r, d) for the surface point at UV (u, v) with unit normal N.
 // light: a sun's direction toward the light, or a point light's position (image widths from
 // the painting's centre), in the painting frame. relief_max: highest relief (image widths);
-// slope_max: steepest implied slope of a normal map.
+// slope_max: steepest implied slope of a normal map; reach_limited: 1 where a normal map's
+// slopes fit no height field (its relief along the ray stops at reach), 0: the whole ray.
 float dp_cos_theta(vector N, vector light, int is_point, float u, float v,
                    DP_IMAGE relief, int relief_mode, int normal_map, float flip, float zmin,
                    float W, float H, float height_scale, float offset, float steps,
-                   float reach, float relief_max, float slope_max)
+                   float reach, float relief_max, float slope_max, float reach_limited)
 {
     float scale = height_scale * W;                          // H (0..1) → pixels
     float x = u * W, y = v * H;
@@ -94,7 +95,7 @@ float dp_cos_theta(vector N, vector light, int is_point, float u, float v,
         ell = min(ell, ell_light);
     }
     // §6 Reach (normal maps): the rebuilt relief is felt up to reach, then the tangent plane
-    float reach_px = normal_map != 0 ? max(reach, 0.0) * W : inf;
+    float reach_px = normal_map != 0 && reach_limited > 0.5 ? max(reach, 0.0) * W : inf;
     int by_reach = ell > reach_px ? 1 : 0;
     if (by_reach != 0) { ell = reach_px; stopped = 0; }
     if (!(ell < inf)) ell = 0.0;
