@@ -190,6 +190,11 @@ def _path_pieces(c, x0, y0, lx, ly, span):
     return c.bounds.along(x0, y0, ux, uy, length), span / c.f(PATH_SEGMENTS)
 
 
+# How far above a path's bound a march ends (px): a ray ending exactly at the bound could read
+# as still inside by float rounding, and its tail would then darken a lit edge
+CLEAR_PX = 0.01
+
+
 def _relief_ceiling(c, x0, y0, z0, lx, ly, lz, span):
     """How far along each ray it can still be inside the relief (s): past the last piece of
     its path whose bound the ray has not yet risen above (lz ≤ 0: its whole span)."""
@@ -198,7 +203,7 @@ def _relief_ceiling(c, x0, y0, z0, lx, ly, lz, span):
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         for j, bound in enumerate(pieces):
             start = np.zeros_like(z0) if j == 0 else c.f(j) * step
-            above_at = (bound - z0) / lz           # where the ray rises above the bound
+            above_at = (bound + c.f(CLEAR_PX) - z0) / lz   # where the ray is clear of it
             met = z0 + start * lz < bound
             top = np.where(met, np.maximum(top, np.minimum(c.f(j + 1) * step, above_at)), top)
     return np.where(lz > 0, top, np.inf)
@@ -214,7 +219,7 @@ def _slope_ceiling(c, x0, y0, lx, ly, lz, span, delta):
         steepest = np.maximum(steepest, bound)
     climb = lz - steepest * np.hypot(lx, ly)
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(climb > 0, delta / climb, np.inf)
+        return np.where(climb > 0, (delta + c.f(CLEAR_PX)) / climb, np.inf)
 
 
 def _ray_setup(c, r0, r1):

@@ -757,3 +757,19 @@ def test_a_full_frame_map_that_fits_a_height_field_casts_its_whole_shadow():
     assert ground.any() and reach > 4 * p.shadows.reach, reach
     pn, _ = penrose_triangle(size)
     assert reach_of(p.shadows.reach, slopes_from_normals(pn)) == p.shadows.reach
+
+
+def test_a_march_ending_on_its_path_leaves_a_lit_edge_lit():
+    """A box's top edge in float32: the march ends just clear of the path's bound (CLEAR_PX),
+    so rounding never leaves the ray 'inside' at its end (whose tail would darken the edge:
+    t 0 instead of 0.87 on the wide box of docs/ground-truth.md)."""
+    size = 256
+    z = np.zeros((size, size), np.float32)
+    z[40:80, 150:200] = 30.72
+    z[100:160, 20:60] = 61.4
+    n = normals_from_height_px(z).astype(np.float32)
+    e, a = np.radians(60), np.radians(300)
+    light = Light("sun", (np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)))
+    path = cos_theta_shadow(n, light, 0.01, 256, heights_px=z, bounds="path")
+    image = cos_theta_shadow(n, light, 0.01, 256, heights_px=z, bounds="image")
+    assert np.abs(path - image).max() < 0.05, np.abs(path - image).max()
