@@ -81,14 +81,18 @@ def made_heights(truth, method, by_parts):
     return heights
 
 
-def unchanged_parts(h0, h1, a0, a1):
-    """The pixels of the figure's parts (4-connected) that are the same in both frames, every
-    pixel of them: the drawing does not change there (a pixel of the turning head that
-    happens to keep its height is not)."""
-    same = (h0 == h1) & (a0 == a1)
-    labels, count = components(a0[:, 1:] & a0[:, :-1], a0[1:] & a0[:-1])
+def whole_parts(same, alpha):
+    """The pixels of the figure's parts (4-connected, in `alpha`) every pixel of which is
+    `same`: the drawing does not change there (a pixel of the turning head that happens to
+    stay the same is not)."""
+    labels, count = components(alpha[:, 1:] & alpha[:, :-1], alpha[1:] & alpha[:-1])
     whole = np.bincount(labels.ravel(), ~same.ravel(), count) == 0
-    return whole[labels] & a0
+    return whole[labels] & alpha
+
+
+def unchanged_parts(h0, h1, a0, a1):
+    """The figure's parts whose heights are the same in both frames, every pixel of them."""
+    return whole_parts((h0 == h1) & (a0 == a1), a0)
 
 
 def measure(truth):
@@ -155,7 +159,8 @@ def out_of_reach(moving, light):
         dx, dy = fx - x, fy - y
         length = np.hypot(dx, dy)
     norm = np.hypot(dx, dy)
-    ux, uy = (dx / norm, dy / norm) if np.all(norm > 0) else (dx * 0, dy * 0)
+    with np.errstate(divide="ignore", invalid="ignore"):      # at a point light's foot: none
+        ux, uy = np.where(norm > 0, dx / norm, 0), np.where(norm > 0, dy / norm, 0)
     clear = np.ones((h, w), bool)
     for s in np.arange(0, h + w, 0.5):
         px, py = x + s * ux, y + s * uy
@@ -171,9 +176,7 @@ def still_pixels(truth):
     alpha, normal = truth["alpha"] >= 0.5, truth["normal"]
     same = np.all(alpha == alpha[0], axis=0) & np.all(
         np.abs(normal - normal[0]).max(axis=-1) == 0, axis=0)
-    labels, count = components(alpha[0][:, 1:] & alpha[0][:, :-1], alpha[0][1:] & alpha[0][:-1])
-    whole = np.bincount(labels.ravel(), (~same).ravel(), count) == 0
-    return whole[labels] & alpha[0], ~same
+    return whole_parts(same, alpha[0]), ~same
 
 
 def render_flicker(truth):

@@ -152,8 +152,8 @@ def report(rows, size):
             met_all &= met and all(per_d)
             cells = " | ".join(f"{means[s][0]:.4f} / {means[s][1]:.2f}" for s in FIXED + EXTRA)
             say = "yes" if met and all(per_d) else \
-                f"**no**: +{max(gap_err, 0):.4f} error, −{max(gap_iou, 0):.3f} IoU" + (
-                    "" if met else "") + ("" if all(per_d) else " (at one d)")
+                f"**no**: +{max(gap_err, 0):.4f} error, −{max(gap_iou, 0):.3f} IoU" + \
+                ("" if all(per_d) else " (at one d)")
             lines.append(f"| {kind} | {'yes' if alpha else 'no'} | {cells} | "
                          f"{means['auto'][0]:.4f} / {means['auto'][1]:.2f} | {say} |")
     lines += ["", "| kind | scene | alpha | circulation (per image width) | auto's choice |",

@@ -130,12 +130,16 @@ def input_notes(images, p):
     return notes + silhouette_notes(images, p) + see_through_notes(images, p)
 
 
+def normal_map_normals(shape, p, dtype=np.float32):
+    """§2: a normal-map shape image (ImageData) decoded as the parameters say."""
+    return decode_normal_map(shape.rgb().astype(dtype), p.shape.flip_green, p.shape.z_min,
+                             p.shape.encoding, p.shape.strength, shape.alpha())
+
+
 def reach_note(shape, p, name):
     """What §6 Reach does to a normal map's relief along the ray (core.shape.reach_of): the
     whole ray where its slopes fit a height field, shadows.reach where they do not."""
-    n = decode_normal_map(shape.rgb().astype(np.float32), p.shape.flip_green, p.shape.z_min,
-                          p.shape.encoding, p.shape.strength, shape.alpha())
-    curl = circulation(slopes_from_normals(n))
+    curl = circulation(slopes_from_normals(normal_map_normals(shape, p)))
     if curl < CURL_LIMIT:
         return (f"{name}: its normals fit a height field (circulation {curl:.2f} per image "
                 f"width, under {CURL_LIMIT:g}): its relief along each ray is felt the whole way")

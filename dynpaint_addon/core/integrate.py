@@ -46,7 +46,12 @@ def edge_slopes(normals):
     (H − 1, W) between (i, j) and (i + 1, j); each the mean of its two pixels' −N.xy/N.z."""
     n = np.asarray(normals, dtype=np.float64)
     nz = np.maximum(n[..., 2], 1e-3)        # §2 keeps N.z ≥ z_min; this only guards raw input
-    p, q = -n[..., 0] / nz, -n[..., 1] / nz
+    return edge_means(-n[..., 0] / nz, -n[..., 1] / nz)
+
+
+def edge_means(p, q):
+    """Pixel slopes p = ∂z/∂x, q = ∂z/∂y (H, W) → the slope on each edge between neighbours,
+    the mean of its two pixels': gx (H, W−1), gy (H − 1, W)."""
     return (p[:, 1:] + p[:, :-1]) / 2, (q[1:, :] + q[:-1, :]) / 2
 
 

@@ -47,30 +47,29 @@ class MaxPyramid:
     def __init__(self, field):
         field = np.asarray(field)
         low = np.finfo(field.dtype).min if field.dtype.kind == "f" else field.min()
-        values, self.offsets, self.shapes = [], [], []
-        level, size = field, 1
-        k, start = 0, 0
+        values, offsets, shapes = [], [], []
+        level, k, start = field, 0, 0
         while True:
             ny, nx = -(-level.shape[0] // 2), -(-level.shape[1] // 2)
             padded = np.full((2 * ny, 2 * nx), low, field.dtype)
             padded[:level.shape[0], :level.shape[1]] = level
             level = padded.reshape(ny, 2, nx, 2).max(axis=(1, 3))
-            k, size = k + 1, size * 2
+            k += 1
             if k >= MIN_LEVEL:
                 wide = np.pad(level, 1, constant_values=low)
                 near = np.max([wide[i:i + ny, j:j + nx] for i in range(3) for j in range(3)],
                               axis=0)
                 values.append(near.ravel())
-                self.offsets.append(start)
-                self.shapes.append((ny, nx))
+                offsets.append(start)
+                shapes.append((ny, nx))
                 start += ny * nx
             if ny == 1 and nx == 1 and k >= MIN_LEVEL:
                 break
         self.flat = np.concatenate(values)
-        self.top = len(self.shapes) - 1      # index of the coarsest level kept
-        self._offsets = np.asarray(self.offsets)
-        self._ny, self._nx = (np.asarray([s[i] for s in self.shapes]) for i in (0, 1))
-        self._block = np.left_shift(1, np.arange(len(self.shapes)) + MIN_LEVEL)
+        self.top = len(shapes) - 1           # index of the coarsest level kept
+        self._offsets = np.asarray(offsets)
+        self._ny, self._nx = np.asarray(shapes).T
+        self._block = np.left_shift(1, np.arange(len(shapes)) + MIN_LEVEL)
 
     def at(self, level, x, y):
         """The bound of the level-`level` block (index into the kept levels) holding the

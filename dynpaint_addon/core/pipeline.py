@@ -24,15 +24,15 @@ from . import fresnel as fr
 from . import shading, warps
 from .colour import srgb_to_linear
 from .input_rules import (PER_PIXEL_CHANNELS, ImageData, finite_image, input_notes,
-                          mask_channels, pixel_role, relief_of, silhouette_channel,
-                          transparency_branch)
+                          mask_channels, normal_map_normals, pixel_role, relief_of,
+                          silhouette_channel, transparency_branch)
 from .inputs import mask_values
 from .integrate import integrate
 from .lights import falloff, light_vectors
 from .sampling import gaussian_blur, pixel_centres, resample, sample_bilinear
 from .bake import bake as shadow_bake
-from .shape import (decode_normal_map, default_preblur_px, height_field_px, normals_from_height_px,
-                    reach_of, slopes_from_normals)
+from .shape import (default_preblur_px, height_field_px, normals_from_height_px, reach_of,
+                    slopes_from_normals)
 
 @dataclass
 class RenderResult:
@@ -66,8 +66,7 @@ def shape_normals(shape, p, dtype=np.float32, relief=True):
             sigma = default_preblur_px(shape.bits)
         z_px = height_field_px(shape.grey().astype(dtype), p.shape.height_scale, float(sigma))
         return normals_from_height_px(z_px, p.shape.z_min), z_px, None
-    n = decode_normal_map(shape.rgb().astype(dtype), p.shape.flip_green, p.shape.z_min,
-                          p.shape.encoding, p.shape.strength, shape.alpha())
+    n = normal_map_normals(shape, p, dtype)
     if relief and relief_of(p.shadows.relief, shape.has_alpha) == "integrated":
         return n, normal_map_relief_px(n, shape), None
     return n, None, slopes_from_normals(n)

@@ -7,6 +7,7 @@ import weakref
 
 import numpy as np
 
+from .integrate import edge_means
 from .sampling import gaussian_blur
 
 Z_MIN_DEFAULT = 0.05
@@ -271,8 +272,7 @@ def circulation(slopes, mask=None):
     (0.0, True)
     """
     s = np.asarray(slopes, np.float64)
-    gx = (s[:, 1:, 0] + s[:, :-1, 0]) / 2              # edge slopes, as core/integrate.py's
-    gy = (s[1:, :, 1] + s[:-1, :, 1]) / 2
+    gx, gy = edge_means(s[..., 0], s[..., 1])            # the equations integrate() solves
     loop = gx[:-1, :] + gy[:, 1:] - gx[1:, :] - gy[:, :-1]
     gentle = np.hypot(s[..., 0], s[..., 1]) <= CURL_STEEP
     if mask is not None:
@@ -282,27 +282,26 @@ def circulation(slopes, mask=None):
     return float(size[size > CURL_STEP].sum()) / max(s.shape[1], 1)
 
 
-def fits_height_field(slopes, mask=None):
+_FITTED = {}    # id(slopes) → (weak ref, fits): a dragged light bakes one shape again and again
+
+
+def fits_height_field(slopes):
     """Whether a normal map's slopes fit a height field (`circulation` below CURL_LIMIT):
     its relief rebuilt along a ray comes back down, so the whole ray may be marched; an
-    impossible figure's never does, and only `shadows.reach` keeps its streaks short."""
-    return circulation(slopes, mask) < CURL_LIMIT
-
-
-_FITTED = {}    # id(slopes) → (weak ref, fits): a dragged light bakes one shape again and again
+    impossible figure's never does, and only `shadows.reach` keeps its streaks short.
+    Measured once per slopes array while it lives."""
+    hit = _FITTED.get(id(slopes))
+    if hit is None or hit[0]() is not slopes:
+        for gone in [k for k, (ref, _) in _FITTED.items() if ref() is None]:
+            del _FITTED[gone]
+        hit = (weakref.ref(slopes), circulation(slopes) < CURL_LIMIT)
+        _FITTED[id(slopes)] = hit
+    return hit[1]
 
 
 def reach_of(reach, slopes):
     """§6 Reach as a bake applies it → image widths: `reach` (shadows.reach) for a normal
     map's slopes that fit no height field, the whole ray (∞) for slopes that do
-    (fits_height_field, decided once per slopes array while it lives), `reach` unchanged for
-    a height map or an integrated relief (slopes None: it has no reach)."""
-    if slopes is None:
-        return reach
-    hit = _FITTED.get(id(slopes))
-    if hit is None or hit[0]() is not slopes:
-        for gone in [k for k, (ref, _) in _FITTED.items() if ref() is None]:
-            del _FITTED[gone]
-        hit = (weakref.ref(slopes), fits_height_field(slopes))
-        _FITTED[id(slopes)] = hit
-    return np.inf if hit[1] else reach
+    (fits_height_field), `reach` unchanged for a height map or an integrated relief (slopes
+    None: it has no reach)."""
+    return np.inf if slopes is not None and fits_height_field(slopes) else reach

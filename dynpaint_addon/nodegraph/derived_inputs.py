@@ -44,8 +44,9 @@ from ..core.colour import srgb_to_linear
 from ..core.inputs import mask_values
 from ..core.input_rules import MASKS, PER_PIXEL_CHANNELS, finite_image, mask_setting
 from ..core.pipeline import lookup_copy, shape_normals
-from ..core.shape import (default_preblur_px, normal_vectors, preblurred_height, resolve_encoding,
-                          reach_of, resolve_strength, slopes_from_normals)
+from ..core.shape import (default_preblur_px, fits_height_field, normal_vectors,
+                          preblurred_height, resolve_encoding, resolve_strength,
+                          slopes_from_normals)
 from .features import Features
 
 
@@ -155,10 +156,10 @@ def march_bounds(n, z_px, slopes):
     decode of the shape (core.pipeline.shape_normals): the highest relief in image widths (0
     without heights), the steepest implied slope of the normals, and whether a normal map's
     relief along the ray stops at shadows.reach (1: its slopes fit no height field; 0: the
-    whole ray, core.shape.reach_of) → {'relief_max', 'slope_max', 'reach_limited'}."""
+    whole ray, core.shape.fits_height_field) → {'relief_max', 'slope_max', 'reach_limited'}."""
     relief = float(z_px.max()) / z_px.shape[1] if z_px is not None else 0.0
     sl = slopes if slopes is not None else slopes_from_normals(n)
-    limited = slopes is not None and np.isfinite(reach_of(1.0, slopes))
+    limited = slopes is not None and not fits_height_field(slopes)
     return {"relief_max": relief, "slope_max": float(np.hypot(sl[..., 0], sl[..., 1]).max()),
             "reach_limited": float(limited)}
 
