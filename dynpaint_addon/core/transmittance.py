@@ -154,7 +154,8 @@ def _march(o, d, length, k, spacing, steps):
     o, d, s0, s1 = o[idx], d[idx], s0[idx], s1[idx]
     # The slab in two parts, each sampled on its own: the card below the plane (τ thin: a
     # march over the whole slab could step over it) and the relief above it, each with one
-    # sample per `spacing` pixels of the layer it crosses, at least one, at most `steps`.
+    # sample per `spacing` pixels of the layer it crosses, its two ends among them (a thin
+    # card's shadow ends where a ray grazes its faces), at most `steps`.
     with np.errstate(divide="ignore", invalid="ignore"):
         s_plane = np.clip((k.z_px - o[:, 2]) / d[:, 2], s0, s1)
     todo = np.arange(idx.size)       # the rays not yet inside, as positions into idx
@@ -173,13 +174,13 @@ def _march_part(o, d, a, b, k, spacing, steps, todo, idx, hit, rho):
     if not todo.size:
         return todo
     across = float(np.max((b[todo] - a[todo]) * np.hypot(d[todo, 0], d[todo, 1]))) / k.place.px
-    n = int(min(max(steps, 1), max(1, np.ceil(across / spacing) + 1)))
+    n = int(min(max(steps, 2), max(2, np.ceil(across / spacing) + 1)))
     lh, lw = k.alpha.shape
     todo = todo[b[todo] > a[todo]]
-    for j in range(n):                          # midpoints of n equal parts, from below
+    for j in range(n):                          # n points from end to end, from below
         if not todo.size:
             break
-        s = a[todo] + (b[todo] - a[todo]) * ((j + 0.5) / n)
+        s = a[todo] + (b[todo] - a[todo]) * (j / (n - 1))
         p = o[todo] + s[:, None] * d[todo]
         x, y = k.place.to_layer(p[:, 0], p[:, 1])
         over = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
@@ -289,7 +290,8 @@ class SunTable:
     H(u') ≥ m·(u' − u_q) with u' ≥ u_q − τ/m, i.e. S(u_q − τ/m) ≥ −m·u_q — one lookup per
     ray. Columns are STEP_U pixels apart and each stands for its whole width (the line's
     lowest point over it), so a card thinner than a column is never stepped over; edges
-    move by at most half a column along e and half a pixel across."""
+    move by at most half a column along e. Across, a line between two rows is theirs when
+    they agree, and marched when they do not (a draft takes the nearer row's)."""
     STEP_U = 0.25
 
     def __init__(self, k, direction):
@@ -333,40 +335,50 @@ class SunTable:
         self.reach = (min(x0, x1) - travel, min(y0, y1) - travel, max(x0, x1) + travel,
                       max(y0, y1) + travel)
 
-    def meets(self, x, y, rise):
+    def meets(self, x, y, rise, exact=True):
         """Whether the rays whose lines cross the occluder's plane at its pixels (x, y) meet
         it, each starting `rise` canvas px below the plane (negative: inside the slab, above
-        the plane: only the part of its line beyond its start counts)."""
+        the plane: only the part of its line beyond its start counts) → (hit, doubt): with
+        `exact`, doubt where the table's two rows beside a line disagree — the solid's edge
+        runs between them, closer than a pixel, and the ray is to be marched; without, the
+        nearer row's answer (a draft's: edges move by up to half a pixel across the light, in
+        dots along them)."""
         k = self.k
+        out, doubt = np.zeros(len(x), bool), np.zeros(len(x), bool)
         if self.vertical:
             lh, lw = k.alpha.shape
             on = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
-            out = np.zeros(len(x), bool)      # straight up: the solid over it, above the start
+            # straight up: the solid over it, above the start
             out[on] = (_sample(k.alpha, x[on], y[on]) >= 0.5) & \
                 (rise[on] >= -_sample(k.relief_px, x[on], y[on]))
-            return out
+            return out, doubt
         # only lines that cross the plane within the slab's sideways reach of the solid
         x0, y0, x1, y1 = self.reach
         near = np.flatnonzero((x >= x0) & (x <= x1) & (y >= y0) & (y <= y1))
-        out = np.zeros(len(x), bool)
         if near.size:
-            out[near] = self._meets(x[near], y[near], rise[near])
-        return out
+            out[near], doubt[near] = self._meets(x[near], y[near], rise[near], exact)
+        return out, doubt
 
-    def _meets(self, x, y, rise):
+    def _meets(self, x, y, rise, exact):
         k = self.k
         uq = x * self.e[0] + y * self.e[1]
         vq = x * self.n[0] + y * self.n[1]
         rows, cols = self.suffix.shape
-        r = np.rint(vq - self.v0).astype(np.int64)
         behind = np.minimum(np.float32(k.thickness_px), rise)       # the slab's or the start's
         start = uq - behind / np.float32(self.m) - self.STEP_U / 2   # columns reaching it
         c = np.ceil((start - self.u0) / self.STEP_U - 1e-6).astype(np.int64)
         c = np.maximum(c, 0)
-        ok = (r >= 0) & (r < rows) & (c < cols)
-        out = np.zeros(len(x), bool)
-        out[ok] = self.suffix[r[ok], c[ok]] >= -self.m * uq[ok]
-        return out
+
+        def row_meets(r):
+            ok = (r >= 0) & (r < rows) & (c < cols)
+            out = np.zeros(len(x), bool)
+            out[ok] = self.suffix[r[ok], c[ok]] >= -self.m * uq[ok]
+            return out
+        if not exact:
+            return row_meets(np.rint(vq - self.v0).astype(np.int64)), np.zeros(len(x), bool)
+        below = np.floor(vq - self.v0).astype(np.int64)
+        lower, upper = row_meets(below), row_meets(below + 1)
+        return lower & upper, lower != upper
 
 
 def sun_table(k, direction):
@@ -375,7 +387,7 @@ def sun_table(k, direction):
                  lambda: SunTable(k, np.asarray(direction, np.float64)))
 
 
-def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre):
+def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre, exact):
     """(v, ρ) of occluder k for rays from o (N, 3) toward one light point (r: _receiver(o, k)).
     With `maps`: a sun over a layer of one opacity by its SunTable, every ray that starts
     under the slab's top; otherwise the line map toward the light's centre point (`centre`),
@@ -383,7 +395,9 @@ def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre):
     whose light lies above it; the rest by a march of each ray. (For a point of a light's
     disc the centre's table or map stands in for its own: the lines differ in slope by at
     most half the light's angle, which moves where they cross a slab of thickness τ by
-    τ·tan(β/2) — the light-size filtering of a shadow map.)"""
+    τ·tan(β/2) — the light-size filtering of a shadow map.) With `exact`, a ray whose line
+    the table or map cannot decide (the solid's edge passes between its samples) is marched;
+    without (a draft), the table's nearer row or the map's ½ decides it."""
     hit, rho = np.zeros(len(o), bool), np.zeros(len(o), np.float32)
     table = maps and kind == "sun" and k.uniform is not None
     if table:                       # every ray under the top
@@ -405,21 +419,26 @@ def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre):
             x = rx + reach * (np.float32(lx) - rx)
             y = ry + reach * (np.float32(ly) - ry)
         where = under[by_line]
+    rest = np.zeros(len(o), bool)
+    rest[under[~by_line]] = True
     if table and by_line.any():
-        got = sun_table(k, centre).meets(x, y, rise)
+        got, doubt = sun_table(k, centre).meets(x, y, rise, exact)
         hit[where], rho[where] = got, np.float32(k.uniform) * got
+        rest[where[doubt]] = True
     elif by_line.any():
         hmap, rmap = line_map(k, kind, centre, spacing, steps)
         lh, lw = hmap.shape
         on = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
         cover = np.zeros(len(x), np.float32)
         cover[on] = _sample(hmap, x[on], y[on])
-        got = cover >= 0.5
+        # a line among the map's lines that all meet the solid meets it, one among lines that
+        # all miss misses it; between them (the solid's edge) the ray is marched
+        got = cover >= np.float32(1 - 1e-6 if exact else 0.5)
         r_got = np.zeros(len(x), np.float32)
         r_got[got] = _sample(rmap, x[got], y[got]) / cover[got]   # ρ of the covering lines
         hit[where], rho[where] = got, r_got
-    rest = np.zeros(len(o), bool)
-    rest[under[~by_line]] = True
+        if exact:
+            rest[where[~got & (cover > np.float32(1e-6))]] = True
     if rest.any():
         d, length = _toward(o[rest], kind, vector)
         hit[rest], rho[rest] = _march(o[rest], d, length, k, spacing, steps)
@@ -427,13 +446,14 @@ def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre):
 
 
 def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=None, disc=16,
-                  maps=True):
+                  maps=True, antialias=1):
     """T (H, W) of §15: what `occluders` (the layers in front) let through along each ray.
 
     Parameters
     ----------
     origins : ndarray (H, W, 3)
-        Each pixel's surface point P_S (on its relief), canvas pixels, z toward the viewer.
+        Each pixel's surface point P_S (on its relief), canvas pixels, z toward the viewer:
+        the centres of a grid of pixels.
     light : core.lights.Light
         A sun (direction toward the light) or a point light (position, image widths from the
         canvas's centre, §0); its `size` (a sun's angular diameter in radians, a point
@@ -453,6 +473,12 @@ def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=N
     maps : bool
         Decide rays that start below an occluder by its line map (line_map) rather than
         each by its own march: the same solid, sampled on the occluder's pixels.
+    antialias : int
+        Where T steps by more than EDGE_STEP between neighbouring pixels (an edge a pixel's
+        centre alone decides all or nothing), T is the mean over an antialias × antialias
+        grid of points across the pixel (same height): the share of the pixel in shadow,
+        as a render's pixel shows it; and a ray the maps cannot decide is marched. 1 (a
+        draft): the centre alone, decided by the maps.
 
     Returns
     -------
@@ -463,17 +489,47 @@ def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=N
     o = np.asarray(origins)
     o = o if o.dtype in (np.float32, np.float64) else o.astype(np.float64)
     shape = o.shape[:2]
-    o = o.reshape(-1, 3)
     canvas = canvas or shape
     gap = spacing if spacing is not None else 1e-9   # None: always `steps` samples
     points = light_points(light, canvas, disc)
     _, centre = light_points(light, canvas, 1)[0]
-    receivers = [_receiver(o, k) for k in occluders]
-    total = np.zeros(len(o))
-    for kind, vector in points:
-        t = np.ones(len(o))
-        for k, r in zip(occluders, receivers):
-            hit, rho = _through_one(o, r, kind, vector, k, gap, steps, maps, centre)
-            t *= 1.0 - np.clip(rho, 0.0, 1.0) * hit
-        total += t
-    return (total / len(points)).reshape(shape)
+
+    def through(rays):
+        receivers = [_receiver(rays, k) for k in occluders]
+        total = np.zeros(len(rays))
+        for kind, vector in points:
+            t = np.ones(len(rays))
+            for k, r in zip(occluders, receivers):
+                hit, rho = _through_one(rays, r, kind, vector, k, gap, steps, maps, centre,
+                                        exact=antialias > 1)
+                t *= 1.0 - np.clip(rho, 0.0, 1.0) * hit
+            total += t
+        return total / len(points)
+
+    t = through(o.reshape(-1, 3)).reshape(shape)
+    edge = _edges(t) if antialias > 1 and min(shape) >= 2 else None
+    if edge is not None and edge.any():
+        across = (np.arange(antialias) + 0.5) / antialias - 0.5       # the pixel's grid
+        gx, gy = np.meshgrid(across, across)
+        step_x, step_y = o[0, 1] - o[0, 0], o[1, 0] - o[0, 0]         # one pixel on the canvas
+        step_x[2] = step_y[2] = 0.0
+        shift = gx.reshape(-1, 1) * step_x + gy.reshape(-1, 1) * step_y
+        rays = (o[edge][:, None, :] + shift[None].astype(o.dtype)).reshape(-1, 3)
+        t[edge] = through(rays).reshape(-1, antialias * antialias).mean(axis=1)
+    return t
+
+
+EDGE_STEP = 0.25        # T's step between neighbouring pixels that antialiasing resolves
+
+
+def _edges(t):
+    """The pixels on either side of a step of T larger than EDGE_STEP to a neighbour."""
+    edge = np.zeros(t.shape, bool)
+    for axis in (0, 1):
+        step = np.abs(np.diff(t, axis=axis)) > EDGE_STEP
+        lo = [slice(None)] * 2
+        hi = [slice(None)] * 2
+        lo[axis], hi[axis] = slice(0, -1), slice(1, None)
+        edge[tuple(lo)] |= step
+        edge[tuple(hi)] |= step
+    return edge

@@ -30,6 +30,7 @@ from ..core.input_rules import ImageData, pixel_role
 from ..core.layers import LAYER_QUALITY, Scene
 from ..core.pipeline import shape_normals
 from ..core.sampling import resample
+from ..core.transmittance import EDGE_STEP
 from ..looks import LOOKS, with_look
 from ..nodegraph import glsl_codegen
 from ..nodegraph.derived_inputs import Source, make_derived, march_bounds, prepare
@@ -342,7 +343,7 @@ def scene_data(layers, lights, title="", credits="", steps=None, max_size=None,
             "shadows": any(d["shadows"] for d in out),
             "steps": max(d["steps"] for d in out), "looks": [{"name": "As exported"}],
             "turntable_seconds": float(turntable_seconds), "animation": None,
-            "layer_quality": LAYER_QUALITY["final"]}, warnings
+            "layer_quality": {**LAYER_QUALITY["final"], "edge_step": EDGE_STEP}}, warnings
 
 
 def scene_surface(scene, i):

@@ -426,7 +426,7 @@
         gl.viewport(0, 0, w, h);
         P.setUniforms([0, 0, w, h], 0, lt);
         gl.drawArrays(gl.TRIANGLES, 0, 3);
-        if (PD.through) P.drawThrough(i, lt, w, h);
+        if (PD.through) P.drawThrough(i, lt, w, h, s >= 1);
         if (s >= 1) {                      // wait for a full-size pass: its time sets the drafts'
           gl.readPixels(0, 0, 1, 1, gl.RGBA, t.float ? gl.FLOAT : gl.UNSIGNED_BYTE,
                         t.float ? new Float32Array(4) : new Uint8Array(4));
@@ -441,13 +441,19 @@
     };
 
     // §15: light i's own term times what the layers in front let through, drawn into the
-    // second target and swapped in (the frame reads `shadow_<i>`).
-    P.drawThrough = function (i, lt, w, h) {
+    // second target and swapped in (the frame reads `shadow_<i>`). A final pass antialiases
+    // the shadows' edges as the core does (dp_layers.glsl: T at the centres into a third
+    // target, then refined where it steps); a draft draws T at the centres alone.
+    P.drawThrough = function (i, lt, w, h, final) {
       const own = shadows[i], out = P.through[i];
+      const antialias = final && DATA.layer_quality.antialias > 1;
+      if (antialias && (!P.centres || P.centres.w !== w || P.centres.h !== h)) {
+        dropTarget(P.centres);             // (made before the binds: making binds a texture)
+        P.centres = target(w, h);
+      }
       P.throughProg = P.throughProg || program(new TextDecoder().decode(inflate(PD.through)));
       const prog = P.throughProg;
       gl.useProgram(prog);
-      gl.bindFramebuffer(gl.FRAMEBUFFER, out.fb);
       gl.viewport(0, 0, w, h);
       const loc = (name) => gl.getUniformLocation(prog, name);
       let unit = 0;
@@ -456,6 +462,7 @@
         gl.bindTexture(gl.TEXTURE_2D, tex);
         gl.bindSampler(unit, samplerFor("EXTEND", linear && floatLinear));
         gl.uniform1i(loc(name), unit++);
+        return unit - 1;
       };
       bind("dp_own", own.tex, true);
       bind("dp_surface", P.surface, true);
@@ -476,6 +483,19 @@
       gl.uniform1i(loc("dp_disc"), size > 0 ? DATA.layer_quality.disc : 1);
       gl.uniform1i(loc("dp_steps"), state.steps);
       gl.uniform1f(loc("dp_spacing"), DATA.layer_quality.spacing);
+      gl.uniform1i(loc("dp_antialias"), DATA.layer_quality.antialias);
+      gl.uniform1f(loc("dp_edge_step"), DATA.layer_quality.edge_step);
+      // pass 1 reads no centres: its sampler shows the own term, never the target drawn
+      const centreUnit = bind("dp_centre", own.tex, false);
+      if (antialias) {
+        gl.bindFramebuffer(gl.FRAMEBUFFER, P.centres.fb);
+        gl.uniform1i(loc("dp_pass"), 1);
+        gl.drawArrays(gl.TRIANGLES, 0, 3);
+        gl.activeTexture(gl.TEXTURE0 + centreUnit);
+        gl.bindTexture(gl.TEXTURE_2D, P.centres.tex);
+      }
+      gl.bindFramebuffer(gl.FRAMEBUFFER, out.fb);
+      gl.uniform1i(loc("dp_pass"), antialias ? 2 : 0);
       gl.drawArrays(gl.TRIANGLES, 0, 3);
       for (let u = 0; u < unit; u++) gl.bindSampler(u, null);
       // swap: the product is the light's shadow texture now

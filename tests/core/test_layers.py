@@ -213,6 +213,62 @@ def test_the_fast_paths_find_the_shadows_the_march_finds():
             assert np.mean(np.abs(fast - slow) > 0.1) < 0.02, (light, i)
 
 
+def crossing(light, x, y, depth):
+    """Where the ray from (x, y, 0) toward a light (canvas N × N) crosses the plane z = depth."""
+    if light.kind == "sun":
+        lx, ly, lz = np.asarray(light.vector) / np.linalg.norm(light.vector)
+        return x + lx / lz * depth, y + ly / lz * depth
+    lp = light.position_px(N, N)
+    k = depth / lp[2]
+    return x + k * (lp[0] - x), y + k * (lp[1] - y)
+
+
+@pytest.mark.parametrize("light", [Light("sun", (0.45, -0.5, 0.74)),
+                                   Light("sun", (-0.2, 0.6, 0.77)),
+                                   Light("point", (0.2, 0.1, 0.9))],
+                         ids=["sun table", "sun table, steep", "line map"])
+@pytest.mark.parametrize("level", ["final", "reference"])
+def test_a_straight_edged_shadow_is_each_pixels_share_in_shadow(light, level):
+    """The shadow of a card's straight edge between two plain layers (issue 39: 'dots on
+    every other pixel along the edges'): at final and reference quality each pixel's T is
+    the share of the pixel the shadow covers, as a render's pixel shows it: within 0.15 at
+    every pixel (4 × 4 rays across an edge pixel, measured ≤ 0.125; each pixel's centre
+    alone: 0.52–0.56) and 0.06 on average along the edge (measured ≤ 0.05)."""
+    normal = np.array([np.cos(0.4), np.sin(0.4)])
+    c = float(normal @ [N / 2, N / 2])
+    sub = 8
+    s = (np.arange(N * sub) + 0.5) / sub
+    qx, qy = np.meshgrid(s, s)
+    alpha = (normal[0] * qx + normal[1] * qy < c).reshape(N, sub, N, sub).mean(axis=(1, 3))
+    p = params.defaults()
+    p.shape.kind, p.shadows.enabled = "height", True
+    grey = np.full((N, N, 3), 0.5, np.float32)
+    flat = ImageData(np.zeros((N, N, 1), np.float32), 32)
+    back = Layer({"shape": flat, "dark": ImageData(grey, 32), "bright": ImageData(grey, 32)},
+                 p, "back", 0.0)
+    front = Layer({"shape": flat, "bright": ImageData(grey, 32),
+                   "dark": ImageData(np.dstack([grey, alpha]).astype(np.float32), 32)},
+                  p, "front", 12 / N, 2 / N)
+    t = Scene([back, front]).through(0, [light], level)[0]
+    # the card's solid spans depths 10 … 12: a ray meets it at its lower or upper face if at
+    # all (the edge test is linear along the ray); each pixel sampled sub × sub times
+    shade = np.zeros(qx.shape, bool)
+    for depth in (10.0, 12.0):
+        cx, cy = crossing(light, qx, qy, depth)
+        shade |= normal[0] * cx + normal[1] * cy < c
+    want = 1 - shade.reshape(N, sub, N, sub).mean(axis=(1, 3))
+    x, y = pixel_centres(N, N, np.float64)
+    inside = np.ones((N, N), bool)         # the rays that cross the card's image, not past it
+    for depth in (10.0, 12.0):
+        cx, cy = crossing(light, x, y, depth)
+        inside &= (cx > 2) & (cx < N - 2) & (cy > 2) & (cy < N - 2)
+    err = np.abs(t - want)
+    edge = inside & (want > 0.02) & (want < 0.98)
+    assert edge.sum() > N / 2
+    assert err[inside].max() <= 0.15, (err[inside].max(), np.argwhere(inside & (err > 0.15)))
+    assert err[edge].mean() <= 0.06, err[edge].mean()
+
+
 def test_scene_notes_say_what_was_guessed():
     """Layers of another size (placed and resampled), a layer without alpha in front (it
     hides everything behind), equal depths (kept in their order)."""

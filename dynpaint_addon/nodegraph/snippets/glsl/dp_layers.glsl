@@ -2,11 +2,16 @@
 // core/layers.py). One pass per layer and light: the layer's own cos-θ term (`dp_own`, drawn
 // by its shadow shader) times T, what the layers in front let through along the ray from each
 // pixel's surface point toward the light, marched through each layer in front: the part of
-// its slab below its plane (its thickness: one sample is enough for a card) and the part above
-// (its relief: a sample per `dp_spacing` of its pixels, at most `dp_steps`). A light with a
-// size is sampled at `dp_disc` points of its disc (the core's sunflower spiral). The page's
-// generator writes `dp_front()`, which calls dp_layer once per layer in front (samplers are
-// indexed by constants only in GLSL ES 3.00). Distances in canvas pixels, z toward the viewer.
+// its slab below its plane (its thickness: its two faces are enough for a card) and the part
+// above (its relief: a sample per `dp_spacing` of its pixels, ends included, at most
+// `dp_steps`). A light with a
+// size is sampled at `dp_disc` points of its disc (the core's sunflower spiral). A final pass
+// is drawn twice, as the core's transmittance antialiases: T at the pixels' centres alone
+// (dp_pass 1), then (dp_pass 2) T again as the mean over a dp_antialias² grid across each
+// pixel where it steps by more than dp_edge_step to a neighbour, times the own term. The
+// page's generator writes `dp_front()`, which calls dp_layer once per layer in front
+// (samplers are indexed by constants only in GLSL ES 3.00). Distances in canvas pixels, z
+// toward the viewer.
 precision highp float;
 precision highp int;
 precision highp sampler2D;
@@ -22,6 +27,10 @@ uniform float dp_light_size;   // a sun's tan(β/2), a point light's radius (can
 uniform int dp_disc;           // points of the light's disc (1 without a size)
 uniform int dp_steps;          // at most this many samples per part of a slab
 uniform float dp_spacing;      // samples this many pixels of the crossed layer apart
+uniform int dp_pass;           // 0: own × T at the centre; 1: T at the centre; 2: own × T, edges refined
+uniform sampler2D dp_centre;   // pass 2: pass 1's T
+uniform int dp_antialias;      // pass 2: the grid's side across an edge's pixel
+uniform float dp_edge_step;    // pass 2: T's step to a neighbour that makes an edge
 out vec4 dp_fragment;
 
 // One layer in front (its image: alpha, relief in canvas px, opacity; place: corner, px, z;
@@ -30,10 +39,10 @@ float dp_part(sampler2D occ, vec4 place, vec4 slab, vec3 o, vec3 d, float a, flo
 {
     if (b <= a) return -1.0;
     float across = (b - a) * length(d.xy) / place.z;
-    int n = int(min(float(dp_steps), max(1.0, ceil(across / dp_spacing) + 1.0)));
-    for (int j = 0; j < 4096; j++) {
+    int n = int(min(float(max(dp_steps, 2)), max(2.0, ceil(across / dp_spacing) + 1.0)));
+    for (int j = 0; j < 4096; j++) {     // n points from end to end (a thin card's faces)
         if (j >= n) break;
-        vec3 p = o + (a + (b - a) * ((float(j) + 0.5) / float(n))) * d;
+        vec3 p = o + (a + (b - a) * (float(j) / float(n - 1))) * d;
         vec2 q = (p.xy - place.xy) / place.z;
         if (q.x < 0.0 || q.y < 0.0 || q.x > slab.z || q.y > slab.w) continue;
         vec4 s = textureLod(occ, q / slab.zw, 0.0);
@@ -70,11 +79,11 @@ void dp_basis(vec3 d, out vec3 u, out vec3 v)
     v = cross(d, u);
 }
 
-void main()
+// T at a point of the layer (its own pixels), its rays starting `zs` above its plane: the
+// mean over the light's disc.
+float dp_T(vec2 px, float zs)
 {
-    vec2 uv = (gl_FragCoord.xy - dp_rect.xy) / dp_rect.zw;
-    vec2 px = uv * dp_recv_size;                                   // the layer's own pixels
-    vec3 o = vec3(dp_recv.xy + dp_recv.z * px, dp_recv.w + textureLod(dp_surface, uv, 0.0).r);
+    vec3 o = vec3(dp_recv.xy + dp_recv.z * px, dp_recv.w + zs);
     vec3 u, v;
     vec3 centre = dp_light.xyz;
     // a point light's disc faces the canvas's centre (core/layers.light_points)
@@ -95,6 +104,44 @@ void main()
         }
         total += dp_front(o, d, len);
     }
-    float t = textureLod(dp_own, uv, 0.0).r;
-    dp_fragment = vec4(t * total / float(max(dp_disc, 1)), 0.0, 0.0, 1.0);
+    return total / float(max(dp_disc, 1));
+}
+
+// Whether pass 1's T steps by more than dp_edge_step from pixel c to a neighbour.
+bool dp_on_edge(ivec2 c, float t)
+{
+    ivec2 last = ivec2(dp_rect.zw) - 1;
+    ivec2 beside[4] = ivec2[4](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
+    for (int k = 0; k < 4; k++) {
+        ivec2 n = clamp(c + beside[k], ivec2(0), last);
+        if (abs(texelFetch(dp_centre, n, 0).r - t) > dp_edge_step) return true;
+    }
+    return false;
+}
+
+void main()
+{
+    vec2 uv = (gl_FragCoord.xy - dp_rect.xy) / dp_rect.zw;
+    vec2 px = uv * dp_recv_size;                                   // the layer's own pixels
+    float zs = textureLod(dp_surface, uv, 0.0).r;
+    float t;
+    if (dp_pass == 2) {
+        ivec2 c = ivec2(gl_FragCoord.xy - dp_rect.xy);
+        t = texelFetch(dp_centre, c, 0).r;
+        if (dp_on_edge(c, t)) {
+            vec2 pixel = dp_recv_size / dp_rect.zw;                 // one pass pixel, layer px
+            float sum = 0.0;
+            for (int j = 0; j < 64; j++) {
+                if (j >= dp_antialias * dp_antialias) break;
+                vec2 at = (vec2(float(j % dp_antialias), float(j / dp_antialias)) + 0.5)
+                          / float(dp_antialias) - 0.5;
+                sum += dp_T(px + at * pixel, zs);
+            }
+            t = sum / float(dp_antialias * dp_antialias);
+        }
+    } else {
+        t = dp_T(px, zs);
+    }
+    float own = dp_pass == 1 ? 1.0 : textureLod(dp_own, uv, 0.0).r;
+    dp_fragment = vec4(own * t, 0.0, 0.0, 1.0);
 }
