@@ -2,7 +2,8 @@
 
 - depsgraph_update_post: a light linked or unlinked (added, deleted, moved between
   collections, Sun ↔ Point) rebuilds that painting's tree, so its drivers never point at a
-  deleted light.
+  deleted light; an input image's pixels edited (an Image update: state/edits.py) remakes
+  what is made from them.
 - frame_change_post: with cos-θ shadows on, each frame bakes for the lights where that frame
   puts them (read from the evaluated depsgraph, blender-notes.md), in renders as in playback;
   a painting that moves (§16) first shows the frame's drawing (sync.update: its frame copies
@@ -28,9 +29,11 @@ from .bake.live_bake import rendering
 from .bake.shadow_images import forget_cached_shapes
 from .material.sync import invalidate_generated, update
 from .material.tree import rebuild_tree, tree_is_stale
+from .state.edits import note_edited
 from .state.frame_sampling import only_reading_lights
 from .state.frames import forget_frames, moves
 from .state.images import forget_frames_made
+from .state.settings import channel_images
 from .state.status import problems, report
 
 
@@ -49,12 +52,27 @@ WATCHED = (bpy.types.Object, bpy.types.Light, bpy.types.Collection, bpy.types.Sc
 
 @persistent
 def on_depsgraph_update(scene, depsgraph):
-    """A light added, deleted, moved or relinked, the plane moved: bring paintings up to date
-    (a moving light bakes live: preview now, final once it stops)."""
-    if only_reading_lights() or not any(isinstance(u.id, WATCHED) for u in depsgraph.updates):
+    """A light added, deleted, moved or relinked, the plane moved, an input image's pixels
+    edited (state/edits.py): bring paintings up to date (a moving light or an edit bakes
+    live: preview now, final once it stops; without a UI an edit bakes now, so a script sees
+    at once what Rebuild Material would make)."""
+    if only_reading_lights():
         return
-    when = "missing" if rendering() else "live"
-    for mat in paintings(scene):
+    images = {getattr(u.id, "original", u.id).name for u in depsgraph.updates
+              if isinstance(u.id, bpy.types.Image)}
+    watched = any(isinstance(u.id, WATCHED) for u in depsgraph.updates)
+    if not images and not watched:
+        return
+    found = paintings(scene)
+    # the paintings' input images among them (the images numpy makes are the add-on's own)
+    edited = images & {img.name for mat in found
+                       for img in channel_images(mat.dynamic_painting).values()}
+    if not edited and not watched:
+        return
+    note_edited(edited)
+    for mat in found:
+        mine = bool(edited & {img.name for img in channel_images(mat.dynamic_painting).values()})
+        when = ("now" if mine else "missing") if rendering() else "live"
         try:
             update(mat, scene, depsgraph, bake=when)
         except Exception as exc:     # never into Blender's update loop

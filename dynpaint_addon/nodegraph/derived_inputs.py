@@ -58,6 +58,7 @@ class Source:
     size: tuple = (0, 0)     # (W, H) in pixels
     alpha: bool = False      # it has an alpha channel
     frame: object = None     # a moving slot's painting frame (§16); None: a still image
+    version: int = 0         # how many times its pixels were edited in place (Blender: issue 41)
 
 
 def prepare(p, sources, light_kinds):
@@ -88,8 +89,9 @@ def _key(channel, source, p, *extra):
     """The source image and every parameter whose `derives` role names this channel."""
     values = [(prm.path, getattr(getattr(p, prm.section), prm.key)) for prm in params.PARAMS
               if channel in prm.derives]
-    return repr((source.name, *values, *extra) if source.frame is None else
-                (source.name, source.frame, *values, *extra))
+    name = source.name if not source.version else (source.name, source.version)
+    return repr((name, *values, *extra) if source.frame is None else
+                (name, source.frame, *values, *extra))
 
 
 def grey_rgba(grey, alpha=None):

@@ -302,3 +302,42 @@ def test_one_update_reads_the_settings_once(paths):
             sys.setprofile(None)
         assert sorted(calls) == ["channel_images", "settings_to_params"], (what, calls)
     assert_fresh(mat, scene, "the counted edits")
+
+
+@pytest.mark.parametrize("kind, channel", [("normal", "shape"), ("height", "shape"),
+                                           ("normal", "environment"), ("normal", "background"),
+                                           ("normal", "bright")])
+def test_an_input_image_edited_in_place_is_followed(paths, kind, channel):
+    """Issue 41, the headless contract: an input image's pixels edited in Blender (a box of
+    them, as a stroke changes them), then `image.update_tag()` and a depsgraph evaluation:
+    the painting is at once what Rebuild Material makes from the edited pixels — a shape's
+    edit re-derives (a normal map's silhouette, a height map's pre-blurred heights) and
+    re-bakes, an environment's or a background's re-blurs, a bright image's is shown as it
+    is (before: only the last passed)."""
+    mat, scene = painting(paths, kind)
+    bpy.context.view_layer.update()
+    before = state(mat)
+    img = getattr(mat.dynamic_painting, f"image_{channel}")
+    w, h = img.size
+    px = np.empty(w * h * img.channels, np.float32)
+    img.pixels.foreach_get(px)
+    px = px.reshape(h, w, img.channels)
+    y0, x0 = h // 3, w // 3
+    box = px[y0:y0 + h // 4, x0:x0 + w // 4]
+    if channel == "shape" and kind == "normal":       # the box's normals tipped right
+        box[..., 0], box[..., 1], box[..., 2] = 0.85, 0.5, 0.85
+        box[..., 3] = 0.0                                  # and cut out of the silhouette
+    elif channel == "shape":                               # a bump of the heights
+        box[...] = box + 0.3
+    else:
+        box[..., :3] = 1.0 - box[..., :3]
+    img.pixels.foreach_set(px.ravel())
+    img.update_tag()
+    bpy.context.view_layer.update()
+    edited = state(mat)
+    assert edited != before, f"the {channel} edit changed nothing"
+    if channel == "shape":
+        assert edited[3] != before[3], "the shadows were not baked again"
+    assert_fresh(mat, scene, f"a {channel} edit")
+    bpy.context.view_layer.update()          # nothing more to do: no edit is seen twice
+    assert state(mat) == edited

@@ -178,3 +178,25 @@ def test_file_export_html_of_a_layer_exports_its_whole_scene(empty_scene, recipe
     assert [layer["name"] for layer in data["layers"]] == ["scene back", "scene ring",
                                                             "scene star"]
     assert data["layers"][0]["front"] == [1, 2] and "through" in data["layers"][0]
+
+
+def test_a_layers_edited_pixels_rebake_the_layers_behind(empty_scene, recipe):
+    """Issue 41's headless contract in a layered group: the ring layer's alpha cut away in
+    Blender (its dark and bright images), `update_tag()` and a depsgraph evaluation: every
+    layer's shadows are at once a fresh core bake of the group as its images are now — the
+    back layer is lit where the ring's shadow fell."""
+    parent = add_layered(recipe)
+    mats = group_materials(parent)
+    bpy.context.view_layer.update()
+    before = consistent(parent.name)
+    s = mats[1].dynamic_painting
+    for img in {s.image_dark, s.image_bright}:
+        px = np.empty(len(img.pixels), np.float32)
+        img.pixels.foreach_get(px)
+        px = px.reshape(-1, img.channels)
+        px[:, 3] = 0.0                       # the ring gone
+        img.pixels.foreach_set(px.ravel())
+        img.update_tag()
+    bpy.context.view_layer.update()
+    after = consistent(parent.name)
+    assert (after > before + 0.1).sum() > 20         # the ring's shadow lifted off the back

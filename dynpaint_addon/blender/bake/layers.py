@@ -21,6 +21,7 @@ import bpy
 
 from ...core.layers import Layer, Scene
 from ...inputs.imageio import image_data_from_blender
+from ..state.edits import versions
 from ..state.lights import painting_frame_light, plane_matrix
 from ..state.settings import channel_images, settings_to_params
 from .live_bake import DEBOUNCE_S
@@ -65,14 +66,16 @@ def _placement(back, plane, depsgraph=None):
 
 def group_key(mats, depsgraph=None):
     """What every layer's bake depends on besides its light: the planes' places, each layer's
-    bake settings and shape image, its thickness."""
+    bake settings and shape image, its thickness, and the edits of the images T reads."""
     back = mats[0].dynamic_painting.plane
     parts = []
     for mat in mats:
         s = mat.dynamic_painting
         depth, offset, scale = _placement(back, s.plane, depsgraph)
         parts.append((mat.name, round(depth, 7), tuple(np.round(offset, 7)), round(scale, 7),
-                      round(s.layer_thickness, 7), settings_key(settings_to_params(s), s)))
+                      round(s.layer_thickness, 7), settings_key(settings_to_params(s), s),
+                      versions({c: img for c, img in channel_images(s).items()
+                                if c in LAYER_CHANNELS})))
     return repr(parts)
 
 

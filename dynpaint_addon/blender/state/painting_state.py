@@ -13,6 +13,7 @@ from typing import Callable
 
 from ...nodegraph.derived_inputs import Source, prepare
 from ...nodegraph.features import Features
+from .edits import version
 from .frames import frame_data, slot_frame
 from .images import bits_of, has_alpha
 from .lights import linked_lights
@@ -32,14 +33,15 @@ class PaintingState:
 
 
 def image_source(img):
-    """A Blender image as the derived-image plan knows it (no pixel read)."""
-    return Source(img.name, bits_of(img), tuple(img.size), has_alpha(img))
+    """A Blender image as the derived-image plan knows it (no pixel read), and how many times
+    its pixels were edited in place (edits.py)."""
+    return Source(img.name, bits_of(img), tuple(img.size), has_alpha(img), version=version(img))
 
 
 def frame_source(img, data, frame):
     """A moving slot's image (§16) as the plan knows it: its frame's depth, size and alpha,
     and the painting frame (in every key made from it)."""
-    return Source(img.name, data.bits, data.size, data.has_alpha, frame)
+    return Source(img.name, data.bits, data.size, data.has_alpha, frame, version(img))
 
 
 def read_state(mat, scene):

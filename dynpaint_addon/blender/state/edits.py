@@ -1,0 +1,28 @@
+"""Input images edited in place: a painting follows its images' pixels (issue 41, step 1).
+
+Blender says an image's pixels changed by a depsgraph update of the Image: after
+`image.update_tag()` the Image is among `depsgraph.updates` (docs/blender-notes.md). Writing
+`image.pixels` alone sends nothing, and `image.reload()` updates only the materials that use
+the image. Each Image update seen bumps that image's version here; the keys of what is made
+from an image — its derived images (nodegraph/derived_inputs), the decoded shape and the
+cos-θ bakes (bake/shadow_images), a layered group's scene (bake/layers) — carry the version,
+so `sync.update` redoes exactly what the edited image feeds, as a setting change does.
+"""
+_VERSIONS = {}       # image name → how many times its pixels were seen edited this session
+
+
+def version(img):
+    """How many edits of `img` have been seen (0: none since it was loaded)."""
+    return _VERSIONS.get(img.name, 0)
+
+
+def note_edited(names):
+    """Images named `names` were edited (an Image update came): bump their versions."""
+    for name in names:
+        _VERSIONS[name] = _VERSIONS.get(name, 0) + 1
+
+
+def versions(images):
+    """(channel, version) of the edited ones among {channel: bpy Image}: a key's part, empty
+    (the key unchanged) until an image is edited."""
+    return tuple((c, version(img)) for c, img in sorted(images.items()) if version(img))
