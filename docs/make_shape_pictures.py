@@ -26,7 +26,8 @@ from dynpaint_addon.core.photometric import (normals_from_profiles,  # noqa: E40
                                              normals_from_rg_photo, profile_directions)
 from dynpaint_addon.core.pipeline import render, shape_normals  # noqa: E402
 from dynpaint_addon.inputs.imageio import write_png                    # noqa: E402
-from dynpaint_addon.shapes.maker import encode_normals, normals_of_height  # noqa: E402
+from dynpaint_addon.shapes.maker import (encode_normals, normals_of_height,  # noqa: E402
+                                          with_effects)
 
 PX = 192
 LOW_SUN = Light("sun", (-0.8, 0.35, 0.42), (1.0, 0.95, 0.85), 1.0, "Low sun")
@@ -85,6 +86,27 @@ def inflated_glass():
     tiles = [_lit(render(images, recipe.lights, recipe.params).rgba), _grey(height),
              _lit(render(made, recipe.lights, p).rgba)]
     return tiles, float(height.max())
+
+
+def effects_glass():
+    """Inflate's effects: the bottle's silhouette inflated flat with a bevel and smoothing,
+    then with a woven structure, each rendered (shapes.maker.with_effects)."""
+    recipe, images = sample_images("glass", PX)
+    alpha = images["shape"].alpha()
+    mask = alpha >= 0.5
+    base = inflate(mask, "flat", 0.5).height
+    y, x = np.mgrid[0:32, 0:32] + 0.5
+    weave = 0.5 + 0.25 * (np.sin(2 * np.pi * x / 16) + np.sin(2 * np.pi * y / 16))   # a tile
+    p = copy.deepcopy(recipe.params)
+    p.shape.kind, p.shape.height_scale = "height", 1.0
+    tiles = []
+    for extra in ({"bevel_width": 0.03, "bevel_height": 0.02, "smoothing": 0.003},
+                  {"structure_tile": weave, "structure_scale": 0.05,
+                   "structure_strength": 0.003}):
+        height = with_effects(base, mask, **extra)
+        made = {**images, "shape": ImageData(np.dstack([height, alpha]).astype(np.float32), 32)}
+        tiles += [_grey(height), _lit(render(made, [LOW_SUN], p).rgba)]
+    return tiles
 
 
 def integrated_portrait():
@@ -162,6 +184,7 @@ def main(out=DOCS):
     os.makedirs(os.path.join(out, "img", "shape"), exist_ok=True)
     tiles, top = inflated_glass()
     inflated = _save(out, "inflate.png", tiles)
+    effects = _save(out, "effects.png", effects_glass())
     tiles, portrait_err, portrait_share, stairs_share = integrated_portrait()
     integrated = _save(out, "integrate.png", tiles)
     tiles, (err_integrated, err_along) = relief_shadows()
@@ -209,6 +232,18 @@ A disc becomes its hemisphere within 0.3 % of the radius (RMS) in under a second
 (a coin, a cushion). `--detail` lifts light areas of the painting and sinks dark ones (image
 widths per unit of luminance: 0.005–0.02), blurred by `--detail-blur` first. When to use: a
 portrait or an object with nothing but its painting and a transparent background.
+
+{effects}
+
+Effects on the inflated figure (the bottle's silhouette inflated *flat*, under a low sun):
+a **bevel** 0.03 image widths wide and 0.02 high with a **smoothing** of 0.003 (left: the
+heights, then the render), and a woven **structure** tile repeated every 0.05 image widths at
+0.003 (right). `--bevel-width`, `--bevel-height`, `--bevel-profile` (round: a quarter circle;
+linear: a ramp), `--smoothing`, `--structure TILE.png --structure-scale --structure-strength`;
+the bevel comes first, then the smoothing, then the structure (which smoothing would blur
+away). The figure can be any painted mask (`--mask-channel`: white on black, or one colour
+channel) and the detail any painting (`--detail-image`). In the add-on's Make Shape: the
+bevel and the smoothing (a structure image on the command line for now).
 
 ## Integrate a normal map into heights
 

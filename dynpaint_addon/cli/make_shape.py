@@ -26,7 +26,7 @@ from ..params import FRAME_BY_KEY
 from ..shapes.frames import MadeFrames, fill_sheet, on_one_floor
 from ..shapes.maker import (ShapeError, decode_normals, encode_normals, figure_and_source,
                             figure_mask, height_widths, linear_luminance, normals_of_height,
-                            same_size)
+                            same_size, with_effects)
 from ..shapes.methods import METHODS, options
 from .notes import check_and_print, figure_note, print_notes
 
@@ -155,8 +155,12 @@ def make_inflate(args, read):
     result = inflate(mask, args.profile, args.height, args.detail,
                      linear_luminance(read(args.detail_image) if args.detail_image
                                       else img) if args.detail else None, args.detail_blur)
+    tile = linear_luminance(read(args.structure)) if args.structure else None
+    heights = with_effects(result.height, mask, args.bevel_width, args.bevel_height,
+                           args.bevel_profile, args.smoothing, tile, args.structure_scale,
+                           args.structure_strength)
     _timed(args, "inflate", started)
-    return Made("height", result.height, [figure_note(args.image, source)])
+    return Made("height", heights, [figure_note(args.image, source)])
 
 
 def _write(args, path, made, values, top=None):

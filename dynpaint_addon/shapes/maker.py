@@ -12,6 +12,7 @@ Methods: integrate (normal map → height), normals (height → normal map, §2)
 import numpy as np
 
 from ..core.colour import srgb_to_linear
+from ..core.effects import bevel, smooth, structure
 from ..core.inflate import inflate
 from ..core.inputs import mask_values
 from ..core.integrate import integrate
@@ -149,16 +150,35 @@ def _shape_alpha(images):
 
 # Each method: (images, p, its options) → (kind, RGBA pixels, report lines). Its options
 # and their defaults are in shapes.methods.OPTIONS; shapes.methods.make_shape calls them.
-def inflate_silhouette(images, p, profile, height, detail, detail_blur):
+def with_effects(heights, mask, bevel_width=0.0, bevel_height=0.02, bevel_profile="round",
+                 smoothing=0.0, structure_tile=None, structure_scale=0.1,
+                 structure_strength=0.0):
+    """An inflated figure's heights with the effects (core/effects.py) that are asked for: a
+    bevel added, then smoothed, then a structure pattern added (after the smoothing, which
+    would blur it away)."""
+    z = np.asarray(heights, np.float64)
+    if bevel_width > 0 and bevel_height:
+        z = z + bevel(mask, bevel_width, bevel_height, bevel_profile)
+    if smoothing > 0:
+        z = smooth(z, mask, smoothing)
+    if structure_tile is not None and structure_strength:
+        z = z + structure(structure_tile, mask, structure_scale, structure_strength)
+    return z
+
+
+def inflate_silhouette(images, p, profile, height, detail, detail_blur, bevel_width,
+                       bevel_height, bevel_profile, smoothing):
     """inflate: the painting's silhouette (the alpha of its shape, dark or bright image)
-    inflated into a round height field (core.inflate), its luminance embossed as detail."""
+    inflated into a round height field (core.inflate), its luminance embossed as detail, a
+    bevel and a smoothing (with_effects)."""
     channel, alpha = _silhouette(images)
     mask = alpha >= 0.5
     painting = images.get("bright") or images.get("dark")
     lum = linear_luminance(painting) if detail and painting is not None else None
     if lum is not None and lum.shape != mask.shape:
         raise ShapeError("the painting and its silhouette differ in size: resample one")
-    values = inflate(mask, profile, height, detail, lum, detail_blur).height
+    values = with_effects(inflate(mask, profile, height, detail, lum, detail_blur).height, mask,
+                          bevel_width, bevel_height, bevel_profile, smoothing)
     return "height", _with_alpha(values, alpha), [
         f"inflated the {channel} image's silhouette ({profile}), highest point "
         f"{values.max():.3g} image widths"]

@@ -6,7 +6,7 @@ these two tables, as params.py generates a painting's properties and recipe keys
 is added in one place. `make_shape` runs a method on a painting's images. No bpy here.
 
     >>> [o.name for o in options("inflate", "addon")]
-    ['profile', 'height', 'detail', 'detail_blur']
+    ['profile', 'height', 'detail', 'detail_blur', 'bevel_width', 'bevel_height', 'bevel_profile', 'smoothing']
     >>> OPTION["height"].check(20.0)
     Traceback (most recent call last):
     ValueError: 20.0 is out of range [0.01, 10.0]
@@ -14,6 +14,7 @@ is added in one place. `make_shape` runs a method on a painting's images. No bpy
 from dataclasses import dataclass, field
 from typing import Callable
 
+from ..core.effects import BEVEL_PROFILES
 from ..core.inflate import PROFILES
 from ..core.inputs import MASK_CHANNELS
 from ..core.photometric import SIDES
@@ -117,6 +118,22 @@ OPTIONS = (
       "(default IMAGE)", where="cli"),
     O("detail_blur", ("inflate",), float, 0.002, "Blur of the embossed luminance (image widths)",
       min=0.0, max=0.05, precision=4),
+    O("bevel_width", ("inflate",), float, 0.0, "A bevel: a rim rising from the figure's edge "
+      "over this width (image widths; 0 = none)", label="Bevel", min=0.0, max=0.25, precision=4),
+    O("bevel_height", ("inflate",), float, 0.02, "How high the bevel rises (image widths)",
+      min=-0.25, max=0.25, precision=4),
+    O("bevel_profile", ("inflate",), BEVEL_PROFILES, "round", "The bevel's cross-section: round "
+      "(a quarter circle) or linear (a ramp)",
+      choice_help={"round": "A quarter circle: steep at the edge, flat on top",
+                   "linear": "A straight ramp from the edge"}),
+    O("smoothing", ("inflate",), float, 0.0, "Blur of the made relief inside the figure (image "
+      "widths; 0 = none)", min=0.0, max=0.1, precision=4),
+    O("structure", ("inflate",), "file", help="a tileable image whose luminance is added as "
+      "height detail (a fabric, a canvas)", where="cli"),
+    O("structure_scale", ("inflate",), float, 0.1, "The structure image's tile width (image "
+      "widths)", min=0.001, max=1.0, where="cli"),
+    O("structure_strength", ("inflate",), float, 0.0, "Image widths of relief per unit of the "
+      "structure's luminance (0 = none)", min=-0.1, max=0.1, where="cli"),
     # integrate
     O("normal", ("integrate",), "file", help="normal map image", where="cli", positional="NORMAL"),
     O("mask", ("integrate",), "text", "none", "figure mask image (white or alpha = figure), "

@@ -100,6 +100,29 @@ def test_inflate_makes_a_hemisphere_of_a_silhouette(tmp_path):
     assert h.max() == pytest.approx(0.4, rel=0.02) and h[0, 0] == 0
 
 
+def test_inflate_takes_a_painted_mask_with_a_bevel_smoothing_and_a_structure(tmp_path):
+    """Issue 41, point 3, on the command line: a mask painted white on black, inflated with
+    the effects: the result is the inflated mask plus the bevel's plateau, smoothed, with the
+    structure's stripes repeating every --structure-scale."""
+    _, _, disc = sphere(128, 0.4, 0.4)
+    write_png(tmp_path / "mask.png", disc.astype(np.float64))
+    stripes = np.tile(np.repeat([0.0, 1.0], 8), (16, 1))                # a 16-px tile
+    write_png(tmp_path / "tile.png", stripes)
+    ok(run_cli("make-shape", "inflate", tmp_path / "mask.png", "--out", tmp_path / "plain.exr"))
+    ok(run_cli("make-shape", "inflate", tmp_path / "mask.png", "--bevel-width", "0.05",
+               "--bevel-height", "0.03", "--smoothing", "0.004", "--structure",
+               tmp_path / "tile.png", "--structure-scale", "0.125", "--structure-strength",
+               "0.004", "--out", tmp_path / "fx.exr"))
+    plain = read_image(tmp_path / "plain.exr").pixels[..., 0]
+    fx = read_image(tmp_path / "fx.exr").pixels[..., 0]
+    added = (fx - plain)[40:88, 40:88]                    # the middle: the bevel's plateau
+    assert float(np.median(added)) == pytest.approx(0.03, abs=0.003)
+    row = added[24]
+    np.testing.assert_allclose(row[16:], row[:-16], atol=2e-4)      # a tile every 16 px
+    assert float(row.max() - row.min()) == pytest.approx(0.004, abs=3e-4)   # the swing
+    assert fx[0, 0] == 0
+
+
 def test_export_maps_of_a_sample(tmp_path):
     out = ok(run_cli("make-shape", "export-maps", "portrait", "--out", tmp_path / "maps"))
     for name in ("normal.png", "height.exr", "height.png", "ambient_occlusion.png"):
