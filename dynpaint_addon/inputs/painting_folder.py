@@ -95,7 +95,8 @@ class FolderReading:
 
 def read_painting_folder(path):
     """A folder of one painting's images → FolderReading: the channels by name, the shape
-    image's kind by its colour, shadows on (a painting with a shape image casts them)."""
+    image's kind by its colour (a float height map's values in image widths, as make-shape
+    writes them), shadows on (a painting with a shape image casts them)."""
     names = images_in(path)
     channels, rest = guess_channels(names)
     reasons = {f"images.{c}": f"its name says '{_channel_word(c, f)}'"
@@ -120,7 +121,13 @@ def read_painting_folder(path):
         colour = "grey" if kind == "height" else "coloured"
         data["shape"] = {"kind": kind}
         reasons["shape.kind"] = f"{channels['shape']} is {colour}: a {kind} map"
-        notes.append(f"{channels['shape']}: read as a {kind} map ({colour})")
+        widths = kind == "height" and shape.bits == 32
+        if widths:          # make-shape's EXRs (and its docs') hold heights in image widths
+            data["shape"]["height_scale"] = 1.0
+            reasons["shape.height_scale"] = (f"{channels['shape']} holds floats: heights in "
+                                             f"image widths, as make-shape writes them")
+        notes.append(f"{channels['shape']}: read as a {kind} map ({colour}"
+                     + ("; floats: heights in image widths)" if widths else ")"))
     return FolderReading(data, notes, reasons)
 
 

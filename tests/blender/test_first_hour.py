@@ -14,7 +14,7 @@ from conftest import REPO, run_cli
 from dynpaint_addon.core.input_rules import input_notes
 from dynpaint_addon.core.lights import DEFAULT_SUN_DIRECTION
 from dynpaint_addon.core.pipeline import render
-from dynpaint_addon.inputs.imageio import read_image
+from dynpaint_addon.inputs.imageio import read_image, write_png
 from dynpaint_addon.inputs.recipe import load_images, load_recipe
 from testkit import artist_folders as af
 
@@ -104,6 +104,30 @@ def test_new_makes_the_shape_of_a_painting_that_has_none(folders, tmp_path):
     heights = read_image(str(folder / "pear_height.exr")).pixels
     assert heights.max() > 0.1 and heights[0, 0, 0] == 0           # inflated inside only
     assert run_cli("render", folder, "--out", tmp_path / "y.png").returncode == 0
+
+
+def test_a_full_frame_painting_takes_a_shape_made_from_a_painted_mask(folders, tmp_path):
+    """Issue 41: a painting with no shape image and no alpha — a mask painted beside it, the
+    shape made by `make-shape inflate` into the folder — reads its heights in image widths
+    (make-shape's EXR), as `new` and every command then do: the figure's shadow falls."""
+    folder = tmp_path / "still"
+    folder.mkdir()
+    y, x = (np.mgrid[0:96, 0:96] + 0.5) / 96 - 0.5
+    figure = (x * x + y * y < 0.3 ** 2).astype(np.float64)
+    write_png(folder / "still_bright.png", np.dstack([0.5 + 0.4 * figure, 0.5 + 0 * x,
+                                                      0.4 + 0 * x]))
+    write_png(tmp_path / "figure.png", figure)
+    res = run_cli("make-shape", "inflate", tmp_path / "figure.png", "--bevel-width", "0.02",
+                  "--out", folder / "still_height.exr")
+    assert res.returncode == 0, res.stderr
+    res = run_cli("new", folder)
+    assert res.returncode == 0, res.stderr
+    assert "floats: heights in image widths" in res.stdout + res.stderr
+    recipe = load_recipe(str(folder / "painting.toml"))
+    assert recipe.params.shape.kind == "height" and recipe.params.shape.height_scale == 1.0
+    t = render(load_images(recipe), recipe.lights, recipe.params).passes["t"][0]
+    # the default sun is upper left: the ground to the figure's lower right lies in its shadow
+    assert float(t[22, 71]) < 0.3 < float(t[74, 25])
 
 
 def test_new_on_a_folder_of_layers_writes_a_scene(tmp_path):

@@ -1,0 +1,139 @@
+"""A painting with no shape image against true 3D (issue 41, "full-frame paintings against 3D").
+
+The painting: a front-lit Cycles render of each object on its ground (benchmarks/
+shape_from_painting.py's scenes, seen from above, no alpha: the whole frame is painted). The
+artist paints a figure mask by hand: here the object's true silhouette moved 2 px right and
+1 px down and softened (blurred 1.5 px), read at ½. Shapes compared, each baked into cast
+shadows under hard suns at 15–60° (the core's final bake at d = 1 px, the normals its own
+heights give) against Cycles' truth (N·L × visibility):
+
+- the true height map (what a 3D artist would have);
+- the hand mask inflated alone (`make-shape inflate mask.png`);
+- the mask inflated with the painting's luminance embossed (`--detail D --detail-image
+  painting.png`), D = 0.005, 0.01, 0.02 image widths per unit of luminance;
+- the same at D = 0.01 with its rim lifted to the true rim's height by a one-pixel bevel (what
+  an artist who knows the figure stands on the ground can set; the true height read from 3D,
+  so a bound, not a method).
+
+Per object: mean |t − 3D| and the IoU of the cast shadows (each shape's own N·L decides what
+faces the sun). Goals (issue 41): mask + detail better than the mask alone on every object;
+≥ 0.85 × the true height map's IoU on the round objects (sphere, torus, Suzanne's head).
+
+    .venv/bin/python benchmarks/no_shape_image.py --size 256 --out docs/no-shape-numbers.md
+"""
+import argparse
+import os
+import sys
+import tempfile
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+import ground_truth as gt  # noqa: E402  (imports bpy)
+from report import command_line, publish  # noqa: E402
+from shape_from_painting import RESTING, SMOOTH, border_depth, scene_maps  # noqa: E402
+
+from dynpaint_addon.core.inflate import inflate  # noqa: E402
+from dynpaint_addon.core.lights import Light  # noqa: E402
+from dynpaint_addon.core.sampling import gaussian_blur  # noqa: E402
+from dynpaint_addon.core.shadow import cos_theta_shadow  # noqa: E402
+from dynpaint_addon.core.shape import normals_from_height_px  # noqa: E402
+from dynpaint_addon.shapes.maker import with_effects  # noqa: E402
+
+DETAILS = (0.005, 0.01, 0.02)
+SHIFT = (2, -1)          # the hand mask's offset from the true silhouette: x, y pixels
+SOFT = 1.5               # its edge's blur, pixels
+GOAL_RATIO = 0.85
+
+
+def hand_mask(index):
+    """The figure as a hand paints it: the silhouette moved by SHIFT and softened → bool."""
+    fig = (index > 0).astype(np.float64)
+    moved = np.roll(np.roll(fig, SHIFT[0], axis=1), SHIFT[1], axis=0)
+    return gaussian_blur(moved, SOFT) >= 0.5
+
+
+def shapes(z, index, painting):
+    """{name: heights (image widths)} of the shapes compared."""
+    mask = hand_mask(index)
+    size = z.shape[1]
+    out = {"true height map": z, "hand mask, inflated": inflate(mask).height}
+    for d in DETAILS:
+        out[f"hand mask + detail {d:g}"] = inflate(mask, detail=d, luminance=painting).height
+    # what an artist can add who knows the figure stands on the ground: its rim lifted to
+    # the true rim's height by a one-pixel bevel (a wall; as integrate's --depth)
+    lift = border_depth(z, index)
+    out[f"hand mask + detail 0.01, rim lifted {lift:.3f}"] = with_effects(
+        out["hand mask + detail 0.01"], mask, 1.0 / size, lift, "linear")
+    return out
+
+
+def measure(objects, size, offset_px, steps, folder):
+    """{shape: (mean |t − 3D|, cast-shadow IoU)} over the suns."""
+    scene, z, nworld, _, index = scene_maps(objects, size, folder)
+    painting = gt.render_truth(scene, folder, 90, 0)        # front-lit: the painted picture
+    made = shapes(z, index, painting)
+    acc = {}
+    for elevation, azimuth in gt.SUNS:
+        direction = np.array(gt.sun_direction(elevation, azimuth))
+        truth = gt.render_truth(scene, folder, elevation, azimuth)
+        ndl_true = np.clip(nworld @ direction, 0, 1)
+        light = Light("sun", tuple(direction))
+        for name, heights in made.items():
+            n = normals_from_height_px(heights * size)
+            t = cos_theta_shadow(n, light, offset_px / size, steps, heights_px=heights * size)
+            a = gt.cast_shadow(truth, ndl_true)
+            b = gt.cast_shadow(t, np.clip(n @ direction, 0, 1))
+            iou = (a & b).sum() / max((a | b).sum(), 1)
+            acc.setdefault(name, []).append((float(np.abs(t - truth).mean()), float(iou)))
+    return {k: (float(np.mean([e for e, _ in v])), float(np.mean([i for _, i in v])))
+            for k, v in acc.items()}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--size", type=int, default=256)
+    ap.add_argument("--steps", type=int, default=64)
+    ap.add_argument("--out", help="Markdown report")
+    args = ap.parse_args(argv)
+    folder = tempfile.mkdtemp()
+    lines = ["# A painting with no shape image, against 3D (issue 41)", "",
+             f"`{command_line(__file__, argv)}` — {args.size}², each object on its ground "
+             f"rendered front-lit by Cycles as the painting (no alpha); the figure mask painted "
+             f"by hand: the true silhouette moved {SHIFT[0]} px right and {-SHIFT[1]} px down, "
+             f"softened by {SOFT:g} px; cast shadows under hard suns at "
+             f"{', '.join(f'{e}°/{a}°' for e, a in gt.SUNS)} (elevation/azimuth), d = 1 px, "
+             f"K = {args.steps}, against Cycles' N·L × visibility. Goals: the mask with detail "
+             f"better than the mask alone on every object; ≥ {GOAL_RATIO} × the true height "
+             f"map's IoU on the round objects.", "",
+             "| object | shape | mean \\|t − 3D\\| | cast-shadow IoU | × true | goal |",
+             "|---|---|---|---|---|---|"]
+    for name, objects in {**SMOOTH, **RESTING}.items():
+        res = measure(objects, args.size, 1.0, args.steps, folder)
+        true_iou = res["true height map"][1]
+        alone = res["hand mask, inflated"]
+        for shape, (err, iou) in res.items():
+            goal = ""
+            if "detail" in shape and "lifted" not in shape:
+                better = err <= alone[0] and iou >= alone[1]
+                goal = (f"better than the mask alone: {'met' if better else 'not met'}; "
+                        f"≥ {GOAL_RATIO} × true: "
+                        f"{'met' if iou >= GOAL_RATIO * true_iou else 'not met'}")
+            lines.append(f"| {name} | {shape} | {err:.4f} | {iou:.3f} | "
+                         f"{iou / max(true_iou, 1e-9):.2f} | {goal} |")
+    lines += ["", "Reading it: the mask is what matters. A hand's mask inflated gives a sphere "
+              "nearly its true shadows, a torus and a head about half (their depth is not "
+              "round cross-sections of their outlines); the painting's luminance embossed as "
+              "detail changes the shadows by less than 0.01 of IoU either way — a front-lit "
+              "painting's light and dark follow the shape too smoothly to add a feature the "
+              "inflation lacks, so the goal 'better than the mask alone on every object' is "
+              "not met by detail, nor can it be by this rule. What an object standing on the "
+              "ground lacks is its wall: the rim lifted to its true height (a bevel one pixel "
+              "wide) brings the resting sphere from 0.4 to 0.9 of the true map's IoU, and "
+              "costs a sunk one (its rim is at the ground)."]
+    publish(lines, args.out)
+
+
+if __name__ == "__main__":
+    main()
