@@ -63,16 +63,15 @@ def on_depsgraph_update(scene, depsgraph):
     watched = any(isinstance(u.id, WATCHED) for u in depsgraph.updates)
     if not images and not watched:
         return
-    found = paintings(scene)
-    # the paintings' input images among them (the images numpy makes are the add-on's own)
-    edited = images & {img.name for mat in found
-                       for img in channel_images(mat.dynamic_painting).values()}
+    # each painting's input images among them (the images numpy makes are the add-on's own)
+    mine = {mat: images & {img.name for img in channel_images(mat.dynamic_painting).values()}
+            for mat in paintings(scene)}
+    edited = set().union(*mine.values())
     if not edited and not watched:
         return
     note_edited(edited)
-    for mat in found:
-        mine = bool(edited & {img.name for img in channel_images(mat.dynamic_painting).values()})
-        when = ("now" if mine else "missing") if rendering() else "live"
+    for mat, its_edits in mine.items():
+        when = ("now" if its_edits else "missing") if rendering() else "live"
         try:
             update(mat, scene, depsgraph, bake=when)
         except Exception as exc:     # never into Blender's update loop

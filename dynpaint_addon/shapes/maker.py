@@ -150,12 +150,13 @@ def _shape_alpha(images):
 
 # Each method: (images, p, its options) → (kind, RGBA pixels, report lines). Its options
 # and their defaults are in shapes.methods.OPTIONS; shapes.methods.make_shape calls them.
-def with_effects(heights, mask, bevel_width=0.0, bevel_height=0.02, bevel_profile="round",
-                 smoothing=0.0, structure_tile=None, structure_scale=0.1,
+def with_effects(heights, mask, bevel_width=0.0, bevel_height=0.0, bevel_profile="round",
+                 smoothing=0.0, structure_tile=None, structure_scale=None,
                  structure_strength=0.0):
     """An inflated figure's heights with the effects (core/effects.py) that are asked for: a
     bevel added, then smoothed, then a structure pattern added (after the smoothing, which
-    would blur it away)."""
+    would blur it away). Each is off unless given (its values as shapes.methods.OPTIONS
+    offers them)."""
     z = np.asarray(heights, np.float64)
     if bevel_width > 0 and bevel_height:
         z = z + bevel(mask, bevel_width, bevel_height, bevel_profile)

@@ -10,7 +10,7 @@ from ...core.pipeline import shadow_term, shape_normals
 from ...inputs import memory
 from ...inputs.imageio import file_channels
 from ...inputs.painting_frames import BoundedCache
-from ..state.edits import version
+from ..state.edits import key_name
 from ..state.frames import frame_data, painting_size, slot_frame
 from ..state.images import grey_image
 from ..state.lights import painting_frame_light, plane_matrix
@@ -37,13 +37,8 @@ def settings_key(p, s):
     if s.image_shape is None:
         return repr((values, None))
     frame = slot_frame(s.id_data, "shape")
-    shape = _named(s.image_shape)
+    shape = key_name(s.image_shape)
     return repr((values, shape) if frame is None else (values, shape, frame))
-
-
-def _named(img):
-    """An image in a key: its name, and how many times its pixels were edited (edits.py)."""
-    return img.name if not version(img) else (img.name, version(img))
 
 
 # material name → BoundedCache: shape key → (normals, heights_px, slopes), the bakes' decoded
@@ -73,7 +68,7 @@ def bake_shape(mat, p, fresh=False):
 def shape_key(settings, p):
     """What the decoded shape depends on: the image (of a moving one, the frame shown) and the
     §2 settings, and for a normal map the relief its shadows fall from (§6)."""
-    return (_named(settings.image_shape), slot_frame(settings.id_data, "shape"),
+    return (key_name(settings.image_shape), slot_frame(settings.id_data, "shape"),
             repr(vars(p.shape)), p.shadows.relief)
 
 

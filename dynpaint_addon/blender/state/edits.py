@@ -22,6 +22,11 @@ def note_edited(names):
         _VERSIONS[name] = _VERSIONS.get(name, 0) + 1
 
 
+def key_name(img):
+    """An image in a key: its name, and how many times its pixels were edited (once they were)."""
+    return img.name if not version(img) else (img.name, version(img))
+
+
 def versions(images):
     """(channel, version) of the edited ones among {channel: bpy Image}: a key's part, empty
     (the key unchanged) until an image is edited."""
