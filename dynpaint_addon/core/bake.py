@@ -172,3 +172,27 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
     t = march(n_s, light, offset, k, heights_px=z_s, slopes=sl_s, occupancy=occupancy,
               reach=reach, stats=stats, cancel=cancel, progress=progress)
     return np.clip(resample_separable(t, h, w), 0, 1).astype(dtype, copy=False)
+
+
+def bake_edited(normals, light, offset, quality, t_before, normals_box, heights_box, *,
+                heights_px=None, slopes=None, steps=64, scale=1.0, occupancy="linear",
+                reach=np.inf):
+    """bake() of a shape an edit changed in normals_box and heights_box (core/strokes.py),
+    from t_before, its bake before the edit at the same level, light and settings (issue 41):
+    where the level bakes a sun by crossings at full size, only the rays that read a changed
+    pixel are traced again (crossings.sun_cos_theta_edited; equal to the whole bake). None
+    where the level bakes otherwise (a reduced resolution, a march, a point light): bake the
+    whole then (those levels are the cheap ones, or the reference)."""
+    _, scale, dtype = quality_settings(quality, steps, scale)
+    h, w = normals.shape[:2]
+    fast_final = quality == "final" and min(h, w) >= FAST_FINAL_MIN_PX
+    plan = _crossings_plan(light, quality, fast_final and occupancy == "linear", h, w,
+                           slopes is not None, offset)
+    if plan is None or plan[0] != (h, w) or light.kind != "sun" or t_before.shape != (h, w):
+        return None
+    normals = normals.astype(dtype, copy=False)
+    t = crossings.sun_cos_theta_edited(
+        normals, light, offset, t_before.astype(dtype, copy=False), normals_box, heights_box,
+        heights_px=None if heights_px is None else heights_px.astype(dtype, copy=False),
+        slopes=None if slopes is None else slopes.astype(dtype, copy=False), reach=reach)
+    return None if t is None else t.astype(dtype, copy=False)

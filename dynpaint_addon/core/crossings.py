@@ -36,6 +36,7 @@ from .crossing_search import inside_length, row_value, search_tables, table_leve
 from .sampling import pixel_centres, sample_bilinear, sample_bilinear_extend
 from .shadow import (BakeCancelled, cos_theta_shadow, exit_distance, inside_box,
                      vertical_cos_theta)
+from .strokes import grow, inside, union
 
 MAX_TABLE_BYTES = 1.5 * 2**30   # tables built at once (larger grids: in groups of blocks)
 THREADS = max(1, min(4, os.cpu_count() or 1))
@@ -78,6 +79,27 @@ def sun_cos_theta(normals, light, offset, *, heights_px=None, slopes=None, reach
                  progress)
 
 
+def sun_cos_theta_edited(normals, light, offset, t, normals_box, heights_box, *,
+                         heights_px=None, slopes=None, reach=np.inf):
+    """sun_cos_theta of an edited shape from `t`, the term before the edit (issue 41): the
+    edit changed the normals in `normals_box` and the relief in `heights_box` (pixel boxes,
+    core/strokes.py; None: unchanged). Only the rays that read a changed pixel are traced
+    again (_SunGrid.retrace), so the result is the whole bake's of the edited shape. None
+    where this does not apply (d = 0 marches; tables beyond memory): bake the whole then."""
+    h, w = normals.shape[:2]
+    lvec = np.asarray(light.vector, dtype=np.float64)
+    lvec = lvec / np.linalg.norm(lvec)
+    if lvec[2] <= 0 or offset <= 0 or np.hypot(lvec[0], lvec[1]) < 1e-6:
+        return None          # (nothing to trace: the whole bake is as cheap)
+    reach_px = max(0.0, float(reach)) * w if slopes is not None else np.inf
+    d = float(offset) * w
+    # a start reads its own normal, and the relief within d of its pixel
+    own = union(normals_box, grow(heights_box, d + 2, h, w))
+    path = heights_box if heights_px is not None else normals_box
+    return _SunGrid(lvec, h, w, reach_px).retrace(_pool(), normals, offset, heights_px,
+                                                  slopes, t, path, own)
+
+
 def _bake(grid, normals, offset, heights_px, slopes, cancel=None, progress=None):
     """t (H, W) by the grid's crossing search. numpy releases the GIL on large arrays: the
     blocks' profiles and tables, the rays' starts and their searches each run side by side,
@@ -103,18 +125,36 @@ def _by_bands(pool, h, w, fn):
     return list(pool.map(lambda r0: fn(r0, min(h, r0 + rows)), range(0, h, rows)))
 
 
-def _start_points(normals, d, heights_px, r0, r1):
-    """Both grids' ray starts for pixel rows r0 … r1 − 1 (float32, 2D): N, P0 = P_S − d·N
-    (§6) and its depth δ0 under the relief, the reference's: the exact bilinear relief above
-    P0 for height maps; on the tangent plane of P_S for normal maps, which also need H(P0)
-    there, h0 = d|N.xy|²/N.z (δ0 = d/N.z); h0 is None for height maps."""
+def _pixels(normals, heights_px, where):
+    """N, the pixel centres x, y and the relief z (0 for normal maps) of pixel rows
+    where = (r0, r1) (2D), or of the flat pixel indices `where` (1D: an edit's rays), float32:
+    the same numbers either way."""
     f32 = np.float32
     h, w = normals.shape[:2]
-    n = normals[r0:r1].astype(f32, copy=False)
+    if isinstance(where, tuple):
+        r0, r1 = where
+        x, y = pixel_centres(h, w, f32)
+        zs = heights_px[r0:r1] if heights_px is not None else None
+        n, x, y = normals[r0:r1], x[r0:r1], y[r0:r1]
+    else:
+        rows, cols = np.divmod(where, w)
+        x, y = cols.astype(f32) + f32(0.5), rows.astype(f32) + f32(0.5)
+        n = normals.reshape(-1, 3)[where]
+        zs = heights_px.reshape(-1)[where] if heights_px is not None else None
+    zs = zs.astype(f32, copy=False) if zs is not None else f32(0)
+    return n.astype(f32, copy=False), x, y, zs
+
+
+def _start_points(normals, d, heights_px, where):
+    """Both grids' ray starts for pixel rows where = (r0, r1), or pixels `where` (_pixels)
+    (float32): N, P0 = P_S − d·N (§6) and its depth δ0 under the relief, the reference's: the
+    exact bilinear relief above P0 for height maps; on the tangent plane of P_S for normal
+    maps, which also need H(P0) there, h0 = d|N.xy|²/N.z (δ0 = d/N.z); h0 is None for height
+    maps."""
+    f32 = np.float32
+    n, x, y, zs = _pixels(normals, heights_px, where)
     nx, ny, nz = n[..., 0], n[..., 1], n[..., 2]
-    x, y = pixel_centres(h, w, f32)
-    zs = heights_px[r0:r1].astype(f32, copy=False) if heights_px is not None else f32(0)
-    x0, y0, z0 = x[r0:r1] - f32(d) * nx, y[r0:r1] - f32(d) * ny, zs - f32(d) * nz
+    x0, y0, z0 = x - f32(d) * nx, y - f32(d) * ny, zs - f32(d) * nz
     if heights_px is not None:
         delta0, h0 = _lookup(heights_px.astype(f32, copy=False), x0, y0) - z0, None
     else:
@@ -223,7 +263,7 @@ class _BlockGrid:
         def start(a, b):
             # each band writes its part of the chunk's arrays (no serial concatenation after;
             # setdefault is atomic, the first band to finish allocates)
-            part_rays = self.starts(normals, offset, heights_px, r0 + a, r0 + b)
+            part_rays = self.starts(normals, offset, heights_px, (r0 + a, r0 + b))
             for key, part in vars(part_rays).items():
                 chunk = arrays.setdefault(key, None if part is None else
                                           np.empty((r1 - r0) * w, part.dtype))
@@ -240,16 +280,16 @@ class _BlockGrid:
         def search_block(b):
             sel = np.flatnonzero(block == b)
             if sel.size:
-                r_h[sel] = self._search_block(b, searches[b], ray, sel)
+                r_h[sel] = self._search_block(self.blocks[b], searches[b], ray, sel)
         list(pool.map(search_block, searches))
         if t is not None:
             done = self.finish(ray, r_h, float(offset) * w)
             t[:] = np.clip(np.where(np.isfinite(done), done, 0), 0, 1).reshape(r1 - r0, w)
 
-    def _block_rays(self, b, ray, sel):
-        """Rays `sel` in block b's coordinates: (rows from its first, u from its first
-        column, u_end there)."""
-        a, _, c0, _ = self.blocks[b]
+    def _block_rays(self, spec, ray, sel):
+        """Rays `sel` in the coordinates of block `spec` (a, n, c0, c1): (rows from its
+        first, u from its first column, u_end there)."""
+        a, _, c0, _ = spec
         return (ray.row0[sel] - a, np.clip(ray.fu[sel] - c0, 0, None),
                 ray.u_end[sel] - c0)
 
@@ -326,13 +366,14 @@ class _SunGrid(_BlockGrid):
         np.cumsum((su[:, 1:] + su[:, :-1]) / 2, axis=1, out=z[:, 1:])
         return search_tables((z - self.m * gu[None, :]).astype(f32)), z
 
-    def starts(self, normals, offset, heights_px, r0, r1):
-        """The rays of pixel rows r0 … r1 − 1 in grid coordinates (flat arrays)."""
+    def starts(self, normals, offset, heights_px, where):
+        """The rays of pixel rows where = (r0, r1), or of pixels `where`, in grid coordinates
+        (flat arrays)."""
         h, w, ex, ey, m, lxy = self.h, self.w, self.ex, self.ey, self.m, self.lxy
         d = float(offset) * w
         # float32 (positions < 2·10³ px keep 1e-4 px); the level c of each ray in float64
         f32 = np.float32
-        nx, ny, nz, x0, y0, z0, delta0, h0 = _start_points(normals, d, heights_px, r0, r1)
+        nx, ny, nz, x0, y0, z0, delta0, h0 = _start_points(normals, d, heights_px, where)
         ndl = (nx * f32(ex) + ny * f32(ey)) * f32(lxy) + nz * f32(m * lxy)
         # ray starts in grid coordinates
         xc, yc = x0 - f32(self.cx), y0 - f32(self.cy)
@@ -356,11 +397,11 @@ class _SunGrid(_BlockGrid):
                     delta0=delta0.ravel(), h0=None if h0 is None else h0.ravel(), fall=fall,
                     alone=alone)
 
-    def _search_block(self, b, block_search, ray, sel):
-        """The inside length (px of u) of rays `sel`, all in block b, with the tail."""
+    def _search_block(self, spec, block_search, ray, sel):
+        """The inside length (px of u) of rays `sel`, all in block `spec`, with the tail."""
         f32 = np.float32
         search, z = block_search
-        rb, fub, ueb = self._block_rays(b, ray, sel)
+        rb, fub, ueb = self._block_rays(spec, ray, sel)
         wv, fall, cb = ray.wv[sel], ray.fall[sel], ray.c[sel]
         if z is not None:
             # the row's running integral, shifted so that it reads H(P0) at the start
@@ -379,6 +420,97 @@ class _SunGrid(_BlockGrid):
     def finish(self, ray, r_h, d):
         r = r_h / self.lxy                                      # along the 3D ray
         return d / np.maximum(r, d)
+
+    # -- an edit (issue 41): only the rays that read changed pixels are traced again ------
+    def cells_reading(self, box):
+        """The grid rows (first, last) whose profile reads pixels of `box` (strokes.py), and
+        the last column that does: a lookup reads the pixels within 1 px of its point, and
+        past the image's edge (the grid runs 3 px beyond it) the edge's own."""
+        r0, r1, c0, c1 = box
+        beyond = 4.0
+        x_lo = c0 - 0.5 if c0 > 0 else 0.5 - beyond
+        x_hi = c1 + 0.5 if c1 < self.w else self.w - 0.5 + beyond
+        y_lo = r0 - 0.5 if r0 > 0 else 0.5 - beyond
+        y_hi = r1 + 0.5 if r1 < self.h else self.h - 0.5 + beyond
+        xs = np.array([x_lo, x_hi, x_lo, x_hi]) - self.cx
+        ys = np.array([y_lo, y_lo, y_hi, y_hi]) - self.cy
+        v = ys * self.ex - xs * self.ey - self.vmin
+        u = xs * self.ex + ys * self.ey - self.umin
+        return (max(0, int(np.floor(v.min())) - 1), min(self.rows - 1, int(np.ceil(v.max())) + 1),
+                int(np.ceil(u.max())) + 1)
+
+    def _pixels_near_rows(self, first, last, margin):
+        """Flat indices of the pixels whose centre lies within grid rows first − margin …
+        last + margin (a ray starts within d of its pixel): per pixel row, an interval."""
+        h, w, ex, ey = self.h, self.w, self.ex, self.ey
+        v_lo, v_hi = self.vmin + first - margin, self.vmin + last + margin
+        rows = np.arange(h)
+        yv = (rows + 0.5 - self.cy) * ex              # v = yv − (x − cx)·ey
+        if abs(ey) < 1e-12:
+            full = (yv >= v_lo) & (yv <= v_hi)
+            lo, hi = np.where(full, 0, w), np.where(full, w - 1, -1)
+        else:
+            xa, xb = self.cx + (yv - v_lo) / ey, self.cx + (yv - v_hi) / ey
+            lo = np.ceil(np.minimum(xa, xb) - 0.5).clip(0, w).astype(np.int64)
+            hi = np.floor(np.maximum(xa, xb) - 0.5).clip(-1, w - 1).astype(np.int64)
+        counts = np.maximum(hi - lo + 1, 0)
+        firsts = rows * w + lo
+        ends = np.cumsum(counts)
+        return np.arange(ends[-1] if h else 0) - np.repeat(ends - counts, counts) + \
+            np.repeat(firsts, counts)
+
+    def retrace(self, pool, normals, offset, heights_px, slopes, t, path_box, own_box):
+        """t after an edit, from t before it: the rays whose grid rows read `path_box` (the
+        relief, or a normal map's slopes, changed there) and those starting in `own_box`
+        (their normal or the relief at P0 changed) are traced again, in the blocks they are
+        in; None where those rows' tables do not fit in memory. A ray reads its rows from the
+        column it starts in onward: one starting past the last changed column sees nothing
+        new on a height map (a normal map's rebuilt heights run on along the whole row)."""
+        h, w = normals.shape[:2]
+        d = float(offset) * w
+        idx = np.zeros(0, np.int64)
+        rows = None
+        if path_box is not None:
+            rows = self.cells_reading(path_box)
+            idx = self._pixels_near_rows(rows[0] - 1, rows[1] + 1, d + 1)
+        if own_box is not None:
+            r0, r1, c0, c1 = own_box
+            idx = np.union1d(idx, (np.arange(r0, r1)[:, None] * w + np.arange(c0, c1)).ravel())
+        if idx.size == 0:
+            return t.copy()
+        ray = self.starts(normals, offset, heights_px, idx)
+        keep = inside(own_box, *np.divmod(idx, w))
+        if rows is not None:
+            reads = (ray.row0 + 1 >= rows[0]) & (ray.row0 <= rows[1])
+            if heights_px is not None:
+                reads &= np.floor(ray.fu) <= rows[2]
+            keep |= reads
+        idx = idx[keep]
+        ray = Rays(**{k: None if v is None else v[keep] for k, v in vars(ray).items()})
+        block = np.minimum(ray.row0 // self.block_rows, len(self.blocks) - 1).astype(np.int16)
+        block[~ray.searched] = -1
+        # each block's rows that these rays read, alone: a row's profile and tables are the
+        # row's own (the block's columns kept), so they equal the whole block's there
+        parts = {}
+        for b in np.unique(block[block >= 0]):
+            sel = np.flatnonzero(block == b)
+            first, last = int(ray.row0[sel].min()), int(ray.row0[sel].max())
+            _, _, c0, c1 = self.blocks[b]
+            parts[int(b)] = (sel, (first, last - first + 2, c0, c1))
+        if sum((2 * table_levels(c1 - c0) + 2) * n * (c1 - c0 + 1) * 4
+               for _, (_, n, c0, c1) in parts.values()) > MAX_TABLE_BYTES:
+            return None
+        inputs = self._inputs(heights_px, slopes)
+        r_h = ray.alone.copy()
+
+        def search_part(part):
+            sel, spec = part
+            r_h[sel] = self._search_block(spec, self._profile(spec, *inputs), ray, sel)
+        list(pool.map(search_part, parts.values()))
+        done = self.finish(ray, r_h, d)
+        out = t.copy()
+        out.reshape(-1)[idx] = np.clip(np.where(np.isfinite(done), done, 0), 0, 1)
+        return out
 
 
 def point_cos_theta(normals, light, offset, *, heights_px=None, slopes=None, reach=np.inf,
@@ -524,12 +656,13 @@ class _PointGrid(_BlockGrid):
         return search_tables(((z - self.zl) * inv[None, :]).astype(f32), rho_cols,
                        np.append(inv, inv[-1])), z
 
-    def starts(self, normals, offset, heights_px, r0, r1):
-        """The rays of pixel rows r0 … r1 − 1 in grid coordinates (flat arrays)."""
+    def starts(self, normals, offset, heights_px, where):
+        """The rays of pixel rows where = (r0, r1), or of pixels `where`, in grid coordinates
+        (flat arrays)."""
         h, w = self.h, self.w
         d = float(offset) * w
         f32 = np.float32
-        nx, ny, nz, x0, y0, z0, delta0, h0 = _start_points(normals, d, heights_px, r0, r1)
+        nx, ny, nz, x0, y0, z0, delta0, h0 = _start_points(normals, d, heights_px, where)
         dx, dy, dz = f32(self.fx) - x0, f32(self.fy) - y0, f32(self.zl) - z0
         rho0 = np.hypot(dx, dy)
         dist = np.sqrt(rho0 * rho0 + dz * dz)                    # P0 → P_L
@@ -556,10 +689,10 @@ class _PointGrid(_BlockGrid):
                 "slant": dist / safe}
         return Rays(**{k: None if v is None else v.ravel() for k, v in flat.items()})
 
-    def _search_block(self, b, block_search, ray, sel):
-        """The inside length (px of ρ) of rays `sel`, all in block b, with the tail."""
+    def _search_block(self, spec, block_search, ray, sel):
+        """The inside length (px of ρ) of rays `sel`, all in block `spec`, with the tail."""
         search, z = block_search
-        rb, fub, ueb = self._block_rays(b, ray, sel)
+        rb, fub, ueb = self._block_rays(spec, ray, sel)
         wv, fall_d, step = ray.wv[sel], ray.fall_d[sel], np.float32(self.col_step)
         # normal maps: each ray's relief is its rows' rebuilt heights shifted by
         # b = z(P0) − H(P0), so that it reads H(P0) at the start (the class)

@@ -31,8 +31,10 @@ from .integrate import integrate
 from .lights import falloff, light_vectors
 from .sampling import gaussian_blur, pixel_centres, resample, sample_bilinear
 from .bake import bake as shadow_bake
+from .bake import bake_edited
 from .shape import (default_preblur_px, height_field_px, normals_from_height_px, reach_of,
                     slopes_from_normals)
+from .strokes import height_shape_edited
 
 @dataclass
 class RenderResult:
@@ -61,15 +63,30 @@ def shape_normals(shape, p, dtype=np.float32, relief=True):
     A normal map gives its slopes, or with `shadows.relief` integrated (and `relief`: the
     caller will march shadows) the heights its shadows fall from (§6 "Relief")."""
     if p.shape.kind == "height":
-        sigma = p.shape.preblur
-        if sigma == "auto":
-            sigma = default_preblur_px(shape.bits)
-        z_px = height_field_px(shape.grey().astype(dtype), p.shape.height_scale, float(sigma))
+        z_px = height_field_px(shape.grey().astype(dtype), p.shape.height_scale,
+                               _preblur_px(shape, p))
         return normals_from_height_px(z_px, p.shape.z_min), z_px, None
     n = normal_map_normals(shape, p, dtype)
     if relief and relief_of(p.shadows.relief, shape.has_alpha) == "integrated":
         return n, normal_map_relief_px(n, shape), None
     return n, None, slopes_from_normals(n)
+
+
+def _preblur_px(shape, p):
+    """§2's pre-blur σ (px) of a height map."""
+    sigma = p.shape.preblur
+    return float(default_preblur_px(shape.bits) if sigma == "auto" else sigma)
+
+
+def shape_normals_edited(shape, p, before, box):
+    """shape_normals of a shape image edited in `box`, from its decode `before` (issue 41):
+    → (decoded, normals' changed box, heights' changed box), equal to decoding the whole
+    edited image; None where the decode is not local (a normal map's: its strength, encoding
+    and relief are read off the whole image), so decode it whole."""
+    if p.shape.kind != "height" or before[1] is None:
+        return None
+    return height_shape_edited(shape, before, box, p.shape.height_scale, _preblur_px(shape, p),
+                               p.shape.z_min)
 
 
 def normal_map_relief_px(n, shape, precise=False, floor=None):
@@ -94,6 +111,16 @@ def shadow_term(n, z_px, slopes, light, p, cancel=None, progress=None):
                     occupancy=p.shadows.occupancy, reach=reach_of(p.shadows.reach, slopes),
                     cancel=cancel, progress=progress)
     return t.astype(n.dtype, copy=False)
+
+
+def shadow_term_edited(n, z_px, slopes, light, p, t_before, normals_box, heights_box):
+    """shadow_term of a shape an edit changed in these boxes, from t_before, the term of the
+    shape before it (core/bake.bake_edited): None where the level bakes the whole anyway."""
+    t = bake_edited(n, light, p.shadows.offset, p.shadows.quality, t_before, normals_box,
+                    heights_box, heights_px=z_px, slopes=slopes, steps=p.shadows.steps,
+                    scale=p.shadows.resolution, occupancy=p.shadows.occupancy,
+                    reach=reach_of(p.shadows.reach, slopes))
+    return None if t is None else t.astype(n.dtype, copy=False)
 
 
 def light_terms(n, z_px, slopes, lights, p, dtype=np.float32, rows=None, shadows=None,

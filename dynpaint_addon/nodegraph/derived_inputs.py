@@ -95,8 +95,12 @@ def _key(channel, source, p, *extra):
 
 
 def grey_rgba(grey, alpha=None):
-    a = np.ones_like(grey) if alpha is None else alpha
-    return np.stack([grey, grey, grey, a], axis=-1)
+    """(H, W) grey → (H, W, 4) RGBA, grey repeated (filled in place: a live bake
+    writes one per update, not np.stack: a painted stroke writes two per update)."""
+    out = np.empty(grey.shape + (4,), grey.dtype)
+    out[..., :3] = grey[..., None]
+    out[..., 3] = 1 if alpha is None else alpha
+    return out
 
 
 def _rgba(px):

@@ -3,6 +3,7 @@ change in — dragged through the properties, moved, swapped, undone — the mat
 fresh build for the same settings gives (node tree, drivers, derived and shadow images), and
 it renders (Cycles) like the numpy core."""
 import hashlib
+import os
 import sys
 
 import numpy as np
@@ -341,3 +342,63 @@ def test_an_input_image_edited_in_place_is_followed(paths, kind, channel):
     assert_fresh(mat, scene, f"a {channel} edit")
     bpy.context.view_layer.update()          # nothing more to do: no edit is seen twice
     assert state(mat) == edited
+
+
+def test_strokes_on_a_large_height_map_bake_incrementally_and_equal_a_whole_bake(tmp_path,
+                                                                               monkeypatch):
+    """Issue 41, incremental: on a 512² height map under a sun (final quality bakes by
+    crossings at that size), each of 12 dabs decodes and re-traces only what it changed
+    (shadow_images keeps the decode before the edit, with its bakes), and the painting's
+    cos-θ image and derived heights after them equal a bake of the whole edited image
+    (≤ 1e-6; the derived image exactly)."""
+    from dynpaint_addon.blender.bake import shadow_images
+    from dynpaint_addon.inputs.recipe import load_recipe
+    from dynpaint_addon.inputs.testpainting import write_test_painting
+
+    recipe = load_recipe(write_test_painting(str(tmp_path), 512))
+    recipe.lights = [light for light in recipe.lights if light.kind == "sun"]
+    _, mat = headless.build_recipe_scene(recipe)
+    img = mat.dynamic_painting.image_shape
+    px = np.empty(512 * 512 * img.channels, np.float32)
+    img.pixels.foreach_get(px)
+    px = px.reshape(512, 512, img.channels)
+    rng = np.random.default_rng(3)
+    y, x = np.ogrid[0:512, 0:512]
+    whole_bake = shadow_images.shadow_term
+
+    def no_whole_bake(*args, **kwargs):
+        raise AssertionError("a dab baked the whole image")
+    monkeypatch.setattr(shadow_images, "shadow_term", no_whole_bake)
+    for _ in range(12):
+        cy, cx = rng.integers(0, 512, 2)
+        cone = np.clip(1 - np.hypot(x - cx, y - cy) / rng.integers(4, 40), 0, 1)[..., None]
+        px[..., :3] = np.clip(px[..., :3] + rng.uniform(-0.2, 0.2) * cone, 0, 1)
+        img.pixels.foreach_set(px.ravel())
+        img.update_tag()
+        bpy.context.view_layer.update()
+        assert shadow_images._STILL[mat.name].edit is not None, "decoded whole"
+    assert status.LAST_ERRORS == []
+    monkeypatch.setattr(shadow_images, "shadow_term", whole_bake)
+
+    def pixels(image):
+        out = np.empty(len(image.pixels), np.float32)
+        image.pixels.foreach_get(out)
+        return out
+    shadow, derived = pixels(mat.dynamic_painting.lights[0].shadow), \
+        [pixels(d.image) for d in mat.dynamic_painting.derived]
+    shadow_images.forget_cached_shape(mat)
+    update(mat, bpy.context.scene, rebake=True, force=True)
+    assert np.abs(shadow - pixels(mat.dynamic_painting.lights[0].shadow)).max() <= 1e-6
+    assert all(np.array_equal(a, pixels(d.image))
+               for a, d in zip(derived, mat.dynamic_painting.derived))
+
+
+def test_the_paint_latency_benchmark_runs_and_checks_incremental_equals_whole():
+    """benchmarks/paint_latency.py at a tiny size (numbers, not speed): both levels timed,
+    incremental and whole, and the painting after the dabs equals a whole bake."""
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
+        os.path.abspath(__file__)))), "benchmarks"))
+    import paint_latency
+    m = paint_latency.measure(128, 1)
+    assert all(m[level][0] > 0 and m[level][1] > 0 for level in ("draft", "final"))
+    assert m["error"] <= 1e-6

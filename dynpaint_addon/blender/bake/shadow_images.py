@@ -2,11 +2,14 @@
 each remembered with the key of what it was baked from, so a bake runs only when its light
 moved or a parameter with the `bake` role (params.py) changed."""
 import time
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ... import params
-from ...core.pipeline import shadow_term, shape_normals
+from ...core.pipeline import (shadow_term, shadow_term_edited, shape_normals,
+                              shape_normals_edited)
+from ...core.strokes import changed_box
 from ...inputs import memory
 from ...inputs.imageio import file_channels
 from ...inputs.painting_frames import BoundedCache
@@ -29,11 +32,16 @@ def bake_key(light, p, s):
     return light_key(light) + "|" + settings_key(p, s)
 
 
+def bake_values(p):
+    """The parameters with the `bake` role (params.py)."""
+    return [getattr(getattr(p, prm.section), prm.key) for prm in BAKE_PARAMS]
+
+
 def settings_key(p, s):
     """What a bake depends on besides its light: the bake's parameters, the shape image and,
     of a moving shape, the frame shown (§16: not the scene frame — frames that show one
     drawing share their bakes)."""
-    values = [getattr(getattr(p, prm.section), prm.key) for prm in BAKE_PARAMS]
+    values = bake_values(p)
     if s.image_shape is None:
         return repr((values, None))
     frame = slot_frame(s.id_data, "shape")
@@ -60,16 +68,91 @@ def bake_shape(mat, p, fresh=False):
         cache = _SHAPES[mat.name] = BoundedCache(SHAPE_FRAMES_MB if moving else 0)
     hit = None if fresh else cache.get(key)
     if hit is None:
-        hit = shape_normals(frame_data(mat, "shape"), p, np.float32)
+        data = frame_data(mat, "shape")
+        hit = _decoded_after_edit(mat, data, p) if not moving else None
+        if hit is None:
+            hit = shape_normals(data, p, np.float32)
+        if not moving:
+            _remember(mat, data, p, hit)
         cache.put(key, hit, sum(a.nbytes for a in hit if a is not None))
     return hit
 
 
-def shape_key(settings, p):
+def shape_key(settings, p, edits=True):
     """What the decoded shape depends on: the image (of a moving one, the frame shown) and the
-    §2 settings, and for a normal map the relief its shadows fall from (§6)."""
-    return (key_name(settings.image_shape), slot_frame(settings.id_data, "shape"),
+    §2 settings, and for a normal map the relief its shadows fall from (§6); `edits`: and how
+    many times the image was edited (state/edits.py)."""
+    img = settings.image_shape
+    return (key_name(img) if edits else img.name, slot_frame(settings.id_data, "shape"),
             repr(vars(p.shape)), p.shadows.relief)
+
+
+@dataclass
+class _Still:
+    """The newest decode of a still painting's shape: the next edit of its image decodes and
+    bakes again only what the edit changed (core/strokes.py, issue 41)."""
+    base: tuple                 # shape_key without the edits: what else it was decoded for
+    pixels: np.ndarray          # the image's pixels it was decoded from
+    decoded: tuple              # (normals, heights_px, slopes)
+    bakes: dict = field(default_factory=dict)  # light_key | bake values → t (whole size)
+    edit: tuple = None          # (the _Still before, normals' box, heights' box) or None
+
+
+# material name → _Still. Paintings up to STILL_PX pixels (a 4096² one keeps ~0.6 GB: the
+# pixels, the decode and its bakes, twice while an edit is baked)
+_STILL = {}
+STILL_PX = 4096 * 4096
+
+
+def _decoded_after_edit(mat, data, p):
+    """The shape decoded again where its image's edit changed it, from the decode before
+    (pipeline.shape_normals_edited), or None: decode it whole."""
+    last = _STILL.get(mat.name)
+    if last is None or last.base != shape_key(mat.dynamic_painting, p, edits=False):
+        return None
+    box = changed_box(last.pixels, data.pixels)
+    if box is None and last.pixels.shape == data.pixels.shape:
+        return last.decoded                        # (an update that changed nothing)
+    edited = None if box is None else shape_normals_edited(data, p, last.decoded, box)
+    if edited is None:
+        return None
+    decoded, normals_box, heights_box = edited
+    last.edit = None                               # (one edit back is all a bake reads)
+    _STILL[mat.name] = _Still(last.base, data.pixels, decoded,
+                              edit=(last, normals_box, heights_box))
+    return decoded
+
+
+def _remember(mat, data, p, decoded):
+    """Keep a still painting's decode (and its bakes, bake_shadows) for its next edit."""
+    last = _STILL.get(mat.name)
+    if last is not None and last.decoded is decoded:
+        return
+    if data.pixels.shape[0] * data.pixels.shape[1] > STILL_PX:
+        _STILL.pop(mat.name, None)
+        return
+    _STILL[mat.name] = _Still(shape_key(mat.dynamic_painting, p, edits=False), data.pixels,
+                              decoded)
+
+
+def _bake_after_edit(mat, shape, light, p):
+    """The light's cos-θ term, baked again only where the last edit of the shape image
+    changed what its rays read (pipeline.shadow_term_edited), from its bake before the
+    edit; None where there is none to start from or the level bakes whole."""
+    still = _STILL.get(mat.name)
+    if still is None or still.decoded is not shape or still.edit is None:
+        return None
+    before, normals_box, heights_box = still.edit
+    t_before = before.bakes.get(light_key(light) + repr(bake_values(p)))
+    if t_before is None:
+        return None
+    return shadow_term_edited(*shape, light, p, t_before, normals_box, heights_box)
+
+
+def _keep_bake(mat, shape, light, p, t):
+    still = _STILL.get(mat.name)
+    if still is not None and still.decoded is shape:
+        still.bakes[light_key(light) + repr(bake_values(p))] = t
 
 
 # material name → BoundedCache: bake key → t, the bakes of a moving shape (§16). A loop that
@@ -90,12 +173,14 @@ def forget_cached_shapes():
     """Another file is open: cached shapes may belong to same-named paintings of the last one."""
     _SHAPES.clear()
     _BAKES.clear()
+    _STILL.clear()
 
 
 def forget_cached_shape(mat):
     """The painting's shape image was replaced: decode it (and bake it) again."""
     _SHAPES.pop(mat.name, None)
     _BAKES.pop(mat.name, None)
+    _STILL.pop(mat.name, None)
 
 
 def light_bakes(mat, depsgraph=None, p=None):
@@ -141,11 +226,14 @@ def bake_shadows(mat, scene, depsgraph=None, force=True, progress=None, p=None):
     due = [i for i, t in enumerate(results) if t is None]
     if due:
         check_bake_memory(mat, p, [todo[i][1] for i in due])
-        n, z_px, slopes = bake_shape(mat, p, fresh=force)
+        shape = bake_shape(mat, p, fresh=force)
     for j, i in enumerate(due):
         part = None if progress is None else \
             (lambda f, j=j: progress((j + f) / len(due)))     # noqa: E731
-        results[i] = shadow_term(n, z_px, slopes, todo[i][1], p, progress=part)
+        light = todo[i][1]
+        t = _bake_after_edit(mat, shape, light, p)
+        results[i] = t if t is not None else shadow_term(*shape, light, p, progress=part)
+        _keep_bake(mat, shape, light, p, results[i])
     ms = (time.perf_counter() - t_start) * 1000
     if ms > 2000:      # long bakes (huge images, reference quality) say what they did
         w, h = painting_size(mat)

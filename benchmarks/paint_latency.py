@@ -1,0 +1,149 @@
+"""Painting on the shape: from a stroke's edit to updated shading and shadows (issue 41).
+
+The built-in test painting (a 16-bit height map) at each --sizes, lit by its sun, built in
+Blender as Add builds it. A dab of radius 32 px (a soft cone, 0.05 of the height) is painted
+into the shape image's pixels, then `image.update_tag()` and `view_layer.update()` — the
+headless contract (docs/addon.md): the time is that call's, from the edit to the painting's
+derived images and cos-θ image written back, with the shadows baked at
+  - draft: the live level while strokes come (the add-on's live bake runs this same decode
+    and bake in its worker) — goals ≤ 33 ms at 1024², ≤ 100 ms at 4096²;
+  - final: once the strokes stop — goal ≤ 1 s at 1024².
+Beside each, in the same run, the same edit with nothing kept from before it (the whole image
+decoded and baked again, as before issue 41): the incremental saving. After the dabs, the
+painting's cos-θ image is compared with a bake of the whole edited image: the incremental
+path must equal it (≤ 1e-6). Times are medians of --dabs dabs at random places.
+
+    .venv/bin/python benchmarks/paint_latency.py --sizes 1024 4096 --out docs/paint-latency.md
+"""
+import argparse
+import os
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+import bpy  # noqa: E402
+
+from report import command_line, publish  # noqa: E402
+
+from dynpaint_addon.blender import headless  # noqa: E402
+from dynpaint_addon.blender.bake import shadow_images  # noqa: E402
+from dynpaint_addon.blender.material.sync import update  # noqa: E402
+from dynpaint_addon.inputs.recipe import load_recipe  # noqa: E402
+from dynpaint_addon.inputs.testpainting import write_test_painting  # noqa: E402
+
+GOALS_MS = {("draft", 1024): 33.0, ("draft", 4096): 100.0, ("final", 1024): 1000.0}
+RADIUS, DEPTH = 32, 0.05
+
+
+class Canvas:
+    """The painting's shape image as numpy pixels, dabbed as a brush dabs it."""
+
+    def __init__(self, img, seed=0):
+        self.img = img
+        w, h = img.size
+        self.px = np.empty(w * h * img.channels, np.float32)
+        img.pixels.foreach_get(self.px)
+        self.px = self.px.reshape(h, w, img.channels)
+        self.rng = np.random.default_rng(seed)
+
+    def dab(self, radius=RADIUS, depth=DEPTH):
+        """A soft cone of `depth` at a random place (a stroke's dab), written to the image."""
+        h, w = self.px.shape[:2]
+        cy, cx = self.rng.integers(radius, h - radius), self.rng.integers(radius, w - radius)
+        r0, r1, c0, c1 = cy - radius, cy + radius + 1, cx - radius, cx + radius + 1
+        y, x = np.ogrid[r0:r1, c0:c1]
+        cone = np.clip(1 - np.hypot(x - cx, y - cy) / radius, 0, 1)[..., None]
+        part = self.px[r0:r1, c0:c1]
+        part[..., :3] = np.clip(part[..., :3] + depth * self.rng.choice((-1, 1)) * cone, 0, 1)
+        self.img.pixels.foreach_set(self.px.ravel())
+        self.img.update_tag()
+
+
+def painting(size, folder):
+    """The test painting at size², its sun only (a point light bakes whole: bake_edited)."""
+    recipe = load_recipe(write_test_painting(folder, size))
+    recipe.lights = [light for light in recipe.lights if light.kind == "sun"]
+    _, mat = headless.build_recipe_scene(recipe)
+    return mat
+
+
+def shadow_pixels(mat):
+    img = mat.dynamic_painting.lights[0].shadow
+    px = np.empty(len(img.pixels), np.float32)
+    img.pixels.foreach_get(px)
+    return px
+
+
+def edit_ms(canvas, whole):
+    """One dab and the update it causes → ms; whole: nothing kept from before the edit."""
+    canvas.dab()
+    if whole:
+        shadow_images._STILL.clear()
+    start = time.perf_counter()
+    bpy.context.view_layer.update()
+    return (time.perf_counter() - start) * 1000
+
+
+def measure(size, dabs):
+    """{level: (incremental ms, whole ms)}, and the largest |Δt| against a whole bake."""
+    with tempfile.TemporaryDirectory() as folder:
+        mat = painting(size, folder)
+        canvas = Canvas(mat.dynamic_painting.image_shape)
+        out = {}
+        for level in ("draft", "final"):
+            mat.dynamic_painting.shadows.quality = level
+            bpy.context.view_layer.update()
+            edit_ms(canvas, whole=False)           # the first edit keeps the decode
+            out[level] = tuple(float(np.median([edit_ms(canvas, whole) for _ in range(dabs)]))
+                               for whole in (False, True))
+        for _ in range(dabs):                      # then a run of edits, all incremental
+            edit_ms(canvas, whole=False)
+        incremental = shadow_pixels(mat)
+        shadow_images._STILL.clear()
+        update(mat, bpy.context.scene, rebake=True, force=True)
+        out["error"] = float(np.abs(incremental - shadow_pixels(mat)).max())
+    return out
+
+
+def goal(level, size, ms):
+    g = GOALS_MS.get((level, size))
+    if g is None:
+        return "reported"
+    return f"≤ {g:g} ms: {'met' if ms <= g else 'not met'}"
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--sizes", type=int, nargs="+", default=[1024])
+    ap.add_argument("--dabs", type=int, default=5)
+    ap.add_argument("--out", help="Markdown report")
+    args = ap.parse_args(argv)
+    lines = ["# Painting on the shape: stroke latency (issue 41)", "",
+             f"`{command_line(__file__, argv)}` — the built-in test painting (16-bit height "
+             f"map) lit by its sun; a dab of radius {RADIUS} px at a random place, then "
+             "`image.update_tag()` and `view_layer.update()`: the time from the edit to the "
+             "painting's derived and cos-θ images written back, median of "
+             f"{args.dabs} dabs. Whole: the same edit with nothing kept from before it (the "
+             "whole image decoded and baked again), same run. Machine: "
+             f"{os.cpu_count()} cores.", "",
+             "| size | level | incremental | whole | saving | goal |",
+             "|---|---|---|---|---|---|"]
+    errors = []
+    for size in args.sizes:
+        m = measure(size, args.dabs)
+        for level in ("draft", "final"):
+            inc, whole = m[level]
+            lines.append(f"| {size}² | {level} | {inc:.0f} ms | {whole:.0f} ms | "
+                         f"{whole / inc:.1f}× | {goal(level, size, inc)} |")
+        errors.append(f"{size}²: {m['error']:.1e}")
+    lines += ["", "Incremental = whole: the largest |Δt| between the cos-θ image after the "
+              f"dabs and a bake of the whole edited image: {', '.join(errors)} (goal ≤ 1e-6)."]
+    publish(lines, args.out)
+
+
+if __name__ == "__main__":
+    main()

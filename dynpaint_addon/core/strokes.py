@@ -1,0 +1,119 @@
+"""What a stroke changed (issue 41, docs/pipeline.md §2, §6): a box of pixels, the shape decoded
+again there, and the boxes the bake must look at again.
+
+A Texture Paint stroke changes a small box of an image. Decoding the whole shape again and
+baking every ray again costs the same for a dab as for a new image; here a height map's §2
+decode (pre-blur, central differences, the z_min rule) is redone in the box grown by what each
+step reads, and the boxes where the decoded shape really changed are handed to the bake
+(crossings.sun_cos_theta_edited re-traces only the rays that read them). Every step is local
+and reads the same pixels as the whole-image step, so the result is the whole decode's.
+
+Boxes are (r0, r1, c0, c1): rows r0 … r1 − 1, columns c0 … c1 − 1 of the image (row 0 at the
+bottom, §0).
+
+>>> import numpy as np
+>>> a = np.zeros((8, 8)); b = a.copy(); b[2, 5] = 1; b[3, 6] = 1
+>>> changed_box(a, b), grow((2, 4, 5, 7), 3, 8, 8)
+((2, 4, 5, 7), (0, 7, 2, 8))
+"""
+import numpy as np
+
+from .input_rules import ImageData
+from .sampling import gaussian_blur
+from .shape import normals_from_height_px
+
+
+def changed_box(before, after):
+    """The smallest box holding every pixel where `after` differs from `before` (any channel;
+    NaN = NaN), or None where nothing changed or the sizes differ (then everything did)."""
+    if before.shape != after.shape:
+        return None
+    h, w = before.shape[:2]
+    a, b = before.reshape(h, w, -1), after.reshape(h, w, -1)
+    # bit patterns: cheaper than float comparison, and a NaN left as it was is unchanged
+    view = {4: np.uint32, 8: np.uint64, 2: np.uint16}.get(a.dtype.itemsize)
+    if view is not None and a.flags.c_contiguous and b.flags.c_contiguous:
+        a, b = a.view(view), b.view(view)
+    diff = (a != b).any(axis=2)
+    rows = np.flatnonzero(diff.any(axis=1))
+    if rows.size == 0:
+        return None
+    cols = np.flatnonzero(diff[rows[0]:rows[-1] + 1].any(axis=0))
+    return int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
+
+
+def whole(h, w):
+    """The box of the whole image."""
+    return 0, h, 0, w
+
+
+def grow(box, margin, h, w):
+    """`box` grown by `margin` pixels on every side, inside an h × w image (None stays None)."""
+    if box is None:
+        return None
+    r0, r1, c0, c1 = box
+    m = int(np.ceil(margin))
+    return max(0, r0 - m), min(h, r1 + m), max(0, c0 - m), min(w, c1 + m)
+
+
+def union(*boxes):
+    """The smallest box holding every box given (None: none given)."""
+    boxes = [b for b in boxes if b is not None]
+    if not boxes:
+        return None
+    r0, r1, c0, c1 = zip(*boxes)
+    return min(r0), max(r1), min(c0), max(c1)
+
+
+def inside(box, rows, cols):
+    """Whether pixels (rows, cols) lie in `box` (False everywhere for None)."""
+    if box is None:
+        return np.zeros(np.shape(rows), bool)
+    r0, r1, c0, c1 = box
+    return (rows >= r0) & (rows < r1) & (cols >= c0) & (cols < c1)
+
+
+def _part(a, box):
+    r0, r1, c0, c1 = box
+    return a[r0:r1, c0:c1]
+
+
+def height_shape_edited(shape, before, box, height_scale, preblur_px, z_min):
+    """A height map's decoded shape (§2: core.pipeline.shape_normals) after its image
+    (`shape`, an ImageData) changed in `box`, from the shape decoded before: → ((normals, heights_px, None),
+    normals' changed box, heights' changed box) — new arrays (a bake in flight keeps reading
+    the old ones), equal to decoding the whole edited image.
+
+    The pre-blur reads 3σ around each pixel and the gradient one pixel more, so heights are
+    redone in the box grown by 3σ, normals in that grown by 1, each from the grey image
+    grown by what it reads; where a box meets the image's edge the image's own edge rule
+    applies, as in the whole decode. The changed boxes are where the new arrays differ.
+    """
+    normals, heights, _ = before
+    h, w = heights.shape
+    dtype = heights.dtype
+    radius = max(1, int(np.ceil(3 * preblur_px))) if preblur_px > 0 else 0
+    z_box = grow(box, radius, h, w)
+    n_box = grow(z_box, 1, h, w)
+    z_read = grow(n_box, 1, h, w)           # heights the gradient of n_box reads …
+    g_read = grow(z_read, radius, h, w)     # … and the grey pixels their blur reads
+    g = ImageData(_part(shape.pixels, g_read), shape.bits).grey().astype(dtype, copy=False)
+    g = np.where(np.isfinite(g), g, 0).astype(dtype, copy=False)
+    z = gaussian_blur(g, preblur_px, "extend") * dtype.type(height_scale * w)
+    # z over z_read, cut out of the blurred window (its own edges are not the image's)
+    z = z[z_read[0] - g_read[0]:z_read[1] - g_read[0], z_read[2] - g_read[2]:z_read[3] - g_read[2]]
+    n = normals_from_height_px(z, z_min)
+    heights_after, normals_after = heights.copy(), normals.copy()
+    zr0, zc0 = z_read[0], z_read[2]
+    _part(heights_after, z_box)[...] = z[z_box[0] - zr0:z_box[1] - zr0, z_box[2] - zc0:z_box[3] - zc0]
+    _part(normals_after, n_box)[...] = n[n_box[0] - zr0:n_box[1] - zr0, n_box[2] - zc0:n_box[3] - zc0]
+    return ((normals_after, heights_after, None),
+            _offset(changed_box(_part(normals, n_box), _part(normals_after, n_box)), n_box),
+            _offset(changed_box(_part(heights, z_box), _part(heights_after, z_box)), z_box))
+
+
+def _offset(box, within):
+    """A box found in the part `within` of an image, in the image's rows and columns."""
+    if box is None:
+        return None
+    return box[0] + within[0], box[1] + within[0], box[2] + within[2], box[3] + within[2]
