@@ -29,11 +29,9 @@ import bpy  # noqa: E402
 
 from report import command_line, publish  # noqa: E402
 
-from dynpaint_addon.blender import headless  # noqa: E402
 from dynpaint_addon.blender.bake import shadow_images  # noqa: E402
 from dynpaint_addon.blender.material.sync import update  # noqa: E402
-from dynpaint_addon.inputs.recipe import load_recipe  # noqa: E402
-from dynpaint_addon.inputs.testpainting import write_test_painting  # noqa: E402
+from testkit.sun_painting import image_pixels, sun_painting  # noqa: E402
 
 GOALS_MS = {("draft", 1024): 33.0, ("draft", 4096): 100.0, ("final", 1024): 1000.0}
 RADIUS, DEPTH = 32, 0.05
@@ -44,10 +42,7 @@ class Canvas:
 
     def __init__(self, img, seed=0):
         self.img = img
-        w, h = img.size
-        self.px = np.empty(w * h * img.channels, np.float32)
-        img.pixels.foreach_get(self.px)
-        self.px = self.px.reshape(h, w, img.channels)
+        self.px = image_pixels(img)
         self.rng = np.random.default_rng(seed)
 
     def dab(self, radius=RADIUS, depth=DEPTH):
@@ -61,14 +56,6 @@ class Canvas:
         part[..., :3] = np.clip(part[..., :3] + depth * self.rng.choice((-1, 1)) * cone, 0, 1)
         self.img.pixels.foreach_set(self.px.ravel())
         self.img.update_tag()
-
-
-def painting(size, folder):
-    """The test painting at size², its sun only (a point light bakes whole: bake_edited)."""
-    recipe = load_recipe(write_test_painting(folder, size))
-    recipe.lights = [light for light in recipe.lights if light.kind == "sun"]
-    _, mat = headless.build_recipe_scene(recipe)
-    return mat
 
 
 def shadow_pixels(mat):
@@ -91,7 +78,7 @@ def edit_ms(canvas, whole):
 def measure(size, dabs):
     """{level: (incremental ms, whole ms)}, and the largest |Δt| against a whole bake."""
     with tempfile.TemporaryDirectory() as folder:
-        mat = painting(size, folder)
+        mat = sun_painting(folder, size)
         canvas = Canvas(mat.dynamic_painting.image_shape)
         out = {}
         for level in ("draft", "final"):

@@ -16,6 +16,7 @@ sys.path.insert(0, DOCS)
 
 from make_docs import sample_images, side_by_side              # noqa: E402
 
+from dynpaint_addon import params                               # noqa: E402
 from dynpaint_addon.core.colour import linear_to_srgb           # noqa: E402
 from dynpaint_addon.core.inflate import inflate                 # noqa: E402
 from dynpaint_addon.core.input_rules import ImageData  # noqa: E402
@@ -28,6 +29,7 @@ from dynpaint_addon.core.pipeline import render, shape_normals  # noqa: E402
 from dynpaint_addon.inputs.imageio import write_png                    # noqa: E402
 from dynpaint_addon.shapes.maker import (encode_normals, normals_of_height,  # noqa: E402
                                           with_effects)
+from dynpaint_addon.shapes.painted import NEUTRAL, figure_relief, painted_height  # noqa: E402
 
 PX = 192
 LOW_SUN = Light("sun", (-0.8, 0.35, 0.42), (1.0, 0.95, 0.85), 1.0, "Low sun")
@@ -109,6 +111,24 @@ def effects_glass():
     return tiles
 
 
+def painted_in_layers():
+    """Paint Shape (shapes/painted.py): a figure mask painted as an artist would (a body and a
+    head), a height layer with two strokes (one raising, one lowering), the shape they make
+    (the mask inflated with a bevel, the layer added) and its render under a low sun."""
+    y, x = (np.mgrid[0:PX, 0:PX] + 0.5) / PX
+    mask = (((x - 0.5) / 0.3) ** 2 + ((y - 0.36) / 0.24) ** 2 < 1) | \
+        (np.hypot(x - 0.5, y - 0.74) < 0.14)
+    layer = np.full((PX, PX), NEUTRAL)
+    layer += 0.35 * np.exp(-((y - 0.3 - 0.3 * (x - 0.5)) / 0.02) ** 2) * (np.abs(x - 0.5) < 0.2)
+    layer -= 0.35 * np.exp(-(np.hypot(x - 0.56, y - 0.76) / 0.03) ** 2)
+    height = painted_height(None, figure_relief(mask, height=0.6, bevel_width=0.02,
+                                                bevel_height=0.01), layer, 0.03)
+    p = params.defaults()
+    p.shape.kind, p.shape.height_scale, p.shadows.enabled = "height", 1.0, True
+    made = _black_and_white(ImageData(height.astype(np.float32), 32), (PX, PX))
+    return [_grey(mask), _grey(layer, 1.0), _grey(height), _lit(render(made, [LOW_SUN], p).rgba)]
+
+
 def integrated_portrait():
     """Integrate: the portrait's true height, the height integrated from its normal map, and
     the Penrose stairs' residual (the part of their normals no height field has)."""
@@ -185,6 +205,7 @@ def main(out=DOCS):
     tiles, top = inflated_glass()
     inflated = _save(out, "inflate.png", tiles)
     effects = _save(out, "effects.png", effects_glass())
+    painted = _save(out, "painted.png", painted_in_layers())
     tiles, portrait_err, portrait_share, stairs_share = integrated_portrait()
     integrated = _save(out, "integrate.png", tiles)
     tiles, (err_integrated, err_along) = relief_shadows()
@@ -243,7 +264,23 @@ linear: a ramp), `--smoothing`, `--structure TILE.png --structure-scale --struct
 the bevel comes first, then the smoothing, then the structure (which smoothing would blur
 away). The figure can be any painted mask (`--mask-channel`: white on black, or one colour
 channel) and the detail any painting (`--detail-image`). In the add-on's Make Shape: the
-bevel and the smoothing (a structure image on the command line for now).
+bevel and the smoothing; its Paint Shape panel (below) takes them all, a structure image too.
+
+## Paint it in Blender (*Paint Shape*)
+
+{painted}
+
+In the add-on, the painting's **Paint Shape** panel › *Paint Shape* gives the painting two
+layers, packed in the .blend, and enters Texture Paint on its plane: a **figure mask** (paint
+white where the figure is: it is inflated part by part, with the panel's profile, height,
+bevel, smoothing, detail and structure) and a **height layer** (grey is the canvas: lighter
+raises, darker lowers, by *Height Layer Strength* image widths at white). The shape the
+painting reads is made from them — plus its old shape image, kept as the base — and the
+painting stays lit while you paint: each stroke bakes a draft, then final once the strokes
+stop, re-baking only the rays the stroke changed. Above, left to right: a mask painted as a
+body and a head, a height layer with one raised stroke and one lowered dab, the shape they
+make (a 0.02-wide bevel) and its render under a low sun. *Done Painting* leaves Texture Paint;
+*Export* writes the made shape as the recipe's shape image and the layers beside it.
 
 ## Integrate a normal map into heights
 

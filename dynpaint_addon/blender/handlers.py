@@ -12,6 +12,7 @@
   settings and light positions undo brought back.
 - render_pre: a painting that lost an optional image (deleted) is rebuilt without it; deleted
   planes or images and missing files are reported (one line each), never raised.
+- save_pre: a painted shape's layers (Paint Shape) are packed again where strokes changed them.
 - load_post: a saved .blend keeps the node tree, drivers and settings but not the pixels of the
   images numpy made (derived copies, shadow bakes: generated images): they are remade when
   the file opens, so a reopened file renders the same pixels as before it was saved.
@@ -33,6 +34,7 @@ from .state.edits import note_edited
 from .state.frame_sampling import only_reading_lights
 from .state.frames import forget_frames, moves
 from .state.images import forget_frames_made
+from .state.painted import forget_painted, painted_layers, watched_images
 from .state.settings import channel_images
 from .state.status import problems, report
 
@@ -64,7 +66,8 @@ def on_depsgraph_update(scene, depsgraph):
     if not images and not watched:
         return
     # each painting's input images among them (the images numpy makes are the add-on's own)
-    mine = {mat: images & {img.name for img in channel_images(mat.dynamic_painting).values()}
+    mine = {mat: images & {img.name for img in (*channel_images(mat.dynamic_painting).values(),
+                                                 *watched_images(mat.dynamic_painting).values())}
             for mat in paintings(scene)}
     edited = set().union(*mine.values())
     if not edited and not watched:
@@ -133,6 +136,7 @@ def remake_generated_images(*_):
     forget_cached_shapes()
     forget_frames()
     forget_frames_made()
+    forget_painted()
     forget_scenes()
     paintings_ = [m for m in bpy.data.materials if m.dynamic_painting.is_painting]
     if paintings_ and getattr(bpy.context, "view_layer", None) is not None:
@@ -148,7 +152,21 @@ def remake_generated_images(*_):
             report(mat, exc)
 
 
+@persistent
+def pack_painted_layers(*_):
+    """Before a save: the layers of painted shapes that strokes changed are packed again (a
+    packed image saves the pixels it was packed with: the strokes would be lost)."""
+    for mat in bpy.data.materials:
+        for img in painted_layers(mat.dynamic_painting):
+            try:
+                if img.packed_file is not None and img.is_dirty:
+                    img.pack()
+            except RuntimeError as exc:          # never stop a save
+                report(mat, f"could not pack {img.name}: {exc}")
+
+
 HANDLERS = ((bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),
+            (bpy.app.handlers.save_pre, pack_painted_layers),
             (bpy.app.handlers.frame_change_post, on_frame_change),
             (bpy.app.handlers.load_post, remake_generated_images),
             (bpy.app.handlers.render_pre, on_render_pre),

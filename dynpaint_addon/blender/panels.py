@@ -9,11 +9,13 @@ import bpy
 
 from .. import params
 from ..looks import LOOKS
+from ..shapes.painted import OPTIONS as PAINTED_OPTIONS
 from .bake.layers import layer_parent
 from .bake.live_bake import LIVE
 from .operators.add import draw_add_menu
 from .operators.common import active_painting
 from .state.frames import painting_frames
+from .state.painted import is_painted
 from .state.settings import channel_images
 from .state.status import errors_of, problems
 
@@ -72,6 +74,34 @@ def _draw_images(layout, s):
         if img is not None:
             row.operator("dynpaint.image_remove", text="", icon="X").channel = channel
     layout.operator("dynpaint.make_shape", icon="MOD_SMOOTH")
+
+
+def _draw_paint_shape(layout, context, mat):
+    """Paint Shape (operators/paint_shape.py): the button, then the layers, which one Texture
+    Paint paints, the height layer's strength and the figure's relief."""
+    s = mat.dynamic_painting
+    painting = context.object is not None and context.object.mode == "TEXTURE_PAINT"
+    if painting and is_painted(s):
+        layout.operator("dynpaint.paint_shape_done", icon="CHECKMARK")
+    else:
+        layout.operator("dynpaint.paint_shape", icon="BRUSH_DATA")
+    if not is_painted(s):
+        layout.label(text="Paint the shape: a figure mask and a height layer", icon="INFO")
+        return
+    pt = s.painted
+    layout.row().prop(pt, "layer", expand=True)
+    col = layout.column()
+    col.use_property_split = True
+    col.prop(pt, "strength", text="Height Layer Strength")
+    for name in ("mask", "height_layer", "base"):
+        col.prop(pt, name)
+    if pt.base is not None:
+        col.prop(pt, "base_scale")
+    col.label(text="Figure")
+    for option in PAINTED_OPTIONS:
+        if option.name == "structure_scale":
+            col.prop(pt, "structure")
+        col.prop(pt, option.name)
 
 
 def _draw_frame_params(layout, group):
@@ -209,6 +239,8 @@ def _make_panels(space, region, context_name, category, prefix):
 
     sub("images", "Images", lambda self, context: _draw_images(
         self.layout, active_painting(context).dynamic_painting))
+    sub("paint_shape", "Paint Shape", lambda self, context: _draw_paint_shape(
+        self.layout, context, active_painting(context)))
     sub("frames", "Frames", lambda self, context: _draw_frames(
         self.layout, context, active_painting(context)))
     sub("lights", "Lights", lambda self, context: _draw_lights(

@@ -10,7 +10,10 @@ from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProp
                        FloatVectorProperty, IntProperty, PointerProperty, StringProperty)
 
 from .. import params
+from ..shapes.painted import OPTIONS as PAINTED_OPTIONS
 from .material.sync import on_setting_changed
+from .state.painted import show_layer
+from .state.shape_options import option_property
 
 CHOICE_LABELS = {"baked": "Baked (numpy)", "osl": "In-shader (Cycles OSL)",
                  "art": "Art-directed", "cos": "1 − cos θ", "sin": "sin θ",
@@ -107,6 +110,53 @@ class DYNPAINT_PG_derived(bpy.types.PropertyGroup):
     key: StringProperty(description="The settings it was made with")
 
 
+def _set_canvas(self, context):
+    show_layer(self.id_data, context.scene)
+
+
+PAINTED_ANNOTATIONS = {
+    "made": PointerProperty(type=bpy.types.Image, name="Painted Shape",
+                            description="The shape image made from the layers (the painting's "
+                                        "shape image while it is painted)"),
+    "base": PointerProperty(type=bpy.types.Image, name="Base",
+                            description="The shape image before Paint Shape: its heights are "
+                                        "the made shape's floor (kept, never written)",
+                            update=_on_change("painted.base")),
+    "base_scale": FloatProperty(name="Base Relief", default=0.05, min=0.0, precision=4,
+                                description="Image widths of relief of the base's white",
+                                update=_on_change("painted.base_scale")),
+    "base_preblur": FloatProperty(default=0.0, min=0.0, options={"HIDDEN"}),
+    "mask": PointerProperty(type=bpy.types.Image, name="Figure Mask",
+                            description="Paint white where the figure is: it is inflated part "
+                                        "by part into the shape",
+                            update=_on_change("painted.mask")),
+    "height_layer": PointerProperty(type=bpy.types.Image, name="Height Layer",
+                                    description="Paint lighter to raise the shape, darker to "
+                                                "lower it (grey ½: the canvas)",
+                                    update=_on_change("painted.height_layer")),
+    "structure": PointerProperty(type=bpy.types.Image, name="Structure",
+                                 description="A tileable image whose luminance is added to the "
+                                             "figure as height detail (a fabric, a canvas)",
+                                 update=_on_change("painted.structure")),
+    "strength": FloatProperty(name="Strength", default=0.05, soft_min=-0.25, soft_max=0.25,
+                              precision=4, step=0.1, subtype="DISTANCE",
+                              description="Image widths the height layer raises the shape "
+                                          "where it is painted white (lowers where black)",
+                              update=_on_change("painted.strength")),
+    "layer": EnumProperty(name="Paint On", items=[
+        ("height_layer", "Height", "Paint the height layer: lighter raises, darker lowers"),
+        ("mask", "Figure Mask", "Paint where the figure is (white): it is inflated")],
+        description="Which layer Texture Paint paints", update=_set_canvas),
+    "key": StringProperty(options={"HIDDEN"}),
+    **{o.name: option_property(o, update=_on_change("painted." + o.name))
+       for o in PAINTED_OPTIONS},
+}
+DYNPAINT_PG_painted = type("DYNPAINT_PG_painted", (bpy.types.PropertyGroup,),
+                           {"__annotations__": PAINTED_ANNOTATIONS,
+                            "__doc__": "Dynamic Painting: a shape painted in layers (Paint "
+                                       "Shape)"})
+
+
 SETTINGS_ANNOTATIONS = {
     "is_painting": BoolProperty(default=False, options={"HIDDEN"}),
     "plane": PointerProperty(type=bpy.types.Object, name="Plane",
@@ -126,6 +176,7 @@ SETTINGS_ANNOTATIONS = {
                     "least a pixel). pipeline.md §15",
         update=_on_change("layer.thickness")),
     "shadows_stale": BoolProperty(default=False, options={"HIDDEN"}),
+    "painted": PointerProperty(type=DYNPAINT_PG_painted),
     **{f"image_{c}": _image_pointer(c) for c in params.CHANNELS},
     **{s: PointerProperty(type=cls) for s, cls in zip(params.SECTIONS, SECTION_CLASSES)},
     "frames": PointerProperty(type=FRAMES_CLASS),
@@ -136,7 +187,8 @@ DYNPAINT_PG_settings = type("DYNPAINT_PG_settings", (bpy.types.PropertyGroup,),
                             {"__annotations__": SETTINGS_ANNOTATIONS,
                              "__doc__": "Dynamic Painting settings of a material"})
 
-CLASSES = (*SECTION_CLASSES, FRAMES_CLASS, DYNPAINT_PG_light, DYNPAINT_PG_derived, DYNPAINT_PG_settings)
+CLASSES = (*SECTION_CLASSES, FRAMES_CLASS, DYNPAINT_PG_light, DYNPAINT_PG_derived,
+           DYNPAINT_PG_painted, DYNPAINT_PG_settings)
 
 
 def register():

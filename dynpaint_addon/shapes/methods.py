@@ -113,7 +113,8 @@ OPTIONS = (
     O("mask_channel", ("inflate",), MASK_CHANNELS, "auto", "what of IMAGE is the figure (auto: "
       "its alpha, else a painted mask)", where="cli"),
     O("detail", ("inflate",), float, 0.0, "Emboss the painting's luminance: image widths of "
-      "relief per unit of luminance (0.005–0.02 is subtle; 0 = none)", min=0.0, max=0.1),
+      "relief per unit of luminance (0.005–0.02 is subtle; 0 = none; negative: the dark "
+      "parts stand out instead)", min=-0.1, max=0.1),
     O("detail_image", ("inflate",), "file", help="the painting whose luminance is embossed "
       "(default IMAGE)", where="cli"),
     O("detail_blur", ("inflate",), float, 0.002, "Blur of the embossed luminance (image widths)",

@@ -8,11 +8,14 @@ bpy = pytest.importorskip("bpy")
 from dynpaint_addon import blender  # noqa: E402
 from dynpaint_addon.blender.bake import live_bake, shadow_images  # noqa: E402
 from dynpaint_addon.blender.bake.shadow_images import light_bakes, light_key, stale_lights  # noqa: E402
+from dynpaint_addon.blender.material.sync import update  # noqa: E402
+from dynpaint_addon.blender.state.edits import note_edited  # noqa: E402
 from dynpaint_addon.blender.state.lights import painting_frame_light  # noqa: E402
 from dynpaint_addon.blender.state.settings import settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import shadow_term, shape_normals  # noqa: E402
 from dynpaint_addon.inputs.imageio import image_data_from_blender  # noqa: E402
 from dynpaint_addon.inputs.painting_frames import BoundedCache  # noqa: E402
+from testkit.sun_painting import image_pixels, sun_painting  # noqa: E402
 
 from parity_recipes import write_images  # noqa: E402
 
@@ -126,3 +129,32 @@ def test_live_level_keeps_within_the_budget(painting, monkeypatch):
     move(2.1)
     assert [q for q, _ in live.latencies[-2:]] == ["draft", "preview"]
     assert np.abs(shadow_pixels(item) - expected(painting, "preview")).max() < 1e-6
+
+
+def test_a_live_stroke_bakes_drafts_then_a_final_re_traced_from_the_final_before_it(
+        tmp_path, monkeypatch):
+    """Issue 41, live: dabs on a 512² height map while the UI is up (each an edit seen by the
+    handler: the image's version bumped, a draft bake requested), then the final once they
+    stop. The final starts from the final before the stroke and re-traces the boxes of all
+    the dabs together (no whole bake); it equals a whole bake of the edited image."""
+    mat = sun_painting(tmp_path, 512)
+    img = mat.dynamic_painting.image_shape
+    px = image_pixels(img)
+    live = live_bake.LiveBake()
+    y, x = np.ogrid[0:512, 0:512]
+    for cx in (150, 190, 230):                  # a stroke: three dabs along a line
+        px[..., :3] += 0.1 * np.clip(1 - np.hypot(x - cx, y - 260) / 20, 0, 1)[..., None]
+        img.pixels.foreach_set(px.ravel())
+        note_edited([img.name])
+        live.request(mat, bpy.context.scene, quality="draft")
+        assert live.wait() == 1
+    whole_bake = shadow_images.shadow_term
+    monkeypatch.setattr(shadow_images, "shadow_term", lambda *a, **k: 1 / 0)
+    live.request(mat, bpy.context.scene, quality="final")
+    assert live.wait() == 1
+    monkeypatch.setattr(shadow_images, "shadow_term", whole_bake)
+    item = mat.dynamic_painting.lights[0]
+    incremental = shadow_pixels(item)
+    shadow_images.forget_cached_shape(mat)
+    update(mat, bpy.context.scene, rebake=True, force=True)
+    assert np.abs(incremental - shadow_pixels(item)).max() <= 1e-6

@@ -22,11 +22,11 @@ import numpy as np
 
 import bpy
 
-from ...core.pipeline import shadow_term
 from ...core.shadow import BakeCancelled
 from ..state.settings import settings_to_params
 from ..state.status import report
-from .shadow_images import bake_shape, kept_bake, light_bakes, write_shadow
+from .shadow_images import (bake_light, bake_shape, edit_start, keep_bake, kept_bake,
+                            light_bakes, write_shadow)
 
 DEBOUNCE_S = 0.3
 TIMER_S = 0.01          # polls a queue while a bake is due: cheap, and a small part of the budget
@@ -85,9 +85,10 @@ class LiveBake:
                 write_shadow(mat, item, t, key)
             return gen
         shape = bake_shape(mat, p)
+        starts = [edit_start(mat, shape, light, p) for light in lights]
         budget = max((LIVE_BUDGET_MS[light.kind] for light in lights), default=0.0)
-        job = (name, gen, quality, [i.object.name for i in items], lights, keys, shape, p,
-               budget, time.perf_counter())
+        job = (name, gen, quality, [i.object.name for i in items], lights, keys, shape,
+               starts, p, budget, time.perf_counter())
         thread = threading.Thread(target=self._run, args=job, daemon=True)
         self.threads = [t for t in self.threads if t.is_alive()] + [thread]
         thread.start()
@@ -100,7 +101,7 @@ class LiveBake:
         applied = 0
         while True:
             try:
-                name, gen, quality, names, keys, results, budget, t_request = \
+                name, gen, quality, names, keys, results, budget, t_request, kept = \
                     self.results.get_nowait()
             except queue.Empty:
                 return applied
@@ -111,6 +112,9 @@ class LiveBake:
                 if item.object is not None and item.object.name in names:
                     k = names.index(item.object.name)
                     write_shadow(mat, item, results[k], keys[k])
+            shape, lights, p = kept
+            for light, t in zip(lights, results):   # the next edit starts from these
+                keep_bake(mat, shape, light, p, t)
             ms = (time.perf_counter() - t_request) * 1000
             self.latencies.append((quality, ms))
             del self.latencies[:-50]
@@ -146,11 +150,13 @@ class LiveBake:
         return self.apply()
 
     # -- worker thread ------------------------------------------------------------------
-    def _run(self, name, gen, quality, names, lights, keys, shape, p, budget, t_request):
-        n, z, slopes = shape
+    def _run(self, name, gen, quality, names, lights, keys, shape, starts, p, budget,
+             t_request):
         cancel = lambda: self.generation.get(name) != gen   # noqa: E731
         try:
-            results = [shadow_term(n, z, slopes, light, p, cancel=cancel) for light in lights]
+            # an edit's: only the rays that read what the strokes changed since (bake_light)
+            results = [bake_light(shape, light, p, cancel=cancel, start=start)
+                       for light, start in zip(lights, starts)]
         except BakeCancelled:
             self.superseded += 1
             return
@@ -158,7 +164,7 @@ class LiveBake:
             report(name, f"live bake failed, the last good shadows are kept: {exc}")
             return
         self.results.put((name, gen, quality, names, keys, [np.asarray(r) for r in results],
-                          budget, t_request))
+                          budget, t_request, (shape, lights, p)))
 
 
 LIVE = LiveBake()

@@ -9,7 +9,7 @@ import numpy as np
 from ... import params
 from ...core.pipeline import (shadow_term, shadow_term_edited, shape_normals,
                               shape_normals_edited)
-from ...core.strokes import changed_box
+from ...core.strokes import changed_box, union
 from ...inputs import memory
 from ...inputs.imageio import file_channels
 from ...inputs.painting_frames import BoundedCache
@@ -94,14 +94,22 @@ class _Still:
     base: tuple                 # shape_key without the edits: what else it was decoded for
     pixels: np.ndarray          # the image's pixels it was decoded from
     decoded: tuple              # (normals, heights_px, slopes)
-    bakes: dict = field(default_factory=dict)  # light_key | bake values → t (whole size)
-    edit: tuple = None          # (the _Still before, normals' box, heights' box) or None
+    bakes: dict = field(default_factory=dict)  # bake_slot → t, baked from this decode
+    # bake_slot → (t, normals' box, heights' box): the newest bake of an earlier decode and
+    # the boxes changed since (a live stroke bakes drafts; its final starts from the final
+    # before the stroke, the boxes of all its dabs together)
+    since: dict = field(default_factory=dict)
 
 
-# material name → _Still. Paintings up to STILL_PX pixels (a 4096² one keeps ~0.6 GB: the
-# pixels, the decode and its bakes, twice while an edit is baked)
+# material name → _Still. Paintings up to STILL_PX pixels (a 4096² one keeps ~0.5 GB: the
+# pixels and the decode, with a t per light and level)
 _STILL = {}
 STILL_PX = 4096 * 4096
+
+
+def bake_slot(light, p):
+    """What a bake of one decode depends on: the light's place and the bake's parameters."""
+    return light_key(light) + repr(bake_values(p))
 
 
 def _decoded_after_edit(mat, data, p):
@@ -116,15 +124,16 @@ def _decoded_after_edit(mat, data, p):
     edited = None if box is None else shape_normals_edited(data, p, last.decoded, box)
     if edited is None:
         return None
-    decoded, normals_box, heights_box = edited
-    last.edit = None                               # (one edit back is all a bake reads)
-    _STILL[mat.name] = _Still(last.base, data.pixels, decoded,
-                              edit=(last, normals_box, heights_box))
+    decoded, nb, hb = edited
+    since = {slot: (t, union(nb0, nb), union(hb0, hb))
+             for slot, (t, nb0, hb0) in last.since.items()}
+    since.update((slot, (t, nb, hb)) for slot, t in last.bakes.items())
+    _STILL[mat.name] = _Still(last.base, data.pixels, decoded, since=since)
     return decoded
 
 
 def _remember(mat, data, p, decoded):
-    """Keep a still painting's decode (and its bakes, bake_shadows) for its next edit."""
+    """Keep a still painting's decode (and its bakes, keep_bake) for its next edit."""
     last = _STILL.get(mat.name)
     if last is not None and last.decoded is decoded:
         return
@@ -135,24 +144,31 @@ def _remember(mat, data, p, decoded):
                               decoded)
 
 
-def _bake_after_edit(mat, shape, light, p):
-    """The light's cos-θ term, baked again only where the last edit of the shape image
-    changed what its rays read (pipeline.shadow_term_edited), from its bake before the
-    edit; None where there is none to start from or the level bakes whole."""
+def edit_start(mat, shape, light, p):
+    """(t, normals' box, heights' box): a bake of this light at p's level from before the
+    edits that made `shape` (the painting's newest decode), and what they changed — what
+    pipeline.shadow_term_edited starts from; None where there is none."""
     still = _STILL.get(mat.name)
-    if still is None or still.decoded is not shape or still.edit is None:
+    if still is None or still.decoded is not shape:
         return None
-    before, normals_box, heights_box = still.edit
-    t_before = before.bakes.get(light_key(light) + repr(bake_values(p)))
-    if t_before is None:
-        return None
-    return shadow_term_edited(*shape, light, p, t_before, normals_box, heights_box)
+    return still.since.get(bake_slot(light, p))
 
 
-def _keep_bake(mat, shape, light, p, t):
+def keep_bake(mat, shape, light, p, t):
+    """A bake of `shape` (the painting's newest decode): the next edit starts from it."""
     still = _STILL.get(mat.name)
     if still is not None and still.decoded is shape:
-        still.bakes[light_key(light) + repr(bake_values(p))] = t
+        still.bakes[bake_slot(light, p)] = t
+        still.since.pop(bake_slot(light, p), None)
+
+
+def bake_light(shape, light, p, cancel=None, progress=None, start=None):
+    """One light's cos-θ term of `shape` (§6): re-traced where the edits since `start`
+    (edit_start) changed what its rays read, else baked whole. Blender data is not read:
+    the live bake's worker calls it too."""
+    t = None if start is None else shadow_term_edited(*shape, light, p, *start)
+    return t if t is not None else shadow_term(*shape, light, p, cancel=cancel,
+                                               progress=progress)
 
 
 # material name → BoundedCache: bake key → t, the bakes of a moving shape (§16). A loop that
@@ -231,9 +247,9 @@ def bake_shadows(mat, scene, depsgraph=None, force=True, progress=None, p=None):
         part = None if progress is None else \
             (lambda f, j=j: progress((j + f) / len(due)))     # noqa: E731
         light = todo[i][1]
-        t = _bake_after_edit(mat, shape, light, p)
-        results[i] = t if t is not None else shadow_term(*shape, light, p, progress=part)
-        _keep_bake(mat, shape, light, p, results[i])
+        results[i] = bake_light(shape, light, p, progress=part,
+                                start=edit_start(mat, shape, light, p))
+        keep_bake(mat, shape, light, p, results[i])
     ms = (time.perf_counter() - t_start) * 1000
     if ms > 2000:      # long bakes (huge images, reference quality) say what they did
         w, h = painting_size(mat)

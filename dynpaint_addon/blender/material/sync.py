@@ -17,6 +17,7 @@ from ..bake.live_bake import LIVE, rendering
 from ..bake.shadow_images import bake_shadows, forget_cached_shape, stale_lights
 from ..state.frames import forget_frames
 from ..state.images import prepare_channel_image, update_derived_images
+from ..state.painted import update_painted_shape
 from ..state.painting_state import read_state
 from ..state.status import clear_errors, report
 from .tree import rebuild_tree, sync_light_items
@@ -85,6 +86,7 @@ def update(mat, scene=None, depsgraph=None, progress=None, bake="now", rebake=Fa
     every derived image and rebuild the tree as well.
     """
     scene = scene or bpy.context.scene
+    update_painted_shape(mat)               # a painted shape first: it is the shape image
     state = read_state(mat, scene)          # the settings, read once for the whole update
     warnings = update_derived_images(mat, state, force=force)
     sync_light_items(mat.dynamic_painting, state.lights)
@@ -123,5 +125,6 @@ def invalidate_generated(mat):
     s = mat.dynamic_painting
     for item in s.derived:
         item.key = ""
+    s.painted.key = ""           # a painted shape too: undo restores its layers' pixels
     for item in s.lights:
         item.bake_key = ""

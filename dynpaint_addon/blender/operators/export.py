@@ -8,26 +8,37 @@ from bpy_extras.io_utils import ExportHelper
 from ...inputs.recipe import Recipe, recipe_to_toml
 from ..state.frames import sequence_pattern
 from ..state.lights import painting_lights
+from ..state.painted import is_painted
 from ..state.settings import channel_images, frames_table, settings_to_params
 from .common import PaintingOperator, active_painting, run_and_report
 
 
+def _on_disk(img, folder, stem):
+    """The image's file, or its pixels written beside the recipe as `stem` (.exr for float
+    images) where it has none on disk (packed, generated, made)."""
+    src = bpy.path.abspath(img.filepath, library=img.library) if img.filepath else ""
+    if not src or img.packed_file is not None or not os.path.isfile(src):
+        src = os.path.join(folder, stem + (".exr" if img.is_float else ".png"))
+        img.save(filepath=src)  # writes the pixels; the image keeps its own source
+    return os.path.abspath(src)
+
+
 def export_recipe(mat, scene, path, only_changed=True):
-    """The painting as recipe text; images without a file on disk are written beside it."""
+    """The painting as recipe text; images without a file on disk are written beside it — a
+    painted shape's made image as the shape, and its layers (Paint Shape), so the painting
+    can be painted on elsewhere."""
     s = mat.dynamic_painting
     folder = os.path.dirname(os.path.abspath(path))
+    name = bpy.path.clean_name(mat.name)
     images = {}
     for channel, img in channel_images(s).items():
         pattern = sequence_pattern(img)      # §16: an image sequence is named by its pattern
-        if pattern is not None:
-            images[channel] = pattern
-            continue
-        src = bpy.path.abspath(img.filepath, library=img.library) if img.filepath else ""
-        if not src or img.packed_file is not None or not os.path.isfile(src):
-            ext = ".exr" if img.is_float else ".png"
-            src = os.path.join(folder, f"{bpy.path.clean_name(mat.name)}_{channel}{ext}")
-            img.save(filepath=src)  # writes the pixels; the image keeps its own source
-        images[channel] = os.path.abspath(src)
+        images[channel] = pattern if pattern is not None else \
+            _on_disk(img, folder, f"{name}_{channel}")
+    if is_painted(s):
+        for role, img in (("mask", s.painted.mask), ("height_layer", s.painted.height_layer)):
+            if img is not None:
+                _on_disk(img, folder, f"{name}_painted_{role}")
     recipe = Recipe(settings_to_params(s), painting_lights(mat, scene), images, mat.name, path,
                     frames=frames_table(s))
     return recipe_to_toml(recipe, folder, only_changed)

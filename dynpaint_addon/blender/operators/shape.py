@@ -6,7 +6,7 @@ again, one undo step. On a painting that moves (§16) each drawing gets its shap
 sheet whose cells follow the frames."""
 import bpy
 import numpy as np
-from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
+from bpy.props import EnumProperty
 
 from ...core.frames import SheetGrid
 from ...core.photometric import SIDES
@@ -19,6 +19,7 @@ from ..material.sync import batch, update
 from ..state.frames import frame_data, painting_frames
 from ..state.images import made_shape_image
 from ..state.settings import channel_images, params_to_settings, set_own_frames, settings_to_params
+from ..state.shape_options import option_property
 from .common import PaintingOperator, active_painting, run_and_report
 
 
@@ -51,20 +52,6 @@ def made_per_frame(mat, painting, method, p, values, progress):
                          f"{len(sequence)} frames ({grid.columns} × {grid.rows})"], mapping
 
 
-def blender_property(option):
-    """One row of shapes.methods.OPTIONS as an operator property."""
-    kw = {"name": option.ui_label, "description": option.help}
-    if option.kind is bool:
-        return BoolProperty(default=option.default, **kw)
-    if option.kind is float:
-        return FloatProperty(default=option.default, min=option.min, max=option.max,
-                             precision=option.precision, **kw)
-    if isinstance(option.kind, tuple):
-        return EnumProperty(items=[(c, c.replace("_", " ").title(), option.choice_help.get(c, ""))
-                                   for c in option.kind], default=option.default, **kw)
-    return StringProperty(subtype="FILE_PATH", **kw)
-
-
 class DYNPAINT_OT_make_shape(PaintingOperator, bpy.types.Operator):
     """Make the painting's shape image from what it has: inflate its silhouette, integrate its
     normal map into a height map, or take its height map's normals"""
@@ -75,7 +62,7 @@ class DYNPAINT_OT_make_shape(PaintingOperator, bpy.types.Operator):
     __annotations__ = {
         "method": EnumProperty(name="Method", items=[(k, METHODS[k].label, METHODS[k].help)
                                                      for k in SHAPE_MAKERS]),
-        **{o.name: blender_property(o) for o in OPTIONS if o.where in ("both", "addon")},
+        **{o.name: option_property(o) for o in OPTIONS if o.where in ("both", "addon")},
     }
 
     def invoke(self, context, event):

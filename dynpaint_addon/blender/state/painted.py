@@ -1,0 +1,189 @@
+"""A painting's shape painted in layers (issue 41, Paint Shape; shapes/painted.py).
+
+Paint Shape gives the painting two images of its size, packed in the .blend: a figure mask
+and a height layer. Its shape image becomes a made float height map (image widths), remade
+from the layers, the base (the shape image before Paint Shape, kept and never written) and
+the relief's settings whenever one of them changes: compared by key, as derived images are
+(sync.update calls update_painted_shape first, so a stroke's Image update, a setting and
+undo all land here). The mask's relief is kept while only the height layer changes, so a
+stroke on the height layer changes the made image in its box alone, and the decode and the
+bake follow incrementally (bake/shadow_images.py).
+"""
+import numpy as np
+
+from ...core.sampling import resample
+from ...core.shape import preblurred_height
+from ...inputs.imageio import image_data_from_blender
+from ...shapes.maker import linear_luminance
+from ...shapes.painted import NEUTRAL, OPTIONS, figure_relief, painted_height
+from .edits import key_name, note_edited
+from .images import made_shape_image
+
+LAYERS = ("mask", "height_layer")         # what the artist paints
+READ = ("base", "structure")              # what else the made shape reads
+
+
+def is_painted(settings):
+    """Whether the painting shows a painted shape (its shape image is the made one)."""
+    made = settings.painted.made
+    return made is not None and settings.image_shape == made
+
+
+def watched_images(settings):
+    """{role: image} of a painted shape's images whose edits remake it."""
+    if not is_painted(settings):
+        return {}
+    pt = settings.painted
+    return {r: getattr(pt, r) for r in (*LAYERS, *READ) if getattr(pt, r) is not None}
+
+
+def painted_layers(settings):
+    """The layer images of a painted shape (whether or not it is shown now)."""
+    pt = settings.painted
+    return [img for img in (getattr(pt, r) for r in LAYERS) if img is not None]
+
+
+def layer_image(name, size, value):
+    """A new layer: a float image of `size` (W, H) filled with `value`, packed (undo removes
+    it with the step that made it)."""
+    w, h = size
+    return made_shape_image(name, np.dstack([np.full((h, w), value, np.float32)] * 3
+                                            + [np.ones((h, w), np.float32)]))
+
+
+def new_layers(mat, size, figure=None):
+    """The figure mask (from `figure`, an (H, W) 0..1 array, else empty) and the height
+    layer (NEUTRAL) of a painting about to be painted → (mask, height layer)."""
+    mask = layer_image(f"{mat.name} figure mask", size, 0.0)
+    if figure is not None:
+        w, h = size
+        rgba = np.ones((h, w, 4), np.float32)
+        rgba[..., :3] = np.asarray(figure, np.float32)[..., None]
+        mask.pixels.foreach_set(rgba.ravel())
+    return mask, layer_image(f"{mat.name} height layer", size, NEUTRAL)
+
+
+def _grey(img, size):
+    """An image's grey (linear luminance of colour images), at `size`."""
+    data = image_data_from_blender(img)
+    w, h = size
+    grey = np.asarray(data.grey(), np.float32)
+    return grey if grey.shape == (h, w) else resample(grey, h, w)
+
+
+def option_values(painted):
+    return {o.name: getattr(painted, o.name) for o in OPTIONS}
+
+
+def _relief_key(settings):
+    pt = settings.painted
+    values = option_values(pt)
+    painting = settings.image_bright or settings.image_dark
+    return repr((key_name(pt.mask) if pt.mask else None, sorted(values.items()),
+                 key_name(painting) if values["detail"] and painting else None,
+                 key_name(pt.structure) if values["structure_strength"] and pt.structure
+                 else None))
+
+
+def _base_key(settings):
+    pt = settings.painted
+    return repr((key_name(pt.base) if pt.base else None, round(pt.base_scale, 7),
+                 round(pt.base_preblur, 4)))
+
+
+def painted_key(settings):
+    """What the made shape depends on: the relief's inputs, the base, the height layer and
+    its strength."""
+    pt = settings.painted
+    return repr((_relief_key(settings), _base_key(settings),
+                 key_name(pt.height_layer) if pt.height_layer else None,
+                 round(pt.strength, 7), tuple(pt.made.size)))
+
+
+# material name → (key, array): the mask's relief and the base heights, kept while only the
+# height layer changes
+_RELIEF, _BASE = {}, {}
+
+
+def _kept(cache, mat, key, make):
+    hit = cache.get(mat.name)
+    if hit is None or hit[0] != key:
+        hit = cache[mat.name] = (key, make())
+    return hit[1]
+
+
+def _relief(settings, size):
+    pt = settings.painted
+    w, h = size
+    if pt.mask is None:
+        return np.zeros((h, w))
+    values = option_values(pt)
+    painting = settings.image_bright or settings.image_dark
+    lum = None
+    if values["detail"] and painting is not None:
+        lum = linear_luminance(image_data_from_blender(painting))
+        lum = lum if lum.shape == (h, w) else resample(lum, h, w)
+    tile = linear_luminance(image_data_from_blender(pt.structure)) \
+        if values["structure_strength"] and pt.structure is not None else None
+    return figure_relief(_grey(pt.mask, size), lum, tile, **values)
+
+
+def _base(settings, size):
+    """The base's heights in image widths (its own §2 pre-blur and scale) and its alpha."""
+    pt = settings.painted
+    if pt.base is None:
+        return None, None
+    data = image_data_from_blender(pt.base)
+    w, h = size
+    grey = preblurred_height(data.grey().astype(np.float32),
+                             pt.base_preblur) * np.float32(pt.base_scale)
+    alpha = data.alpha()
+    if grey.shape != (h, w):
+        grey = resample(grey, h, w)
+        alpha = None if alpha is None else resample(alpha, h, w)
+    return grey, alpha
+
+
+def update_painted_shape(mat):
+    """Remake the made shape image where what it depends on changed (painted_key) → whether
+    it was remade. Its edit is noted (state/edits.py), so what is made from the shape image —
+    its derived images, the decode, the bakes — follows."""
+    s = mat.dynamic_painting
+    if not is_painted(s):
+        return False
+    pt = s.painted
+    key = painted_key(s)
+    if key == pt.key:
+        return False
+    size = tuple(pt.made.size)
+    relief = _kept(_RELIEF, mat, _relief_key(s), lambda: _relief(s, size))
+    base, alpha = _kept(_BASE, mat, _base_key(s), lambda: _base(s, size))
+    layer = _grey(pt.height_layer, size) if pt.height_layer is not None else None
+    z = painted_height(base, relief, layer, pt.strength)
+    rgba = np.empty(z.shape + (4,), np.float32)
+    rgba[..., :3] = z[..., None]
+    rgba[..., 3] = 1.0 if alpha is None else alpha
+    pt.made.pixels.foreach_set(rgba.ravel())
+    note_edited([pt.made.name])
+    pt.key = key
+    return True
+
+
+def show_layer(mat, scene):
+    """Texture Paint paints the layer the painting's `painted.layer` names (one image, not the
+    material's slots: the material shows the lit painting meanwhile)."""
+    pt = mat.dynamic_painting.painted
+    img = getattr(pt, pt.layer)
+    if img is not None:
+        paint = scene.tool_settings.image_paint
+        paint.mode = "IMAGE"
+        paint.canvas = img
+
+
+def forget_painted(mat=None):
+    """Another file is open (every painting), or a painting's layers were replaced."""
+    for cache in (_RELIEF, _BASE):
+        if mat is None:
+            cache.clear()
+        else:
+            cache.pop(mat.name, None)

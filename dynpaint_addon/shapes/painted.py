@@ -1,0 +1,67 @@
+"""A shape painted in layers (issue 41: the add-on's Paint Shape; docs/addon.md).
+
+The artist paints two images over the painting: a **figure mask** (white where the figure is)
+and a **height layer** (grey ½ is the canvas; lighter raises, darker lowers). The shape image
+the painting reads is made from them, in image widths:
+
+    height = base + relief(mask) + strength · (layer − ½)
+
+- base: the painting's own height map before Paint Shape (its §2 pre-blur and scale), or 0;
+- relief: the mask inflated part by part (core.inflate), its painting's luminance embossed
+  as detail, then the effects of shapes.maker.with_effects (bevel, smoothing, structure);
+- strength: image widths of relief for a layer painted from ½ to white.
+
+No bpy here: the add-on (blender/state/painted.py) keeps the relief while only the height
+layer changes, so a stroke on it changes the made image in the stroke's box alone (and the
+bake follows incrementally, core/strokes.py).
+
+>>> import numpy as np
+>>> mask = np.zeros((64, 64), bool); mask[16:48, 16:48] = True
+>>> layer = np.full((64, 64), 0.5); layer[0, 0] = 1.0
+>>> z = painted_height(None, figure_relief(mask), layer, 0.1)
+>>> round(float(z[0, 0]), 3), bool(z[32, 32] > 0.1), float(z[2, 2])
+(0.05, True, 0.0)
+"""
+import numpy as np
+
+from ..core.inflate import inflate
+from .maker import with_effects
+from .methods import OPTIONS as MAKE_SHAPE_OPTIONS
+
+NEUTRAL = 0.5        # the height layer's canvas: a grey both Add and Subtract brushes move
+MASK_LEVEL = 0.5     # a mask pixel at or above it is the figure
+
+# The relief's options: Make Shape › Inflate's (bevel, smoothing, detail, structure), without
+# the files the command line reads (the add-on gives images) and its mask channel
+OPTIONS = tuple(o for o in MAKE_SHAPE_OPTIONS if "inflate" in o.methods
+                and o.kind != "file" and o.name != "mask_channel")
+
+
+def defaults():
+    """{option name: default} of the relief."""
+    return {o.name: o.default for o in OPTIONS}
+
+
+def figure_relief(mask, luminance=None, structure_tile=None, **values):
+    """The figure's relief (H, W) in image widths: the mask (bool, or 0..1 read at
+    MASK_LEVEL) inflated by parts with `values` (OPTIONS; defaults where not given), the
+    painting's `luminance` embossed where values['detail'] asks, then the effects."""
+    v = {**defaults(), **values}
+    mask = np.asarray(mask) >= MASK_LEVEL if np.asarray(mask).dtype != bool else np.asarray(mask)
+    if not mask.any():
+        return np.zeros(mask.shape)
+    z = inflate(mask, v["profile"], v["height"], v["detail"], luminance, v["detail_blur"]).height
+    return with_effects(z, mask, v["bevel_width"], v["bevel_height"], v["bevel_profile"],
+                        v["smoothing"], structure_tile, v["structure_scale"],
+                        v["structure_strength"])
+
+
+def painted_height(base, relief, layer, strength):
+    """base + relief + strength · (layer − ½), image widths (float32); base and layer may be
+    None (nothing there)."""
+    z = np.asarray(relief, np.float32).copy()
+    if base is not None:
+        z += np.asarray(base, np.float32)
+    if layer is not None:
+        z += np.float32(strength) * (np.asarray(layer, np.float32) - np.float32(NEUTRAL))
+    return z
