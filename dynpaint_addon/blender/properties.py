@@ -126,6 +126,9 @@ PAINTED_ANNOTATIONS = {
                                 description="Image widths of relief of the base's white",
                                 update=_on_change("painted.base_scale")),
     "base_preblur": FloatProperty(default=0.0, min=0.0, options={"HIDDEN"}),
+    "base_reads": StringProperty(options={"HIDDEN"},
+                                 description="A normal-map base's §2 settings (empty: a height "
+                                             "map)"),
     "mask": PointerProperty(type=bpy.types.Image, name="Figure Mask",
                             description="Paint white where the figure is: it is inflated part "
                                         "by part into the shape",

@@ -7,6 +7,8 @@ the painting reads is made from them, in image widths:
     height = base + relief(mask) + strength · (layer − ½)
 
 - base: the painting's own height map before Paint Shape (its §2 pre-blur and scale), or 0;
+  over a normal map, the painted relief's slopes are added to the map's own instead
+  (painted_normals: the made shape is a normal map);
 - relief: the mask inflated part by part (core.inflate), its painting's luminance embossed
   as detail, then the effects of shapes.maker.with_effects (bevel, smoothing, structure);
 - strength: image widths of relief for a layer painted from ½ to white.
@@ -21,6 +23,9 @@ bake follows incrementally, core/strokes.py).
 >>> z = painted_height(None, figure_relief(mask), layer, 0.1)
 >>> round(float(z[0, 0]), 3), bool(z[32, 32] > 0.1), float(z[2, 2])
 (0.05, True, 0.0)
+>>> flat = np.dstack([np.zeros((64, 64)), np.zeros((64, 64)), np.ones((64, 64))])
+>>> bool(np.allclose(painted_normals(flat, np.zeros((64, 64))), flat))
+True
 """
 import numpy as np
 
@@ -65,3 +70,16 @@ def painted_height(base, relief, layer, strength):
     if layer is not None:
         z += np.float32(strength) * (np.asarray(layer, np.float32) - np.float32(NEUTRAL))
     return z
+
+
+def painted_normals(base_normals, height):
+    """A normal map painted over: the base's unit normals (H, W, 3) tilted by the slopes of the
+    painted relief `height` (image widths; §2's central differences) — slopes add, so a
+    relief of 0 gives the base's normals back."""
+    h, w = height.shape
+    z = np.asarray(height, np.float64) * w                     # in pixels: slopes unitless
+    gx = np.gradient(z, axis=1) if w >= 2 else np.zeros_like(z)
+    gy = np.gradient(z, axis=0) if h >= 2 else np.zeros_like(z)
+    n = np.asarray(base_normals, np.float64)
+    out = np.stack([n[..., 0] / n[..., 2] - gx, n[..., 1] / n[..., 2] - gy, np.ones_like(z)], -1)
+    return out / np.linalg.norm(out, axis=-1, keepdims=True)

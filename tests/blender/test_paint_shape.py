@@ -14,12 +14,15 @@ from dynpaint_addon.blender.operators import paint_shape  # noqa: E402
 from dynpaint_addon.blender.state import status  # noqa: E402
 from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
 from dynpaint_addon.blender.state.settings import channel_images, settings_to_params  # noqa: E402
+from dynpaint_addon.blender import headless  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
+from dynpaint_addon.core.pipeline import shape_normals  # noqa: E402
 from dynpaint_addon.inputs.imageio import image_data_from_blender, read_image  # noqa: E402
 from dynpaint_addon.inputs.recipe import load_images, load_recipe  # noqa: E402
 from dynpaint_addon.shapes.painted import figure_relief, painted_height  # noqa: E402
 
 from conftest import run_cli  # noqa: E402
+from parity_recipes import make_recipe, write_images  # noqa: E402
 from testkit.sun_painting import image_pixels, sun_painting  # noqa: E402
 
 
@@ -190,12 +193,28 @@ def test_a_saved_file_keeps_the_painted_layers(tmp_path):
     assert np.abs(pixels(pt.made) - made).max() <= 1e-6
 
 
-def test_paint_shape_refuses_a_normal_map_with_a_clear_message(tmp_path):
-    mat = painting(tmp_path, 64)
-    mat.dynamic_painting.shape.kind = "normal"
-    with pytest.raises(RuntimeError, match="Make Shape › Integrate"):
-        bpy.ops.dynpaint.paint_shape()
-    assert mat.dynamic_painting.painted.made is None
+def test_a_normal_map_painting_is_painted_over_its_normals(tmp_path):
+    """A normal-map painting (a two-channel map, read by its own §2 settings: encoding auto)
+    gets the same layers, its normal map the base: the made shape is a normal map whose
+    normals are the base's until something is painted (the look kept), then tilted by the
+    painted relief's slopes."""
+    paths = write_images(str(tmp_path))
+    _, mat = headless.build_recipe_scene(make_recipe("shadows_normal_point", paths))
+    bpy.context.view_layer.objects.active = mat.dynamic_painting.plane
+    status.LAST_ERRORS.clear()
+    s = mat.dynamic_painting
+    base, before = s.image_shape, shadow(mat)
+    n_before = shape_normals(image_data_from_blender(base), settings_to_params(s))[0]
+    assert bpy.ops.dynpaint.paint_shape() == {"FINISHED"}
+    assert s.painted.base == base and s.shape.kind == "normal" and s.shape.encoding == "rgb"
+    n_made = shape_normals(image_data_from_blender(s.image_shape), settings_to_params(s))[0]
+    assert np.abs(n_made - n_before).max() <= 1e-5
+    assert np.abs(shadow(mat) - before).max() <= 1e-4
+    h, w = n_made.shape[:2]
+    paint(s.painted.mask, disc(w // 2, h // 2, min(w, h) // 4, 1.0))
+    n_painted = shape_normals(image_data_from_blender(s.image_shape), settings_to_params(s))[0]
+    assert np.abs(n_painted - n_made).max() > 0.1
+    assert status.LAST_ERRORS == []
 
 
 def test_export_writes_the_made_shape_and_its_layers_and_the_command_line_takes_them(tmp_path):

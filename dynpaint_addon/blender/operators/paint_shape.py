@@ -12,6 +12,7 @@ the painted layer's pixels while Texture Paint is on (_watch). *Done* leaves Tex
 import bpy
 import numpy as np
 
+from ...core.input_rules import relief_of
 from ...core.shape import default_preblur_px
 from ...core.strokes import changed_box
 from ...inputs.imageio import image_data_from_blender
@@ -20,7 +21,7 @@ from ..material.sync import batch, update
 from ..state.edits import note_edited, version
 from ..state.frames import moves, painting_size
 from ..state.images import made_shape_image
-from ..state.painted import is_painted, new_layers, show_layer, watched_images
+from ..state.painted import base_reads, is_painted, new_layers, show_layer, watched_images
 from ..state.settings import params_to_settings, settings_to_params
 from ..state.status import report
 from .common import PaintingOperator, active_painting, run_and_report
@@ -31,16 +32,16 @@ WATCH_S = 0.1          # how often the painted layer is looked at while Texture 
 
 def set_up(mat, scene):
     """Give the painting its layers and make its shape from them → report lines. The shape
-    image before is kept as the base (its §2 pre-blur and scale are the base's); a painting
-    with no shape image starts from its silhouette (the bright or dark image's alpha)."""
+    image before is kept as the base (its §2 settings are the base's: a height map's relief
+    is the made shape's floor, a normal map's slopes are added to the painted relief's); a
+    painting with no shape image starts from its silhouette (the bright or dark image's
+    alpha)."""
     s = mat.dynamic_painting
     p = settings_to_params(s)
     if moves(mat):
         raise ValueError("Paint Shape paints a still painting; this one moves (§16)")
-    if s.image_shape is not None and p.shape.kind == "normal":
-        raise ValueError("Paint Shape paints heights: make the normal map a height map first "
-                         "(Make Shape › Integrate), then Paint Shape")
     base = s.image_shape
+    over_normals = base is not None and p.shape.kind == "normal"
     source = base or s.image_bright or s.image_dark
     if source is None:
         raise ValueError("the painting has no image to paint over")
@@ -55,12 +56,17 @@ def set_up(mat, scene):
     pt = s.painted
     with batch():
         pt.made, pt.mask, pt.height_layer, pt.base, pt.key = made, mask, layer, base, ""
-        if base is not None:
+        pt.base_reads = base_reads(p) if over_normals else ""
+        if base is not None and not over_normals:
             preblur = p.shape.preblur
             pt.base_scale = p.shape.height_scale
             pt.base_preblur = default_preblur_px(image_data_from_blender(base).bits) \
                 if preblur == "auto" else float(preblur)
-        params_to_settings(read_as_made(p, "height"), s, sections=("shape",))
+        if over_normals:    # its shadows fall from the relief the base's did (an alpha or not)
+            p.shadows.relief = relief_of(p.shadows.relief,
+                                         image_data_from_blender(base).has_alpha)
+        params_to_settings(read_as_made(p, "normal" if over_normals else "height"), s,
+                           sections=("shape", "shadows"))
         s.image_shape = made
     update(mat, scene, rebake=True)
     what = f"the shape image {base.name} is its base" if base is not None else \

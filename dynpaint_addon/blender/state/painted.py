@@ -1,7 +1,8 @@
 """A painting's shape painted in layers (issue 41, Paint Shape; shapes/painted.py).
 
 Paint Shape gives the painting two images of its size, packed in the .blend: a figure mask
-and a height layer. Its shape image becomes a made float height map (image widths), remade
+and a height layer. Its shape image becomes a made float height map (image widths) — over a
+normal map, a made normal map, its slopes plus the painted relief's — remade
 from the layers, the base (the shape image before Paint Shape, kept and never written) and
 the relief's settings whenever one of them changes: compared by key, as derived images are
 (sync.update calls update_painted_shape first, so a stroke's Image update, a setting and
@@ -9,13 +10,18 @@ undo all land here). The mask's relief is kept while only the height layer chang
 stroke on the height layer changes the made image in its box alone, and the decode and the
 bake follow incrementally (bake/shadow_images.py).
 """
+import json
+
 import numpy as np
 
+from ... import params
+from ...core.input_rules import normal_map_normals
 from ...core.sampling import resample
 from ...core.shape import preblurred_height
 from ...inputs.imageio import image_data_from_blender
-from ...shapes.maker import linear_luminance
-from ...shapes.painted import NEUTRAL, OPTIONS, figure_relief, painted_height
+from ...shapes.maker import encode_normals, linear_luminance
+from ...shapes.painted import (NEUTRAL, OPTIONS, figure_relief, painted_height,
+                               painted_normals)
 from .edits import key_name, note_edited
 from .images import made_shape_image
 
@@ -88,7 +94,7 @@ def _relief_key(settings):
 def _base_key(settings):
     pt = settings.painted
     return repr((key_name(pt.base) if pt.base else None, round(pt.base_scale, 7),
-                 round(pt.base_preblur, 4)))
+                 round(pt.base_preblur, 4), pt.base_reads))
 
 
 def painted_key(settings):
@@ -128,20 +134,33 @@ def _relief(settings, size):
     return figure_relief(_grey(pt.mask, size), lum, tile, **values)
 
 
+def base_reads(p):
+    """How a normal-map base is read (its §2 settings, as the painting had them), for
+    `painted.base_reads`."""
+    return json.dumps(vars(p.shape), sort_keys=True)
+
+
 def _base(settings, size):
-    """The base's heights in image widths (its own §2 pre-blur and scale) and its alpha."""
+    """The base as the made shape reads it — a height map's heights in image widths (its own
+    §2 pre-blur and scale), a normal map's unit normals (its own §2 settings) — and its
+    alpha."""
     pt = settings.painted
     if pt.base is None:
         return None, None
     data = image_data_from_blender(pt.base)
+    if pt.base_reads:
+        p = params.defaults()
+        vars(p.shape).update(json.loads(pt.base_reads))
+        values = normal_map_normals(data, p)
+    else:
+        values = preblurred_height(data.grey().astype(np.float32),
+                                   pt.base_preblur) * np.float32(pt.base_scale)
     w, h = size
-    grey = preblurred_height(data.grey().astype(np.float32),
-                             pt.base_preblur) * np.float32(pt.base_scale)
     alpha = data.alpha()
-    if grey.shape != (h, w):
-        grey = resample(grey, h, w)
+    if values.shape[:2] != (h, w):
+        values = resample(values, h, w)
         alpha = None if alpha is None else resample(alpha, h, w)
-    return grey, alpha
+    return values, alpha
 
 
 def update_painted_shape(mat):
@@ -159,9 +178,10 @@ def update_painted_shape(mat):
     relief = _kept(_RELIEF, mat, _relief_key(s), lambda: _relief(s, size))
     base, alpha = _kept(_BASE, mat, _base_key(s), lambda: _base(s, size))
     layer = _grey(pt.height_layer, size) if pt.height_layer is not None else None
-    z = painted_height(base, relief, layer, pt.strength)
+    over_normals = base is not None and base.ndim == 3
+    z = painted_height(None if over_normals else base, relief, layer, pt.strength)
     rgba = np.empty(z.shape + (4,), np.float32)
-    rgba[..., :3] = z[..., None]
+    rgba[..., :3] = encode_normals(painted_normals(base, z)) if over_normals else z[..., None]
     rgba[..., 3] = 1.0 if alpha is None else alpha
     pt.made.pixels.foreach_set(rgba.ravel())
     note_edited([pt.made.name])
