@@ -21,14 +21,18 @@ import bpy  # noqa: E402
 from make_docs import side_by_side  # noqa: E402
 
 from dynpaint_addon.blender import register_once  # noqa: E402
+from dynpaint_addon.blender.operators.grease_pencil import GREASE_PENCIL_RELIEF  # noqa: E402
+from dynpaint_addon.blender.scenes.grease_pencil import render_layers  # noqa: E402
 from dynpaint_addon.blender.scenes.layered_build import add_layered  # noqa: E402
 from dynpaint_addon.blender.scenes.painting_scene import output_settings  # noqa: E402
 from dynpaint_addon.core.colour import linear_to_srgb  # noqa: E402
 from dynpaint_addon.core.layers import MAX_LAYERS, render_scene  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.inputs.imageio import read_image, write_png  # noqa: E402
+from dynpaint_addon.inputs.layered_files import load_scene  # noqa: E402
 from dynpaint_addon.inputs.recipe import load_layers, load_recipe  # noqa: E402
 from dynpaint_addon.inputs.testpainting import write_test_scene  # noqa: E402
+from testkit.grease_pencil import figure_on_a_hill  # noqa: E402
 
 PX = 192
 SUN = Light("sun", (0.55, 0.35, 0.76), name="Key")
@@ -55,6 +59,23 @@ def before_after(layers):
     tiles = [without_between(layers, SUN), render_scene(layers, [SUN]).rgba,
              render_scene(layers, [WIDE]).rgba]
     return side_by_side([_shown(t) for t in tiles])
+
+
+def grease_pencil(folder):
+    """From Grease Pencil (issue 42): a drawing of three layers drawn by Blender's Grease Pencil
+    renderer (scenes/grease_pencil.py), as it shows them (unlit), then its layers lit alone,
+    then with the shadows between them (the operator's relief and spacing)."""
+    bpy.ops.wm.read_homefile(use_empty=True)
+    drawing = figure_on_a_hill(bpy.context.scene)
+    paths, _, _ = render_layers(drawing, folder, PX)
+    drawn = [read_image(p).pixels for p in paths]
+    shown = np.zeros_like(drawn[0])
+    for top in drawn:                                   # as Grease Pencil shows it: over
+        shown = top * top[..., 3:4] + shown * (1 - top[..., 3:4])
+    shown[..., 3] = np.max([d[..., 3] for d in drawn], axis=0)
+    layers, _, _ = load_scene(folder, relief=GREASE_PENCIL_RELIEF)
+    return side_by_side([shown] + [_shown(t) for t in (without_between(layers, SUN),
+                                                        render_scene(layers, [SUN]).rgba)])
 
 
 def parallax_strip(recipe, folder):
@@ -91,6 +112,8 @@ def parallax_strip(recipe, folder):
 
 def main(out=DOCS):
     os.makedirs(os.path.join(out, "img", "layers"), exist_ok=True)
+    with tempfile.TemporaryDirectory() as folder:          # (first: it empties the scene)
+        write_png(os.path.join(out, "img", "layers", "grease_pencil.png"), grease_pencil(folder))
     with tempfile.TemporaryDirectory() as folder:
         recipe = write_test_scene(folder, PX)
         layers = load_layers(load_recipe(recipe))
@@ -145,6 +168,27 @@ distance between layers.*
   `bake-shadow --layers` writes each layer's cos-θ term t as `shadows/layer_<i>.exr` (i = 0 at
   the back), the size of that layer's shape image; `--quality` and the other shadow options,
   when given, apply to every layer.
+
+## A Grease Pencil drawing, lit
+
+Grease Pencil cannot be lit in Blender (its material is not a BSDF: no normal maps, no
+shadows). *Add › Dynamic Painting › From Grease Pencil* lights the active drawing: each of its
+layers that draws something is drawn by **Blender's own Grease Pencil renderer** (its
+materials, fills, modifiers and effects), unlit, into an image with its alpha, framed by the
+drawing's extent over all its frames; the layers are then built as a folder of layers is
+(below): a plane per layer where the drawing is, *Spacing* apart (0.05 of its width), each
+inflated by parts from its alpha with a low *Relief* (0.1 of a hemisphere: a drawing's layers
+lie close), the layers in front shadowing those behind. The drawing is hidden, not changed
+(unhide it to draw on; *From Grease Pencil* again makes the lit copy anew). Today it lights
+the current frame; animation, live updates while drawing and the command line come next
+(issue 42).
+
+![a Grease Pencil drawing: as drawn, its layers lit alone, with the shadows between them](img/layers/grease_pencil.png)
+
+*A drawing of three layers (`testkit/grease_pencil.py`: a sky card, a hill, a figure), drawn
+by Blender's Grease Pencil renderer as it shows them (left), its layers each lit by its own
+shading only (middle), and with the shadows the figure and the hill cast on the layers behind
+(right), one sun.*
 
 ## Layered files
 

@@ -42,6 +42,7 @@ from .recipe import DEFAULT_SUN_NOTE, hidden_notes, load_layers, load_recipe
 
 DEFAULT_SPACING = 0.05     # image widths between one layer and the next in front
 DEFAULT_SHADE = 0.35       # a plain layer's dark image: this share of its linear colour
+DEFAULT_RELIEF = 1.0       # a plain layer's inflated shape: Make Shape's inflate height
 
 
 class LayeredFileError(UserError):
@@ -181,10 +182,11 @@ def read_folder(path):
     return max(sizes, key=lambda s: s[0] * s[1]), layers
 
 
-def scene_from_file_layers(canvas, file_layers, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE):
+def scene_from_file_layers(canvas, file_layers, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE,
+                           relief=DEFAULT_RELIEF):
     """FileLayers (back to front) on a canvas (W, H) → ([core.layers.Layer], notes): each
-    layer's missing channels made (a shaded dark, an inflated shape), its depth from the
-    stack, its place from its corner and size."""
+    layer's missing channels made (a shaded dark, an inflated shape `relief` high: Make
+    Shape's inflate height), its depth from the stack, its place from its corner and size."""
     notes, layers = [], []
     shown = [fl for fl in file_layers if not fl.hidden]
     notes += [f"{fl.name}: hidden: left out" for fl in file_layers if fl.hidden]
@@ -195,7 +197,7 @@ def scene_from_file_layers(canvas, file_layers, spacing=DEFAULT_SPACING, shade=D
                                f"{MAX_LAYERS} (merge some, or hide them)")
     width, height = canvas
     for i, fl in enumerate(shown):
-        images, p, made = painting_of(fl, shade)
+        images, p, made = painting_of(fl, shade, relief)
         notes += fl.notes + made
         w, h = images["shape"].size
         offset = ((fl.x + w / 2 - width / 2) / width, (height / 2 - fl.y - h / 2) / width)
@@ -203,7 +205,7 @@ def scene_from_file_layers(canvas, file_layers, spacing=DEFAULT_SPACING, shade=D
     return layers, notes
 
 
-def painting_of(fl, shade=DEFAULT_SHADE):
+def painting_of(fl, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF):
     """A file layer's painting → ({channel: ImageData}, params, notes): a painted image
     becomes bright, a shaded dark and an inflated shape; a group's missing channels are
     made the same way."""
@@ -221,7 +223,7 @@ def painting_of(fl, shade=DEFAULT_SHADE):
         p.shape.kind = "height" if looks_like_height(images["shape"]) else "normal"
         return images, p, notes
     try:
-        kind, rgba, lines = make_shape("inflate", images, p)
+        kind, rgba, lines = make_shape("inflate", images, p, height=relief)
         notes.append(f"{fl.name}: {lines[0]}")
     except ShapeError:                                 # opaque: a flat card
         w, h = images["bright"].size
@@ -251,7 +253,7 @@ def is_layered_file(path):
     return os.fspath(path).lower().endswith(".ora")
 
 
-def load_scene(path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE):
+def load_scene(path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF):
     """An .ora file or a folder of layer images → ([Layer], [Light], notes)."""
     path = os.fspath(path)
     if not os.path.exists(path):
@@ -263,7 +265,7 @@ def load_scene(path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE):
     else:
         raise LayeredFileError(f"{path}: not a layered file (an .ora, or a folder of layer "
                                f"images)")
-    layers, notes = scene_from_file_layers(canvas, file_layers, spacing, shade)
+    layers, notes = scene_from_file_layers(canvas, file_layers, spacing, shade, relief)
     return layers, [default_sun()], notes + [DEFAULT_SUN_NOTE]
 
 

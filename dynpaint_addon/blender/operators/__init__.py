@@ -5,12 +5,12 @@ classes in CLASSES.
 """
 import bpy
 
-from . import (add, compositor, export, image_slots, layers, paint_shape, painting, shape,
-               turntable, web)
+from . import (add, compositor, export, grease_pencil, image_slots, layers, paint_shape,
+               painting, shape, turntable, web)
 
-CLASSES = (*add.CLASSES, *layers.CLASSES, *turntable.CLASSES, *compositor.CLASSES, *painting.CLASSES,
-           *image_slots.CLASSES, *export.CLASSES, *shape.CLASSES, *paint_shape.CLASSES,
-           *web.CLASSES)
+CLASSES = (*add.CLASSES, *layers.CLASSES, *grease_pencil.CLASSES, *turntable.CLASSES,
+           *compositor.CLASSES, *painting.CLASSES, *image_slots.CLASSES, *export.CLASSES,
+           *shape.CLASSES, *paint_shape.CLASSES, *web.CLASSES)
 
 
 def menu_add(self, context):

@@ -320,6 +320,7 @@ def draw_add_menu(layout):
     layout.operator(DYNPAINT_OT_add.bl_idname, text="From Images or Recipe…",
                     icon="FILEBROWSER")
     layout.operator("dynpaint.add_layered", text="Layered…", icon="RENDERLAYERS")
+    layout.operator("dynpaint.add_grease_pencil", icon="OUTLINER_OB_GREASEPENCIL")
     samples = list_samples()
     if samples:
         layout.separator()

@@ -1,0 +1,97 @@
+"""Add › Dynamic Painting › From Grease Pencil (issue 42, first step): the active Grease
+Pencil drawing as a scene of lit layers, in its place.
+
+Each layer that draws something is drawn by Blender's own Grease Pencil renderer into an
+image (scenes/grease_pencil.py, the current frame), and the layers are built as Add ›
+Layered… builds a folder of them (§15): a plane per layer at a depth, the layers in front
+casting shadows on those behind. The planes lie where the drawing is (its object's XZ plane,
+seen from −Y), the drawing is hidden (unhide it to go on drawing; From Grease Pencil again
+makes the painting anew). Its images are packed in the .blend.
+"""
+import math
+import shutil
+import tempfile
+
+import bpy
+from bpy.props import FloatProperty, IntProperty
+from mathutils import Matrix
+
+from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING
+from ...inputs.recipe import DEFAULT_SUN_NOTE
+from ..bake.layers import group_materials
+from ..scenes.grease_pencil import render_layers
+from ..scenes.layered_build import add_layered
+from ..scenes.painting_scene import FACE_CAMERA, NO_CAMERA, unchanged_images_on_failure
+from ..state.lights import linked_lights
+from .add import select_only
+from .common import run_and_report
+
+
+# A drawing's layers lie a Spacing apart (0.05 image widths): inflated as a file's layers are
+# (a disc a hemisphere), a large card would reach through the layers in front of it
+GREASE_PENCIL_RELIEF = 0.1
+
+
+class DYNPAINT_OT_add_grease_pencil(bpy.types.Operator):
+    """Light the active Grease Pencil drawing: each layer a Dynamic Painting at a depth, lit
+    by the scene's lights, the layers in front casting shadows on those behind"""
+    bl_idname = "dynpaint.add_grease_pencil"
+    bl_label = "From Grease Pencil"
+    bl_options = {"REGISTER", "UNDO"}
+
+    resolution: IntProperty(name="Resolution", default=1024, min=16, soft_max=4096,
+                            description="Width in pixels each layer is drawn at")
+    spacing: FloatProperty(
+        name="Spacing", default=DEFAULT_SPACING, min=0.0, soft_max=0.5, precision=3,
+        description="Depth between one layer and the next, in widths of the drawing")
+    shade: FloatProperty(
+        name="Dark Shade", default=DEFAULT_SHADE, min=0.0, max=1.0,
+        description="Each layer's dark image: this share of its colour (linear)")
+    relief: FloatProperty(
+        name="Relief", default=GREASE_PENCIL_RELIEF, min=0.0, soft_max=1.0, precision=3,
+        description="How round each layer's shapes are inflated: 1 makes a disc a hemisphere "
+                    "as tall as its radius; a drawing's layers lie close (Spacing), so low")
+
+    @classmethod
+    def poll(cls, context):
+        if context.object is None or context.object.type != "GREASEPENCIL":
+            cls.poll_message_set("Select a Grease Pencil drawing")
+            return False
+        return True
+
+    def execute(self, context):
+        obj = context.object
+
+        def work(progress):
+            folder = tempfile.mkdtemp(prefix="dynpaint-grease-pencil-")
+            try:
+                paths, (x0, x1, z0, z1), notes = render_layers(obj, folder, self.resolution)
+                progress(0.3)
+                with unchanged_images_on_failure():     # (its images are packed copies)
+                    parent, messages = add_layered(context, folder, self.spacing, self.shade,
+                                                   x1 - x0, parallax=False, progress=progress,
+                                                   relief=self.relief, as_layers=True)
+            finally:
+                shutil.rmtree(folder, ignore_errors=True)
+            parent.name = f"{obj.name} (lit)"
+            if FACE_CAMERA in parent.constraints:      # it lies where the drawing does
+                parent.constraints.remove(parent.constraints[FACE_CAMERA])
+            parent.matrix_world = obj.matrix_world @ \
+                Matrix.Translation(((x0 + x1) / 2, 0.0, (z0 + z1) / 2)) @ \
+                Matrix.Rotation(math.pi / 2, 4, "X")
+            obj.hide_render = True
+            obj.hide_set(True)
+            select_only(context, parent)
+            # it is placed where the drawing is (no camera to face), and lit by the scene's
+            # lights where it has some (a folder's default sun is only added where it has none)
+            said = [m for m in messages if NO_CAMERA not in m and
+                    not (m == DEFAULT_SUN_NOTE and len(linked_lights(
+                        group_materials(parent)[0], context.scene)))]
+            return [("WARNING", m) for m in notes + said] + [
+                ("INFO", f"Lit {obj.name}: {len(paths)} layers as '{parent.name}' (the "
+                         f"drawing is hidden: unhide it to draw on)")]
+        return run_and_report(self, context, work, progress=True, failure="From Grease Pencil: ",
+                              catch=(ValueError, OSError, MemoryError, RuntimeError))
+
+
+CLASSES = (DYNPAINT_OT_add_grease_pencil,)

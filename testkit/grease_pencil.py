@@ -1,0 +1,72 @@
+"""Grease Pencil drawings made from Python (Blender 5.0's Grease Pencil v3, blender-notes.md):
+filled shapes on layers, for the tests and benchmarks of From Grease Pencil (issue 42)."""
+import math
+
+import numpy as np
+
+import bpy
+
+
+def fill_material(gp, name, rgb):
+    """A fill-only Grease Pencil material of linear colour `rgb` on `gp` → its index."""
+    m = bpy.data.materials.new(name)
+    bpy.data.materials.create_gpencil_data(m)
+    m.grease_pencil.show_fill, m.grease_pencil.show_stroke = True, False
+    m.grease_pencil.fill_color = (*rgb, 1.0)
+    gp.materials.append(m)
+    return len(gp.materials) - 1
+
+
+def add_fill(layer, points, material, frame=1, radius=0.005):
+    """A closed filled stroke through `points` [(x, z)] (the drawing's XZ plane) on `frame`."""
+    found = [f for f in layer.frames if f.frame_number == frame]
+    drawing = (found[0] if found else layer.frames.new(frame)).drawing
+    drawing.add_strokes([len(points)])
+    stroke = drawing.strokes[len(drawing.strokes) - 1]
+    for p, (x, z) in zip(stroke.points, points):
+        p.position = (x, 0.0, z)
+        p.radius = radius
+    stroke.cyclic = True
+    stroke.material_index = material
+
+
+def disc(cx, cz, r, n=48):
+    return [(cx + r * math.cos(a), cz + r * math.sin(a))
+            for a in np.linspace(0, 2 * math.pi, n, endpoint=False)]
+
+
+def rectangle(x0, x1, z0, z1):
+    return [(x0, z0), (x1, z0), (x1, z1), (x0, z1)]
+
+
+def card_and_disc(scene, name="Drawing"):
+    """A drawing of two layers: a blue card 2 × 1.5 (the back) and an orange disc of radius
+    0.3 up and left of its middle (the front) → the Grease Pencil object, linked to scene."""
+    gp = bpy.data.grease_pencils.new(name)
+    obj = bpy.data.objects.new(name, gp)
+    scene.collection.objects.link(obj)
+    blue, orange = fill_material(gp, "blue", (0.2, 0.4, 0.8)), \
+        fill_material(gp, "orange", (0.9, 0.5, 0.2))
+    add_fill(gp.layers.new("Back"), rectangle(-1.0, 1.0, -0.75, 0.75), blue)
+    add_fill(gp.layers.new("Figure"), disc(-0.3, 0.2, 0.3), orange)
+    return obj
+
+
+def figure_on_a_hill(scene, name="Figure on a hill"):
+    """A drawing of three layers, back to front: a sky card, a hill, a figure (a head and a
+    body) standing on it → the Grease Pencil object, linked to scene."""
+    gp = bpy.data.grease_pencils.new(name)
+    obj = bpy.data.objects.new(name, gp)
+    scene.collection.objects.link(obj)
+    sky = fill_material(gp, "sky", (0.35, 0.55, 0.85))
+    hill = fill_material(gp, "hill", (0.25, 0.5, 0.15))
+    coat = fill_material(gp, "coat", (0.75, 0.2, 0.1))
+    skin = fill_material(gp, "skin", (0.9, 0.65, 0.45))
+    add_fill(gp.layers.new("Sky"), rectangle(-1.0, 1.0, -0.75, 0.75), sky)
+    add_fill(gp.layers.new("Hill"),
+             [(x, -0.75 + 0.45 * math.cos(x * 1.2)) for x in np.linspace(-1.0, 1.0, 40)]
+             + [(1.0, -0.75), (-1.0, -0.75)], hill)
+    figure = gp.layers.new("Figure")
+    add_fill(figure, rectangle(0.05, 0.35, -0.4, 0.15), coat)
+    add_fill(figure, disc(0.2, 0.32, 0.14), skin)
+    return obj

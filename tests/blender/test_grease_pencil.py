@@ -1,0 +1,104 @@
+"""From Grease Pencil (issue 42, first step): a Grease Pencil drawing's layers drawn by
+Blender's own renderer, each made a painting at a depth, lit, the front ones shadowing those
+behind; bad input said clearly."""
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+from mathutils import Vector  # noqa: E402
+
+from dynpaint_addon import blender  # noqa: E402
+from dynpaint_addon.blender.bake.layers import group_materials  # noqa: E402
+from dynpaint_addon.blender.scenes.grease_pencil import (GreasePencilError,  # noqa: E402
+                                                         drawn_layers, render_layers)
+from dynpaint_addon.core.colour import linear_to_srgb  # noqa: E402
+from dynpaint_addon.inputs.imageio import image_data_from_blender, read_image  # noqa: E402
+from testkit.grease_pencil import card_and_disc  # noqa: E402
+
+
+@pytest.fixture
+def drawing():
+    bpy.ops.wm.read_homefile(use_empty=True)
+    blender.register_once()
+    obj = card_and_disc(bpy.context.scene)
+    bpy.context.view_layer.objects.active = obj
+    return obj
+
+
+def test_each_layer_is_drawn_by_blender_alone_with_its_colours_and_alpha(drawing, tmp_path):
+    """Each layer alone, back to front, unlit, in the colours drawn (sRGB files), framed by
+    the drawing's bounds (2 × 1.5 plus a margin: the aspect kept); the artist's scene, its
+    layers' visibility and lights as they were."""
+    scene = bpy.context.scene
+    paths, (x0, x1, z0, z1), notes = render_layers(drawing, str(tmp_path), 200)
+    assert [p.rsplit("/", 1)[1] for p in paths] == ["01_Back.png", "02_Figure.png"] and not notes
+    back, figure = (read_image(p).pixels for p in paths)
+    assert back.shape[:2] == figure.shape[:2] == (round(200 * (z1 - z0) / (x1 - x0)), 200)
+    h, w = back.shape[:2]
+    assert np.allclose(back[h // 2, w // 2, :3], linear_to_srgb(np.array([0.2, 0.4, 0.8])),
+                       atol=2e-3) and back[h // 2, w // 2, 3] == 1
+    # the disc: centred at (−0.3, 0.2) of the drawing, radius 0.3 — up (rows are y up) and left
+    cx, cy = (-0.3 - x0) / (x1 - x0) * w, (0.2 - z0) / (z1 - z0) * h
+    r = 0.3 * w / (x1 - x0)
+    y, x = np.mgrid[0:h, 0:w] + 0.5
+    a = figure[..., 3]
+    assert abs((a * x).sum() / a.sum() - cx) < 0.5 and abs((a * y).sum() / a.sum() - cy) < 0.5
+    assert abs(np.sqrt(a.sum() / np.pi) / r - 1) < 0.01        # its area, antialiased edge
+    # (Grease Pencil's own antialiasing: edges about 2 px either side, whatever Workbench's
+    # samples, measured)
+    inside, outside = np.hypot(x - cx, y - cy) < r - 2.5, np.hypot(x - cx, y - cy) > r + 2.5
+    assert a[inside].min() > 0.99 and a[outside].max() < 0.01
+    assert np.allclose(figure[inside, :3].mean(0), linear_to_srgb(np.array([0.9, 0.5, 0.2])),
+                       atol=2e-3)
+    assert [s.name for s in bpy.data.scenes] == [scene.name] and scene.render.engine != \
+        "BLENDER_WORKBENCH"
+    assert all(not layer.hide and layer.use_lights for layer in drawing.data.layers)
+
+
+def test_from_grease_pencil_lights_the_drawing_in_its_place(drawing):
+    """The operator: a scene of two lit layers where the drawing is (its XZ plane, facing −Y),
+    the figure in front, its shadow falling on the card under a low sun; the drawing hidden."""
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    bpy.context.scene.collection.objects.link(sun)
+    sun.rotation_euler = (np.radians(90 - 30), 0, np.radians(-60))     # low, from the left
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=160) == {"FINISHED"}
+    parent = bpy.context.object
+    mats = group_materials(parent)
+    assert len(mats) == 2 and drawing.hide_render and drawing.hide_get()
+    front = mats[1].dynamic_painting.plane
+    normal = (front.matrix_world.to_3x3() @ Vector((0.0, 0.0, 1.0))).normalized()
+    assert np.allclose(normal, (0, -1, 0), atol=1e-6)
+    assert front.matrix_world.translation.y < mats[0].dynamic_painting.plane.matrix_world \
+        .translation.y                                     # in front: toward −Y
+    back = mats[0].dynamic_painting
+    assert all(img.packed_file is not None for m in mats
+               for img in (m.dynamic_painting.image_bright,))
+    t = image_data_from_blender(back.lights[0].shadow).pixels[..., 0]
+    # the card alone (the figure's layer hidden in the drawing, framed the same): the disc's
+    # shadow is the difference, a patch of the card darkened by most of its light
+    drawing.data.layers["Figure"].hide = True
+    drawing.hide_set(False)
+    bpy.context.view_layer.objects.active = drawing
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=160) == {"FINISHED"}
+    alone = image_data_from_blender(
+        group_materials(bpy.context.object)[0].dynamic_painting.lights[0].shadow).pixels[..., 0]
+    shadowed = t < alone - 0.3
+    assert 50 < shadowed.sum() < 0.2 * t.size and np.all(t <= alone + 1e-5)
+
+
+def test_bad_drawings_are_said_clearly(drawing):
+    for layer in drawing.data.layers:
+        layer.hide = True
+    with pytest.raises(GreasePencilError, match="no layer that draws anything.*hidden"):
+        drawn_layers(drawing)
+    drawing.data.layers["Back"].hide = False
+    drawing.data.layers.new("Empty")
+    layers, notes = drawn_layers(drawing)
+    assert [layer.name for layer in layers] == ["Back"]
+    assert any("Figure: hidden" in n for n in notes) and any("Empty: no frames" in n for n in notes)
+    mesh = bpy.data.objects.new("Mesh", bpy.data.meshes.new("Mesh"))
+    bpy.context.scene.collection.objects.link(mesh)
+    bpy.context.view_layer.objects.active = mesh
+    assert not bpy.ops.dynpaint.add_grease_pencil.poll()
+    with pytest.raises(GreasePencilError, match="not a Grease Pencil object"):
+        drawn_layers(mesh)
