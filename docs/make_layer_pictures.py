@@ -68,7 +68,7 @@ def grease_pencil(folder):
     bpy.ops.wm.read_homefile(use_empty=True)
     drawing = figure_on_a_hill(bpy.context.scene)
     paths, _, _ = render_layers(drawing, folder, PX)
-    drawn = [read_image(p).pixels for p in paths]
+    drawn = [read_image(p).pixels for p, in paths]
     shown = np.zeros_like(drawn[0])
     for top in drawn:                                   # as Grease Pencil shows it: over
         shown = top * top[..., 3:4] + shown * (1 - top[..., 3:4])
@@ -179,9 +179,13 @@ drawing's extent over all its frames; the layers are then built as a folder of l
 (below): a plane per layer where the drawing is, *Spacing* apart (0.05 of its width), each
 inflated by parts from its alpha with a low *Relief* (0.1 of a hemisphere: a drawing's layers
 lie close), the layers in front shadowing those behind. The drawing is hidden, not changed
-(unhide it to draw on; *From Grease Pencil* again makes the lit copy anew). Today it lights
-the current frame; animation, live updates while drawing and the command line come next
-(issue 42).
+(unhide it to draw on; *From Grease Pencil* again makes the lit copy anew). An animated
+drawing (a layer with more than one keyframe, or animated data) is drawn on every frame of
+the scene's range: a layer whose drawing changes becomes a painting of sprite sheets that
+follow the scene's frames (§16; each frame's shape inflated by parts, so what does not
+change keeps its heights), a layer that does not a still one; playback and renders show
+each frame lit, its shadows baked for that frame. Live updates while drawing and the
+command line come next (issue 42).
 
 ![a Grease Pencil drawing: as drawn, its layers lit alone, with the shadows between them](img/layers/grease_pencil.png)
 

@@ -70,3 +70,13 @@ def figure_on_a_hill(scene, name="Figure on a hill"):
     add_fill(figure, rectangle(0.05, 0.35, -0.4, 0.15), coat)
     add_fill(figure, disc(0.2, 0.32, 0.14), skin)
     return obj
+
+
+def rolling_disc(scene, name="Rolling disc", frames=(1, 2, 3)):
+    """card_and_disc whose disc is drawn anew on each of `frames`, 0.25 further right each
+    time (a keyframe per frame), the card still → the Grease Pencil object."""
+    obj = card_and_disc(scene, name)
+    figure = obj.data.layers["Figure"]
+    for k, frame in enumerate(frames[1:], 1):
+        add_fill(figure, disc(-0.3 + 0.25 * k, 0.2, 0.3), 1, frame=frame)
+    return obj

@@ -29,10 +29,12 @@ import numpy as np
 
 from .. import params
 from ..core.colour import linear_to_srgb, srgb_to_linear
+from ..core.frames import SheetGrid
 from ..core.input_rules import ImageData
 from ..core.layers import MAX_LAYERS, Layer, scene_notes
 from ..core.lights import default_sun
 from ..errors import UserError
+from ..shapes.frames import fill_sheet
 from ..shapes.maker import ShapeError, looks_like_height, read_as_made
 from ..shapes.methods import make_shape
 from .channel_names import IMAGE_EXTENSIONS, guess_channels
@@ -232,6 +234,24 @@ def painting_of(fl, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF):
     read_as_made(p, kind)
     images["shape"] = ImageData(np.asarray(rgba, np.float32), 32, f"{fl.name} shape")
     return images, p, notes
+
+
+def moving_painting_of(name, cells, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF):
+    """A layer drawn anew on each frame (§16: a Grease Pencil layer's frames, issue 42) →
+    ({channel: ImageData sprite sheet}, params, notes, its [frames] table but the start):
+    each cell (ImageData of one size, one per frame) made a painting as a plain painted
+    layer is (painting_of: a shaded dark, its silhouette inflated by parts, so a figure that
+    does not change keeps its heights bit for bit), the cells laid out as sheets."""
+    made = [painting_of(FileLayer(name, {"painted": cell}), shade, relief) for cell in cells]
+    notes = sorted({n for _, _, lines in made for n in lines if "inflated" not in n})
+    grid = SheetGrid.squarest(len(cells))
+    h, w = cells[0].pixels.shape[:2]
+    size = grid.sheet_size(w, h)
+    images = {c: ImageData(fill_sheet([m[0][c].pixels for m in made], grid, size, 0.0),
+                           made[0][0][c].bits, f"{name} {c}") for c in made[0][0]}
+    table = {"offset": 0, "count": len(cells), "mode": "hold", "rate": 1.0,
+             "columns": grid.columns, "rows": grid.rows, "margin": 0, "spacing": 0}
+    return images, made[0][1], notes, table
 
 
 def shaded(img, shade):

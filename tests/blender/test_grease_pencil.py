@@ -13,7 +13,8 @@ from dynpaint_addon.blender.scenes.grease_pencil import (GreasePencilError,  # n
                                                          drawn_layers, render_layers)
 from dynpaint_addon.core.colour import linear_to_srgb  # noqa: E402
 from dynpaint_addon.inputs.imageio import image_data_from_blender, read_image  # noqa: E402
-from testkit.grease_pencil import card_and_disc  # noqa: E402
+from dynpaint_addon.blender.state.frames import frame_data, moves  # noqa: E402
+from testkit.grease_pencil import card_and_disc, rolling_disc  # noqa: E402
 
 
 @pytest.fixture
@@ -31,8 +32,9 @@ def test_each_layer_is_drawn_by_blender_alone_with_its_colours_and_alpha(drawing
     layers' visibility and lights as they were."""
     scene = bpy.context.scene
     paths, (x0, x1, z0, z1), notes = render_layers(drawing, str(tmp_path), 200)
-    assert [p.rsplit("/", 1)[1] for p in paths] == ["01_Back.png", "02_Figure.png"] and not notes
-    back, figure = (read_image(p).pixels for p in paths)
+    assert [p.rsplit("/", 1)[1] for p, in paths] == ["01_Back.png", "02_Figure.png"]
+    assert not notes
+    back, figure = (read_image(p).pixels for p, in paths)
     assert back.shape[:2] == figure.shape[:2] == (round(200 * (z1 - z0) / (x1 - x0)), 200)
     h, w = back.shape[:2]
     assert np.allclose(back[h // 2, w // 2, :3], linear_to_srgb(np.array([0.2, 0.4, 0.8])),
@@ -102,3 +104,38 @@ def test_bad_drawings_are_said_clearly(drawing):
     assert not bpy.ops.dynpaint.add_grease_pencil.poll()
     with pytest.raises(GreasePencilError, match="not a Grease Pencil object"):
         drawn_layers(mesh)
+
+
+def test_an_animated_drawing_is_lit_frame_by_frame(drawing):
+    """A disc drawn anew on frames 1–3, further right each time, over a still card: the disc's
+    layer becomes a painting that moves (sprite sheets following the scene's frames, §16),
+    the card a still one; on each frame the disc's shadow on the card is where that frame's
+    disc casts it (it moves right), and the card's own shading does not change."""
+    bpy.ops.wm.read_homefile(use_empty=True)
+    blender.register_once()
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end = 1, 3
+    obj = rolling_disc(scene)
+    bpy.context.view_layer.objects.active = obj
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    scene.collection.objects.link(sun)
+    sun.rotation_euler = (np.radians(90 - 30), 0, np.radians(-60))
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=120) == {"FINISHED"}
+    back, front = group_materials(bpy.context.object)
+    assert moves(front) and not moves(back)
+    centres, ts = [], []
+    for frame in (1, 2, 3):
+        scene.frame_set(frame)
+        t = image_data_from_blender(back.dynamic_painting.lights[0].shadow).pixels[..., 0]
+        ts.append(t)
+        disc_alpha = frame_data(front, "bright").pixels[..., 3]
+        h, w = disc_alpha.shape
+        x = np.arange(w) + 0.5
+        centres.append(((disc_alpha * x).sum() / disc_alpha.sum(),
+                        ((t < 0.05) * x).sum() / max((t < 0.05).sum(), 1)))
+    disc_x, shadow_x = np.array(centres).T
+    step = 0.25 * w / (2 * 1.0 + 0.08)                 # 0.25 of the drawing, in pixels
+    assert np.allclose(np.diff(disc_x), step, atol=1.0)
+    assert np.all(np.diff(shadow_x) > 0.5 * step)      # the shadow follows the disc
+    lit = (np.abs(ts[0] - ts[2]) > 1e-4).mean()       # the card changes where shadows moved
+    assert 0 < lit < 0.25

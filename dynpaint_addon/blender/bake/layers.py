@@ -20,8 +20,8 @@ import numpy as np
 import bpy
 
 from ...core.layers import Layer, Scene
-from ...inputs.imageio import image_data_from_blender
 from ..state.edits import versions
+from ..state.frames import frame_data, slot_frame
 from ..state.lights import painting_frame_light, plane_matrix
 from ..state.settings import channel_images, settings_to_params
 from .live_bake import DEBOUNCE_S
@@ -66,7 +66,8 @@ def _placement(back, plane, depsgraph=None):
 
 def group_key(mats, depsgraph=None):
     """What every layer's bake depends on besides its light: the planes' places, each layer's
-    bake settings and shape image, its thickness, and the edits of the images T reads."""
+    bake settings and shape image, its thickness, the edits of the images T reads and, of a
+    layer that moves (§16), the frames they show."""
     back = mats[0].dynamic_painting.plane
     parts = []
     for mat in mats:
@@ -75,7 +76,8 @@ def group_key(mats, depsgraph=None):
         parts.append((mat.name, round(depth, 7), tuple(np.round(offset, 7)), round(scale, 7),
                       round(s.layer_thickness, 7), settings_key(settings_to_params(s), s),
                       versions({c: img for c, img in channel_images(s).items()
-                                if c in LAYER_CHANNELS})))
+                                if c in LAYER_CHANNELS}),
+                      tuple(slot_frame(mat, c) for c in LAYER_CHANNELS)))
     return repr(parts)
 
 
@@ -105,7 +107,7 @@ def group_layers(mats, depsgraph=None, channels=None):
     for mat in mats:
         s = mat.dynamic_painting
         depth, offset, scale = _placement(back, s.plane, depsgraph)
-        images = {c: image_data_from_blender(img) for c, img in channel_images(s).items()
+        images = {c: frame_data(mat, c) for c in channel_images(s)     # (§16: the frame's)
                   if channels is None or c in channels}
         layers.append(Layer(images, settings_to_params(s), mat.name, depth,
                             s.layer_thickness or None, offset, scale))

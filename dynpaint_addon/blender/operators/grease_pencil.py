@@ -9,19 +9,24 @@ seen from −Y), the drawing is hidden (unhide it to go on drawing; From Grease 
 makes the painting anew). Its images are packed in the .blend.
 """
 import math
+import os
 import shutil
 import tempfile
 
 import bpy
-from bpy.props import FloatProperty, IntProperty
+import numpy as np
+from bpy.props import BoolProperty, FloatProperty, IntProperty
 from mathutils import Matrix
 
-from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING
+from ...core.lights import default_sun
+from ...inputs.imageio import read_image
+from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING, moving_painting_of
 from ...inputs.recipe import DEFAULT_SUN_NOTE
 from ..bake.layers import group_materials
-from ..scenes.grease_pencil import render_layers
-from ..scenes.layered_build import add_layered
+from ..scenes.grease_pencil import animated, render_layers
+from ..scenes.layered_build import add_layered, build_layered
 from ..scenes.painting_scene import FACE_CAMERA, NO_CAMERA, unchanged_images_on_failure
+from ..state.images import packed_image
 from ..state.lights import linked_lights
 from .add import select_only
 from .common import run_and_report
@@ -47,6 +52,10 @@ class DYNPAINT_OT_add_grease_pencil(bpy.types.Operator):
     shade: FloatProperty(
         name="Dark Shade", default=DEFAULT_SHADE, min=0.0, max=1.0,
         description="Each layer's dark image: this share of its colour (linear)")
+    animation: BoolProperty(
+        name="Animation", default=True,
+        description="Light every frame of the scene's frame range where the drawing changes "
+                    "over it (else the current frame alone)")
     relief: FloatProperty(
         name="Relief", default=GREASE_PENCIL_RELIEF, min=0.0, soft_max=1.0, precision=3,
         description="How round each layer's shapes are inflated: 1 makes a disc a hemisphere "
@@ -63,14 +72,22 @@ class DYNPAINT_OT_add_grease_pencil(bpy.types.Operator):
         obj = context.object
 
         def work(progress):
+            scene = context.scene
+            frames = list(range(scene.frame_start, scene.frame_end + 1)) \
+                if self.animation and animated(obj) else None
             folder = tempfile.mkdtemp(prefix="dynpaint-grease-pencil-")
             try:
-                paths, (x0, x1, z0, z1), notes = render_layers(obj, folder, self.resolution)
-                progress(0.3)
+                paths, (x0, x1, z0, z1), notes = render_layers(
+                    obj, folder, self.resolution, frames, lambda f: progress(0.4 * f))
                 with unchanged_images_on_failure():     # (its images are packed copies)
-                    parent, messages = add_layered(context, folder, self.spacing, self.shade,
-                                                   x1 - x0, parallax=False, progress=progress,
-                                                   relief=self.relief, as_layers=True)
+                    if frames is None:
+                        parent, messages = add_layered(
+                            context, folder, self.spacing, self.shade, x1 - x0,
+                            parallax=False, progress=progress, relief=self.relief,
+                            as_layers=True)
+                    else:
+                        parent, messages = self.build_moving(context, obj, paths, frames,
+                                                             x1 - x0, progress)
             finally:
                 shutil.rmtree(folder, ignore_errors=True)
             parent.name = f"{obj.name} (lit)"
@@ -92,6 +109,27 @@ class DYNPAINT_OT_add_grease_pencil(bpy.types.Operator):
                          f"drawing is hidden: unhide it to draw on)")]
         return run_and_report(self, context, work, progress=True, failure="From Grease Pencil: ",
                               catch=(ValueError, OSError, MemoryError, RuntimeError))
+
+    def build_moving(self, context, obj, paths, frames, size, progress):
+        """The layers of an animated drawing (§16): a layer whose drawing changes over the
+        frames a painting of sprite sheets following the scene's frames, one that does not a
+        still painting → (parent, messages)."""
+        layers, tables, messages = [], {}, []
+        for i, layer_paths in enumerate(paths):
+            name = os.path.splitext(os.path.basename(layer_paths[0]))[0].rsplit("_", 1)[0]
+            cells = [read_image(p) for p in layer_paths]
+            if all(np.array_equal(c.pixels, cells[0].pixels) for c in cells[1:]):
+                cells = cells[:1]                        # a still layer: one painting
+            images, p, notes, table = moving_painting_of(name, cells, self.shade, self.relief)
+            if len(cells) > 1:
+                tables[name] = {"": {**table, "start": frames[0]}}
+            messages += [f"{name}: {n}" for n in notes]
+            layers.append((name, i * self.spacing, (0.0, 0.0), 1.0, None,
+                           {c: packed_image(f"{obj.name} {name} {c}", img, c)
+                            for c, img in images.items()}, p))
+            progress(0.4 + 0.3 * (i + 1) / len(paths))
+        return build_layered(context, obj.name, layers, [default_sun()], messages, size,
+                             parallax=False, add_lights=True, frames=tables)
 
 
 CLASSES = (DYNPAINT_OT_add_grease_pencil,)

@@ -49,6 +49,13 @@ def drawn_layers(obj):
     return kept, notes
 
 
+def animated(obj):
+    """Whether a drawing changes over the frames: a layer with more than one keyframe, or
+    animated data (layer transforms, modifiers' settings)."""
+    return any(len(layer.frames) > 1 for layer in obj.data.layers) or \
+        obj.data.animation_data is not None or obj.animation_data is not None
+
+
 def _points(layer):
     """Every point of every frame of a layer in the object's space, and its radius."""
     out, radii = [], []
@@ -81,11 +88,12 @@ def drawing_bounds(layers):
     return x0 - pad, x1 + pad, z0 - pad, z1 + pad
 
 
-def render_layers(obj, folder, width_px, frame=None):
+def render_layers(obj, folder, width_px, frames=None, progress=None):
     """Draw each layer of the Grease Pencil object `obj` that draws something, alone, into
-    `folder` as NN_name.png (16-bit RGBA, sRGB as drawn; NN back to front) at the scene
-    frame `frame` (default: the current one) → (paths, bounds, notes). The artist's scene,
-    the object and its layers are left as they were."""
+    `folder` (16-bit RGBA, sRGB as drawn) on each scene frame of `frames` (default: the
+    current one) → (paths, bounds, notes): paths[i][k] layer i's (back to front) drawing on
+    frames[k], named NN_name.png for one frame, NN_name_FFFF.png for several. The artist's
+    scene, the object and its layers are left as they were."""
     layers, notes = drawn_layers(obj)
     # framed by every layer that draws, hidden ones too: hiding one keeps the others in place
     x0, x1, z0, z1 = drawing_bounds([layer for layer in obj.data.layers
@@ -93,7 +101,7 @@ def render_layers(obj, folder, width_px, frame=None):
     w = max(1, int(width_px))
     h = max(1, round(w * (z1 - z0) / (x1 - x0)))
     os.makedirs(folder, exist_ok=True)
-    frame = bpy.context.scene.frame_current if frame is None else frame
+    frames = [bpy.context.scene.frame_current] if frames is None else list(frames)
     scene = bpy.data.scenes.new(f"{obj.name} layers (Dynamic Painting)")
     cam = bpy.data.objects.new(f"{obj.name} layers camera", bpy.data.cameras.new("DP camera"))
     saved = [(layer, layer.hide, layer.use_lights) for layer in obj.data.layers]
@@ -112,7 +120,6 @@ def render_layers(obj, folder, width_px, frame=None):
             look.to_4x4()
         cam.data.clip_end = 100.0 * (x1 - x0)
         scene.camera = cam
-        scene.frame_set(frame)
         r = scene.render
         r.engine = "BLENDER_WORKBENCH"
         r.resolution_x, r.resolution_y, r.resolution_percentage = w, h, 100
@@ -127,11 +134,16 @@ def render_layers(obj, folder, width_px, frame=None):
             for other in obj.data.layers:
                 other.hide = other.name != layer.name
                 other.use_lights = False          # drawn as painted: the lights come later
-            r.filepath = os.path.join(folder, f"{i + 1:02d}_{bpy.path.clean_name(layer.name)}"
-                                              f".png")
-            with bpy.context.temp_override(scene=scene):
-                bpy.ops.render.render(write_still=True, scene=scene.name)
-            paths.append(r.filepath)
+            stem = os.path.join(folder, f"{i + 1:02d}_{bpy.path.clean_name(layer.name)}")
+            paths.append([])
+            for k, frame in enumerate(frames):
+                scene.frame_set(frame)
+                r.filepath = f"{stem}.png" if len(frames) == 1 else f"{stem}_{frame:04d}.png"
+                with bpy.context.temp_override(scene=scene):
+                    bpy.ops.render.render(write_still=True, scene=scene.name)
+                paths[-1].append(r.filepath)
+                if progress is not None:
+                    progress((i * len(frames) + k + 1) / (len(layers) * len(frames)))
     finally:
         obj.hide_render = hidden
         for layer, hide, lights in saved:

@@ -45,9 +45,17 @@ def add_layered(context, path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE, siz
     added in the back layer's frame when the scene has none (always with `lights` 'all');
     relief: a plain painted layer's inflate height (layered_files); as_layers: a folder's
     images are layers even where there is one."""
-    scene = context.scene
-    layers, lights, messages = scene_layers(path, spacing, shade, relief, as_layers)
+    layers, source_lights, messages = scene_layers(path, spacing, shade, relief, as_layers)
     stem = os.path.splitext(os.path.basename(path.rstrip(os.sep)))[0]
+    return build_layered(context, stem, layers, source_lights, messages, size, parallax,
+                         rotation, progress, lights)
+
+
+def build_layered(context, stem, layers, lights, messages, size=1.0, parallax=True,
+                  rotation=None, progress=None, add_lights=True, frames=None):
+    """add_layered's build, of `layers` as scene_layers gives them → (parent, messages);
+    frames: {layer name: its [frames] table} for layers that move (§16: sheets, sequences)."""
+    scene = context.scene
     parent = bpy.data.objects.new(stem, None)
     parent.empty_display_type = "PLAIN_AXES"
     parent.empty_display_size = 0.25 * size
@@ -67,7 +75,8 @@ def add_layered(context, path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE, siz
             shadows = p.shadows.enabled
             p.shadows.enabled = False         # the group bakes once, when all are placed
             plane, mat, notes = create_painting(context, images, p, None, f"{stem} {name}",
-                                                size, default_sun=False)
+                                                size, default_sun=False,
+                                                frames=(frames or {}).get(name))
             planes.append(plane)
             messages += [f"{name}: {n}" for n in notes if "no camera" not in n]
             if FACE_CAMERA in plane.constraints:      # the parent faces the camera instead
@@ -88,7 +97,8 @@ def add_layered(context, path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE, siz
             if progress is not None:
                 progress((i + 1) / (len(layers) + 1))
         context.view_layer.update()
-        if lights == "all" or (lights and not linked_lights(planes[0].active_material, scene)):
+        if add_lights == "all" or (add_lights and
+                                   not linked_lights(planes[0].active_material, scene)):
             back = planes[0].matrix_world
             for light in lights:
                 add_light(scene, light, back, context.collection)
