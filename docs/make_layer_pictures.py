@@ -184,8 +184,16 @@ drawing (a layer with more than one keyframe, or animated data) is drawn on ever
 the scene's range: a layer whose drawing changes becomes a painting of sprite sheets that
 follow the scene's frames (§16; each frame's shape inflated by parts, so what does not
 change keeps its heights), a layer that does not a still one; playback and renders show
-each frame lit, its shadows baked for that frame. Live updates while drawing and the
-command line come next (issue 42).
+each frame lit, its shadows baked for that frame. On the command line, a .blend file's
+drawing is lit the same way and rendered (the numpy core, Cycles or EEVEE, framed on its back
+layer, the file's lights) or turned under its light (an animated drawing plays meanwhile):
+
+```sh
+dynpaint render drawing.blend --grease-pencil "Figure" --frame 12 --width 1024 --out lit.png
+dynpaint turntable drawing.blend --grease-pencil "Figure" --out turntable.mp4
+```
+
+Live updates while drawing, the web page and a sample come next (issue 42).
 
 ![a Grease Pencil drawing: as drawn, its layers lit alone, with the shadows between them](img/layers/grease_pencil.png)
 

@@ -10,15 +10,16 @@ import time
 import bpy
 
 from . import register_once
+from ..core.layers import render_scene
 from ..core.lights import default_sun
-from ..inputs.imageio import quiet_native
-from .bake.layers import group_materials
+from ..inputs.imageio import quiet_native, write_render
+from .bake.layers import group_layers, group_materials
 from .scenes import turntable
 from .scenes.layered_build import add_layered
 from .scenes.painting_scene import (NO_CAMERA, create_painting, exact_camera, exact_render_settings,
                     output_settings)
 from .state.frames import painting_size
-from .state.lights import linked_lights
+from .state.lights import linked_lights, painting_frame_light
 
 
 def build_recipe_scene(recipe, size=1.0, notes=None):
@@ -58,6 +59,67 @@ def render_recipe(recipe, engine, out, frame=None, notes=None):
     os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
     t = time.perf_counter()
     bpy.ops.render.render(write_still=True)
+    return time.perf_counter() - t
+
+
+def build_grease_pencil_scene(path, object_name, width=None, frame=None):
+    """A .blend file's Grease Pencil drawing lit as *From Grease Pencil* lights it (its
+    animation where it has one), every other object hidden from renders, an exact camera on
+    its back layer → (parent, back layer's material). ValueError names what is
+    wrong (no such file or object, not a drawing)."""
+    if not os.path.isfile(path) or not path.lower().endswith(".blend"):
+        raise ValueError(f"{path}: not a .blend file")
+    with quiet_native():
+        bpy.ops.wm.open_mainfile(filepath=os.path.abspath(path))
+    register_once()
+    context = bpy.context
+    obj = bpy.data.objects.get(object_name)
+    drawings = [o.name for o in bpy.data.objects if o.type == "GREASEPENCIL"]
+    if obj is None or obj.type != "GREASEPENCIL":
+        raise ValueError(f"{object_name}: no Grease Pencil object of that name in {path} "
+                         f"(its drawings: {', '.join(drawings) or 'none'})")
+    scene = context.scene
+    if frame is not None:
+        scene.frame_set(frame)
+    for other in context.view_layer.objects:
+        other.select_set(False)
+    obj.hide_set(False)
+    context.view_layer.objects.active = obj
+    kwargs = {"resolution": width} if width else {}
+    with context.temp_override(object=obj, active_object=obj):
+        if bpy.ops.dynpaint.add_grease_pencil(**kwargs) != {"FINISHED"}:
+            raise ValueError(f"{object_name}: could not be lit (see the messages above)")
+    parent = context.object
+    mats = group_materials(parent)
+    shown = {parent, *(m.dynamic_painting.plane for m in mats),
+             *linked_lights(mats[0], scene)}
+    for other in scene.objects:          # the lit drawing alone (its lights stay)
+        if other not in shown:
+            other.hide_render = True
+    exact_camera(scene, mats[0].dynamic_painting.plane)
+    if frame is not None:
+        scene.frame_set(frame)
+    context.view_layer.update()
+    return parent, mats[0]
+
+
+def render_grease_pencil(path, object_name, engine, out, frame=None, width=None):
+    """Render a .blend's Grease Pencil drawing, lit (`render FILE.blend --grease-pencil`):
+    with the numpy core (its layers' images and the scene's lights at `frame`, §15) or
+    Cycles / EEVEE framed on its back layer → seconds rendering."""
+    parent, mat = build_grease_pencil_scene(path, object_name, width, frame)
+    scene = bpy.context.scene
+    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
+    t = time.perf_counter()
+    if engine == "numpy":
+        mats = group_materials(parent)
+        back = mats[0].dynamic_painting.plane
+        lights = [painting_frame_light(o, back.matrix_world) for o in linked_lights(mat, scene)]
+        write_render(out, render_scene(group_layers(mats), lights).rgba)
+    else:
+        exact_render_settings(scene, engine)
+        output_settings(scene, out)
+        bpy.ops.render.render(write_still=True)
     return time.perf_counter() - t
 
 
@@ -124,7 +186,7 @@ def turntable_light(lights, mat, scene, name=None):
 
 def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevation=None,
                      light_name=None, clockwise=False, samples=None, fps=24, progress=print,
-                     notes=None):
+                     notes=None, grease_pencil=None):
     """Render a light turntable of the recipe's painting to a video file → (seconds, samples
     per pixel).
 
@@ -133,16 +195,26 @@ def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevati
     shape image's size (the default) the video frames the painting pixel for pixel and one
     sample is the exact image; `samples` (default ANTIALIAS_SAMPLES at other sizes) adds
     antialiasing. Blender's own render log is kept off the terminal: `progress` gets a line a
-    frame; notes: as for build_recipe_scene.
+    frame; notes: as for build_recipe_scene. grease_pencil: a drawing's name, `recipe` then
+    the .blend file holding it (build_grease_pencil_scene: lit by the file's lights; an
+    animated drawing plays while the light turns).
     """
-    plane, mat = build_recipe_scene(recipe, notes=notes)
+    if grease_pencil is not None:
+        _, mat = build_grease_pencil_scene(recipe, grease_pencil,
+                                           width=size[0] if size else None)
+        plane = mat.dynamic_painting.plane
+    else:
+        plane, mat = build_recipe_scene(recipe, notes=notes)
     scene = bpy.context.scene
     image_size = painting_size(mat)
     w, h = size or image_size
     fit_camera(scene, plane, w, h)
     samples = video_render_settings(scene, engine, samples, exact=(w, h) == image_size)
-    # a layered file (.ora, a folder of layers) names no light: the default sun lights it
-    lights = [default_sun()] if isinstance(recipe, str) else recipe.lights
+    # a layered file (.ora, a folder of layers) names no light: the default sun lights it;
+    # a drawing's are its file's
+    lights = [painting_frame_light(o, plane.matrix_world) for o in linked_lights(mat, scene)] \
+        if grease_pencil is not None else \
+        [default_sun()] if isinstance(recipe, str) else recipe.lights
     light, elev, azimuth, radius = turntable_light(lights, mat, scene, light_name)
     if elevation is not None:
         elev = math.radians(elevation)

@@ -25,6 +25,8 @@ def cmd_render(args):
     for flag, value in (("--width", args.width), ("--max-size", args.max_size)):
         if value is not None and value < 1:
             raise CommandError(f"{flag} must be at least 1 pixel, got {value}")
+    if args.grease_pencil:
+        return _render_grease_pencil(args)
     if is_layered_file(args.recipe):
         return _render_blender(args, args.recipe) if args.engine != "numpy" else \
             _render_layers(args)
@@ -116,6 +118,25 @@ def _render_blender(args, recipe):
     print(f"rendered with {args.engine} in {seconds * 1000:.0f} ms → {args.out}")
 
 
+def _render_grease_pencil(args):
+    """A .blend file's Grease Pencil drawing, lit (issue 42): in background Blender, as Add ›
+    Dynamic Painting › From Grease Pencil lights it, then rendered by the chosen engine."""
+    if args.max_size or args.float64:
+        raise CommandError("--grease-pencil takes --width (each layer's drawing), --frame and "
+                           "--engine; not --max-size or --float64")
+    if os.path.splitext(args.out)[1].lower() not in (".png", ".exr"):
+        raise CommandError(f"{args.out}: unsupported output format (use .png or .exr)")
+    from ..blender.headless import render_grease_pencil     # Blender only when asked for
+    try:
+        seconds = render_grease_pencil(args.recipe, args.grease_pencil, args.engine, args.out,
+                                       args.frame, args.width)
+    except ValueError as exc:
+        raise CommandError(str(exc)) from exc
+    shown = f" (frame {args.frame})" if args.frame is not None else ""
+    print(f"rendered {args.grease_pencil}{shown}, lit, with {args.engine} in "
+          f"{seconds * 1000:.0f} ms → {args.out}")
+
+
 def add_parser(sub):
     """Register `render` on the command line's subparsers."""
     r = sub.add_parser("render", help="render a recipe to an image",
@@ -137,4 +158,8 @@ def add_parser(sub):
                    help="longest side of the render at most PX pixels: larger inputs are "
                         "downsampled on reading (less memory and time)")
     r.add_argument("--float64", action="store_true", help="compute in float64 (reference)")
+    r.add_argument("--grease-pencil", metavar="OBJECT",
+                   help="RECIPE is a .blend file: light its Grease Pencil drawing OBJECT as "
+                        "Add › From Grease Pencil does (--width: each layer's drawing in "
+                        "pixels) and render it")
     r.set_defaults(func=cmd_render)

@@ -23,7 +23,9 @@ def cmd_turntable(args):
         raise CommandError(f"--samples must be at least 1, got {args.samples}")
     if args.elevation is not None and not -90 <= args.elevation <= 90:
         raise CommandError(f"--elevation must be in [-90, 90] degrees, got {args.elevation}")
-    if is_layered_file(args.recipe):       # an .ora or a folder of layers: built from its path
+    if args.grease_pencil:                 # a .blend file's drawing: built from its path
+        recipe = os.path.abspath(args.recipe)
+    elif is_layered_file(args.recipe):     # an .ora or a folder of layers: built from its path
         recipe = os.path.abspath(args.recipe)
     else:
         recipe = load_recipe(args.recipe)
@@ -33,7 +35,8 @@ def cmd_turntable(args):
         seconds, samples = render_turntable(
             recipe, args.out, args.frames, args.engine, args.size, args.elevation, args.light,
             args.clockwise, args.samples, args.fps,
-            progress=lambda line: print(line, flush=True), notes=print_notes)
+            progress=lambda line: print(line, flush=True), notes=print_notes,
+            grease_pencil=args.grease_pencil)
     except ValueError as exc:
         raise CommandError(str(exc)) from None
     print(f"turntable: {args.frames} frames with {args.engine}, {samples} sample"
@@ -58,6 +61,10 @@ def add_parser(sub):
                     "degrees (default: where the recipe puts the light)")
     tt.add_argument("--light", help="name of the recipe light to orbit (default: its first Sun)")
     tt.add_argument("--clockwise", action="store_true", help="orbit clockwise (seen from the front)")
+    tt.add_argument("--grease-pencil", metavar="OBJECT",
+                    help="RECIPE is a .blend file: light its Grease Pencil drawing OBJECT as "
+                         "Add › From Grease Pencil does (its animation plays while the light "
+                         "turns)")
     tt.add_argument("--samples", type=int, help="render samples per pixel; default: one at the "
                     "shape image's size (the video frames the painting pixel for pixel, and one "
                     "sample at each pixel centre is the exact image), antialiased at other sizes "

@@ -14,7 +14,10 @@ from dynpaint_addon.blender.scenes.grease_pencil import (GreasePencilError,  # n
 from dynpaint_addon.core.colour import linear_to_srgb  # noqa: E402
 from dynpaint_addon.inputs.imageio import image_data_from_blender, read_image  # noqa: E402
 from dynpaint_addon.blender.state.frames import frame_data, moves  # noqa: E402
-from testkit.grease_pencil import card_and_disc, rolling_disc  # noqa: E402
+from dynpaint_addon.core.layers import MAX_LAYERS  # noqa: E402
+from testkit.grease_pencil import add_fill, card_and_disc, disc, rolling_disc  # noqa: E402
+
+from conftest import run_cli  # noqa: E402
 
 
 @pytest.fixture
@@ -98,6 +101,10 @@ def test_bad_drawings_are_said_clearly(drawing):
     layers, notes = drawn_layers(drawing)
     assert [layer.name for layer in layers] == ["Back"]
     assert any("Figure: hidden" in n for n in notes) and any("Empty: no frames" in n for n in notes)
+    for k in range(MAX_LAYERS):                          # more layers than a scene holds
+        add_fill(drawing.data.layers.new(f"Extra {k}"), disc(0.0, 0.0, 0.1), 0)
+    with pytest.raises(GreasePencilError, match=f"at most {MAX_LAYERS}.*merge some"):
+        drawn_layers(drawing)
     mesh = bpy.data.objects.new("Mesh", bpy.data.meshes.new("Mesh"))
     bpy.context.scene.collection.objects.link(mesh)
     bpy.context.view_layer.objects.active = mesh
@@ -139,3 +146,53 @@ def test_an_animated_drawing_is_lit_frame_by_frame(drawing):
     assert np.all(np.diff(shadow_x) > 0.5 * step)      # the shadow follows the disc
     lit = (np.abs(ts[0] - ts[2]) > 1e-4).mean()       # the card changes where shadows moved
     assert 0 < lit < 0.25
+
+
+def saved_drawing(folder, make):
+    """A .blend file in `folder` holding the drawing make(scene) makes, frames 1–3, lit by a
+    sun → its path."""
+    bpy.ops.wm.read_homefile(use_empty=True)
+    blender.register_once()
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end = 1, 3
+    make(scene)
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    scene.collection.objects.link(sun)
+    sun.rotation_euler = (np.radians(60), 0, np.radians(-60))
+    path = str(folder / "drawing.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    return path
+
+
+def test_the_command_line_renders_a_blend_files_drawing_lit(tmp_path):
+    """`render FILE.blend --grease-pencil OBJECT --frame N`: the drawing lit as the add-on
+    lights it, the frame's drawing (the disc where frame 2 puts it), numpy and Cycles alike;
+    a wrong object name is one clear line naming the file's drawings."""
+    blend = saved_drawing(tmp_path, rolling_disc)
+    outs = {}
+    for engine in ("numpy", "cycles"):
+        out = tmp_path / f"{engine}.exr"
+        done = run_cli("render", blend, "--grease-pencil", "Rolling disc", "--frame", "2",
+                       "--width", "96", "--engine", engine, "--out", str(out))
+        assert done.returncode == 0, done.stderr
+        outs[engine] = read_image(str(out)).pixels
+    got, want = outs["cycles"], outs["numpy"]
+    assert got.shape == want.shape and np.abs(got - want)[1:-1, 1:-1].max() <= 2e-3
+    h, w = want.shape[:2]
+    orange = (want[..., 0] > 1.5 * want[..., 2]) & (want[..., 3] > 0.5)
+    x = (np.arange(w) + 0.5)[None, :].repeat(h, 0)
+    cx = x[orange].mean() / w                          # the disc at −0.3 + 0.25 on frame 2
+    assert abs(cx - (-0.05 + 1.04) / 2.08) < 0.03
+    done = run_cli("render", blend, "--grease-pencil", "Nothing", "--out", str(tmp_path / "x.png"))
+    assert done.returncode != 0 and "Rolling disc" in done.stderr and "Traceback" not in done.stderr
+
+
+def test_a_turntable_of_a_blend_files_drawing(tmp_path):
+    """`turntable FILE.blend --grease-pencil OBJECT`: the file's sun orbits the lit drawing,
+    a video of the frames asked for."""
+    blend = saved_drawing(tmp_path, card_and_disc)
+    out = tmp_path / "turn.mp4"
+    done = run_cli("turntable", blend, "--grease-pencil", "Drawing", "--frames", "2",
+                   "--size", "64", "48", "--samples", "1", "--out", str(out))
+    assert done.returncode == 0, done.stderr
+    assert "2 frames" in done.stdout and out.stat().st_size > 1000

@@ -18,6 +18,7 @@ import numpy as np
 import bpy
 from mathutils import Matrix, Vector
 
+from ...core.layers import MAX_LAYERS
 from ...errors import UserError
 
 MARGIN = 0.02          # of the drawing's size, around its bounds (strokes' round caps)
@@ -46,6 +47,11 @@ def drawn_layers(obj):
     if not kept:
         raise GreasePencilError(f"{obj.name} has no layer that draws anything"
                                 + (f" ({'; '.join(notes)})" if notes else ""))
+    if len(kept) > MAX_LAYERS:
+        raise GreasePencilError(
+            f"{obj.name} has {len(kept)} layers that draw; a scene of lit layers holds at most "
+            f"{MAX_LAYERS} (§15): merge some ({', '.join(layer.name for layer in kept)}) or "
+            f"hide those that need no light of their own")
     return kept, notes
 
 

@@ -11,7 +11,7 @@ from contextlib import contextmanager
 from dataclasses import replace
 
 import bpy
-from mathutils import Vector
+from mathutils import Matrix, Vector
 
 from ... import params
 from ...core.frames import is_pattern
@@ -222,18 +222,22 @@ def _remove(blocks):
 
 # -- exact-pixel rendering (parity tests, the `render` command) -------------------------------
 def exact_camera(scene, plane):
-    """An orthographic camera looking down −Z that frames the plane pixel for pixel (the plane
-    faces it, so its pixels line up with the painting's)."""
+    """An orthographic camera looking at the plane along its normal (down −Z for a plane
+    lying flat) that frames it pixel for pixel (the plane faces it, so its pixels line up
+    with the painting's)."""
     mat = plane.active_material
     w, h = painting_size(mat)
     cam_data = bpy.data.cameras.new("Dynamic Painting camera")
     cam_data.type = "ORTHO"
     cam = bpy.data.objects.new(cam_data.name, cam_data)
     scene.collection.objects.link(cam)
-    size = plane.scale[0]
+    size = plane.matrix_world.to_scale()[0]          # (a layer's: its parent's scale too)
     cam_data.ortho_scale = size * max(1.0, h / w)
     cam_data.clip_end = 100.0 * size
-    cam.location = plane.matrix_world.translation + Vector((0.0, 0.0, 5.0 * size))
+    facing = plane.matrix_world.to_3x3().normalized()
+    cam.matrix_world = Matrix.Translation(plane.matrix_world.translation +
+                                          facing @ Vector((0.0, 0.0, 5.0 * size))) @ \
+        facing.to_4x4()
     scene.camera = cam
     scene.render.resolution_x, scene.render.resolution_y = w, h
     scene.render.resolution_percentage = 100
