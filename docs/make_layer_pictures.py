@@ -26,10 +26,10 @@ from dynpaint_addon.blender.scenes.grease_pencil import render_layers  # noqa: E
 from dynpaint_addon.blender.scenes.layered_build import add_layered  # noqa: E402
 from dynpaint_addon.blender.scenes.painting_scene import output_settings  # noqa: E402
 from dynpaint_addon.core.colour import linear_to_srgb  # noqa: E402
-from dynpaint_addon.core.layers import MAX_LAYERS, render_scene  # noqa: E402
+from dynpaint_addon.core.layers import MAX_LAYERS, Layer, render_scene  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.inputs.imageio import read_image, write_png  # noqa: E402
-from dynpaint_addon.inputs.layered_files import load_scene  # noqa: E402
+from dynpaint_addon.inputs.layered_files import DEFAULT_SPACING, painting_of_frames  # noqa: E402
 from dynpaint_addon.inputs.recipe import load_layers, load_recipe  # noqa: E402
 from dynpaint_addon.inputs.testpainting import write_test_scene  # noqa: E402
 from testkit.grease_pencil import figure_on_a_hill  # noqa: E402
@@ -68,12 +68,15 @@ def grease_pencil(folder):
     bpy.ops.wm.read_homefile(use_empty=True)
     drawing = figure_on_a_hill(bpy.context.scene)
     paths, _, _ = render_layers(drawing, folder, PX)
-    drawn = [read_image(p).pixels for p, in paths]
-    shown = np.zeros_like(drawn[0])
-    for top in drawn:                                   # as Grease Pencil shows it: over
+    cells = [read_image(p) for p, in paths]
+    shown = np.zeros_like(cells[0].pixels)
+    for top in (c.pixels for c in cells):               # as Grease Pencil shows it: over
         shown = top * top[..., 3:4] + shown * (1 - top[..., 3:4])
-    shown[..., 3] = np.max([d[..., 3] for d in drawn], axis=0)
-    layers, _, _ = load_scene(folder, relief=GREASE_PENCIL_RELIEF)
+    shown[..., 3] = np.max([c.pixels[..., 3] for c in cells], axis=0)
+    layers = []                                         # as From Grease Pencil makes them
+    for i, cell in enumerate(cells):
+        images, p, _, _ = painting_of_frames(str(i), [cell], relief=GREASE_PENCIL_RELIEF)
+        layers.append(Layer(images, p, str(i), i * DEFAULT_SPACING))
     return side_by_side([shown] + [_shown(t) for t in (without_between(layers, SUN),
                                                         render_scene(layers, [SUN]).rgba)])
 
@@ -176,7 +179,8 @@ shadows). *Add › Dynamic Painting › From Grease Pencil* lights the active dr
 layers that draws something is drawn by **Blender's own Grease Pencil renderer** (its
 materials, fills, modifiers and effects), unlit, into an image with its alpha, framed by the
 drawing's extent over all its frames; the layers are then built as a folder of layers is
-(below): a plane per layer where the drawing is, *Spacing* apart (0.05 of its width), each
+(below): a plane per layer where the drawing is — at the depth the artist moved it toward
+the camera (its layer's translation), else *Spacing* apart (0.05 of its width) — each
 inflated by parts from its alpha with a low *Relief* (0.1 of a hemisphere: a drawing's layers
 lie close), the layers in front shadowing those behind. The drawing is hidden, not changed
 (unhide it to draw on; *From Grease Pencil* again makes the lit copy anew). An animated

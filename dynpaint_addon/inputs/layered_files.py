@@ -184,11 +184,10 @@ def read_folder(path):
     return max(sizes, key=lambda s: s[0] * s[1]), layers
 
 
-def scene_from_file_layers(canvas, file_layers, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE,
-                           relief=DEFAULT_RELIEF):
+def scene_from_file_layers(canvas, file_layers, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE):
     """FileLayers (back to front) on a canvas (W, H) → ([core.layers.Layer], notes): each
-    layer's missing channels made (a shaded dark, an inflated shape `relief` high: Make
-    Shape's inflate height), its depth from the stack, its place from its corner and size."""
+    layer's missing channels made (a shaded dark, an inflated shape), its depth from the
+    stack, its place from its corner and size."""
     notes, layers = [], []
     shown = [fl for fl in file_layers if not fl.hidden]
     notes += [f"{fl.name}: hidden: left out" for fl in file_layers if fl.hidden]
@@ -199,7 +198,7 @@ def scene_from_file_layers(canvas, file_layers, spacing=DEFAULT_SPACING, shade=D
                                f"{MAX_LAYERS} (merge some, or hide them)")
     width, height = canvas
     for i, fl in enumerate(shown):
-        images, p, made = painting_of(fl, shade, relief)
+        images, p, made = painting_of(fl, shade)
         notes += fl.notes + made
         w, h = images["shape"].size
         offset = ((fl.x + w / 2 - width / 2) / width, (height / 2 - fl.y - h / 2) / width)
@@ -236,12 +235,16 @@ def painting_of(fl, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF):
     return images, p, notes
 
 
-def moving_painting_of(name, cells, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF):
-    """A layer drawn anew on each frame (§16: a Grease Pencil layer's frames, issue 42) →
-    ({channel: ImageData sprite sheet}, params, notes, its [frames] table but the start):
-    each cell (ImageData of one size, one per frame) made a painting as a plain painted
-    layer is (painting_of: a shaded dark, its silhouette inflated by parts, so a figure that
-    does not change keeps its heights bit for bit), the cells laid out as sheets."""
+def painting_of_frames(name, cells, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF):
+    """A layer drawn on each of some frames (a Grease Pencil layer's, issue 42) →
+    ({channel: ImageData}, params, notes, its [frames] table but the start, or None): each
+    distinct cell (ImageData of one size, one per frame) made a painting as a plain painted
+    layer is (painting_of: a shaded dark, its silhouette inflated by parts `relief` high, so
+    a figure that does not change keeps its heights bit for bit); cells that all agree are
+    one still painting, else the cells are laid out as sprite sheets (§16)."""
+    if all(np.array_equal(c.pixels, cells[0].pixels) for c in cells[1:]):
+        images, p, notes = painting_of(FileLayer(name, {"painted": cells[0]}), shade, relief)
+        return images, p, notes, None
     made = [painting_of(FileLayer(name, {"painted": cell}), shade, relief) for cell in cells]
     notes = sorted({n for _, _, lines in made for n in lines if "inflated" not in n})
     grid = SheetGrid.squarest(len(cells))
@@ -273,7 +276,7 @@ def is_layered_file(path):
     return os.fspath(path).lower().endswith(".ora")
 
 
-def load_scene(path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF):
+def load_scene(path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE):
     """An .ora file or a folder of layer images → ([Layer], [Light], notes)."""
     path = os.fspath(path)
     if not os.path.exists(path):
@@ -285,7 +288,7 @@ def load_scene(path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE, relief=DEFAUL
     else:
         raise LayeredFileError(f"{path}: not a layered file (an .ora, or a folder of layer "
                                f"images)")
-    layers, notes = scene_from_file_layers(canvas, file_layers, spacing, shade, relief)
+    layers, notes = scene_from_file_layers(canvas, file_layers, spacing, shade)
     return layers, [default_sun()], notes + [DEFAULT_SUN_NOTE]
 
 

@@ -196,3 +196,13 @@ def test_a_turntable_of_a_blend_files_drawing(tmp_path):
                    "--size", "64", "48", "--samples", "1", "--out", str(out))
     assert done.returncode == 0, done.stderr
     assert "2 frames" in done.stdout and out.stat().st_size > 1000
+
+
+def test_layers_the_artist_moved_toward_the_camera_keep_their_depths(drawing):
+    """A layer translated 0.3 toward the camera (−Y, the front view) lies 0.3 in front of the
+    back layer in the lit copy, whatever the spacing."""
+    drawing.data.layers["Figure"].translation = (0.0, -0.3, 0.0)
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=64, spacing=0.01) == {"FINISHED"}
+    back, front = (m.dynamic_painting.plane for m in group_materials(bpy.context.object))
+    gap = back.matrix_world.translation - front.matrix_world.translation
+    assert np.allclose(gap, (0.0, 0.3, 0.0), atol=1e-5)

@@ -2,9 +2,12 @@
 Pencil drawing as a scene of lit layers, in its place.
 
 Each layer that draws something is drawn by Blender's own Grease Pencil renderer into an
-image (scenes/grease_pencil.py, the current frame), and the layers are built as Add ›
-Layered… builds a folder of them (§15): a plane per layer at a depth, the layers in front
-casting shadows on those behind. The planes lie where the drawing is (its object's XZ plane,
+image (scenes/grease_pencil.py: the current frame, or each of the scene's range for an
+animated drawing), and made a painting as a plain layer of a layered file is (a shaded dark
+copy, its silhouette inflated by parts; sprite sheets where it changes, §16); the layers are
+built as Add › Layered… builds them (§15): a plane per layer at its depth — where the artist
+moved layers toward the camera, there, else Spacing apart — the layers in front casting
+shadows on those behind. The planes lie where the drawing is (its object's XZ plane,
 seen from −Y), the drawing is hidden (unhide it to go on drawing; From Grease Pencil again
 makes the painting anew). Its images are packed in the .blend.
 """
@@ -14,20 +17,16 @@ import shutil
 import tempfile
 
 import bpy
-import numpy as np
 from bpy.props import BoolProperty, FloatProperty, IntProperty
 from mathutils import Matrix
 
 from ...core.lights import default_sun
 from ...inputs.imageio import read_image
-from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING, moving_painting_of
-from ...inputs.recipe import DEFAULT_SUN_NOTE
-from ..bake.layers import group_materials
-from ..scenes.grease_pencil import animated, render_layers
-from ..scenes.layered_build import add_layered, build_layered
+from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING, painting_of_frames
+from ..scenes.grease_pencil import animated, drawn_layers, layer_depths, render_layers
+from ..scenes.layered_build import build_layered
 from ..scenes.painting_scene import FACE_CAMERA, NO_CAMERA, unchanged_images_on_failure
 from ..state.images import packed_image
-from ..state.lights import linked_lights
 from .add import select_only
 from .common import run_and_report
 
@@ -79,15 +78,10 @@ class DYNPAINT_OT_add_grease_pencil(bpy.types.Operator):
             try:
                 paths, (x0, x1, z0, z1), notes = render_layers(
                     obj, folder, self.resolution, frames, lambda f: progress(0.4 * f))
+                depths = layer_depths(drawn_layers(obj)[0], x1 - x0, self.spacing)
                 with unchanged_images_on_failure():     # (its images are packed copies)
-                    if frames is None:
-                        parent, messages = add_layered(
-                            context, folder, self.spacing, self.shade, x1 - x0,
-                            parallax=False, progress=progress, relief=self.relief,
-                            as_layers=True)
-                    else:
-                        parent, messages = self.build_moving(context, obj, paths, frames,
-                                                             x1 - x0, progress)
+                    parent, messages = self.build(context, obj, paths, depths, frames,
+                                                  x1 - x0, progress)
             finally:
                 shutil.rmtree(folder, ignore_errors=True)
             parent.name = f"{obj.name} (lit)"
@@ -99,32 +93,27 @@ class DYNPAINT_OT_add_grease_pencil(bpy.types.Operator):
             obj.hide_render = True
             obj.hide_set(True)
             select_only(context, parent)
-            # it is placed where the drawing is (no camera to face), and lit by the scene's
-            # lights where it has some (a folder's default sun is only added where it has none)
-            said = [m for m in messages if NO_CAMERA not in m and
-                    not (m == DEFAULT_SUN_NOTE and len(linked_lights(
-                        group_materials(parent)[0], context.scene)))]
+            said = [m for m in messages if NO_CAMERA not in m]   # (it lies where the drawing is)
             return [("WARNING", m) for m in notes + said] + [
                 ("INFO", f"Lit {obj.name}: {len(paths)} layers as '{parent.name}' (the "
                          f"drawing is hidden: unhide it to draw on)")]
         return run_and_report(self, context, work, progress=True, failure="From Grease Pencil: ",
                               catch=(ValueError, OSError, MemoryError, RuntimeError))
 
-    def build_moving(self, context, obj, paths, frames, size, progress):
-        """The layers of an animated drawing (§16): a layer whose drawing changes over the
-        frames a painting of sprite sheets following the scene's frames, one that does not a
-        still painting → (parent, messages)."""
+    def build(self, context, obj, paths, depths, frames, size, progress):
+        """The drawing's layers as a scene of paintings (§15) at `depths`: a layer whose
+        drawing changes over `frames` a painting of sprite sheets following the scene's
+        frames (§16), one that does not a still painting → (parent, messages)."""
         layers, tables, messages = [], {}, []
-        for i, layer_paths in enumerate(paths):
-            name = os.path.splitext(os.path.basename(layer_paths[0]))[0].rsplit("_", 1)[0]
-            cells = [read_image(p) for p in layer_paths]
-            if all(np.array_equal(c.pixels, cells[0].pixels) for c in cells[1:]):
-                cells = cells[:1]                        # a still layer: one painting
-            images, p, notes, table = moving_painting_of(name, cells, self.shade, self.relief)
-            if len(cells) > 1:
+        for i, (layer_paths, depth) in enumerate(zip(paths, depths)):
+            name = os.path.splitext(os.path.basename(layer_paths[0]))[0]
+            name = name if frames is None else name.rsplit("_", 1)[0]
+            images, p, notes, table = painting_of_frames(
+                name, [read_image(path) for path in layer_paths], self.shade, self.relief)
+            if table is not None:
                 tables[name] = {"": {**table, "start": frames[0]}}
             messages += [f"{name}: {n}" for n in notes]
-            layers.append((name, i * self.spacing, (0.0, 0.0), 1.0, None,
+            layers.append((name, depth, (0.0, 0.0), 1.0, None,
                            {c: packed_image(f"{obj.name} {name} {c}", img, c)
                             for c, img in images.items()}, p))
             progress(0.4 + 0.3 * (i + 1) / len(paths))

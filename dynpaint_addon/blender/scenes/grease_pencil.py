@@ -55,6 +55,16 @@ def drawn_layers(obj):
     return kept, notes
 
 
+def layer_depths(layers, width, spacing):
+    """Each layer's depth in front of the first (image widths of a drawing `width` wide):
+    where the artist moved layers toward the camera (their translation's −Y, the front
+    view's depth), those; where none was moved, `spacing` apart in drawing order."""
+    ys = [float(layer.translation[1]) for layer in layers]
+    if max(ys) - min(ys) > 1e-9:
+        return [(ys[0] - y) / width for y in ys]
+    return [i * spacing for i in range(len(layers))]
+
+
 def animated(obj):
     """Whether a drawing changes over the frames: a layer with more than one keyframe, or
     animated data (layer transforms, modifiers' settings)."""

@@ -7,8 +7,7 @@ import os
 import bpy
 from mathutils import Matrix, Vector
 
-from ...inputs.layered_files import (DEFAULT_RELIEF, DEFAULT_SHADE, DEFAULT_SPACING,
-                                     is_layered_file, load_scene)
+from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING, is_layered_file, load_scene
 from ...inputs.recipe import DEFAULT_SUN_NOTE, hidden_notes, load_recipe
 from ..bake.layers import LAYERED, bake_group, group_materials
 from ..material.sync import update
@@ -18,12 +17,11 @@ from .painting_scene import FACE_CAMERA, create_painting, face_scene_camera
 from .turntable import turn_first_sun
 
 
-def scene_layers(path, spacing, shade, relief=DEFAULT_RELIEF, as_layers=False):
+def scene_layers(path, spacing, shade):
     """The layers of `path` → ([(name, depth, offset, scale, thickness, images, p)], lights,
-    notes): images as file paths (a recipe) or bpy images packed from the file's layers;
-    as_layers: a folder's images are layers even where there is one."""
-    if as_layers or is_layered_file(path):
-        layers, lights, notes = load_scene(path, spacing, shade, relief)
+    notes): images as file paths (a recipe) or bpy images packed from the file's layers."""
+    if is_layered_file(path):
+        layers, lights, notes = load_scene(path, spacing, shade)
         return [(lay.name, lay.depth, lay.offset, lay.scale, lay.thickness,
                  {c: packed_image(f"{lay.name} {c}", img, c) for c, img in lay.images.items()},
                  lay.p) for lay in layers], lights, notes
@@ -36,16 +34,13 @@ def scene_layers(path, spacing, shade, relief=DEFAULT_RELIEF, as_layers=False):
 
 
 def add_layered(context, path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE, size=1.0,
-                parallax=True, rotation=None, progress=None, lights=True, relief=DEFAULT_RELIEF,
-                as_layers=False):
+                parallax=True, rotation=None, progress=None, lights=True):
     """Build a layered painting → (parent Empty, messages). The parent faces the camera at
     the 3D cursor; each layer's plane is its child at (offset, depth) × size, scaled by its
     scale (and by (D − z)/D about the camera's axis with `parallax` and a perspective
     camera; rotation: the parent's when there is no camera to face); the source's lights are
-    added in the back layer's frame when the scene has none (always with `lights` 'all');
-    relief: a plain painted layer's inflate height (layered_files); as_layers: a folder's
-    images are layers even where there is one."""
-    layers, source_lights, messages = scene_layers(path, spacing, shade, relief, as_layers)
+    added in the back layer's frame when the scene has none (always with `lights` 'all')."""
+    layers, source_lights, messages = scene_layers(path, spacing, shade)
     stem = os.path.splitext(os.path.basename(path.rstrip(os.sep)))[0]
     return build_layered(context, stem, layers, source_lights, messages, size, parallax,
                          rotation, progress, lights)
