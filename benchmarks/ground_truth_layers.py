@@ -258,9 +258,14 @@ def evaluate(size, offset, name=OWN):
     """One scene at one d → (rows [(light, layer, kind, mean |t − 3D|, IoU or None)],
     {light: bake seconds})."""
     depths = SCENES[name]
+    return compare(size, depths, core_layers(size, depths), offset)
+
+
+def compare(size, depths, layers, offset):
+    """The core's `layers` of a scene of `depths` against its 3D truth (built here, so after
+    anything else that empties Blender's scene), at d = offset → evaluate's rows."""
     folder = tempfile.mkdtemp()
     scene, objects = build(size, depths)
-    layers = core_layers(size, depths)
     for layer in layers:
         layer.p.shadows.offset = offset
     rows, seconds = [], {}

@@ -21,8 +21,7 @@ import bpy  # noqa: E402
 from make_docs import side_by_side  # noqa: E402
 
 from dynpaint_addon.blender import register_once  # noqa: E402
-from dynpaint_addon.blender.operators.grease_pencil import GREASE_PENCIL_RELIEF  # noqa: E402
-from dynpaint_addon.blender.scenes.grease_pencil import render_layers  # noqa: E402
+from dynpaint_addon.blender.scenes.grease_pencil import GREASE_PENCIL_RELIEF, render_layers  # noqa: E402
 from dynpaint_addon.blender.scenes.layered_build import add_layered  # noqa: E402
 from dynpaint_addon.blender.scenes.painting_scene import output_settings  # noqa: E402
 from dynpaint_addon.core.colour import linear_to_srgb  # noqa: E402
@@ -182,8 +181,11 @@ drawing's extent over all its frames; the layers are then built as a folder of l
 (below): a plane per layer where the drawing is — at the depth the artist moved it toward
 the camera (its layer's translation), else *Spacing* apart (0.05 of its width) — each
 inflated by parts from its alpha with a low *Relief* (0.1 of a hemisphere: a drawing's layers
-lie close), the layers in front shadowing those behind. The drawing is hidden, not changed
-(unhide it to draw on; *From Grease Pencil* again makes the lit copy anew). An animated
+lie close), the layers in front shadowing those behind. The drawing is hidden, not changed:
+unhide it and draw on, and the lit copy follows — each change of the drawing (a stroke, a
+keyframe, a material's colour) redraws its layers in place once the drawing has been still
+for 0.3 s (at once in scripts and renders, after a depsgraph evaluation); a layer added or
+removed makes the lit copy anew. An animated
 drawing (a layer with more than one keyframe, or animated data) is drawn on every frame of
 the scene's range: a layer whose drawing changes becomes a painting of sprite sheets that
 follow the scene's frames (§16; each frame's shape inflated by parts, so what does not
@@ -197,7 +199,9 @@ dynpaint render drawing.blend --grease-pencil "Figure" --frame 12 --width 1024 -
 dynpaint turntable drawing.blend --grease-pencil "Figure" --out turntable.mp4
 ```
 
-Live updates while drawing, the web page and a sample come next (issue 42).
+Measured against Cycles renders of the same cards in 3D (`benchmarks/grease_pencil_truth.py`,
+[grease-pencil-truth.md](grease-pencil-truth.md)). The web page and a sample come next
+(issue 42).
 
 ![a Grease Pencil drawing: as drawn, its layers lit alone, with the shadows between them](img/layers/grease_pencil.png)
 

@@ -3,7 +3,7 @@
 - depsgraph_update_post: a light linked or unlinked (added, deleted, moved between
   collections, Sun ↔ Point) rebuilds that painting's tree, so its drivers never point at a
   deleted light; an input image's pixels edited (an Image update: state/edits.py) remakes
-  what is made from them.
+  what is made from them; a Grease Pencil drawing changed redraws its lit copies.
 - frame_change_post: with cos-θ shadows on, each frame bakes for the lights where that frame
   puts them (read from the evaluated depsgraph, blender-notes.md), in renders as in playback;
   a painting that moves (§16) first shows the frame's drawing (sync.update: its frame copies
@@ -26,10 +26,11 @@ import bpy
 from bpy.app.handlers import persistent
 
 from .bake.layers import bake_painting, forget_scenes
-from .bake.live_bake import rendering
+from .bake.live_bake import DEBOUNCE_S, rendering
 from .bake.shadow_images import forget_cached_shapes
 from .material.sync import invalidate_generated, update
 from .material.tree import rebuild_tree, tree_is_stale
+from .scenes.grease_pencil import drawing_of, refresh_lit_drawing, stale_lit_copies
 from .state.edits import note_edited
 from .state.frame_sampling import only_reading_lights
 from .state.frames import forget_frames, moves
@@ -60,6 +61,7 @@ def on_depsgraph_update(scene, depsgraph):
     at once what Rebuild Material would make)."""
     if only_reading_lights():
         return
+    redraw_lit_drawings(scene, depsgraph)
     images = {getattr(u.id, "original", u.id).name for u in depsgraph.updates
               if isinstance(u.id, bpy.types.Image)}
     watched = any(isinstance(u.id, WATCHED) for u in depsgraph.updates)
@@ -79,6 +81,60 @@ def on_depsgraph_update(scene, depsgraph):
             update(mat, scene, depsgraph, bake=when)
         except Exception as exc:     # never into Blender's update loop
             report(mat, exc)
+
+
+_REDRAWING = []     # a lit copy being redrawn: its own renders update the drawing too
+
+
+def redraw_lit_drawings(scene, depsgraph):
+    """A Grease Pencil drawing changed (a stroke, a keyframe, a material): redraw the lit
+    copies made from it (scenes/grease_pencil.refresh_lit_drawing) — at once without a UI
+    (the headless contract), after DEBOUNCE_S of quiet with one (a drawing's strokes come
+    fast, and each redraw renders its layers)."""
+    if _REDRAWING:
+        return
+    names = set()
+    for u in depsgraph.updates:
+        what = getattr(u.id, "original", u.id)
+        if isinstance(what, bpy.types.GreasePencil):
+            names |= {o.name for o in scene.objects if o.data == what}
+        elif isinstance(what, bpy.types.Object) and what.type == "GREASEPENCIL":
+            names.add(what.name)
+    if not names:
+        return
+    stale = stale_lit_copies(scene, names)
+    if not stale:
+        return
+    if not rendering():
+        _PENDING.update(p.name for p in stale)
+        if not bpy.app.timers.is_registered(_redraw_pending):
+            bpy.app.timers.register(_redraw_pending, first_interval=DEBOUNCE_S)
+        return
+    for parent in stale:
+        _redraw(scene, parent)
+
+
+_PENDING = set()
+
+
+def _redraw_pending():
+    scene = bpy.context.scene
+    for name in list(_PENDING):
+        _PENDING.discard(name)
+        parent = bpy.data.objects.get(name)
+        if parent is not None and parent in stale_lit_copies(scene, {drawing_of(parent)}):
+            _redraw(scene, parent)
+    return None
+
+
+def _redraw(scene, parent):
+    _REDRAWING.append(parent.name)
+    try:
+        refresh_lit_drawing(bpy.context, parent)
+    except Exception as exc:        # never into Blender's update loop
+        report(parent.name, exc)
+    finally:
+        _REDRAWING.clear()
 
 
 @persistent

@@ -10,8 +10,12 @@ frames (so every frame of an animation lands on the same pixels). The images are
 layers, back to front, which Add › Layered… builds as a scene of layers (§15): each a bright
 image with its alpha, a shaded dark copy and its silhouette inflated by parts.
 """
+import hashlib
+import json
 import math
 import os
+import shutil
+import tempfile
 
 import numpy as np
 
@@ -19,7 +23,18 @@ import bpy
 from mathutils import Matrix, Vector
 
 from ...core.layers import MAX_LAYERS
+from ...core.lights import default_sun
 from ...errors import UserError
+from ...inputs.imageio import read_image
+from ...inputs.layered_files import painting_of_frames
+from ..bake.layers import group_materials
+from ..material.sync import update
+from ..state.edits import note_edited
+from ..state.frames import forget_frames, moves
+from ..state.images import packed_image, refill_packed_image
+from ..state.settings import channel_images
+from .layered_build import build_layered
+from .painting_scene import FACE_CAMERA, NO_CAMERA, unchanged_images_on_failure
 
 MARGIN = 0.02          # of the drawing's size, around its bounds (strokes' round caps)
 
@@ -92,28 +107,30 @@ def _points(layer):
     return np.concatenate(out), np.concatenate(radii)
 
 
-def drawing_bounds(layers):
+def drawing_bounds(layers, margin=MARGIN):
     """(x0, x1, z0, z1): the drawing's extent in its object's X (right) and Z (up) over all
-    frames of `layers`, strokes' radii included, with a MARGIN (Grease Pencil draws on the
-    XZ plane, seen from −Y)."""
+    frames of `layers`, strokes' radii included, with a margin (a share of its size; Grease
+    Pencil draws on the XZ plane, seen from −Y)."""
     pts, radii = zip(*(_points(layer) for layer in layers))
     pts, radii = np.concatenate(pts), np.concatenate(radii)
     x0, x1 = float((pts[:, 0] - radii).min()), float((pts[:, 0] + radii).max())
     z0, z1 = float((pts[:, 2] - radii).min()), float((pts[:, 2] + radii).max())
-    pad = MARGIN * max(x1 - x0, z1 - z0, 1e-6)
+    pad = margin * max(x1 - x0, z1 - z0, 1e-6)
     return x0 - pad, x1 + pad, z0 - pad, z1 + pad
 
 
-def render_layers(obj, folder, width_px, frames=None, progress=None):
+def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARGIN):
     """Draw each layer of the Grease Pencil object `obj` that draws something, alone, into
     `folder` (16-bit RGBA, sRGB as drawn) on each scene frame of `frames` (default: the
     current one) → (paths, bounds, notes): paths[i][k] layer i's (back to front) drawing on
-    frames[k], named NN_name.png for one frame, NN_name_FFFF.png for several. The artist's
-    scene, the object and its layers are left as they were."""
+    frames[k], named NN_name.png for one frame, NN_name_FFFF.png for several; margin: around
+    the drawing's bounds (drawing_bounds). The artist's scene, the object and its layers are
+    left as they were."""
     layers, notes = drawn_layers(obj)
     # framed by every layer that draws, hidden ones too: hiding one keeps the others in place
     x0, x1, z0, z1 = drawing_bounds([layer for layer in obj.data.layers
-                                     if any(len(f.drawing.strokes) for f in layer.frames)])
+                                     if any(len(f.drawing.strokes) for f in layer.frames)],
+                                    margin)
     w = max(1, int(width_px))
     h = max(1, round(w * (z1 - z0) / (x1 - x0)))
     os.makedirs(folder, exist_ok=True)
@@ -167,3 +184,177 @@ def render_layers(obj, folder, width_px, frames=None, progress=None):
         bpy.data.objects.remove(cam)
         bpy.data.scenes.remove(scene)
     return paths, (x0, x1, z0, z1), notes
+
+
+# -- the lit copy (Add › From Grease Pencil; the command line) -------------------------------
+# A drawing's layers lie a Spacing apart (0.05 image widths): inflated as a file's layers are
+# (a disc a hemisphere), a large card would reach through the layers in front of it
+GREASE_PENCIL_RELIEF = 0.1
+LIT_SETTINGS = ("resolution", "spacing", "shade", "relief", "animation")
+SOURCE = "dynamic_painting_grease_pencil"    # a lit copy's parent: its drawing and settings
+LAYER = "dynamic_painting_grease_pencil_layer"   # a lit layer's material: its layer's name
+
+
+def drawn_paintings(scene, obj, settings, progress=None):
+    """Each layer of the drawing that draws something, drawn by Blender and made a painting
+    (layered_files.painting_of_frames) → ([(name, depth, {channel: ImageData}, params,
+    [frames] table or None)], bounds, frames or None, notes)."""
+    progress = progress or (lambda f: None)
+    frames = list(range(scene.frame_start, scene.frame_end + 1)) \
+        if settings["animation"] and animated(obj) else None
+    folder = tempfile.mkdtemp(prefix="dynpaint-grease-pencil-")
+    try:
+        paths, bounds, notes = render_layers(obj, folder, settings["resolution"], frames,
+                                             lambda f: progress(0.4 * f))
+        depths = layer_depths(drawn_layers(obj)[0], bounds[1] - bounds[0], settings["spacing"])
+        made = []
+        for i, (layer_paths, depth) in enumerate(zip(paths, depths)):
+            name = os.path.splitext(os.path.basename(layer_paths[0]))[0]
+            name = name if frames is None else name.rsplit("_", 1)[0]
+            images, p, lines, table = painting_of_frames(
+                name, [read_image(path) for path in layer_paths], settings["shade"],
+                settings["relief"])
+            notes += [f"{name}: {n}" for n in lines]
+            made.append((name, depth, images, p, table))
+            progress(0.4 + 0.3 * (i + 1) / len(paths))
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+    return made, bounds, frames, notes
+
+
+def light_drawing(context, obj, settings, progress=None):
+    """The drawing `obj` as a scene of lit layers (§15) where it is, the drawing hidden →
+    (parent, notes). settings: LIT_SETTINGS' values (the operator's)."""
+    made, (x0, x1, z0, z1), frames, notes = drawn_paintings(context.scene, obj, settings,
+                                                          progress)
+    layers, tables, images = [], {}, {}
+    for name, depth, imgs, p, table in made:
+        images[name] = {c: packed_image(f"{obj.name} {name} {c}", img, c)
+                        for c, img in imgs.items()}
+        if table is not None:
+            tables[name] = {"": {**table, "start": frames[0]}}
+        layers.append((name, depth, (0.0, 0.0), 1.0, None, images[name], p))
+    with unchanged_images_on_failure():           # (its images are packed copies)
+        parent, messages = build_layered(context, obj.name, layers, [default_sun()], notes,
+                                         x1 - x0, parallax=False, add_lights=True,
+                                         frames=tables)
+    for mat in group_materials(parent):           # which layer each painting shows
+        bright = mat.dynamic_painting.image_bright
+        mat[LAYER] = next(n for n, imgs in images.items() if imgs["bright"] == bright)
+    parent.name = f"{obj.name} (lit)"
+    parent[SOURCE] = json.dumps({"object": obj.name, **settings,
+                                 "drawn": drawing_fingerprint(obj)})
+    if FACE_CAMERA in parent.constraints:          # it lies where the drawing does
+        parent.constraints.remove(parent.constraints[FACE_CAMERA])
+    parent.matrix_world = obj.matrix_world @ \
+        Matrix.Translation(((x0 + x1) / 2, 0.0, (z0 + z1) / 2)) @ \
+        Matrix.Rotation(math.pi / 2, 4, "X")
+    obj.hide_render = True
+    obj.hide_set(True)
+    return parent, [m for m in messages if NO_CAMERA not in m]
+
+
+# how each kind of attribute is read: (field, dtype, values per element)
+ATTRIBUTE_READS = {"FLOAT_VECTOR": ("vector", np.float32, 3), "FLOAT": ("value", np.float32, 1),
+                   "INT": ("value", np.int32, 1), "BOOLEAN": ("value", np.bool_, 1),
+                   "FLOAT_COLOR": ("color", np.float32, 4)}
+
+
+def drawing_fingerprint(obj):
+    """What the lit copy is drawn from, as a digest: each layer's settings, place and frames'
+    strokes (points, radii, materials), the materials' colours — what an edit of the drawing
+    changes (and showing or hiding it does not)."""
+    digest = hashlib.sha1()
+    for layer in obj.data.layers:
+        digest.update(repr((layer.name, layer.hide, layer.opacity, layer.blend_mode,
+                            [list(r) for r in layer.matrix_local])).encode())
+        for frame in layer.frames:
+            digest.update(str(frame.frame_number).encode())
+            attributes = frame.drawing.attributes
+            for name in ("position", "radius", "opacity", "material_index", "cyclic"):
+                if name in attributes:
+                    attribute = attributes[name]
+                    field, dtype, size = ATTRIBUTE_READS[attribute.data_type]
+                    values = np.empty(len(attribute.data) * size, dtype)
+                    attribute.data.foreach_get(field, values)
+                    digest.update(values.tobytes())
+    for m in obj.data.materials:
+        g = getattr(m, "grease_pencil", None)
+        if g is not None:
+            digest.update(repr((tuple(g.color), tuple(g.fill_color), g.show_fill,
+                                g.show_stroke)).encode())
+    return digest.hexdigest()
+
+
+def drawing_of(parent):
+    """The name of the drawing a lit copy was made from."""
+    return json.loads(parent[SOURCE])["object"]
+
+
+def stale_lit_copies(scene, names):
+    """The parents of lit copies in `scene` whose drawing, one of the objects `names`, has
+    changed since they were drawn."""
+    out = []
+    for parent in (o for o in scene.objects if o.get(SOURCE)):
+        source = json.loads(parent[SOURCE])
+        obj = bpy.data.objects.get(source["object"])
+        if source["object"] in names and obj is not None and obj.type == "GREASEPENCIL" \
+                and source.get("drawn") != drawing_fingerprint(obj):
+            out.append(parent)
+    return out
+
+
+def refresh_lit_drawing(context, parent):
+    """Redraw the lit copy `parent` from its drawing as it is now: each layer's images
+    written in place where its layers, sizes and frames are as before (their edits noted, so
+    its group bakes again), else the lit copy made anew → the parent (a new one then)."""
+    source = json.loads(parent[SOURCE])
+    obj = bpy.data.objects.get(source["object"])
+    if obj is None or obj.type != "GREASEPENCIL":
+        return parent
+    settings = {k: source[k] for k in LIT_SETTINGS}
+    made, bounds, frames, _ = drawn_paintings(context.scene, obj, settings)
+    mats = {m.get(LAYER): m for m in group_materials(parent)}
+    same = set(mats) == {name for name, *_ in made} and all(
+        (table is None) == (not moves(mats[name])) for name, _, _, _, table in made)
+    written = []
+    if same:
+        for name, _, imgs, _, _ in made:
+            s = mats[name].dynamic_painting
+            for channel, data in imgs.items():
+                img = getattr(s, f"image_{channel}")
+                if img is None or not refill_packed_image(img, data):
+                    same = False
+                    break
+                written.append(img.name)
+            if not same:
+                break
+    if not same:                                   # other layers, sizes or frames: anew
+        hidden = obj.hide_get()
+        remove_lit_copy(parent)
+        obj.hide_set(False)
+        parent, _ = light_drawing(context, obj, settings)
+        obj.hide_set(hidden or obj.hide_get())
+        return parent
+    note_edited(written)
+    forget_frames()
+    parent[SOURCE] = json.dumps({**source, "drawn": drawing_fingerprint(obj)})
+    for mat in mats.values():
+        update(mat, context.scene)
+    return parent
+
+
+def remove_lit_copy(parent):
+    """A lit copy's parent, planes, meshes, materials and images, gone."""
+    for plane in list(parent.children):
+        mesh = plane.data
+        mats = list(mesh.materials) if mesh is not None else []
+        for mat in mats:
+            for img in channel_images(mat.dynamic_painting).values():
+                bpy.data.images.remove(img)
+        bpy.data.objects.remove(plane)
+        if mesh is not None:
+            bpy.data.meshes.remove(mesh)
+        for mat in mats:
+            bpy.data.materials.remove(mat)
+    bpy.data.objects.remove(parent)

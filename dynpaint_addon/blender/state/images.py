@@ -182,14 +182,29 @@ def _store(settings, channel, image, key):
     item.image, item.key = image, key
 
 
+def _rgba(data):
+    px = data.pixels
+    return np.concatenate([px[..., :1].repeat(3, -1) if px.shape[2] < 3 else px[..., :3],
+                           px[..., -1:] if data.has_alpha else np.ones(px.shape[:2] + (1,))],
+                          axis=2).astype(np.float32)
+
+
+def refill_packed_image(img, data):
+    """Write ImageData into an image packed_image made from data of the same size and kind,
+    packed again → whether it could (False: another size or bit depth)."""
+    h, w = data.pixels.shape[:2]
+    if tuple(img.size) != (w, h) or img.is_float != (data.bits == 32):
+        return False
+    img.pixels.foreach_set(np.ascontiguousarray(_rgba(data)).ravel())
+    img.pack()
+    return True
+
+
 def packed_image(name, data, channel):
     """An image numpy holds (core ImageData: a layer of an .ora file, a shaded copy) → a new
     image packed into the .blend, as the channel reads it (§0): 8- and 16-bit values stay
     file values (sRGB codes for colour), floats are linear or data."""
-    px = data.pixels
-    rgba = np.concatenate([px[..., :1].repeat(3, -1) if px.shape[2] < 3 else px[..., :3],
-                           px[..., -1:] if data.has_alpha else np.ones(px.shape[:2] + (1,))],
-                          axis=2).astype(np.float32)
+    rgba = _rgba(data)
     if data.bits == 32:
         return made_shape_image(name, rgba)
     h, w = rgba.shape[:2]
