@@ -13,7 +13,6 @@ Times are the best of --runs.
 
     .venv/bin/python benchmarks/layers_speed.py --size 1024 --out docs/layers-speed.md
 """
-import argparse
 import copy
 import os
 import sys
@@ -24,7 +23,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
-from report import best, command_line, publish  # noqa: E402
+from report import best, command_line, publish, size_and_runs  # noqa: E402
 
 from dynpaint_addon.core.layers import Scene, bake_scene  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
@@ -95,11 +94,7 @@ def measure(size, runs):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--size", type=int, default=1024)
-    ap.add_argument("--runs", type=int, default=3)
-    ap.add_argument("--out", help="Markdown report")
-    args = ap.parse_args(argv)
+    args = size_and_runs(__doc__, argv)
     m = measure(args.size, args.runs)
 
     def met(ok):

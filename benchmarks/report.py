@@ -1,4 +1,5 @@
 """Shared by the benchmarks: print the Markdown page and write it where asked."""
+import argparse
 import os
 import sys
 import time
@@ -29,3 +30,13 @@ def best(fn, runs):
         fn()
         times.append(time.perf_counter() - start)
     return min(times)
+
+
+def size_and_runs(doc, argv=None, size=1024, runs=3):
+    """The arguments of a timing benchmark whose docstring is `doc`: --size (px), --runs
+    (the best of them is kept) and --out (the Markdown report)."""
+    ap = argparse.ArgumentParser(description=doc.split("\n")[0])
+    ap.add_argument("--size", type=int, default=size)
+    ap.add_argument("--runs", type=int, default=runs)
+    ap.add_argument("--out", help="Markdown report")
+    return ap.parse_args(argv)

@@ -200,8 +200,14 @@ dynpaint turntable drawing.blend --grease-pencil "Figure" --out turntable.mp4
 ```
 
 Measured against Cycles renders of the same cards in 3D (`benchmarks/grease_pencil_truth.py`,
-[grease-pencil-truth.md](grease-pencil-truth.md)). The web page and a sample come next
-(issue 42).
+[grease-pencil-truth.md](grease-pencil-truth.md), scenes not chosen on): with *Relief* 0 (flat
+cards, as the 3D ones are) every layer's mean |t − 3D| is at most 0.008 and the shadows cast on
+the ground have an IoU of 0.97–0.99; the small shadows cast on a middle layer by the one in
+front reach 0.55–0.91 at 45°, where the same cards given as exact masks reach 0.80–0.96 —
+Grease Pencil's fills come out about 0.15 px inside their outline, and those shadows are a few
+pixels wide. With the default *Relief* 0.1 the cards are low domes, which the 3D cards are
+not: their own shading differs by 0.02–0.07. What it costs: [grease-pencil-cost.md](grease-pencil-cost.md).
+The web page and a sample come next (issue 42).
 
 ![a Grease Pencil drawing: as drawn, its layers lit alone, with the shadows between them](img/layers/grease_pencil.png)
 

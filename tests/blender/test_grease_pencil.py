@@ -264,3 +264,11 @@ def test_a_lit_copy_follows_its_drawing(drawing):
     bpy.context.view_layer.update()
     lit = [o for o in bpy.context.scene.objects if o.get(SOURCE)]
     assert sorted(len(group_materials(o)) for o in lit) == [3, 3]
+
+
+def test_the_cost_benchmark_runs():
+    """benchmarks/grease_pencil_cost.py at a tiny size (numbers, not speed)."""
+    sys.path.insert(0, os.path.join(REPO, "benchmarks"))
+    import grease_pencil_cost
+    m = grease_pencil_cost.measure(48, 1)
+    assert len(m) == 4 and all(seconds > 0 for seconds in m.values())

@@ -1,0 +1,102 @@
+"""What lighting a Grease Pencil drawing costs (issue 42): a frame of a three-layer drawing
+(testkit.grease_pencil.figure_on_a_hill: a sky card, a hill, a figure) at --size, and a
+stroke's redraw of its lit copy.
+
+- the drawing's layers drawn by Blender's Grease Pencil renderer (Workbench, each layer
+  alone: scenes/grease_pencil.render_layers) — what Blender itself takes, apart;
+- the layers made paintings (a shaded dark copy, the alpha inflated by parts:
+  layered_files.painting_of_frames);
+- the whole From Grease Pencil (the above, the planes and materials, the group's bake at
+  final quality), in the add-on;
+- a stroke: a fill added to the figure's layer, then the depsgraph update that redraws the
+  lit copy in place (handlers.redraw_lit_drawings → refresh_lit_drawing, the layers drawn
+  again, the group baked at final) — goal ≤ 100 ms for a draft at 1024² (issue 42), reported
+  beside what each part takes.
+Times are the best of --runs, this machine's cores.
+
+    .venv/bin/python benchmarks/grease_pencil_cost.py --size 1024 --out docs/grease-pencil-cost.md
+"""
+import os
+import sys
+import tempfile
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+import bpy  # noqa: E402
+
+from report import best, command_line, publish, size_and_runs  # noqa: E402
+
+from dynpaint_addon.blender import register_once  # noqa: E402
+from dynpaint_addon.blender.scenes.grease_pencil import (GREASE_PENCIL_RELIEF,  # noqa: E402
+                                                         render_layers)
+from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
+from dynpaint_addon.inputs.layered_files import painting_of_frames  # noqa: E402
+from testkit.grease_pencil import add_fill, disc, figure_on_a_hill  # noqa: E402
+
+GOAL_STROKE_MS = 100.0
+
+
+def drawing():
+    bpy.ops.wm.read_homefile(use_empty=True)
+    register_once()
+    scene = bpy.context.scene
+    obj = figure_on_a_hill(scene)
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    scene.collection.objects.link(sun)
+    sun.rotation_euler = (np.radians(50), 0, np.radians(-60))
+    bpy.context.view_layer.objects.active = obj
+    return obj
+
+
+def measure(size, runs):
+    """{part: seconds} of one frame at size², and of a stroke's redraw."""
+    obj = drawing()
+    out = {}
+    with tempfile.TemporaryDirectory() as folder:
+        out["drawn by Blender (3 layers)"] = best(
+            lambda: render_layers(obj, folder, size), runs)
+        paths, _, _ = render_layers(obj, folder, size)
+        cells = [read_image(p) for p, in paths]
+    out["made paintings (dark copy, inflated shape)"] = best(
+        lambda: [painting_of_frames(str(i), [c], relief=GREASE_PENCIL_RELIEF)
+                 for i, c in enumerate(cells)], runs)
+
+    def lit():
+        obj.hide_set(False)
+        bpy.context.view_layer.objects.active = obj
+        assert bpy.ops.dynpaint.add_grease_pencil(resolution=size) == {"FINISHED"}
+    out["From Grease Pencil, in all (final bake)"] = best(lit, runs)
+    figure = obj.data.layers["Figure"]
+    k = [0]
+
+    def stroke():
+        k[0] += 1
+        add_fill(figure, disc(-0.6 + 0.05 * k[0], -0.3, 0.04), 2)
+        obj.data.update_tag()
+        bpy.context.view_layer.update()
+    out["a stroke's redraw of the lit copy (final)"] = best(stroke, runs)
+    return out
+
+
+def main(argv=None):
+    args = size_and_runs(__doc__, argv)
+    m = measure(args.size, args.runs)
+    lines = ["# What lighting a Grease Pencil drawing costs (issue 42)", "",
+             f"`{command_line(__file__, argv)}` — a three-layer drawing (a sky card, a hill, a "
+             f"figure) at {args.size}², one sun; best of {args.runs}, {os.cpu_count()} cores.",
+             "", "| part | time | goal |", "|---|---|---|"]
+    for part, seconds in m.items():
+        goal = ""
+        if part.startswith("a stroke"):
+            ms = seconds * 1000
+            goal = f"≤ {GOAL_STROKE_MS:g} ms (draft): " + \
+                ("met" if ms <= GOAL_STROKE_MS else "not met")
+        lines.append(f"| {part} | {seconds * 1000:.0f} ms | {goal or 'reported'} |")
+    publish(lines, args.out)
+    return m
+
+
+if __name__ == "__main__":
+    main()
