@@ -28,13 +28,14 @@ from ...errors import UserError
 from ...inputs.imageio import read_image
 from ...inputs.layered_files import painting_of_frames
 from ..bake.layers import group_materials
+from ..bake.live_bake import rendering
 from ..material.sync import update
 from ..state.edits import note_edited
 from ..state.frames import forget_frames, moves
 from ..state.images import packed_image, refill_packed_image
 from ..state.settings import channel_images
 from .layered_build import build_layered
-from .painting_scene import FACE_CAMERA, NO_CAMERA, unchanged_images_on_failure
+from .painting_scene import NO_CAMERA, unchanged_images_on_failure
 
 MARGIN = 0.02          # of the drawing's size, around its bounds (strokes' round caps)
 
@@ -234,21 +235,18 @@ def light_drawing(context, obj, settings, progress=None):
         if table is not None:
             tables[name] = {"": {**table, "start": frames[0]}}
         layers.append((name, depth, (0.0, 0.0), 1.0, None, images[name], p))
+    place = obj.matrix_world @ Matrix.Translation(((x0 + x1) / 2, 0.0, (z0 + z1) / 2)) @ \
+        Matrix.Rotation(math.pi / 2, 4, "X")      # where the drawing is: its XZ plane
     with unchanged_images_on_failure():           # (its images are packed copies)
         parent, messages = build_layered(context, obj.name, layers, [default_sun()], notes,
                                          x1 - x0, parallax=False, add_lights=True,
-                                         frames=tables)
+                                         frames=tables, place=place)
     for mat in group_materials(parent):           # which layer each painting shows
         bright = mat.dynamic_painting.image_bright
         mat[LAYER] = next(n for n, imgs in images.items() if imgs["bright"] == bright)
     parent.name = f"{obj.name} (lit)"
     parent[SOURCE] = json.dumps({"object": obj.name, **settings,
                                  "drawn": drawing_fingerprint(obj)})
-    if FACE_CAMERA in parent.constraints:          # it lies where the drawing does
-        parent.constraints.remove(parent.constraints[FACE_CAMERA])
-    parent.matrix_world = obj.matrix_world @ \
-        Matrix.Translation(((x0 + x1) / 2, 0.0, (z0 + z1) / 2)) @ \
-        Matrix.Rotation(math.pi / 2, 4, "X")
     obj.hide_render = True
     obj.hide_set(True)
     return parent, [m for m in messages if NO_CAMERA not in m]
@@ -339,8 +337,8 @@ def refresh_lit_drawing(context, parent):
     note_edited(written)
     forget_frames()
     parent[SOURCE] = json.dumps({**source, "drawn": drawing_fingerprint(obj)})
-    for mat in mats.values():
-        update(mat, context.scene)
+    for mat in mats.values():       # (the first bakes the group; a UI gets a draft first)
+        update(mat, context.scene, bake="now" if rendering() else "live")
     return parent
 
 

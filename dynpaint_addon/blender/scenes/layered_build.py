@@ -9,8 +9,8 @@ from mathutils import Matrix, Vector
 
 from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING, is_layered_file, load_scene
 from ...inputs.recipe import DEFAULT_SUN_NOTE, hidden_notes, load_recipe
-from ..bake.layers import LAYERED, bake_group, group_materials
-from ..material.sync import update
+from ..bake.layers import LAYERED, group_materials
+from ..material.sync import batch, update
 from ..state.images import packed_image
 from ..state.lights import add_light, linked_lights
 from .painting_scene import FACE_CAMERA, create_painting, face_scene_camera
@@ -47,27 +47,31 @@ def add_layered(context, path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE, siz
 
 
 def build_layered(context, stem, layers, lights, messages, size=1.0, parallax=True,
-                  rotation=None, progress=None, add_lights=True, frames=None):
+                  rotation=None, progress=None, add_lights=True, frames=None, place=None):
     """add_layered's build, of `layers` as scene_layers gives them → (parent, messages);
-    frames: {layer name: its [frames] table} for layers that move (§16: sheets, sequences)."""
+    frames: {layer name: its [frames] table} for layers that move (§16: sheets, sequences);
+    place: the parent's world matrix (else at the 3D cursor, facing the camera)."""
     scene = context.scene
     parent = bpy.data.objects.new(stem, None)
     parent.empty_display_type = "PLAIN_AXES"
     parent.empty_display_size = 0.25 * size
     parent[LAYERED] = 1
     context.collection.objects.link(parent)
-    parent.location = scene.cursor.location
-    if rotation is not None:
-        parent.rotation_euler = rotation
-    messages += face_scene_camera(parent, scene, "the layers face the view (give the parent a "
-                                                 "Copy Rotation constraint to a camera to keep "
-                                                 "them facing it)")
+    if place is not None:        # placed before the bake: its lights are where they will be
+        parent.matrix_world = place
+    else:
+        parent.location = scene.cursor.location
+        if rotation is not None:
+            parent.rotation_euler = rotation
+        messages += face_scene_camera(parent, scene, "the layers face the view (give the "
+                                                     "parent a Copy Rotation constraint to a "
+                                                     "camera to keep them facing it)")
     context.view_layer.update()
     camera = _camera_in(parent, scene.camera) if parallax else None
-    planes = []
+    planes, shadows = [], []
     try:
         for i, (name, depth, offset, scale, thickness, images, p) in enumerate(layers):
-            shadows = p.shadows.enabled
+            shadows.append(p.shadows.enabled)
             p.shadows.enabled = False         # the group bakes once, when all are placed
             plane, mat, notes = create_painting(context, images, p, None, f"{stem} {name}",
                                                 size, default_sun=False,
@@ -86,9 +90,8 @@ def build_layered(context, stem, layers, lights, messages, size=1.0, parallax=Tr
                 x, y = camera[0] + (x - camera[0]) * k, camera[1] + (y - camera[1]) * k
             plane.location = (x, y, z)
             plane.scale = (size * scale * k,) * 3
-            s = mat.dynamic_painting
-            s.layer_thickness = thickness or 0.0
-            s.shadows.enabled = shadows
+            with batch():
+                mat.dynamic_painting.layer_thickness = thickness or 0.0
             if progress is not None:
                 progress((i + 1) / (len(layers) + 1))
         context.view_layer.update()
@@ -99,9 +102,11 @@ def build_layered(context, stem, layers, lights, messages, size=1.0, parallax=Tr
                 add_light(scene, light, back, context.collection)
             messages.append(f"the scene had no light: added {len(lights)}")
             context.view_layer.update()
-        for plane in planes:
+        with batch():        # shadows on, all at once: a partial group would bake
+            for plane, on in zip(planes, shadows):
+                plane.active_material.dynamic_painting.shadows.enabled = on
+        for plane in planes:  # the first bakes the whole group, the others find it baked
             messages += update(plane.active_material, scene)
-        bake_group(parent, force=True)
     except Exception:
         for obj in planes + [parent]:
             mesh = obj.data
