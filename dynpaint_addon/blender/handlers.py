@@ -88,7 +88,7 @@ _REDRAWING = []     # a lit copy being redrawn: its own renders update the drawi
 
 def redraw_lit_drawings(scene, depsgraph):
     """A Grease Pencil drawing changed (a stroke, a keyframe, a material): redraw the lit
-    copies made from it (scenes/grease_pencil.refresh_lit_drawing) — at once without a UI
+    copies made from it (scenes/grease_pencil.refresh_lit_drawing: the layers that changed) — at once without a UI
     (the headless contract), after DEBOUNCE_S of quiet with one (a drawing's strokes come
     fast, and each redraw renders its layers)."""
     if _REDRAWING:

@@ -17,6 +17,7 @@ from dynpaint_addon.blender.scenes.grease_pencil import (SOURCE,  # noqa: E402
                                                          render_layers)
 from dynpaint_addon.core.colour import linear_to_srgb  # noqa: E402
 from dynpaint_addon.inputs.imageio import image_data_from_blender, read_image  # noqa: E402
+from dynpaint_addon.blender.state.edits import version  # noqa: E402
 from dynpaint_addon.blender.state.frames import frame_data, moves  # noqa: E402
 from dynpaint_addon.core.layers import MAX_LAYERS  # noqa: E402
 from testkit.grease_pencil import add_fill, card_and_disc, disc, rolling_disc  # noqa: E402
@@ -233,8 +234,8 @@ def test_the_truth_benchmarks_drawing_is_the_3d_scene():
 def test_a_lit_copy_follows_its_drawing(drawing):
     """The headless contract: a stroke added to the drawing, a depsgraph evaluation — the lit
     copy is what a fresh From Grease Pencil makes of the drawing now (the new fill in the
-    figure's bright image and the card's shadow), in place (the same parent and layers);
-    a new layer makes it anew."""
+    figure's bright image and the card's shadow), in place (the same parent and layers, only
+    the changed layer drawn again); a new layer makes it anew."""
     sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
     bpy.context.scene.collection.objects.link(sun)
     sun.rotation_euler = (np.radians(60), 0, np.radians(-60))
@@ -242,12 +243,16 @@ def test_a_lit_copy_follows_its_drawing(drawing):
     parent = bpy.context.object
     back, front = group_materials(parent)
     before = image_data_from_blender(front.dynamic_painting.image_bright).pixels.copy()
+    versions = [version(m.dynamic_painting.image_bright) for m in (front, back)]
     add_fill(drawing.data.layers["Figure"], disc(0.6, -0.4, 0.15), 1)
     drawing.data.update_tag()
     bpy.context.view_layer.update()
     after = image_data_from_blender(front.dynamic_painting.image_bright).pixels
     assert group_materials(parent) == [back, front]           # in place
     assert after[..., 3].sum() > before[..., 3].sum() + 50    # the new disc
+    # only the changed layer was drawn again and written (the card's images untouched)
+    assert [version(m.dynamic_painting.image_bright) for m in (front, back)] == \
+        [versions[0] + 1, versions[1]]
     t = image_data_from_blender(back.dynamic_painting.lights[0].shadow).pixels[..., 0].copy()
     # a fresh lit copy of the drawing as it is now: the same pixels
     drawing.hide_set(False)

@@ -120,13 +120,15 @@ def drawing_bounds(layers, margin=MARGIN):
     return x0 - pad, x1 + pad, z0 - pad, z1 + pad
 
 
-def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARGIN):
+def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARGIN,
+                  only=None):
     """Draw each layer of the Grease Pencil object `obj` that draws something, alone, into
     `folder` (16-bit RGBA, sRGB as drawn) on each scene frame of `frames` (default: the
     current one) → (paths, bounds, notes): paths[i][k] layer i's (back to front) drawing on
     frames[k], named NN_name.png for one frame, NN_name_FFFF.png for several; margin: around
-    the drawing's bounds (drawing_bounds). The artist's scene, the object and its layers are
-    left as they were."""
+    the drawing's bounds (drawing_bounds); only: the names of the layers to draw (paths[i]
+    None for the others; the framing is the whole drawing's). The artist's scene, the object
+    and its layers are left as they were."""
     layers, notes = drawn_layers(obj)
     # framed by every layer that draws, hidden ones too: hiding one keeps the others in place
     x0, x1, z0, z1 = drawing_bounds([layer for layer in obj.data.layers
@@ -169,6 +171,9 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
                 other.hide = other.name != layer.name
                 other.use_lights = False          # drawn as painted: the lights come later
             stem = os.path.join(folder, f"{i + 1:02d}_{bpy.path.clean_name(layer.name)}")
+            if only is not None and layer.name not in only:
+                paths.append(None)
+                continue
             paths.append([])
             for k, frame in enumerate(frames):
                 scene.frame_set(frame)
@@ -196,22 +201,26 @@ SOURCE = "dynamic_painting_grease_pencil"    # a lit copy's parent: its drawing 
 LAYER = "dynamic_painting_grease_pencil_layer"   # a lit layer's material: its layer's name
 
 
-def drawn_paintings(scene, obj, settings, progress=None):
+def drawn_paintings(scene, obj, settings, progress=None, only=None):
     """Each layer of the drawing that draws something, drawn by Blender and made a painting
     (layered_files.painting_of_frames) → ([(name, depth, {channel: ImageData}, params,
-    [frames] table or None)], bounds, frames or None, notes)."""
+    [frames] table or None)], bounds, frames or None, notes); only: the layers to draw (the
+    others' entries hold None for their images, params and table)."""
     progress = progress or (lambda f: None)
     frames = list(range(scene.frame_start, scene.frame_end + 1)) \
         if settings["animation"] and animated(obj) else None
     folder = tempfile.mkdtemp(prefix="dynpaint-grease-pencil-")
     try:
         paths, bounds, notes = render_layers(obj, folder, settings["resolution"], frames,
-                                             lambda f: progress(0.4 * f))
-        depths = layer_depths(drawn_layers(obj)[0], bounds[1] - bounds[0], settings["spacing"])
+                                             lambda f: progress(0.4 * f), only=only)
+        layers = drawn_layers(obj)[0]
+        depths = layer_depths(layers, bounds[1] - bounds[0], settings["spacing"])
         made = []
-        for i, (layer_paths, depth) in enumerate(zip(paths, depths)):
-            name = os.path.splitext(os.path.basename(layer_paths[0]))[0]
-            name = name if frames is None else name.rsplit("_", 1)[0]
+        for i, (layer, layer_paths, depth) in enumerate(zip(layers, paths, depths)):
+            name = f"{i + 1:02d}_{bpy.path.clean_name(layer.name)}"
+            if layer_paths is None:
+                made.append((name, depth, None, None, None))
+                continue
             images, p, lines, table = painting_of_frames(
                 name, [read_image(path) for path in layer_paths], settings["shade"],
                 settings["relief"])
@@ -245,8 +254,8 @@ def light_drawing(context, obj, settings, progress=None):
         bright = mat.dynamic_painting.image_bright
         mat[LAYER] = next(n for n, imgs in images.items() if imgs["bright"] == bright)
     parent.name = f"{obj.name} (lit)"
-    parent[SOURCE] = json.dumps({"object": obj.name, **settings,
-                                 "drawn": drawing_fingerprint(obj)})
+    parent[SOURCE] = json.dumps({"object": obj.name, **settings, "layers": layer_digests(obj),
+                                 "bounds": [x0, x1, z0, z1]})
     obj.hide_render = True
     obj.hide_set(True)
     return parent, [m for m in messages if NO_CAMERA not in m]
@@ -258,13 +267,20 @@ ATTRIBUTE_READS = {"FLOAT_VECTOR": ("vector", np.float32, 3), "FLOAT": ("value",
                    "FLOAT_COLOR": ("color", np.float32, 4)}
 
 
-def drawing_fingerprint(obj):
-    """What the lit copy is drawn from, as a digest: each layer's settings, place and frames'
-    strokes (points, radii, materials), the materials' colours — what an edit of the drawing
-    changes (and showing or hiding it does not)."""
-    digest = hashlib.sha1()
+def layer_digests(obj):
+    """{layer name: digest} of what each layer of the drawing is drawn from: its settings,
+    place and frames' strokes (points, radii, opacities, materials), and the materials'
+    colours — what an edit of it changes (showing or hiding the drawing does not)."""
+    materials = hashlib.sha1()
+    for m in obj.data.materials:
+        g = getattr(m, "grease_pencil", None)
+        if g is not None:
+            materials.update(repr((tuple(g.color), tuple(g.fill_color), g.show_fill,
+                                   g.show_stroke)).encode())
+    out = {}
     for layer in obj.data.layers:
-        digest.update(repr((layer.name, layer.hide, layer.opacity, layer.blend_mode,
+        digest = hashlib.sha1(materials.digest())
+        digest.update(repr((layer.hide, layer.opacity, layer.blend_mode,
                             [list(r) for r in layer.matrix_local])).encode())
         for frame in layer.frames:
             digest.update(str(frame.frame_number).encode())
@@ -276,12 +292,8 @@ def drawing_fingerprint(obj):
                     values = np.empty(len(attribute.data) * size, dtype)
                     attribute.data.foreach_get(field, values)
                     digest.update(values.tobytes())
-    for m in obj.data.materials:
-        g = getattr(m, "grease_pencil", None)
-        if g is not None:
-            digest.update(repr((tuple(g.color), tuple(g.fill_color), g.show_fill,
-                                g.show_stroke)).encode())
-    return digest.hexdigest()
+        out[layer.name] = digest.hexdigest()
+    return out
 
 
 def drawing_of(parent):
@@ -297,27 +309,34 @@ def stale_lit_copies(scene, names):
         source = json.loads(parent[SOURCE])
         obj = bpy.data.objects.get(source["object"])
         if source["object"] in names and obj is not None and obj.type == "GREASEPENCIL" \
-                and source.get("drawn") != drawing_fingerprint(obj):
+                and source.get("layers") != layer_digests(obj):
             out.append(parent)
     return out
 
 
 def refresh_lit_drawing(context, parent):
-    """Redraw the lit copy `parent` from its drawing as it is now: each layer's images
-    written in place where its layers, sizes and frames are as before (their edits noted, so
-    its group bakes again), else the lit copy made anew → the parent (a new one then)."""
+    """Redraw the lit copy `parent` from its drawing as it is now: the layers that changed
+    (layer_digests) drawn again and their images written in place where the layers, the
+    drawing's bounds, sizes and frames are as before (their edits noted, so the group bakes
+    again), else the lit copy made anew → the parent (a new one then)."""
     source = json.loads(parent[SOURCE])
     obj = bpy.data.objects.get(source["object"])
     if obj is None or obj.type != "GREASEPENCIL":
         return parent
     settings = {k: source[k] for k in LIT_SETTINGS}
-    made, bounds, frames, _ = drawn_paintings(context.scene, obj, settings)
+    digests = layer_digests(obj)
+    changed = {n for n, d in digests.items() if source.get("layers", {}).get(n) != d}
+    made, bounds, frames, _ = drawn_paintings(context.scene, obj, settings, only=changed)
     mats = {m.get(LAYER): m for m in group_materials(parent)}
-    same = set(mats) == {name for name, *_ in made} and all(
-        (table is None) == (not moves(mats[name])) for name, _, _, _, table in made)
+    same = set(mats) == {name for name, *_ in made} and \
+        np.allclose(bounds, source.get("bounds", bounds), rtol=0, atol=1e-9) and all(
+            (table is None) == (not moves(mats[name])) for name, _, imgs, _, table in made
+            if imgs is not None)
     written = []
     if same:
         for name, _, imgs, _, _ in made:
+            if imgs is None:                       # (a layer the change left alone)
+                continue
             s = mats[name].dynamic_painting
             for channel, data in imgs.items():
                 img = getattr(s, f"image_{channel}")
@@ -336,7 +355,7 @@ def refresh_lit_drawing(context, parent):
         return parent
     note_edited(written)
     forget_frames()
-    parent[SOURCE] = json.dumps({**source, "drawn": drawing_fingerprint(obj)})
+    parent[SOURCE] = json.dumps({**source, "layers": digests})
     for mat in mats.values():       # (the first bakes the group; a UI gets a draft first)
         update(mat, context.scene, bake="now" if rendering() else "live")
     return parent
