@@ -26,7 +26,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import bpy  # noqa: E402
 
-from report import best, command_line, publish, size_and_runs  # noqa: E402
+from report import best, command_line, met, publish, size_and_runs  # noqa: E402
 
 from dynpaint_addon.blender import register_once  # noqa: E402
 from dynpaint_addon.blender.scenes.grease_pencil import (GREASE_PENCIL_RELIEF,  # noqa: E402
@@ -91,8 +91,7 @@ def main(argv=None):
         goal = ""
         if part.startswith("a stroke"):
             ms = seconds * 1000
-            goal = f"≤ {GOAL_STROKE_MS:g} ms (draft): " + \
-                ("met" if ms <= GOAL_STROKE_MS else "not met")
+            goal = f"≤ {GOAL_STROKE_MS:g} ms (draft): {met(ms <= GOAL_STROKE_MS)}"
         lines.append(f"| {part} | {seconds * 1000:.0f} ms | {goal or 'reported'} |")
     publish(lines, args.out)
     return m

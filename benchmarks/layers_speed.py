@@ -23,7 +23,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
-from report import best, command_line, publish, size_and_runs  # noqa: E402
+from report import best, command_line, met, publish, size_and_runs  # noqa: E402
 
 from dynpaint_addon.core.layers import Scene, bake_scene  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
@@ -96,9 +96,6 @@ def measure(size, runs):
 def main(argv=None):
     args = size_and_runs(__doc__, argv)
     m = measure(args.size, args.runs)
-
-    def met(ok):
-        return "met" if ok else "not met"
     ratio, mem = m["final"] / m["base"], m["mem_scene"] / m["mem_one"]
     live_ms = m["live"] * 1000
     lines = ["# Layers: what they cost (issue 30)", "",

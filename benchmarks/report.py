@@ -40,3 +40,8 @@ def size_and_runs(doc, argv=None, size=1024, runs=3):
     ap.add_argument("--runs", type=int, default=runs)
     ap.add_argument("--out", help="Markdown report")
     return ap.parse_args(argv)
+
+
+def met(ok):
+    """A goal's verdict, as every report writes it."""
+    return "met" if ok else "not met"

@@ -207,7 +207,13 @@ front reach 0.55–0.91 at 45°, where the same cards given as exact masks reach
 Grease Pencil's fills come out about 0.15 px inside their outline, and those shadows are a few
 pixels wide. With the default *Relief* 0.1 the cards are low domes, which the 3D cards are
 not: their own shading differs by 0.02–0.07. What it costs: [grease-pencil-cost.md](grease-pencil-cost.md).
-The web page and a sample come next (issue 42).
+An animation plays without flicker: a still post in front of a walking figure keeps its
+shading from frame to frame, exactly, in numpy and in Cycles
+([grease-pencil-frames.md](grease-pencil-frames.md)). The sample **Walk (Grease Pencil)**
+(*Add › Dynamic Painting › Samples*; `walk` on the command line) is such a drawing, shipped
+as its data (`drawing.json`: filled shapes per layer and frame; a recipe may name a drawing
+instead of images), built and lit in one click, its light turning. The web page comes next
+(issue 42).
 
 ![a Grease Pencil drawing: as drawn, its layers lit alone, with the shadows between them](img/layers/grease_pencil.png)
 

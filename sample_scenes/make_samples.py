@@ -15,6 +15,8 @@
 - blink:      a painting that moves (§16): Suzanne turns and blinks over 24 frames, rendered
               by Cycles as normal maps per frame (a sequence of files), painted dark and
               bright frames in sprite sheets.
+- walk:       a Grease Pencil animation (issue 42): a figure walks across a drawn sky behind a
+              still post, shipped as the drawing's data and lit as From Grease Pencil lights it.
 
 Deterministic (fixed seeds, fixed Cycles samples). The thumbnails are rendered by the numpy core.
 """
@@ -397,9 +399,46 @@ def make_blink(folder, size, frames=24, columns=6):
                   frames={"": {"columns": columns, "rows": rows}})
 
 
+def make_walk(folder, size, frames=24):
+    """A Grease Pencil animation (issue 42; testkit/grease_pencil.py): a figure walks across a
+    sky card, behind a still post, over 24 frames — shipped as the drawing's data
+    (drawing.json, built into a Grease Pencil object by the add-on) and lit as From Grease
+    Pencil lights it. `size` is its thumbnail's business only: the drawing is vectors."""
+    from dynpaint_addon.inputs.drawings import drawing_json
+    from testkit.grease_pencil import walking_drawing
+    path = os.path.join(folder, "drawing.json")
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write(drawing_json(walking_drawing(frames)) + "\n")
+    lights = [Light("sun", (-0.75, 0.45, 0.48), (1.0, 0.92, 0.8), 1.0, "Key")]
+    return Recipe(params.defaults(), lights, {}, "Walk (Grease Pencil)",
+                  description="A Grease Pencil animation, lit: a figure walks across a drawn "
+                              "sky behind a still post over 24 frames, each layer a lit "
+                              "painting that casts its shadows on the layers behind",
+                  drawing=path)
+
+
 SAMPLES = {"portrait": (make_portrait, 512), "glass": (make_glass, 512),
            "impossible": (make_impossible, 512), "window": (make_window, 384),
-           "blink": (make_blink, 160)}
+           "blink": (make_blink, 160), "walk": (make_walk, 192)}
+
+
+def drawing_layers(recipe, px):
+    """A drawing's recipe as the core's layers at its middle frame, drawn `px` wide (as From
+    Grease Pencil makes them)."""
+    import bpy
+    from dynpaint_addon.blender.scenes.grease_pencil import (build_drawing, drawn_paintings,
+                                                             lit_defaults)
+    from dynpaint_addon.core.layers import Layer
+    from dynpaint_addon.inputs.drawings import frame_range, load_drawing
+    bpy.ops.wm.read_homefile(use_empty=True)
+    drawing = load_drawing(recipe.drawing)
+    scene = bpy.context.scene
+    first, last = frame_range(drawing)
+    scene.frame_set((first + last) // 2)
+    obj = build_drawing(scene, drawing)
+    made, _, _, _ = drawn_paintings(scene, obj, {**lit_defaults(), "resolution": px,
+                                                 "animation": False})
+    return [Layer(images, p, name, depth) for name, depth, images, p, _ in made]
 
 
 def thumbnail(recipe_path, out, px=THUMB_PX):
@@ -410,6 +449,9 @@ def thumbnail(recipe_path, out, px=THUMB_PX):
     from dynpaint_addon.inputs.imageio import write_render
     from dynpaint_addon.inputs.recipe import load_images, load_layers, load_recipe
     recipe = load_recipe(recipe_path)
+    if recipe.drawing:               # drawn by Blender at its middle frame, lit by the core
+        write_render(out, render_scene(drawing_layers(recipe, px), recipe.lights).rgba)
+        return
     if recipe.layered:
         layers = load_layers(recipe)
         for layer in layers:

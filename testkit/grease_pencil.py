@@ -6,28 +6,9 @@ import numpy as np
 
 import bpy
 
-
-def fill_material(gp, name, rgb):
-    """A fill-only Grease Pencil material of linear colour `rgb` on `gp` → its index."""
-    m = bpy.data.materials.new(name)
-    bpy.data.materials.create_gpencil_data(m)
-    m.grease_pencil.show_fill, m.grease_pencil.show_stroke = True, False
-    m.grease_pencil.fill_color = (*rgb, 1.0)
-    gp.materials.append(m)
-    return len(gp.materials) - 1
-
-
-def add_fill(layer, points, material, frame=1, radius=0.005):
-    """A closed filled stroke through `points` [(x, z)] (the drawing's XZ plane) on `frame`."""
-    found = [f for f in layer.frames if f.frame_number == frame]
-    drawing = (found[0] if found else layer.frames.new(frame)).drawing
-    drawing.add_strokes([len(points)])
-    stroke = drawing.strokes[len(drawing.strokes) - 1]
-    for p, (x, z) in zip(stroke.points, points):
-        p.position = (x, 0.0, z)
-        p.radius = radius
-    stroke.cyclic = True
-    stroke.material_index = material
+from dynpaint_addon.blender.scenes.grease_pencil import (add_fill, build_drawing,  # noqa: F401
+                                                         fill_material)
+from dynpaint_addon.inputs.drawings import Drawing, DrawingLayer, Fill
 
 
 def disc(cx, cz, r, n=48):
@@ -80,3 +61,25 @@ def rolling_disc(scene, name="Rolling disc", frames=(1, 2, 3)):
     for k, frame in enumerate(frames[1:], 1):
         add_fill(figure, disc(-0.3 + 0.25 * k, 0.2, 0.3), 1, frame=frame)
     return obj
+
+
+def walking_drawing(frames=24, name="Walk"):
+    """A drawing of three layers, back to front: a sky card and a still prop (a post, in
+    front) that never change, and between them a figure (a body and a head) drawn anew on
+    each of frames 1 … `frames` as it walks left to right → inputs.drawings.Drawing (the
+    sample `walk` ships it as drawing.json)."""
+    figure = []
+    for f in range(1, frames + 1):
+        x = -0.7 + 1.4 * (f - 1) / max(1, frames - 1)
+        figure += [Fill("coat", rectangle(x - 0.1, x + 0.1, -0.5, 0.1), f),
+                   Fill("coat", disc(x, 0.22, 0.1), f)]
+    return Drawing(name, {"sky": (0.35, 0.55, 0.85), "coat": (0.75, 0.2, 0.1),
+                          "wood": (0.45, 0.3, 0.15)},
+                   [DrawingLayer("Sky", [Fill("sky", rectangle(-1.0, 1.0, -0.75, 0.75))]),
+                    DrawingLayer("Figure", figure),
+                    DrawingLayer("Prop", [Fill("wood", rectangle(0.55, 0.7, -0.75, 0.0))])])
+
+
+def walking_figure(scene, frames=24, name="Walk"):
+    """walking_drawing built as a Grease Pencil object in `scene` → the object."""
+    return build_drawing(scene, walking_drawing(frames, name))

@@ -15,6 +15,7 @@ from ..core.lights import default_sun
 from ..inputs.imageio import quiet_native, write_render
 from .bake.layers import group_layers, group_materials
 from .scenes import turntable
+from .scenes.grease_pencil import light_recipe_drawing
 from .scenes.layered_build import add_layered
 from .scenes.painting_scene import (NO_CAMERA, create_painting, exact_camera, exact_render_settings,
                     output_settings)
@@ -25,12 +26,17 @@ from .state.lights import linked_lights, painting_frame_light
 def build_recipe_scene(recipe, size=1.0, notes=None):
     """Empty scene → the recipe's painting, lights and an exact camera → (plane, material).
     A layered source (a layered recipe, or an .ora file or folder given as its path) is
-    built as Add › Layered… builds it, the camera framing its back layer. notes: called with
+    built as Add › Layered… builds it, a drawing's recipe as From Grease Pencil lights it,
+    the camera framing its back layer. notes: called with
     what Add says about the painting (a list of lines), if given."""
     bpy.ops.wm.read_homefile(use_empty=True)
     register_once()
     context = bpy.context
-    if isinstance(recipe, str) or recipe.layered:
+    if not isinstance(recipe, str) and recipe.drawing:      # a Grease Pencil drawing, lit
+        parent, messages = light_recipe_drawing(context, recipe)
+        mat = group_materials(parent)[0]
+        plane = mat.dynamic_painting.plane
+    elif isinstance(recipe, str) or recipe.layered:
         parent, messages = add_layered(context, recipe if isinstance(recipe, str) else
                                        recipe.path, size=size, lights="all")
         mat = group_materials(parent)[0]

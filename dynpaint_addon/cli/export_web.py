@@ -10,7 +10,7 @@ from .. import params
 from ..errors import UserError
 from ..inputs.layered_files import is_layered_file, load_layered
 from ..inputs.painting_frames import PaintingFrames
-from ..inputs.recipe import image_bytes, load_recipe
+from ..inputs.recipe import image_bytes, load_recipe, no_drawing
 from ..inputs.samples import recipe_help
 from ..web.page import TURNTABLE_SECONDS, page_data, scene_data, write_page
 from .notes import check_and_print, print_notes
@@ -38,7 +38,8 @@ def cmd_export_web(args):
     if not 0 < args.fps <= 240:
         raise ExportError(f"--fps {args.fps:g}: frames per second in 0 … 240")
     start = time.perf_counter()
-    recipe = None if is_layered_file(args.recipe) else load_recipe(args.recipe)
+    recipe = None if is_layered_file(args.recipe) else \
+        no_drawing(load_recipe(args.recipe), "export-web")
     if recipe is None or recipe.layered:
         return _export_layers(args, start, recipe)
     print_notes(recipe.notes)

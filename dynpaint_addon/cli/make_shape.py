@@ -20,7 +20,7 @@ from ..core.pipeline import normal_map_relief_px, shape_normals
 from ..inputs.channel_names import sprite_lamp_side
 from ..inputs.imageio import read_image, write_exr, write_png
 from ..inputs.painting_frames import FrameInputs, PaintingFrames, grid_of, painting_slots
-from ..inputs.recipe import DEFAULT_SUN_NOTE, load_recipe
+from ..inputs.recipe import DEFAULT_SUN_NOTE, load_recipe, no_drawing
 from ..inputs.samples import recipe_help
 from ..params import FRAME_BY_KEY
 from ..shapes.frames import MadeFrames, fill_sheet, on_one_floor
@@ -283,7 +283,7 @@ def _write_maps(args, n, height, specular, top=None):
 
 
 def cmd_export_maps(args):
-    recipe = load_recipe(args.recipe)
+    recipe = no_drawing(load_recipe(args.recipe), "export-maps")
     print_notes(n for n in recipe.notes if n != DEFAULT_SUN_NOTE)   # maps have no lights
     used = {c: path for c, path in recipe.images.items() if c in ("shape", "gloss")}
     painting = PaintingFrames(painting_slots(used, recipe.frames))

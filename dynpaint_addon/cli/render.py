@@ -13,7 +13,7 @@ from ..inputs import memory
 from ..inputs.imageio import painting_headers, write_render
 from ..inputs.layered_files import is_layered_file, load_layered
 from ..inputs.painting_frames import PaintingFrames
-from ..inputs.recipe import load_recipe
+from ..inputs.recipe import load_recipe, no_drawing
 from ..inputs.samples import recipe_help
 from .notes import print_notes
 
@@ -34,6 +34,7 @@ def cmd_render(args):
     if args.engine != "numpy":
         print_notes(recipe.notes)
         return _render_blender(args, recipe)
+    no_drawing(recipe, "the numpy engine")
     if recipe.layered:
         return _render_layers(args)
     slots = recipe.slots()

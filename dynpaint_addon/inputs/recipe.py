@@ -32,6 +32,7 @@ from ..core.layers import MAX_LAYERS, Layer
 from ..core.lights import DEFAULT_SUN_DIRECTION, LIGHT_KINDS, Light, default_sun
 from ..errors import UserError
 from .channel_names import IMAGE_EXTENSIONS
+from .drawings import DrawingError, load_drawing
 from .painting_folder import RECIPE_NAME, folder_kind, painting_recipe_data, recipe_in
 from .painting_frames import (FrameError, PaintingFrames, check_frame_settings, painting_slots,
                               sequence_numbers)
@@ -71,6 +72,7 @@ class Recipe:
     # effect), one line each: every command prints them as `note: …`, Add reports them
     notes: list = field(default_factory=list)
     default_lights: bool = False    # no [[lights]]: lit by core.lights.default_sun()
+    drawing: str = ""       # a Grease Pencil drawing (inputs/drawings.py) lit as its layers
 
     @property
     def layered(self):
@@ -199,7 +201,7 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True, base=Non
     where = f"{source}: "
     values = copy.deepcopy(base) if base is not None else params.defaults()
     text = {"name": "", "description": "", "credits": ""}
-    images, lights, frames, written = {}, [], {}, []
+    images, lights, frames, written, drawing = {}, [], {}, [], ""
     for key, value in data.items():
         if key in text:
             if not isinstance(value, str):
@@ -225,6 +227,15 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True, base=Non
                 images[ch] = full
         elif key == "frames":
             frames = _parse_frames(value, f"{where}frames")
+        elif key == "drawing":
+            if not isinstance(value, str) or not value:
+                raise RecipeError(f"{where}drawing: expected a file path, got {value!r}")
+            drawing = os.path.normpath(os.path.join(base_dir, value))
+            if check_files:
+                try:
+                    load_drawing(drawing)
+                except DrawingError as exc:
+                    raise RecipeError(f"{where}drawing: {exc}") from None
         elif key == "layers":
             if not isinstance(value, list) or not value:
                 raise RecipeError(f"{where}layers: expected an array of tables [[layers]]")
@@ -247,7 +258,8 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True, base=Non
                 setattr(section, k, _check_value(param, v, f"{where}{key}.{k}"))
                 written.append(param)
         else:
-            options = (*text, "images", "lights", "layers", "frames") + params.SECTIONS
+            options = (*text, "images", "lights", "layers", "frames", "drawing") + \
+                params.SECTIONS
             raise RecipeError(f"{where}{key}: unknown key{_suggest(key, options)}")
     notes = []
     default_lights = base is None and "lights" not in data    # a scene's lights, not a layer's
@@ -263,6 +275,14 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True, base=Non
         return Recipe(values, lights, {}, text["name"], description=text["description"],
                       credits=text["credits"], layers=layers, notes=notes,
                       default_lights=default_lights)
+    if drawing:         # a Grease Pencil drawing: its layers are drawn, not given (issue 42)
+        if images or "layers" in data or frames or written:
+            raise RecipeError(f"{where}drawing: a drawing's recipe names the drawing, its "
+                              f"lights and texts only (its layers, frames and their settings "
+                              f"are From Grease Pencil's)")
+        return Recipe(values, lights, {}, text["name"], description=text["description"],
+                      credits=text["credits"], notes=notes, default_lights=default_lights,
+                      drawing=drawing)
     for ch in params.REQUIRED_CHANNELS:
         if ch not in images:
             raise RecipeError(f"{where}images.{ch}: missing (a painting needs a shape image)")
@@ -277,6 +297,17 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True, base=Non
             recipe.slots()           # a grid that cannot hold its count, a slot both ways
         except FrameError as exc:
             raise RecipeError(f"{where}{exc}") from None
+    return recipe
+
+
+def no_drawing(recipe, command):
+    """A drawing's recipe (issue 42) where `command` reads a painting's own images: a
+    RecipeError saying what does read one."""
+    if recipe.drawing:
+        raise RecipeError(f"{recipe.path or 'recipe'}: its painting is a Grease Pencil drawing "
+                          f"({os.path.basename(recipe.drawing)}), which {command} does not "
+                          f"read yet: render it with --engine cycles or eevee, or turn it with "
+                          f"`turntable`")
     return recipe
 
 
@@ -406,6 +437,8 @@ def recipe_to_toml(recipe, base_dir, only_changed=True):
         lines.append(f"description = {toml_value(recipe.description)}")
     if recipe.credits:
         lines.append(f"credits = {toml_value(recipe.credits)}")
+    if recipe.drawing:
+        lines.append(f"drawing = {toml_value(_relative(recipe.drawing, base_dir))}")
     lines += _painting_toml(recipe, base_dir, "", params.defaults(), only_changed)
     for layer in recipe.layers:
         lines += ["", "[[layers]]", f"name = {toml_value(layer.name)}",
@@ -432,6 +465,11 @@ def recipe_to_toml(recipe, base_dir, only_changed=True):
     return "\n".join(lines) + "\n"
 
 
+def _relative(full, base_dir):
+    """A file's path in a recipe: from the recipe's folder, with / between its parts."""
+    return os.path.relpath(full, base_dir).replace(os.sep, "/")
+
+
 def _painting_toml(recipe, base_dir, prefix, base, only_changed):
     """The [images] and parameter sections of a painting (prefix 'layers.' for a layer's),
     parameters that differ from `base` only with only_changed."""
@@ -439,8 +477,7 @@ def _painting_toml(recipe, base_dir, prefix, base, only_changed):
     if recipe.images:
         lines += ["", f"[{prefix}images]"]
         for ch, full in recipe.images.items():
-            rel = os.path.relpath(full, base_dir).replace(os.sep, "/")
-            lines.append(f"{ch} = {toml_value(rel)}")
+            lines.append(f"{ch} = {toml_value(_relative(full, base_dir))}")
     for ch, table in sorted(recipe.frames.items()):
         if table:
             lines += ["", f"[{prefix}frames{'.' + ch if ch else ''}]"]

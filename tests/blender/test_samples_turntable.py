@@ -18,6 +18,7 @@ from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
 from dynpaint_addon.inputs.recipe import load_images, load_recipe  # noqa: E402
+from dynpaint_addon.inputs.drawings import frame_range, load_drawing  # noqa: E402
 from dynpaint_addon.inputs.samples import SAMPLES_DIR, list_samples, recipe_path  # noqa: E402
 
 from conftest import REPO, run_cli  # noqa: E402
@@ -41,9 +42,9 @@ def make_samples_module():
 
 
 # -- samples ----------------------------------------------------------------------------------
-def test_five_samples_with_recipes_images_thumbnails_and_licences():
+def test_six_samples_with_recipes_images_thumbnails_and_licences():
     samples = {s.id: s for s in list_samples()}
-    assert set(samples) == {"portrait", "glass", "impossible", "window", "blink"}
+    assert set(samples) == {"portrait", "glass", "impossible", "window", "blink", "walk"}
     for s in samples.values():
         recipe = load_recipe(s.recipe)           # validates every key and that files exist
         assert s.name == recipe.name and len(s.description) > 20
@@ -64,6 +65,10 @@ def test_five_samples_with_recipes_images_thumbnails_and_licences():
     window = load_recipe(samples["window"].recipe)          # a scene of layers (§15)
     assert [lay.name for lay in window.layers] == ["garden", "window", "vase"]
     assert [lay.depth for lay in window.layers] == [0.0, 0.1, 0.18]
+    walk = load_recipe(samples["walk"].recipe)          # a Grease Pencil drawing (issue 42)
+    drawing = load_drawing(walk.drawing)
+    assert [layer.name for layer in drawing.layers] == ["Sky", "Figure", "Prop"]
+    assert frame_range(drawing) == (1, 24) and not walk.images
 
 
 def test_impossible_normal_map_is_not_the_gradient_of_any_height_field():
@@ -89,7 +94,7 @@ def test_sample_generator_reproduces_the_committed_samples(tmp_path):
         for name in sorted(os.listdir(os.path.dirname(sample.recipe))):
             new = tmp_path / sample.id / name
             old = os.path.join(os.path.dirname(sample.recipe), name)
-            if name.endswith(".toml"):
+            if name.endswith((".toml", ".json")):
                 assert new.read_text() == open(old).read(), name
                 continue
             a, b = read_image(str(new)).pixels, read_image(old).pixels
@@ -138,9 +143,11 @@ def test_add_menu_lists_the_samples_and_one_click_adds_each(empty_scene):
     from dynpaint_addon.blender.operators.add import draw_add_menu
     layout = MenuLayout()
     draw_add_menu(layout)
-    assert [op for op, _, _ in layout.ops[:2]] == ["dynpaint.add", "dynpaint.add_layered"]
-    listed = [(text, props.sample) for op, text, props in layout.ops[2:]]
-    assert [s for _, s in listed] == ["blink", "glass", "impossible", "portrait", "window"]
+    assert [op for op, _, _ in layout.ops[:3]] == ["dynpaint.add", "dynpaint.add_layered",
+                                                   "dynpaint.add_grease_pencil"]
+    listed = [(text, props.sample) for op, text, props in layout.ops[3:]]
+    assert [s for _, s in listed] == ["blink", "glass", "impossible", "portrait", "walk",
+                                      "window"]
     assert "Glass bottle" in [t for t, _ in listed]
     empty_scene.camera = None
     for _, sample in listed:

@@ -14,6 +14,7 @@ from ...inputs.recipe import DEFAULT_SUN_NOTE, RecipeError, load_recipe
 from ...inputs.samples import list_samples
 from ...shapes.maker import looks_like_height, read_as_made
 from ...shapes.methods import make_shape
+from ..scenes.grease_pencil import light_recipe_drawing
 from ..scenes.layered_build import add_camera, add_layered, animate_scene
 from ..scenes.painting_scene import create_painting, unchanged_images_on_failure
 from ..scenes.turntable import turn_first_sun
@@ -293,7 +294,14 @@ class DYNPAINT_OT_add_sample(bpy.types.Operator):
             self.report({"ERROR"}, f"No sample painting named '{self.sample}'")
             return {"CANCELLED"}
         folder, name = os.path.split(found.recipe)
-        layered = load_recipe(found.recipe).layered
+        recipe = load_recipe(found.recipe)
+        if recipe.drawing:           # a Grease Pencil drawing: built, lit, its light turning
+            parent, notes = light_recipe_drawing(context, recipe, context.scene.cursor.location)
+            select_only(context, parent)
+            for line in notes + animate_scene(context, parent):
+                self.report({"INFO"}, line)
+            return {"FINISHED"}
+        layered = recipe.layered
         if layered and context.scene.camera is None:      # the layers face it, composed
             add_camera(context)
         result = bpy.ops.dynpaint.add("EXEC_DEFAULT", filepath=found.recipe, directory=folder,

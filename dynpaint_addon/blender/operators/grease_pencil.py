@@ -16,7 +16,8 @@ from bpy.props import BoolProperty, FloatProperty, IntProperty
 
 from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING
 from ..bake.layers import group_materials
-from ..scenes.grease_pencil import GREASE_PENCIL_RELIEF, LIT_SETTINGS, light_drawing
+from ..scenes.grease_pencil import (GREASE_PENCIL_RELIEF, GREASE_PENCIL_RESOLUTION,
+                                     LIT_SETTINGS, light_drawing)
 from .add import select_only
 from .common import run_and_report
 
@@ -28,7 +29,8 @@ class DYNPAINT_OT_add_grease_pencil(bpy.types.Operator):
     bl_label = "From Grease Pencil"
     bl_options = {"REGISTER", "UNDO"}
 
-    resolution: IntProperty(name="Resolution", default=1024, min=16, soft_max=4096,
+    resolution: IntProperty(name="Resolution", default=GREASE_PENCIL_RESOLUTION, min=16,
+                            soft_max=4096,
                             description="Width in pixels each layer is drawn at")
     spacing: FloatProperty(
         name="Spacing", default=DEFAULT_SPACING, min=0.0, soft_max=0.5, precision=3,

@@ -26,7 +26,8 @@ from ...core.layers import MAX_LAYERS
 from ...core.lights import default_sun
 from ...errors import UserError
 from ...inputs.imageio import read_image
-from ...inputs.layered_files import painting_of_frames
+from ...inputs.drawings import frame_range, load_drawing
+from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING, painting_of_frames
 from ..bake.layers import group_materials
 from ..bake.live_bake import rendering
 from ..material.sync import update
@@ -192,10 +193,52 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
     return paths, (x0, x1, z0, z1), notes
 
 
+# -- a drawing made from data (inputs/drawings.py: a sample's drawing.json) ------------------
+def fill_material(gp, name, rgb):
+    """A fill-only Grease Pencil material of linear colour `rgb` on `gp` → its index."""
+    m = bpy.data.materials.new(name)
+    bpy.data.materials.create_gpencil_data(m)
+    m.grease_pencil.show_fill, m.grease_pencil.show_stroke = True, False
+    m.grease_pencil.fill_color = (*rgb, 1.0)
+    gp.materials.append(m)
+    return len(gp.materials) - 1
+
+
+def add_fill(layer, points, material, frame=1, radius=0.005):
+    """A closed filled stroke through `points` [(x, z)] (the drawing's XZ plane) on `frame`
+    of a Grease Pencil layer."""
+    found = [f for f in layer.frames if f.frame_number == frame]
+    drawing = (found[0] if found else layer.frames.new(frame)).drawing
+    drawing.add_strokes([len(points)])
+    stroke = drawing.strokes[len(drawing.strokes) - 1]
+    for p, (x, z) in zip(stroke.points, points):
+        p.position = (x, 0.0, z)
+        p.radius = radius
+    stroke.cyclic = True
+    stroke.material_index = material
+
+
+def build_drawing(scene, drawing, location=(0.0, 0.0, 0.0)):
+    """A Grease Pencil object drawn as `drawing` (inputs/drawings.Drawing) says, linked to
+    `scene` at `location` → the object."""
+    gp = bpy.data.grease_pencils.new(drawing.name)
+    obj = bpy.data.objects.new(drawing.name, gp)
+    scene.collection.objects.link(obj)
+    obj.location = location
+    index = {name: fill_material(gp, name, rgb) for name, rgb in drawing.materials.items()}
+    for spec in drawing.layers:
+        layer = gp.layers.new(spec.name)
+        layer.translation = spec.translation
+        for fill in spec.fills:
+            add_fill(layer, fill.points, index[fill.material], fill.frame)
+    return obj
+
+
 # -- the lit copy (Add › From Grease Pencil; the command line) -------------------------------
 # A drawing's layers lie a Spacing apart (0.05 image widths): inflated as a file's layers are
 # (a disc a hemisphere), a large card would reach through the layers in front of it
 GREASE_PENCIL_RELIEF = 0.1
+GREASE_PENCIL_RESOLUTION = 1024     # px across the drawing: each layer's images
 LIT_SETTINGS = ("resolution", "spacing", "shade", "relief", "animation")
 SOURCE = "dynamic_painting_grease_pencil"    # a lit copy's parent: its drawing and settings
 LAYER = "dynamic_painting_grease_pencil_layer"   # a lit layer's material: its layer's name
@@ -232,9 +275,10 @@ def drawn_paintings(scene, obj, settings, progress=None, only=None):
     return made, bounds, frames, notes
 
 
-def light_drawing(context, obj, settings, progress=None):
+def light_drawing(context, obj, settings, progress=None, lights=None):
     """The drawing `obj` as a scene of lit layers (§15) where it is, the drawing hidden →
-    (parent, notes). settings: LIT_SETTINGS' values (the operator's)."""
+    (parent, notes). settings: LIT_SETTINGS' values (the operator's); lights: core Lights in
+    the lit copy's frame, added where the scene has none (default: the default sun)."""
     made, (x0, x1, z0, z1), frames, notes = drawn_paintings(context.scene, obj, settings,
                                                           progress)
     layers, tables, images = [], {}, {}
@@ -247,8 +291,8 @@ def light_drawing(context, obj, settings, progress=None):
     place = obj.matrix_world @ Matrix.Translation(((x0 + x1) / 2, 0.0, (z0 + z1) / 2)) @ \
         Matrix.Rotation(math.pi / 2, 4, "X")      # where the drawing is: its XZ plane
     with unchanged_images_on_failure():           # (its images are packed copies)
-        parent, messages = build_layered(context, obj.name, layers, [default_sun()], notes,
-                                         x1 - x0, parallax=False, add_lights=True,
+        parent, messages = build_layered(context, obj.name, layers, lights or [default_sun()],
+                                         notes, x1 - x0, parallax=False, add_lights=True,
                                          frames=tables, place=place)
     for mat in group_materials(parent):           # which layer each painting shows
         bright = mat.dynamic_painting.image_bright
@@ -375,3 +419,21 @@ def remove_lit_copy(parent):
         for mat in mats:
             bpy.data.materials.remove(mat)
     bpy.data.objects.remove(parent)
+
+
+def light_recipe_drawing(context, recipe, location=(0.0, 0.0, 0.0)):
+    """A recipe's drawing (its `drawing`, inputs/drawings.py) built in the scene, the scene's
+    frames set to the drawing's, and lit as From Grease Pencil lights it by default, with the
+    recipe's lights → (parent, notes)."""
+    drawing = load_drawing(recipe.drawing)
+    scene = context.scene
+    scene.frame_start, scene.frame_end = frame_range(drawing)
+    scene.frame_set(scene.frame_start)
+    obj = build_drawing(scene, drawing, location)
+    return light_drawing(context, obj, lit_defaults(), lights=recipe.lights)
+
+
+def lit_defaults():
+    """From Grease Pencil's settings as its dialog starts them (LIT_SETTINGS)."""
+    return {"resolution": GREASE_PENCIL_RESOLUTION, "spacing": DEFAULT_SPACING,
+            "shade": DEFAULT_SHADE, "relief": GREASE_PENCIL_RELIEF, "animation": True}
