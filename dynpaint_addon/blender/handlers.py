@@ -88,7 +88,8 @@ _REDRAWING = []     # a lit copy being redrawn: its own renders update the drawi
 
 def redraw_lit_drawings(scene, depsgraph):
     """A Grease Pencil drawing changed (a stroke, a keyframe, a material): redraw the lit
-    copies made from it (scenes/grease_pencil.refresh_lit_drawing: the layers that changed) — at once without a UI
+    copies made from it (scenes/grease_pencil.refresh_lit_drawing: the layers that changed)
+    — at once without a UI
     (the headless contract), after DEBOUNCE_S of quiet with one (a drawing's strokes come
     fast, and each redraw renders its layers)."""
     if _REDRAWING:
@@ -111,7 +112,7 @@ def redraw_lit_drawings(scene, depsgraph):
             bpy.app.timers.register(_redraw_pending, first_interval=DEBOUNCE_S)
         return
     for parent in stale:
-        _redraw(scene, parent)
+        _redraw(parent)
 
 
 _PENDING = set()
@@ -123,11 +124,11 @@ def _redraw_pending():
         _PENDING.discard(name)
         parent = bpy.data.objects.get(name)
         if parent is not None and parent in stale_lit_copies(scene, {drawing_of(parent)}):
-            _redraw(scene, parent)
+            _redraw(parent)
     return None
 
 
-def _redraw(scene, parent):
+def _redraw(parent):
     _REDRAWING.append(parent.name)
     try:
         refresh_lit_drawing(bpy.context, parent)

@@ -114,14 +114,18 @@ def _set_canvas(self, context):
     show_layer(self.id_data, context.scene)
 
 
+def _painted_image(role, name, description):
+    """One of a painted shape's images (Paint Shape): a change of it remakes the shape."""
+    return PointerProperty(type=bpy.types.Image, name=name, description=description,
+                           update=_on_change("painted." + role))
+
+
 PAINTED_ANNOTATIONS = {
     "made": PointerProperty(type=bpy.types.Image, name="Painted Shape",
                             description="The shape image made from the layers (the painting's "
                                         "shape image while it is painted)"),
-    "base": PointerProperty(type=bpy.types.Image, name="Base",
-                            description="The shape image before Paint Shape: its heights are "
-                                        "the made shape's floor (kept, never written)",
-                            update=_on_change("painted.base")),
+    "base": _painted_image("base", "Base", "The shape image before Paint Shape: its heights "
+                           "are the made shape's floor (kept, never written)"),
     "base_scale": FloatProperty(name="Base Relief", default=0.05, min=0.0, precision=4,
                                 description="Image widths of relief of the base's white",
                                 update=_on_change("painted.base_scale")),
@@ -129,18 +133,12 @@ PAINTED_ANNOTATIONS = {
     "base_reads": StringProperty(options={"HIDDEN"},
                                  description="A normal-map base's §2 settings (empty: a height "
                                              "map)"),
-    "mask": PointerProperty(type=bpy.types.Image, name="Figure Mask",
-                            description="Paint white where the figure is: it is inflated part "
-                                        "by part into the shape",
-                            update=_on_change("painted.mask")),
-    "height_layer": PointerProperty(type=bpy.types.Image, name="Height Layer",
-                                    description="Paint lighter to raise the shape, darker to "
-                                                "lower it (grey ½: the canvas)",
-                                    update=_on_change("painted.height_layer")),
-    "structure": PointerProperty(type=bpy.types.Image, name="Structure",
-                                 description="A tileable image whose luminance is added to the "
-                                             "figure as height detail (a fabric, a canvas)",
-                                 update=_on_change("painted.structure")),
+    "mask": _painted_image("mask", "Figure Mask", "Paint white where the figure is: it is "
+                           "inflated part by part into the shape"),
+    "height_layer": _painted_image("height_layer", "Height Layer", "Paint lighter to raise the "
+                                   "shape, darker to lower it (grey ½: the canvas)"),
+    "structure": _painted_image("structure", "Structure", "A tileable image whose luminance "
+                                "is added to the figure as height detail (a fabric, a canvas)"),
     "strength": FloatProperty(name="Strength", default=0.05, soft_min=-0.25, soft_max=0.25,
                               precision=4, step=0.1, subtype="DISTANCE",
                               description="Image widths the height layer raises the shape "

@@ -127,7 +127,7 @@ def _silhouette(images):
                      "with a mask image")
 
 
-def _at_size(pixels, size):
+def at_size(pixels, size):
     """Pixels (H, W[, C]) resampled to a painting's (W, H) when they differ."""
     w, h = size
     return pixels if pixels.shape[:2] == (h, w) else resample(pixels, h, w)
@@ -225,7 +225,7 @@ def normal_map_from_profiles(images, p, profiles, elevation):
     if len(given) < 2:
         raise ShapeError("Lighting Profiles: give at least two pictures (left, right, "
                          "top, bottom, front)")
-    n = normals_from_profiles({side: _at_size(linear_luminance(img), size)
+    n = normals_from_profiles({side: at_size(linear_luminance(img), size)
                                for side, img in given.items()}, elevation)
     return "normal", _with_alpha(encode_normals(n), _shape_alpha(images)), [
         f"solved {len(given)} lighting profiles ({', '.join(given)})"]
@@ -236,7 +236,7 @@ def normal_map_from_rg_photo(images, p, photo, red_from, green_from):
     top or bottom (core.photometric)."""
     if photo is None:
         raise ShapeError("Red/Green Photo: give the photograph")
-    n = normals_from_rg_photo(_at_size(np.asarray(photo.rgb(), np.float64), _painting_size(images)),
+    n = normals_from_rg_photo(at_size(np.asarray(photo.rgb(), np.float64), _painting_size(images)),
                               red_from, green_from)
     return "normal", _with_alpha(encode_normals(n), _shape_alpha(images)), [
         "decoded the red/green photograph"]

@@ -158,8 +158,9 @@ def keep_bake(mat, shape, light, p, t):
     """A bake of `shape` (the painting's newest decode): the next edit starts from it."""
     still = _STILL.get(mat.name)
     if still is not None and still.decoded is shape:
-        still.bakes[bake_slot(light, p)] = t
-        still.since.pop(bake_slot(light, p), None)
+        slot = bake_slot(light, p)
+        still.bakes[slot] = t
+        still.since.pop(slot, None)
 
 
 def bake_light(shape, light, p, cancel=None, progress=None, start=None):

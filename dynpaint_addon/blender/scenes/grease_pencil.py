@@ -1,4 +1,4 @@
-"""A Grease Pencil drawing as a scene of lit layers (issue 42, first step; pipeline.md §15).
+"""A Grease Pencil drawing as a scene of lit layers (issue 42; pipeline.md §15, §16).
 
 Grease Pencil cannot be lit (its material is not a BSDF: blender-notes.md). Here each of a
 drawing's layers is drawn by **Blender's own Grease Pencil renderer** — its materials, fills,
@@ -6,9 +6,11 @@ textures, modifiers and effects; no rasterizer of ours — into an image with it
 (the layer's *Use Lights* off while it renders), in a scene of its own so nothing else of the
 artist's scene is drawn or changed: Workbench, the Standard view transform (the colours as
 drawn), transparent film, an orthographic camera framing the drawing's bounds over all its
-frames (so every frame of an animation lands on the same pixels). The images are a folder of
-layers, back to front, which Add › Layered… builds as a scene of layers (§15): each a bright
-image with its alpha, a shaded dark copy and its silhouette inflated by parts.
+frames (so every frame of an animation lands on the same pixels). Each layer is then made a
+painting as a plain layer of a layered file is (layered_files.painting_of_frames: a shaded
+dark copy, its silhouette inflated by parts; sprite sheets where it changes over the frames),
+and the layers are built as Add › Layered… builds them (layered_build.build_layered), where
+the drawing is (light_drawing). The lit copy follows its drawing (refresh_lit_drawing).
 """
 import hashlib
 import json
@@ -34,8 +36,7 @@ from ..material.sync import update
 from ..state.edits import note_edited
 from ..state.frames import forget_frames, moves
 from ..state.images import packed_image, refill_packed_image
-from ..state.settings import channel_images
-from .layered_build import build_layered
+from .layered_build import build_layered, remove_objects
 from .painting_scene import NO_CAMERA, unchanged_images_on_failure
 
 MARGIN = 0.02          # of the drawing's size, around its bounds (strokes' round caps)
@@ -57,7 +58,7 @@ def drawn_layers(obj):
             notes.append(f"{layer.name}: hidden, left out (show it to light it)")
         elif not len(layer.frames):
             notes.append(f"{layer.name}: no frames, left out")
-        elif not any(len(f.drawing.strokes) for f in layer.frames):
+        elif not _draws(layer):
             notes.append(f"{layer.name}: nothing drawn, left out")
         else:
             kept.append(layer)
@@ -70,6 +71,22 @@ def drawn_layers(obj):
             f"{MAX_LAYERS} (§15): merge some ({', '.join(layer.name for layer in kept)}) or "
             f"hide those that need no light of their own")
     return kept, notes
+
+
+def _draws(layer):
+    """Whether a layer has a stroke on any of its frames."""
+    return any(len(f.drawing.strokes) for f in layer.frames)
+
+
+def layer_stem(i, layer):
+    """The name of the i-th drawn layer's images and painting: NN_name, NN back to front."""
+    return f"{i + 1:02d}_{bpy.path.clean_name(layer.name)}"
+
+
+def framing(obj, margin=MARGIN):
+    """The bounds the drawing's layers are drawn in (drawing_bounds): of every layer that
+    draws, hidden ones too — hiding one keeps the others in place."""
+    return drawing_bounds([layer for layer in obj.data.layers if _draws(layer)], margin)
 
 
 def layer_depths(layers, width, spacing):
@@ -95,7 +112,7 @@ def _points(layer):
     m = np.array(layer.matrix_local)
     for frame in layer.frames:
         drawing = frame.drawing
-        n = drawing.attributes.domain_size("POINT") if hasattr(drawing, "attributes") else 0
+        n = drawing.attributes.domain_size("POINT")
         if not n:
             continue
         pos = np.empty(n * 3, np.float32)
@@ -131,10 +148,7 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
     None for the others; the framing is the whole drawing's). The artist's scene, the object
     and its layers are left as they were."""
     layers, notes = drawn_layers(obj)
-    # framed by every layer that draws, hidden ones too: hiding one keeps the others in place
-    x0, x1, z0, z1 = drawing_bounds([layer for layer in obj.data.layers
-                                     if any(len(f.drawing.strokes) for f in layer.frames)],
-                                    margin)
+    x0, x1, z0, z1 = framing(obj, margin)
     w = max(1, int(width_px))
     h = max(1, round(w * (z1 - z0) / (x1 - x0)))
     os.makedirs(folder, exist_ok=True)
@@ -171,7 +185,7 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
             for other in obj.data.layers:
                 other.hide = other.name != layer.name
                 other.use_lights = False          # drawn as painted: the lights come later
-            stem = os.path.join(folder, f"{i + 1:02d}_{bpy.path.clean_name(layer.name)}")
+            stem = os.path.join(folder, layer_stem(i, layer))
             if only is not None and layer.name not in only:
                 paths.append(None)
                 continue
@@ -260,7 +274,7 @@ def drawn_paintings(scene, obj, settings, progress=None, only=None):
         depths = layer_depths(layers, bounds[1] - bounds[0], settings["spacing"])
         made = []
         for i, (layer, layer_paths, depth) in enumerate(zip(layers, paths, depths)):
-            name = f"{i + 1:02d}_{bpy.path.clean_name(layer.name)}"
+            name = layer_stem(i, layer)
             if layer_paths is None:
                 made.append((name, depth, None, None, None))
                 continue
@@ -370,12 +384,14 @@ def refresh_lit_drawing(context, parent):
     settings = {k: source[k] for k in LIT_SETTINGS}
     digests = layer_digests(obj)
     changed = {n for n, d in digests.items() if source.get("layers", {}).get(n) != d}
-    made, bounds, frames, _ = drawn_paintings(context.scene, obj, settings, only=changed)
     mats = {m.get(LAYER): m for m in group_materials(parent)}
-    same = set(mats) == {name for name, *_ in made} and \
-        np.allclose(bounds, source.get("bounds", bounds), rtol=0, atol=1e-9) and all(
-            (table is None) == (not moves(mats[name])) for name, _, imgs, _, table in made
-            if imgs is not None)
+    # other layers drawn, or other bounds: made anew without drawing the changed ones first
+    same = set(mats) == {layer_stem(i, layer) for i, layer in enumerate(drawn_layers(obj)[0])} \
+        and np.allclose(framing(obj), source["bounds"], rtol=0, atol=1e-9)
+    if same:
+        made, _, _, _ = drawn_paintings(context.scene, obj, settings, only=changed)
+        same = all((table is None) == (not moves(mats[name]))
+                   for name, _, imgs, _, table in made if imgs is not None)
     written = []
     if same:
         for name, _, imgs, _, _ in made:
@@ -392,7 +408,7 @@ def refresh_lit_drawing(context, parent):
                 break
     if not same:                                   # other layers, sizes or frames: anew
         hidden = obj.hide_get()
-        remove_lit_copy(parent)
+        remove_objects(list(parent.children) + [parent], images=True)
         obj.hide_set(False)
         parent, _ = light_drawing(context, obj, settings)
         obj.hide_set(hidden or obj.hide_get())
@@ -403,22 +419,6 @@ def refresh_lit_drawing(context, parent):
     for mat in mats.values():       # (the first bakes the group; a UI gets a draft first)
         update(mat, context.scene, bake="now" if rendering() else "live")
     return parent
-
-
-def remove_lit_copy(parent):
-    """A lit copy's parent, planes, meshes, materials and images, gone."""
-    for plane in list(parent.children):
-        mesh = plane.data
-        mats = list(mesh.materials) if mesh is not None else []
-        for mat in mats:
-            for img in channel_images(mat.dynamic_painting).values():
-                bpy.data.images.remove(img)
-        bpy.data.objects.remove(plane)
-        if mesh is not None:
-            bpy.data.meshes.remove(mesh)
-        for mat in mats:
-            bpy.data.materials.remove(mat)
-    bpy.data.objects.remove(parent)
 
 
 def light_recipe_drawing(context, recipe, location=(0.0, 0.0, 0.0)):

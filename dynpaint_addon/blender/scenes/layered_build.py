@@ -13,6 +13,7 @@ from ..bake.layers import LAYERED, group_materials
 from ..material.sync import batch, update
 from ..state.images import packed_image
 from ..state.lights import add_light, linked_lights
+from ..state.settings import channel_images
 from .painting_scene import FACE_CAMERA, create_painting, face_scene_camera
 from .turntable import turn_first_sun
 
@@ -108,16 +109,26 @@ def build_layered(context, stem, layers, lights, messages, size=1.0, parallax=Tr
         for plane in planes:  # the first bakes the whole group, the others find it baked
             messages += update(plane.active_material, scene)
     except Exception:
-        for obj in planes + [parent]:
-            mesh = obj.data
-            mats = list(mesh.materials) if mesh is not None else []
-            bpy.data.objects.remove(obj)
-            if mesh is not None:
-                bpy.data.meshes.remove(mesh)
-            for mat in mats:
-                bpy.data.materials.remove(mat)
+        remove_objects(planes + [parent])
         raise
     return parent, messages
+
+
+def remove_objects(objects, images=False):
+    """Objects gone with their meshes and materials (a layered build that failed, a lit copy
+    made anew); `images`: the materials' paintings' images too (images the build made)."""
+    for obj in objects:
+        mesh = obj.data
+        mats = list(mesh.materials) if mesh is not None else []
+        if images:
+            for img in {img for mat in mats
+                        for img in channel_images(mat.dynamic_painting).values()}:
+                bpy.data.images.remove(img)
+        bpy.data.objects.remove(obj)
+        if mesh is not None:
+            bpy.data.meshes.remove(mesh)
+        for mat in mats:
+            bpy.data.materials.remove(mat)
 
 
 def _camera_in(parent, camera):

@@ -16,10 +16,9 @@ import numpy as np
 
 from ... import params
 from ...core.input_rules import normal_map_normals
-from ...core.sampling import resample
 from ...core.shape import preblurred_height
 from ...inputs.imageio import image_data_from_blender
-from ...shapes.maker import encode_normals, linear_luminance
+from ...shapes.maker import at_size, encode_normals, linear_luminance
 from ...shapes.painted import (NEUTRAL, OPTIONS, figure_relief, painted_height,
                                painted_normals)
 from .edits import key_name, note_edited
@@ -71,10 +70,7 @@ def new_layers(mat, size, figure=None):
 
 def _grey(img, size):
     """An image's grey (linear luminance of colour images), at `size`."""
-    data = image_data_from_blender(img)
-    w, h = size
-    grey = np.asarray(data.grey(), np.float32)
-    return grey if grey.shape == (h, w) else resample(grey, h, w)
+    return at_size(np.asarray(image_data_from_blender(img).grey(), np.float32), size)
 
 
 def option_values(painted):
@@ -127,8 +123,7 @@ def _relief(settings, size):
     painting = settings.image_bright or settings.image_dark
     lum = None
     if values["detail"] and painting is not None:
-        lum = linear_luminance(image_data_from_blender(painting))
-        lum = lum if lum.shape == (h, w) else resample(lum, h, w)
+        lum = at_size(linear_luminance(image_data_from_blender(painting)), size)
     tile = linear_luminance(image_data_from_blender(pt.structure)) \
         if values["structure_strength"] and pt.structure is not None else None
     return figure_relief(_grey(pt.mask, size), lum, tile, **values)
@@ -155,12 +150,8 @@ def _base(settings, size):
     else:
         values = preblurred_height(data.grey().astype(np.float32),
                                    pt.base_preblur) * np.float32(pt.base_scale)
-    w, h = size
     alpha = data.alpha()
-    if values.shape[:2] != (h, w):
-        values = resample(values, h, w)
-        alpha = None if alpha is None else resample(alpha, h, w)
-    return values, alpha
+    return at_size(values, size), None if alpha is None else at_size(alpha, size)
 
 
 def update_painted_shape(mat):
