@@ -112,7 +112,7 @@ def drawn_layers(size, depths, relief):
     thickness for each, as the artist would set it)."""
     obj = drawing(depths)
     with tempfile.TemporaryDirectory() as folder:
-        paths, (x0, x1, _, _), _ = render_layers(obj, folder, size, margin=0.0)
+        paths, (x0, x1, _, _), _, _ = render_layers(obj, folder, size, margin=0.0)
         cells = [read_image(p) for p, in paths]
     at = layer_depths(list(obj.data.layers), x1 - x0, 0.0)
     layers = []

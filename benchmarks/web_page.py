@@ -159,8 +159,9 @@ def parity(page, data, core):
 
 
 def page_samples():
-    """The samples a page shows: paintings and scenes of layers (a Grease Pencil drawing's
-    page is issue 42's still to come)."""
+    """The samples whose pages are timed here: paintings and scenes of layers (a Grease
+    Pencil drawing's export draws it in Blender first, minutes at its size: its page's cost
+    is benchmarks/grease_pencil_cost.py's)."""
     return [s.id for s in list_samples() if not load_recipe(s.recipe).drawing]
 
 

@@ -66,7 +66,7 @@ def grease_pencil(folder):
     then with the shadows between them (the operator's relief and spacing)."""
     bpy.ops.wm.read_homefile(use_empty=True)
     drawing = figure_on_a_hill(bpy.context.scene)
-    paths, _, _ = render_layers(drawing, folder, PX)
+    paths = render_layers(drawing, folder, PX)[0]
     cells = [read_image(p) for p, in paths]
     shown = np.zeros_like(cells[0].pixels)
     for top in (c.pixels for c in cells):               # as Grease Pencil shows it: over
@@ -212,8 +212,26 @@ shading from frame to frame, exactly, in numpy and in Cycles
 ([grease-pencil-frames.md](grease-pencil-frames.md)). The sample **Walk (Grease Pencil)**
 (*Add › Dynamic Painting › Samples*; `walk` on the command line) is such a drawing, shipped
 as its data (`drawing.json`: filled shapes per layer and frame; a recipe may name a drawing
-instead of images), built and lit in one click, its light turning. The web page comes next
-(issue 42).
+instead of images), built and lit in one click, its light turning.
+
+**Shadow colours.** Each layer's dark image is a shaded copy of its colours unless the artist
+names its shadow colours: a layer called **"<name> shadow"** (for example *Figure shadow*;
+hide it if you like — it is read hidden or not) is drawn as the dark image of the layer
+*<name>* where it covers it, the shaded copy elsewhere, and is not a lit layer of its own; a
+material called **"<material> shadow"** (on no slot needed) is drawn in place of *<material>*
+for the dark images of the layers that use it. An edit of either redraws the layer it
+colours.
+
+**On the web.** `export-web` exports the lit drawing as one page — its layers at their
+places, the shadows between them marched in the page when the light moves, and an animated
+drawing's frames played at the scene's rate (the *Frames* slider and *Play*), each frame the
+numpy core's within 2e-3 (`tests/blender/test_grease_pencil.py`); *File › Export › Dynamic
+Painting (.html)* on the lit copy does the same:
+
+```sh
+dynpaint export-web drawing.blend --grease-pencil "Figure" --width 1024 --out drawing.html
+dynpaint export-web walk --out walk.html
+```
 
 ![a Grease Pencil drawing: as drawn, its layers lit alone, with the shadows between them](img/layers/grease_pencil.png)
 

@@ -19,6 +19,7 @@ from .scenes.grease_pencil import light_recipe_drawing
 from .scenes.layered_build import add_layered
 from .scenes.painting_scene import (NO_CAMERA, create_painting, exact_camera, exact_render_settings,
                     output_settings)
+from .scenes.web_page import painting_page
 from .state.frames import painting_size
 from .state.lights import linked_lights, painting_frame_light
 
@@ -127,6 +128,19 @@ def render_grease_pencil(path, object_name, engine, out, frame=None, width=None)
         output_settings(scene, out)
         bpy.ops.render.render(write_still=True)
     return time.perf_counter() - t
+
+
+def grease_pencil_page(source, object_name=None, width=None, **page):
+    """A Grease Pencil drawing lit as *From Grease Pencil* lights it — a .blend file's
+    (`source` its path, with the drawing's `object_name` and `width`) or a drawing's recipe
+    (`source` the Recipe) — as the web page's data (`export-web`): its layers' frames over
+    the scene's range, its lights and their animation → (data, warnings). page:
+    painting_page's title, credits, steps, max_size."""
+    if object_name is None:
+        mat = build_recipe_scene(source)[1]
+    else:
+        mat = build_grease_pencil_scene(source, object_name, width)[1]
+    return painting_page(mat, bpy.context.scene, **page)
 
 
 def fit_camera(scene, plane, width, height):

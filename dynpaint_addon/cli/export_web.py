@@ -10,7 +10,7 @@ from .. import params
 from ..errors import UserError
 from ..inputs.layered_files import is_layered_file, load_layered
 from ..inputs.painting_frames import PaintingFrames
-from ..inputs.recipe import image_bytes, load_recipe, no_drawing
+from ..inputs.recipe import image_bytes, load_recipe
 from ..inputs.samples import recipe_help
 from ..web.page import TURNTABLE_SECONDS, page_data, scene_data, write_page
 from .notes import check_and_print, print_notes
@@ -37,9 +37,15 @@ def cmd_export_web(args):
         raise ExportError(f"--turntable-seconds {args.turntable_seconds}: must be positive")
     if not 0 < args.fps <= 240:
         raise ExportError(f"--fps {args.fps:g}: frames per second in 0 … 240")
+    if args.width is not None and not args.grease_pencil:
+        raise ExportError("--width is the drawing's width with --grease-pencil (a recipe's "
+                          "page takes --max-size)")
     start = time.perf_counter()
-    recipe = None if is_layered_file(args.recipe) else \
-        no_drawing(load_recipe(args.recipe), "export-web")
+    if args.grease_pencil:
+        return _export_grease_pencil(args, start, args.recipe, args.grease_pencil)
+    recipe = None if is_layered_file(args.recipe) else load_recipe(args.recipe)
+    if recipe is not None and recipe.drawing:
+        return _export_grease_pencil(args, start, recipe)
     if recipe is None or recipe.layered:
         return _export_layers(args, start, recipe)
     print_notes(recipe.notes)
@@ -87,6 +93,32 @@ def _export_layers(args, start, recipe):
           f"{time.perf_counter() - start:.1f} s")
 
 
+def _export_grease_pencil(args, start, source, name=None):
+    """export-web of a Grease Pencil drawing (issue 42) — a .blend file's (`source` its path,
+    `name` the drawing) or a drawing's recipe (`source`, its Recipe): lit in background
+    Blender as *From Grease Pencil* lights it, its layers' frames played, its lights dragged."""
+    if args.width is not None and args.width < 16:
+        raise ExportError(f"--width {args.width}: at least 16 pixels")
+    if name is None:
+        print_notes(source.notes)
+    from ..blender.headless import grease_pencil_page      # Blender only when asked for
+    try:
+        data, warnings = grease_pencil_page(
+            source, name, args.width, title=args.title or name or source.name,
+            credits=source.credits if args.credits is None and name is None else
+            args.credits or "", steps=args.steps, max_size=args.max_size)
+    except ValueError as exc:
+        raise ExportError(str(exc)) from exc
+    data["turntable_seconds"] = float(args.turntable_seconds)
+    size = write_page(args.out, data)
+    print_notes(warnings)
+    moving = f", {len(data['frames']['sequence'])} frames at {data['frames']['fps']:g} fps" \
+        if data["frames"] else ""
+    print(f"export-web: wrote {args.out} ({size / 1e6:.2f} MB; {data['title']}, "
+          f"{len(data['layers'])} layers on {data['width']}×{data['height']}, "
+          f"{len(data['lights'])} light(s){moving}) in {time.perf_counter() - start:.1f} s")
+
+
 def add_parser(sub):
     """Register `export-web` on the command line's subparsers."""
     w = sub.add_parser("export-web", help="export a recipe as a self-contained web page (.html)",
@@ -108,4 +140,10 @@ def add_parser(sub):
                    f"(default {TURNTABLE_SECONDS:g})")
     w.add_argument("--fps", type=float, default=FPS, help=f"a painting that moves (§16): scene "
                    f"frames per second the page plays its frames at (default {FPS:g})")
+    w.add_argument("--grease-pencil", metavar="OBJECT",
+                   help="RECIPE is a .blend file: light its Grease Pencil drawing OBJECT as "
+                   "Add › From Grease Pencil does and export it, its frames played")
+    w.add_argument("--width", type=int, metavar="PX",
+                   help="with --grease-pencil: each layer's drawing, in pixels across "
+                   "(default 1024)")
     w.set_defaults(func=cmd_export_web)

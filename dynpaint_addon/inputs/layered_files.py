@@ -235,17 +235,25 @@ def painting_of(fl, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF):
     return images, p, notes
 
 
-def painting_of_frames(name, cells, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF):
+def painting_of_frames(name, cells, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF, darks=None):
     """A layer drawn on each of some frames (a Grease Pencil layer's, issue 42) →
     ({channel: ImageData}, params, notes, its [frames] table but the start, or None): each
     distinct cell (ImageData of one size, one per frame) made a painting as a plain painted
     layer is (painting_of: a shaded dark, its silhouette inflated by parts `relief` high, so
-    a figure that does not change keeps its heights bit for bit); cells that all agree are
-    one still painting, else the cells are laid out as sprite sheets (§16)."""
-    if all(np.array_equal(c.pixels, cells[0].pixels) for c in cells[1:]):
-        images, p, notes = painting_of(FileLayer(name, {"painted": cells[0]}), shade, relief)
-        return images, p, notes, None
-    made = [painting_of(FileLayer(name, {"painted": cell}), shade, relief) for cell in cells]
+    a figure that does not change keeps its heights bit for bit) — or, with `darks` (the
+    shadow colours the artist drew on each frame), its dark image those colours over the
+    shaded one (shadow_colours); cells that all agree are one still painting, else the cells
+    are laid out as sprite sheets (§16)."""
+    darks = darks or [None] * len(cells)
+
+    def painting(cell, dark):
+        images = {"bright": cell} if dark is None else \
+            {"bright": cell, "dark": shadow_colours(cell, dark, shade)}
+        return painting_of(FileLayer(name, images), shade, relief)
+    if all(np.array_equal(c.pixels, cells[0].pixels) for c in cells[1:]) and \
+            all(d is darks[0] or np.array_equal(d.pixels, darks[0].pixels) for d in darks[1:]):
+        return (*painting(cells[0], darks[0]), None)
+    made = [painting(cell, dark) for cell, dark in zip(cells, darks)]
     notes = sorted({n for _, _, lines in made for n in lines if "inflated" not in n})
     grid = SheetGrid.squarest(len(cells))
     h, w = cells[0].pixels.shape[:2]
@@ -255,6 +263,24 @@ def painting_of_frames(name, cells, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF):
     table = {"offset": 0, "count": len(cells), "mode": "hold", "rate": 1.0,
              "columns": grid.columns, "rows": grid.rows, "margin": 0, "spacing": 0}
     return images, made[0][1], notes, table
+
+
+def shadow_colours(bright, drawn, shade):
+    """A layer's dark image from the shadow colours an artist drew for it (issue 42): `drawn`
+    over the shaded `bright` (where they drew none, the shaded rule), composited in linear
+    light, with the bright image's alpha (its coverage is the layer's)."""
+    base = shaded(bright, shade)
+
+    def linear(img):
+        rgb = np.asarray(img.rgb(), np.float64)
+        return rgb if img.bits == 32 else srgb_to_linear(rgb)
+    a = drawn.alpha()
+    a = np.ones(drawn.pixels.shape[:2]) if a is None else np.asarray(a, np.float64)
+    rgb = linear(drawn) * a[..., None] + linear(base) * (1 - a[..., None])
+    rgb = rgb if bright.bits == 32 else linear_to_srgb(rgb)
+    alpha = bright.alpha()
+    px = rgb if alpha is None else np.dstack([rgb, alpha])
+    return ImageData(px.astype(np.float32), bright.bits, f"{bright.name} (shadow colours)")
 
 
 def shaded(img, shade):

@@ -305,35 +305,43 @@ def page_frames(frames, first, textures, lights, p, steps, max_size, cache, shad
 
 
 def scene_data(layers, lights, title="", credits="", steps=None, max_size=None,
-               turntable_seconds=TURNTABLE_SECONDS):
+               turntable_seconds=TURNTABLE_SECONDS, frames=None, animation=None):
     """A scene of layers (§15) as JSON-ready data → (data, warnings): each layer's page data
     (its own images and shaders, as a painting's, without the other looks), where it lies on
     the canvas, and what the pass of the shadows between layers reads — the layer as the
     layers behind it meet it (alpha, relief, opacity), its surface height, and the pass's
     shader for the number of layers in front of it. The canvas is the back layer's image, at
-    most `max_size` pixels on its longer side (every layer shrunk alike)."""
+    most `max_size` pixels on its longer side (every layer shrunk alike). animation: as
+    page_data's.
+
+    frames: a scene whose layers move (§16; a Grease Pencil animation, issue 42) — {'scenes':
+    [[Layer] of each drawing of the scene one loop shows], 'sequence': [the drawing of each
+    frame of the loop], 'fps'}; `layers` is its first drawing, and the layers keep their
+    places. A layer whose images change gets its own drawings as a painting that moves does
+    (page_frames), with what the shadow pass reads of each; the page swaps them together."""
     canvas = layers[0].images["shape"].pixels.shape[:2]
     factor = 1.0 if not max_size else min(1.0, max_size / max(canvas))
-    layers = [dataclasses.replace(layer, images={
+    scenes = [Scene([dataclasses.replace(layer, images={
         c: shrink(img, round(max(img.size) * factor)) for c, img in layer.images.items()})
-        for layer in layers]
-    scene = Scene(layers)
+        for layer in drawn]) for drawn in [layers] + list((frames or {}).get("scenes", [])[1:])]
+    scene = scenes[0]
     out, warnings = [], []
     for position, i in enumerate(scene.order):
-        layer, place = layers[i], scene.places[i]
-        data, warns = page_data(layer.images, lights, layer.p, steps=steps, looks=False)
+        layer, place = scene.layers[i], scene.places[i]
+        firsts, drawing_of = _distinct([s.layers[i].images for s in scenes])
+        moving = None if len(firsts) == 1 else {
+            "drawings": [scenes[s].layers[i].images for s in firsts], "fps": frames["fps"],
+            "sequence": [drawing_of[s] for s in frames["sequence"]]}
+        data, warns = page_data(layer.images, lights, layer.p, steps=steps, looks=False,
+                                frames=moving)
         warnings += [f"{layer.name}: {w}" for w in warns]
-        (h, w) = scene.ready[i].size
-        front = scene.order[position + 1:]
         data.update(name=layer.name, place=[place.corner[0], place.corner[1], place.px, place.z])
-        if position:
-            occ = scene.occluder(i)
-            data["occluder"] = encode_pixels(np.dstack([occ.alpha, occ.relief_px, occ.opacity,
-                                                        np.zeros_like(occ.alpha)]), "f32")
-            data["slab"] = [occ.bottom, occ.top, float(w), float(h)]
+        reads = [_shadow_pass_reads(scenes[s], position, data["shadows"]) for s in firsts]
+        data.update(reads[0])
+        if moving:
+            data["frames"].update({k: [r[k] for r in reads] for k in reads[0]})
+        front = scene.order[position + 1:]
         if front and data["shadows"]:
-            surface = scene_surface(scene, i)
-            data["surface"] = encode_pixels(surface[..., None], "f32")
             data["through"] = _deflated(through_shader(len(front)))
             data["front"] = [scene.order.index(k) for k in front]
         out.append(data)
@@ -342,8 +350,42 @@ def scene_data(layers, lights, title="", credits="", steps=None, max_size=None,
             "lights": [_light_entry(lt) for lt in lights],
             "shadows": any(d["shadows"] for d in out),
             "steps": max(d["steps"] for d in out), "looks": [{"name": "As exported"}],
-            "turntable_seconds": float(turntable_seconds), "animation": None,
+            "turntable_seconds": float(turntable_seconds), "animation": animation,
+            "frames": frames and {"fps": float(frames["fps"]),
+                                  "sequence": list(frames["sequence"])},
             "layer_quality": {**LAYER_QUALITY["final"], "edge_step": EDGE_STEP}}, warnings
+
+
+def _distinct(drawings):
+    """[{channel: ImageData}] → (the index of each distinct one's first, the distinct one each
+    is): two drawings are one when every image's pixels are equal."""
+    firsts, of = [], []
+    for images in drawings:
+        same = next((k for k, j in enumerate(firsts) if all(
+            np.array_equal(drawings[j][c].pixels, img.pixels) for c, img in images.items())),
+            None)
+        if same is None:
+            same = len(firsts)
+            firsts.append(len(of))
+        of.append(same)
+    return firsts, of
+
+
+def _shadow_pass_reads(scene, position, shadows):
+    """What the pass of the shadows between layers reads of the layer at `position` (back
+    first) in `scene`: as an occluder of the layers behind it ('occluder', 'slab'), and as a
+    receiver of those in front ('surface', where its rays start; `shadows`: it has any)."""
+    i = scene.order[position]
+    reads = {}
+    if position:
+        occ = scene.occluder(i)
+        (h, w) = scene.ready[i].size
+        reads["occluder"] = encode_pixels(np.dstack([occ.alpha, occ.relief_px, occ.opacity,
+                                                     np.zeros_like(occ.alpha)]), "f32")
+        reads["slab"] = [occ.bottom, occ.top, float(w), float(h)]
+    if position + 1 < len(scene.order) and shadows:
+        reads["surface"] = encode_pixels(scene_surface(scene, i)[..., None], "f32")
+    return reads
 
 
 def scene_surface(scene, i):

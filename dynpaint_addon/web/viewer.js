@@ -410,7 +410,8 @@
       let drawn = 0, finalMs = 0, final = true;
       lights.forEach((lt, i) => {
         const what = JSON.stringify([look.shaders["shadow_" + lt.kind], look.uniforms,
-                                     state.steps, lightVector(lt), lt.size || 0, P.drawing]);
+                                     state.steps, lightVector(lt), lt.size || 0, P.drawing,
+                                     (PD.front || []).map((k) => scene.paintings[k].drawing)]);
         const old = shadows[i];
         if (old && old.what === what && (old.scale >= 1 || scale < 1)) {
           final = final && old.scale >= 1;
@@ -470,7 +471,7 @@
         const other = scene.paintings[k];
         bind(`dp_occ${j}`, other.occluder, true);
         gl.uniform4fv(loc(`dp_occ_place${j}`), other.data.place);
-        gl.uniform4fv(loc(`dp_occ_slab${j}`), other.data.slab);
+        gl.uniform4fv(loc(`dp_occ_slab${j}`), other.slab);
       });
       gl.uniform4f(loc("dp_rect"), 0, 0, w, h);
       gl.uniform4fv(loc("dp_recv"), PD.place);
@@ -504,17 +505,24 @@
     };
 
     // A painting that moves (§16): show drawing `d` — the images that move swapped for that
-    // drawing's (each made into a texture the first time it is shown, then kept), the
-    // shadows drawn again (their key holds the drawing).
+    // drawing's (each made into a texture the first time it is shown, then kept), and a
+    // layer's reads of the shadows between layers with them; the shadows drawn again
+    // (their key holds the drawing, and those of the layers in front).
     P.setDrawing = function (d) {
       if (!PD.frames || d === P.drawing) return;
-      for (const [c, cells] of Object.entries(PD.frames.textures)) {
-        P.cells[c] = P.cells[c] || [{ texture: textures[c], filterable: filterable[c] }];
+      const cell = (c, cells) => {
+        P.cells[c] = P.cells[c] || [];
         P.cells[c][d] = P.cells[c][d] || texture(cells[d]);
+        return P.cells[c][d].texture;
+      };
+      for (const [c, cells] of Object.entries(PD.frames.textures)) {
         for (const [other, tex] of Object.entries(PD.textures)) {
-          if (other === c || tex.same_as === c) textures[other] = P.cells[c][d].texture;
+          if (other === c || tex.same_as === c) textures[other] = cell(c, cells);
         }
       }
+      if (PD.frames.occluder) P.occluder = cell("occluder", PD.frames.occluder);
+      if (PD.frames.surface) P.surface = cell("surface", PD.frames.surface);
+      if (PD.frames.slab) P.slab = PD.frames.slab[d];
       P.drawing = d;
     };
 
@@ -538,8 +546,20 @@
           units[`shadow_${i}`] = unit++;
         });
       }
-      if (PD.occluder) P.occluder = texture(PD.occluder).texture;
-      if (PD.surface) P.surface = texture(PD.surface).texture;
+      // drawing 0's textures are kept as the first cells of a moving one
+      const first = (c, tex) => {
+        const made = texture(tex);
+        if (PD.frames) P.cells[c] = [made];
+        return made.texture;
+      };
+      if (PD.frames) {
+        for (const c of Object.keys(PD.frames.textures)) {
+          P.cells[c] = [{ texture: textures[c], filterable: filterable[c] }];
+        }
+      }
+      if (PD.occluder) P.occluder = first("occluder", PD.occluder);
+      if (PD.surface) P.surface = first("surface", PD.surface);
+      P.slab = PD.slab;
       P.useLook();                  // (compiled knowing which images the GPU may filter)
     };
     return P;
@@ -1059,7 +1079,9 @@
   function showFrame(i) {
     const seq = DATA.frames.sequence;
     state.pageFrame = ((i % seq.length) + seq.length) % seq.length;
-    paintings[0].setDrawing(seq[Math.floor(state.pageFrame)]);
+    for (const P of paintings) {             // (a scene: each layer's own drawing of it)
+      if (P.data.frames) P.setDrawing(P.data.frames.sequence[Math.floor(state.pageFrame)]);
+    }
     frameInput.value = Math.floor(state.pageFrame);
     frameValue.textContent = `${Math.floor(state.pageFrame) + 1} / ${seq.length}`;
     state.dirty = true;

@@ -247,7 +247,7 @@ def test_the_web_page_of_a_painting_that_moves_holds_its_drawings(empty_scene, r
     bpy.context.view_layer.objects.active = plane
     out = str(tmp_path / "page.html")
     assert bpy.ops.dynpaint.export_web(filepath=out) == {"FINISHED"}
-    from dynpaint_addon.blender.operators.web import painting_page
+    from dynpaint_addon.blender.scenes.web_page import painting_page
     data, _ = painting_page(mat, bpy.context.scene, "t", animation=False)
     assert data["frames"]["sequence"] == [0, 1, 2, 3, 2, 1] and data["frames"]["fps"] == 12
     assert len(data["frames"]["textures"]["dark"]) == 4

@@ -1,6 +1,8 @@
 """From Grease Pencil (issue 42, first step): a Grease Pencil drawing's layers drawn by
 Blender's own renderer, each made a painting at a depth, lit, the front ones shadowing those
 behind; bad input said clearly."""
+import base64
+import json
 import os
 import sys
 
@@ -12,17 +14,19 @@ from mathutils import Vector  # noqa: E402
 
 from dynpaint_addon import blender  # noqa: E402
 from dynpaint_addon.blender.bake.layers import group_materials  # noqa: E402
-from dynpaint_addon.blender.scenes.grease_pencil import (SOURCE,  # noqa: E402
+from dynpaint_addon.blender.scenes.grease_pencil import (LAYER, SOURCE,  # noqa: E402
                                                          GreasePencilError, drawn_layers,
-                                                         render_layers)
-from dynpaint_addon.core.colour import linear_to_srgb  # noqa: E402
+                                                         layer_digests, render_layers)
+from dynpaint_addon.core.colour import linear_to_srgb, srgb_to_linear  # noqa: E402
+from dynpaint_addon.inputs.layered_files import DEFAULT_SHADE  # noqa: E402
 from dynpaint_addon.inputs.imageio import image_data_from_blender, read_image  # noqa: E402
 from dynpaint_addon.blender.state.edits import version  # noqa: E402
 from dynpaint_addon.blender.state.frames import frame_data, moves  # noqa: E402
 from dynpaint_addon.core.layers import MAX_LAYERS  # noqa: E402
-from testkit.grease_pencil import add_fill, card_and_disc, disc, rolling_disc  # noqa: E402
+from testkit.grease_pencil import (add_fill, card_and_disc, disc, fill_material,  # noqa: E402
+                                   rectangle, rolling_disc)
 
-from conftest import REPO, run_cli  # noqa: E402
+from conftest import REPO, open_page, run_cli  # noqa: E402
 
 
 @pytest.fixture
@@ -39,9 +43,9 @@ def test_each_layer_is_drawn_by_blender_alone_with_its_colours_and_alpha(drawing
     the drawing's bounds (2 × 1.5 plus a margin: the aspect kept); the artist's scene, its
     layers' visibility and lights as they were."""
     scene = bpy.context.scene
-    paths, (x0, x1, z0, z1), notes = render_layers(drawing, str(tmp_path), 200)
+    paths, (x0, x1, z0, z1), notes, darks = render_layers(drawing, str(tmp_path), 200)
     assert [p.rsplit("/", 1)[1] for p, in paths] == ["01_Back.png", "02_Figure.png"]
-    assert not notes
+    assert not notes and darks == [None, None]         # no shadow colours named
     back, figure = (read_image(p).pixels for p, in paths)
     assert back.shape[:2] == figure.shape[:2] == (round(200 * (z1 - z0) / (x1 - x0)), 200)
     h, w = back.shape[:2]
@@ -94,6 +98,54 @@ def test_from_grease_pencil_lights_the_drawing_in_its_place(drawing):
         group_materials(bpy.context.object)[0].dynamic_painting.lights[0].shadow).pixels[..., 0]
     shadowed = t < alone - 0.3
     assert 50 < shadowed.sum() < 0.2 * t.size and np.all(t <= alone + 1e-5)
+
+
+def _lit_layer_colours(name, where):
+    """The lit copy's layer `name`: linear (bright, dark) colours at each (x, z) of `where`
+    (points of the drawing) and the dark image's alpha there, with the bright one's."""
+    mat = next(m for m in group_materials(bpy.context.object) if m[LAYER] == name)
+    s = mat.dynamic_painting
+    out = []
+    for img in (s.image_bright, s.image_dark):
+        data = image_data_from_blender(img)
+        px = np.asarray(data.pixels, np.float64)
+        rgb = px[..., :3] if data.bits == 32 else srgb_to_linear(px[..., :3])
+        h, w = px.shape[:2]
+        (x0, x1, z0, z1) = json.loads(bpy.context.object[SOURCE])["bounds"]
+        cells = [(int((z - z0) / (z1 - z0) * h), int((x - x0) / (x1 - x0) * w)) for x, z in where]
+        out.append(([rgb[r, c] for r, c in cells], [px[r, c, 3] for r, c in cells]))
+    return out
+
+
+def test_shadow_colours_the_artist_drew_are_the_dark_image(drawing):
+    """Issue 42: a layer "Figure shadow" (hidden) drawn over the disc's left half is the
+    figure's dark image there — not a lit layer of its own — and the shaded rule elsewhere;
+    a material "blue shadow" darkens the card as drawn; the coverage stays the bright
+    image's. An edit of the shadow colours is an edit of the figure's layer."""
+    gp = drawing.data
+    purple = fill_material(gp, "purple", (0.3, 0.1, 0.5))
+    add_fill(gp.layers.new("Figure shadow"), rectangle(-0.7, -0.35, -0.2, 0.6), purple)
+    gp.layers["Figure shadow"].hide = True
+    navy = bpy.data.materials.new("blue shadow")          # (on no slot: found by its name)
+    bpy.data.materials.create_gpencil_data(navy)
+    navy.grease_pencil.show_fill, navy.grease_pencil.show_stroke = True, False
+    navy.grease_pencil.fill_color = (0.05, 0.05, 0.3, 1.0)
+    digests = layer_digests(drawing)
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=160) == {"FINISHED"}
+    assert len(group_materials(bpy.context.object)) == 2
+    assert [slot.material.name for slot in drawing.material_slots] == ["blue", "orange",
+                                                                       "purple"]
+    (bright, alpha), (dark, dark_alpha) = _lit_layer_colours("02_Figure", [(-0.45, 0.2),
+                                                                          (-0.1, 0.2)])
+    assert np.allclose(dark[0], (0.3, 0.1, 0.5), atol=3e-3)           # drawn: purple
+    assert np.allclose(dark[1], np.asarray(bright[1]) * DEFAULT_SHADE, atol=3e-3)  # the rule
+    assert np.allclose(dark_alpha, alpha)
+    (bright, _), (dark, _) = _lit_layer_colours("01_Back", [(0.7, -0.5)])
+    assert np.allclose(dark[0], (0.05, 0.05, 0.3), atol=3e-3) and \
+        np.allclose(bright[0], (0.2, 0.4, 0.8), atol=3e-3)
+    add_fill(gp.layers["Figure shadow"], disc(-0.2, 0.3, 0.05), purple)
+    after = layer_digests(drawing)
+    assert after["Figure"] != digests["Figure"] and after["Back"] == digests["Back"]
 
 
 def test_bad_drawings_are_said_clearly(drawing):
@@ -203,6 +255,33 @@ def test_a_turntable_of_a_blend_files_drawing(tmp_path):
     assert "2 frames" in done.stdout and out.stat().st_size > 1000
 
 
+def test_export_web_of_a_blend_files_drawing_plays_its_frames_lit(browser, tmp_path):
+    """`export-web FILE.blend --grease-pencil OBJECT`: the lit drawing as one page whose frames
+    play — on each frame the page draws what `render --engine numpy --frame N` renders (the
+    disc where that frame puts it, its shadow on the card), within 2e-3."""
+    blend = saved_drawing(tmp_path, rolling_disc)
+    out = tmp_path / "disc.html"
+    done = run_cli("export-web", blend, "--grease-pencil", "Rolling disc", "--width", "96",
+                   "--out", str(out))
+    assert done.returncode == 0, done.stderr
+    assert "2 layers on 96×" in done.stdout and "3 frames at 24 fps" in done.stdout
+    page = open_page(browser, str(out), query="?embed")
+    assert page.evaluate("window.dynamicPainting.state.framesPlaying")
+    w, h = page.evaluate("[document.getElementById('painting').width, "
+                         "document.getElementById('painting').height]")
+    for frame in (3, 2):
+        exr = tmp_path / f"frame{frame}.exr"
+        assert run_cli("render", blend, "--grease-pencil", "Rolling disc", "--frame",
+                       str(frame), "--width", "96", "--out", str(exr)).returncode == 0
+        want = read_image(str(exr)).pixels
+        page.evaluate(f"window.dynamicPainting.setFrame({frame - 1})")
+        raw = base64.b64decode(page.evaluate("window.dynamicPainting.renderFloat(null)"))
+        got = np.frombuffer(raw, np.float32).reshape(want.shape[0], want.shape[1], 4)
+        assert float(np.abs(got - want)[1:-1, 1:-1].mean()) <= 2e-3, frame
+    done = run_cli("export-web", blend, "--width", "96", "--out", str(out))
+    assert done.returncode != 0 and "Traceback" not in done.stderr
+
+
 def test_layers_the_artist_moved_toward_the_camera_keep_their_depths(drawing):
     """A layer translated 0.3 toward the camera (−Y, the front view) lies 0.3 in front of the
     back layer in the lit copy, whatever the spacing."""
@@ -275,8 +354,8 @@ def test_the_cost_benchmark_runs():
     """benchmarks/grease_pencil_cost.py at a tiny size (numbers, not speed)."""
     sys.path.insert(0, os.path.join(REPO, "benchmarks"))
     import grease_pencil_cost
-    m = grease_pencil_cost.measure(48, 1)
-    assert len(m) == 4 and all(seconds > 0 for seconds in m.values())
+    m, page_mb = grease_pencil_cost.measure(48, 1)
+    assert len(m) == 6 and all(seconds > 0 for seconds in m.values()) and page_mb > 0
 
 
 def test_the_frames_benchmark_runs_and_nothing_still_flickers():

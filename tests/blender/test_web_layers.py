@@ -2,6 +2,7 @@
 place, the shadows between layers marched in the page — the same pixels as the core's, per
 layer and composited — and the view dragged for parallax."""
 import base64
+import dataclasses
 
 import numpy as np
 import pytest
@@ -10,7 +11,7 @@ from conftest import open_page, run_cli, shown
 from dynpaint_addon.core.colour import linear_to_srgb
 from dynpaint_addon.core.layers import render_scene
 from dynpaint_addon.core.lights import Light
-from dynpaint_addon.inputs.imageio import read_image
+from dynpaint_addon.inputs.imageio import ImageData, read_image
 from dynpaint_addon.inputs.layered_files import load_layered
 from dynpaint_addon.inputs.recipe import load_layers, load_recipe
 from dynpaint_addon.inputs.samples import recipe_path
@@ -140,3 +141,38 @@ def test_eight_layers_the_most_a_scene_holds(browser, recipe, tmp_path):
     assert float(np.abs(got - want.rgba)[1:-1, 1:-1].mean()) <= 2e-3
     back = floats(page, 0, SIZE, SIZE)
     assert float(np.abs(back - want.layers[0].rgba)[1:-1, 1:-1].mean()) <= 2e-3
+
+
+def test_a_scene_whose_layers_move_plays_each_frame_as_the_core_draws_it(browser, recipe,
+                                                                          tmp_path):
+    """Issue 42: a scene whose front layer moves (its images shifted on two of four frames,
+    as a Grease Pencil animation's layer is drawn anew) — each frame of the page is that
+    frame's scene as the core draws it, per layer and composited: the layer behind gets the
+    moved layer's shadow, the still layers' images are sent once."""
+    layers = load_layers(load_recipe(recipe))
+    front = max(range(len(layers)), key=lambda i: layers[i].depth)
+    shifted = [dataclasses.replace(layer, images={
+        c: ImageData(np.roll(img.pixels, 14, axis=1), img.bits, img.name)
+        for c, img in layer.images.items()}) if i == front else layer
+        for i, layer in enumerate(layers)]
+    light = Light("sun", (0.55, 0.35, 0.76))
+    data, _ = scene_data(layers, [light], frames={"scenes": [layers, shifted], "fps": 12.0,
+                                                  "sequence": [0, 1, 1, 0]})
+    assert data["frames"]["sequence"] == [0, 1, 1, 0]
+    assert [bool(d["frames"]) for d in data["layers"]] == \
+        [i == front for i in range(len(layers))]
+    assert data["layers"][front]["frames"]["sequence"] == [0, 1, 1, 0]
+    path = str(tmp_path / "moving.html")
+    write_page(path, data)
+    page = open_page(browser, path, query="?embed")
+    backs = []
+    for frame, drawn in ((1, shifted), (3, layers), (2, shifted)):
+        page.evaluate(f"window.dynamicPainting.setFrame({frame})")
+        want = render_scene(drawn, [light])
+        for i, layer in enumerate(want.layers):
+            got = floats(page, i, SIZE, SIZE)
+            assert float(np.abs(got - layer.rgba)[1:-1, 1:-1].mean()) <= 2e-3, (frame, i)
+        got = floats(page, "null", SIZE, SIZE)
+        assert float(np.abs(got - want.rgba)[1:-1, 1:-1].mean()) <= 2e-3, frame
+        backs.append(want.layers[0].rgba)
+    assert np.abs(backs[0] - backs[1]).mean() > 1e-3      # the shadow behind moved with it

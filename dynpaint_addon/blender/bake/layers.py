@@ -99,15 +99,16 @@ def core_scene(parent, mats, depsgraph=None, key=None):
     return hit[1]
 
 
-def group_layers(mats, depsgraph=None, channels=None):
+def group_layers(mats, depsgraph=None, channels=None, f=None):
     """The paintings of a group (group_materials) as the core's layers (§15): their images
-    (only `channels` when given), parameters, and places in the back layer's frame."""
+    (only `channels` when given) at scene frame `f` (default: now), parameters, and places
+    in the back layer's frame."""
     back = mats[0].dynamic_painting.plane
     layers = []
     for mat in mats:
         s = mat.dynamic_painting
         depth, offset, scale = _placement(back, s.plane, depsgraph)
-        images = {c: frame_data(mat, c) for c in channel_images(s)     # (§16: the frame's)
+        images = {c: frame_data(mat, c, f) for c in channel_images(s)     # (§16: the frame's)
                   if channels is None or c in channels}
         layers.append(Layer(images, settings_to_params(s), mat.name, depth,
                             s.layer_thickness or None, offset, scale))

@@ -4,7 +4,8 @@ Pencil drawing as a scene of lit layers, in its place.
 Each layer that draws something is drawn by Blender's own Grease Pencil renderer into an
 image (scenes/grease_pencil.py: the current frame, or each of the scene's range for an
 animated drawing), and made a painting as a plain layer of a layered file is (a shaded dark
-copy, its silhouette inflated by parts; sprite sheets where it changes, §16); the layers are
+copy, or the shadow colours the artist named; its silhouette inflated by parts; sprite
+sheets where it changes, §16); the layers are
 built as Add › Layered… builds them (§15): a plane per layer at its depth — where the artist
 moved layers toward the camera, there, else Spacing apart — the layers in front casting
 shadows on those behind. The planes lie where the drawing is (its object's XZ plane,
@@ -37,7 +38,9 @@ class DYNPAINT_OT_add_grease_pencil(bpy.types.Operator):
         description="Depth between one layer and the next, in widths of the drawing")
     shade: FloatProperty(
         name="Dark Shade", default=DEFAULT_SHADE, min=0.0, max=1.0,
-        description="Each layer's dark image: this share of its colour (linear)")
+        description="Each layer's dark image: this share of its colour (linear), where no "
+                    "shadow colours are named — a layer \"<name> shadow\" or a material "
+                    "\"<material> shadow\" draws them")
     animation: BoolProperty(
         name="Animation", default=True,
         description="Light every frame of the scene's frame range where the drawing changes "

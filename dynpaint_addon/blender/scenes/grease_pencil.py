@@ -9,9 +9,12 @@ drawn), transparent film, an orthographic camera framing the drawing's bounds ov
 frames (so every frame of an animation lands on the same pixels). Each layer is then made a
 painting as a plain layer of a layered file is (layered_files.painting_of_frames: a shaded
 dark copy, its silhouette inflated by parts; sprite sheets where it changes over the frames),
+or a dark image drawn from the shadow colours the artist named (shadow_layers,
+shadow_materials: a layer or material called "<name> shadow"),
 and the layers are built as Add › Layered… builds them (layered_build.build_layered), where
 the drawing is (light_drawing). The lit copy follows its drawing (refresh_lit_drawing).
 """
+import contextlib
 import hashlib
 import json
 import math
@@ -27,7 +30,7 @@ from mathutils import Matrix, Vector
 from ...core.layers import MAX_LAYERS
 from ...core.lights import default_sun
 from ...errors import UserError
-from ...inputs.imageio import read_image
+from ...inputs.imageio import quiet_native, read_image
 from ...inputs.drawings import frame_range, load_drawing
 from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING, painting_of_frames
 from ..bake.layers import group_materials
@@ -53,8 +56,12 @@ def drawn_layers(obj):
         raise GreasePencilError(f"{getattr(obj, 'name', 'nothing')} is not a Grease Pencil "
                                 f"object: select the drawing to light")
     kept, notes = [], []
+    partners = {layer.name: owner for owner, layer in shadow_layers(obj).items()}
     for layer in obj.data.layers:          # the first layer is drawn first: the back one
-        if layer.hide:
+        if layer.name in partners:
+            notes.append(f"{layer.name}: the shadow colours of {partners[layer.name]} (its "
+                         f"dark image), not a lit layer of its own")
+        elif layer.hide:
             notes.append(f"{layer.name}: hidden, left out (show it to light it)")
         elif not len(layer.frames):
             notes.append(f"{layer.name}: no frames, left out")
@@ -71,6 +78,35 @@ def drawn_layers(obj):
             f"{MAX_LAYERS} (§15): merge some ({', '.join(layer.name for layer in kept)}) or "
             f"hide those that need no light of their own")
     return kept, notes
+
+
+SHADOW = " shadow"      # "<name> shadow": the shadow colours of layer or material <name>
+
+
+def shadow_of(name, names):
+    """The name `name` gives shadow colours to ("Figure shadow" → "Figure", the suffix in
+    any case) where that is one of `names`, else None."""
+    base = name[:-len(SHADOW)]
+    return base if name.lower().endswith(SHADOW) and base in names else None
+
+
+def shadow_layers(obj):
+    """{layer name: the layer drawn as its shadow colours} — a layer "<name> shadow" that
+    draws, hidden or not (it is the dark image of <name>, not a lit layer of its own)."""
+    names = {layer.name for layer in obj.data.layers}
+    return {shadow_of(layer.name, names): layer for layer in obj.data.layers
+            if shadow_of(layer.name, names) and _draws(layer)}
+
+
+def shadow_materials(obj):
+    """{material slot index: the material "<its name> shadow"} of the drawing's materials
+    that have one (drawn in their place for the dark images of the layers that use them)."""
+    out = {}
+    for k, slot in enumerate(obj.material_slots):
+        partner = slot.material and bpy.data.materials.get(slot.material.name + SHADOW)
+        if partner is not None and partner.grease_pencil is not None:
+            out[k] = partner
+    return out
 
 
 def _draws(layer):
@@ -106,6 +142,19 @@ def animated(obj):
         obj.data.animation_data is not None or obj.animation_data is not None
 
 
+def shown_keyframes(obj, layer, frames):
+    """What the layer shows on each scene frame of `frames`: the frame number of the keyframe
+    it holds there (the last at or before it; None before the first) — or, where anything
+    of the drawing may change between keyframes (animation data, modifiers, effects), the
+    scene frame itself. Frames with one key look the same: drawn once."""
+    if obj.animation_data is not None or obj.data.animation_data is not None or \
+            len(obj.modifiers) or len(obj.shader_effects) or \
+            any(m is not None and m.animation_data is not None for m in obj.data.materials):
+        return list(frames)
+    keys = sorted(frame.frame_number for frame in layer.frames)
+    return [max((k for k in keys if k <= f), default=None) for f in frames]
+
+
 def _points(layer):
     """Every point of every frame of a layer in the object's space, and its radius."""
     out, radii = [], []
@@ -139,24 +188,48 @@ def drawing_bounds(layers, margin=MARGIN):
 
 
 def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARGIN,
-                  only=None):
+                  only=None, shade=DEFAULT_SHADE):
     """Draw each layer of the Grease Pencil object `obj` that draws something, alone, into
     `folder` (16-bit RGBA, sRGB as drawn) on each scene frame of `frames` (default: the
-    current one) → (paths, bounds, notes): paths[i][k] layer i's (back to front) drawing on
-    frames[k], named NN_name.png for one frame, NN_name_FFFF.png for several; margin: around
-    the drawing's bounds (drawing_bounds); only: the names of the layers to draw (paths[i]
-    None for the others; the framing is the whole drawing's). The artist's scene, the object
-    and its layers are left as they were."""
+    current one) → (paths, bounds, notes, darks): paths[i][k] layer i's (back to front)
+    drawing on frames[k], named NN_name.png for one frame, NN_name_FFFF.png for several;
+    darks[i][k] its shadow colours on that frame where the artist named any (its layer
+    "<name> shadow", else its materials' "<material> shadow" drawn in their place, the others
+    `shade` × their colours), else darks[i] None; margin: around the drawing's bounds
+    (drawing_bounds); only: the names of the layers to draw (paths[i] None for the others;
+    the framing is the whole drawing's). A frame that shows what an earlier one showed
+    (shown_keyframes) is drawn once. The artist's scene, the object, its layers and
+    materials are left as they were."""
     layers, notes = drawn_layers(obj)
     x0, x1, z0, z1 = framing(obj, margin)
     w = max(1, int(width_px))
     h = max(1, round(w * (z1 - z0) / (x1 - x0)))
     os.makedirs(folder, exist_ok=True)
     frames = [bpy.context.scene.frame_current] if frames is None else list(frames)
+    partner_layers, partner_materials = shadow_layers(obj), shadow_materials(obj)
     scene = bpy.data.scenes.new(f"{obj.name} layers (Dynamic Painting)")
     cam = bpy.data.objects.new(f"{obj.name} layers camera", bpy.data.cameras.new("DP camera"))
     saved = [(layer, layer.hide, layer.use_lights) for layer in obj.data.layers]
     hidden = obj.hide_render
+    drawn_count = [0]
+
+    def draw(shown, stem):
+        """`shown` alone on each frame → its paths, one per frame."""
+        for other in obj.data.layers:
+            other.hide = other.name != shown.name
+            other.use_lights = False              # drawn as painted: the lights come later
+        drawn, keys = {}, shown_keyframes(obj, shown, frames)
+        for frame, key in zip(frames, keys):
+            if key not in drawn:
+                scene.frame_set(frame)
+                r.filepath = f"{stem}.png" if len(frames) == 1 else f"{stem}_{frame:04d}.png"
+                with bpy.context.temp_override(scene=scene), quiet_native(1):
+                    bpy.ops.render.render(write_still=True, scene=scene.name)
+                drawn[key] = r.filepath
+            drawn_count[0] += 1
+            if progress is not None:
+                progress(min(1.0, drawn_count[0] / (len(layers) * len(frames))))
+        return [drawn[key] for key in keys]
     try:
         obj.hide_render = False           # (a drawing lit before is hidden from renders)
         scene.collection.objects.link(obj)
@@ -178,33 +251,73 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
         r.image_settings.file_format = "PNG"
         r.image_settings.color_mode = "RGBA"
         r.image_settings.color_depth = "16"
+        r.image_settings.compression = 0       # (temporary files: no time spent deflating)
         scene.view_settings.view_transform = "Standard"
         scene.view_settings.look = "None"
-        paths = []
+        paths, darks = [], []
         for i, layer in enumerate(layers):
-            for other in obj.data.layers:
-                other.hide = other.name != layer.name
-                other.use_lights = False          # drawn as painted: the lights come later
             stem = os.path.join(folder, layer_stem(i, layer))
             if only is not None and layer.name not in only:
                 paths.append(None)
+                darks.append(None)
                 continue
-            paths.append([])
-            for k, frame in enumerate(frames):
-                scene.frame_set(frame)
-                r.filepath = f"{stem}.png" if len(frames) == 1 else f"{stem}_{frame:04d}.png"
-                with bpy.context.temp_override(scene=scene):
-                    bpy.ops.render.render(write_still=True, scene=scene.name)
-                paths[-1].append(r.filepath)
-                if progress is not None:
-                    progress((i * len(frames) + k + 1) / (len(layers) * len(frames)))
+            paths.append(draw(layer, stem))
+            if layer.name in partner_layers:
+                darks.append(draw(partner_layers[layer.name], stem + "_shadow"))
+            elif partner_materials.keys() & materials_used(layer):
+                with materials_in_shadow(obj, partner_materials, shade):
+                    darks.append(draw(layer, stem + "_shadow"))
+            else:
+                darks.append(None)
     finally:
         obj.hide_render = hidden
         for layer, hide, lights in saved:
             layer.hide, layer.use_lights = hide, lights
         bpy.data.objects.remove(cam)
         bpy.data.scenes.remove(scene)
-    return paths, (x0, x1, z0, z1), notes
+    return paths, (x0, x1, z0, z1), notes, darks
+
+
+def materials_used(layer):
+    """The material slot indices a layer's strokes use, on any of its frames."""
+    used = set()
+    for frame in layer.frames:
+        attribute = frame.drawing.attributes.get("material_index")
+        if attribute is None:
+            used.add(0)
+            continue
+        values = np.empty(len(attribute.data), np.int32)
+        attribute.data.foreach_get("value", values)
+        used.update(int(v) for v in np.unique(values))
+    return used
+
+
+@contextlib.contextmanager
+def materials_in_shadow(obj, partners, shade):
+    """The drawing's materials swapped for their shadow colours while it is drawn: each slot
+    with a partner material ("<name> shadow") shows it, the others a copy of theirs at
+    `shade` × its colours (as the shaded rule darkens a drawn layer; a texture is kept as
+    it is). The slots and materials are put back afterwards."""
+    saved = [slot.material for slot in obj.material_slots]
+    copies = []
+    try:
+        for k, slot in enumerate(obj.material_slots):
+            if k in partners:
+                slot.material = partners[k]
+            elif slot.material is not None and slot.material.grease_pencil is not None:
+                dim = slot.material.copy()
+                copies.append(dim)
+                g = dim.grease_pencil
+                for field in ("color", "fill_color"):
+                    c = getattr(g, field)
+                    setattr(g, field, (c[0] * shade, c[1] * shade, c[2] * shade, c[3]))
+                slot.material = dim
+        yield
+    finally:
+        for slot, material in zip(obj.material_slots, saved):
+            slot.material = material
+        for dim in copies:
+            bpy.data.materials.remove(dim)
 
 
 # -- a drawing made from data (inputs/drawings.py: a sample's drawing.json) ------------------
@@ -268,19 +381,21 @@ def drawn_paintings(scene, obj, settings, progress=None, only=None):
         if settings["animation"] and animated(obj) else None
     folder = tempfile.mkdtemp(prefix="dynpaint-grease-pencil-")
     try:
-        paths, bounds, notes = render_layers(obj, folder, settings["resolution"], frames,
-                                             lambda f: progress(0.4 * f), only=only)
+        paths, bounds, notes, darks = render_layers(
+            obj, folder, settings["resolution"], frames, lambda f: progress(0.4 * f),
+            only=only, shade=settings["shade"])
         layers = drawn_layers(obj)[0]
         depths = layer_depths(layers, bounds[1] - bounds[0], settings["spacing"])
         made = []
-        for i, (layer, layer_paths, depth) in enumerate(zip(layers, paths, depths)):
+        for i, (layer, layer_paths, dark_paths, depth) in enumerate(zip(layers, paths, darks,
+                                                                         depths)):
             name = layer_stem(i, layer)
             if layer_paths is None:
                 made.append((name, depth, None, None, None))
                 continue
             images, p, lines, table = painting_of_frames(
                 name, [read_image(path) for path in layer_paths], settings["shade"],
-                settings["relief"])
+                settings["relief"], dark_paths and [read_image(path) for path in dark_paths])
             notes += [f"{name}: {n}" for n in lines]
             made.append((name, depth, images, p, table))
             progress(0.4 + 0.3 * (i + 1) / len(paths))
@@ -327,10 +442,10 @@ ATTRIBUTE_READS = {"FLOAT_VECTOR": ("vector", np.float32, 3), "FLOAT": ("value",
 
 def layer_digests(obj):
     """{layer name: digest} of what each layer of the drawing is drawn from: its settings,
-    place and frames' strokes (points, radii, opacities, materials), and the materials'
-    colours — what an edit of it changes (showing or hiding the drawing does not)."""
+    place and frames' strokes (points, radii, opacities, materials), its shadow colours'
+    layer's, and the materials' colours (their shadow colours' too) — what an edit of it changes (showing or hiding the drawing does not)."""
     materials = hashlib.sha1()
-    for m in obj.data.materials:
+    for m in [*obj.data.materials, *shadow_materials(obj).values()]:
         g = getattr(m, "grease_pencil", None)
         if g is not None:
             materials.update(repr((tuple(g.color), tuple(g.fill_color), g.show_fill,
@@ -351,6 +466,8 @@ def layer_digests(obj):
                     attribute.data.foreach_get(field, values)
                     digest.update(values.tobytes())
         out[layer.name] = digest.hexdigest()
+    for owner, partner in shadow_layers(obj).items():     # its shadow colours are its own
+        out[owner] = hashlib.sha1((out[owner] + out[partner.name]).encode()).hexdigest()
     return out
 
 
