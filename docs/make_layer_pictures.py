@@ -222,6 +222,11 @@ material called **"<material> shadow"** (on no slot needed) is drawn in place of
 for the dark images of the layers that use it. An edit of either redraws the layer it
 colours.
 
+**Relief effects.** The dialog (and its *Adjust Last Operation* panel) takes Paint Shape's
+relief effects for every layer's inflated silhouette — *Profile*, *Bevel* (width, height,
+profile), *Detail* embossed from the layer's own colours, *Smoothing* — kept with the lit
+copy, so a redraw after a stroke shapes the layer the same way.
+
 **On the web.** `export-web` exports the lit drawing as one page — its layers at their
 places, the shadows between them marched in the page when the light moves, and an animated
 drawing's frames played at the scene's rate (the *Frames* slider and *Play*), each frame the

@@ -206,10 +206,10 @@ def scene_from_file_layers(canvas, file_layers, spacing=DEFAULT_SPACING, shade=D
     return layers, notes
 
 
-def painting_of(fl, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF):
+def painting_of(fl, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF, effects=None):
     """A file layer's painting → ({channel: ImageData}, params, notes): a painted image
-    becomes bright, a shaded dark and an inflated shape; a group's missing channels are
-    made the same way."""
+    becomes bright, a shaded dark and an inflated shape (`relief` high, with make-shape
+    inflate's `effects`); a group's missing channels are made the same way."""
     p = params.defaults()
     p.shadows.enabled = True
     images = dict(fl.images)
@@ -224,7 +224,7 @@ def painting_of(fl, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF):
         p.shape.kind = "height" if looks_like_height(images["shape"]) else "normal"
         return images, p, notes
     try:
-        kind, rgba, lines = make_shape("inflate", images, p, height=relief)
+        kind, rgba, lines = make_shape("inflate", images, p, height=relief, **(effects or {}))
         notes.append(f"{fl.name}: {lines[0]}")
     except ShapeError:                                 # opaque: a flat card
         w, h = images["bright"].size
@@ -235,21 +235,23 @@ def painting_of(fl, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF):
     return images, p, notes
 
 
-def painting_of_frames(name, cells, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF, darks=None):
+def painting_of_frames(name, cells, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF, darks=None,
+                       effects=None):
     """A layer drawn on each of some frames (a Grease Pencil layer's, issue 42) →
     ({channel: ImageData}, params, notes, its [frames] table but the start, or None): each
     distinct cell (ImageData of one size, one per frame) made a painting as a plain painted
     layer is (painting_of: a shaded dark, its silhouette inflated by parts `relief` high, so
     a figure that does not change keeps its heights bit for bit) — or, with `darks` (the
     shadow colours the artist drew on each frame), its dark image those colours over the
-    shaded one (shadow_colours); cells that all agree are one still painting, else the cells
-    are laid out as sprite sheets (§16)."""
+    shaded one (shadow_colours); effects: make-shape inflate's relief effects (bevel, detail,
+    smoothing, profile). Cells that all agree are one still painting, else the cells are laid
+    out as sprite sheets (§16)."""
     darks = darks or [None] * len(cells)
 
     def painting(cell, dark):
         images = {"bright": cell} if dark is None else \
             {"bright": cell, "dark": shadow_colours(cell, dark, shade)}
-        return painting_of(FileLayer(name, images), shade, relief)
+        return painting_of(FileLayer(name, images), shade, relief, effects)
     if all(np.array_equal(c.pixels, cells[0].pixels) for c in cells[1:]) and \
             all(d is darks[0] or np.array_equal(d.pixels, darks[0].pixels) for d in darks[1:]):
         return (*painting(cells[0], darks[0]), None)

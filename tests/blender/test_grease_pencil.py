@@ -148,6 +148,32 @@ def test_shadow_colours_the_artist_drew_are_the_dark_image(drawing):
     assert after["Figure"] != digests["Figure"] and after["Back"] == digests["Back"]
 
 
+def test_each_layers_relief_takes_paint_shapes_effects(drawing):
+    """Issue 42 with issue 41's effects: a bevel asked of From Grease Pencil shapes every
+    layer's inflated silhouette as make-shape inflate's bevel does (the disc's rim rises,
+    its middle keeps the relief), is kept with the lit copy and applies again when a stroke
+    redraws the layer."""
+    def figure_shape():
+        mat = next(m for m in group_materials(bpy.context.object) if m[LAYER] == "02_Figure")
+        return image_data_from_blender(mat.dynamic_painting.image_shape).pixels[..., 0].copy()
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=96) == {"FINISHED"}
+    plain = figure_shape()
+    drawing.hide_set(False)
+    bpy.context.view_layer.objects.active = drawing
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=96, bevel_width=0.05,
+                                              bevel_height=0.02) == {"FINISHED"}
+    bevelled = figure_shape()
+    parent = bpy.context.object
+    assert json.loads(parent[SOURCE])["bevel_width"] == pytest.approx(0.05)
+    rise = bevelled - plain
+    assert rise.max() == pytest.approx(0.02, abs=2e-3) and rise.min() >= -1e-6
+    add_fill(drawing.data.layers["Figure"], disc(0.6, -0.4, 0.1), 1)
+    bpy.context.view_layer.update()                       # (the headless contract: at once)
+    again = figure_shape()
+    assert not np.array_equal(again, bevelled)            # redrawn: the new disc is there …
+    assert again.max() == pytest.approx(bevelled.max(), abs=2e-3)   # … bevelled as well
+
+
 def test_bad_drawings_are_said_clearly(drawing):
     for layer in drawing.data.layers:
         layer.hide = True

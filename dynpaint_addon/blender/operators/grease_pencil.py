@@ -18,7 +18,8 @@ from bpy.props import BoolProperty, FloatProperty, IntProperty
 from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING
 from ..bake.layers import group_materials
 from ..scenes.grease_pencil import (GREASE_PENCIL_RELIEF, GREASE_PENCIL_RESOLUTION,
-                                     LIT_SETTINGS, light_drawing)
+                                     LAYER_EFFECTS, LIT_SETTINGS, light_drawing)
+from ..state.shape_options import option_property
 from .add import select_only
 from .common import run_and_report
 
@@ -50,12 +51,22 @@ class DYNPAINT_OT_add_grease_pencil(bpy.types.Operator):
         description="How round each layer's shapes are inflated: 1 makes a disc a hemisphere "
                     "as tall as its radius; a drawing's layers lie close (Spacing), so low")
 
+    __annotations__.update({o.name: option_property(o) for o in LAYER_EFFECTS})  # (Paint Shape's)
+
     @classmethod
     def poll(cls, context):
         if context.object is None or context.object.type != "GREASEPENCIL":
             cls.poll_message_set("Select a Grease Pencil drawing")
             return False
         return True
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        for name in LIT_SETTINGS:
+            if name == LAYER_EFFECTS[0].name:
+                layout.label(text="Each layer's relief (as Paint Shape's):")
+            layout.prop(self, name)
 
     def execute(self, context):
         obj = context.object

@@ -33,6 +33,7 @@ from ...errors import UserError
 from ...inputs.imageio import quiet_native, read_image
 from ...inputs.drawings import frame_range, load_drawing
 from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING, painting_of_frames
+from ...shapes.methods import options as shape_options
 from ..bake.layers import group_materials
 from ..bake.live_bake import rendering
 from ..material.sync import update
@@ -366,7 +367,11 @@ def build_drawing(scene, drawing, location=(0.0, 0.0, 0.0)):
 # (a disc a hemisphere), a large card would reach through the layers in front of it
 GREASE_PENCIL_RELIEF = 0.1
 GREASE_PENCIL_RESOLUTION = 1024     # px across the drawing: each layer's images
-LIT_SETTINGS = ("resolution", "spacing", "shade", "relief", "animation")
+# Paint Shape's relief effects (issue 41: make-shape inflate's options but its height, which
+# is Relief here), applied to every layer's inflated silhouette
+LAYER_EFFECTS = tuple(o for o in shape_options("inflate", "addon") if o.name != "height")
+LIT_SETTINGS = ("resolution", "spacing", "shade", "relief", "animation",
+                *(o.name for o in LAYER_EFFECTS))
 SOURCE = "dynamic_painting_grease_pencil"    # a lit copy's parent: its drawing and settings
 LAYER = "dynamic_painting_grease_pencil_layer"   # a lit layer's material: its layer's name
 
@@ -395,7 +400,8 @@ def drawn_paintings(scene, obj, settings, progress=None, only=None):
                 continue
             images, p, lines, table = painting_of_frames(
                 name, [read_image(path) for path in layer_paths], settings["shade"],
-                settings["relief"], dark_paths and [read_image(path) for path in dark_paths])
+                settings["relief"], dark_paths and [read_image(path) for path in dark_paths],
+                effects(settings))
             notes += [f"{name}: {n}" for n in lines]
             made.append((name, depth, images, p, table))
             progress(0.4 + 0.3 * (i + 1) / len(paths))
@@ -498,7 +504,7 @@ def refresh_lit_drawing(context, parent):
     obj = bpy.data.objects.get(source["object"])
     if obj is None or obj.type != "GREASEPENCIL":
         return parent
-    settings = {k: source[k] for k in LIT_SETTINGS}
+    settings = {**lit_defaults(), **{k: source[k] for k in LIT_SETTINGS if k in source}}
     digests = layer_digests(obj)
     changed = {n for n, d in digests.items() if source.get("layers", {}).get(n) != d}
     mats = {m.get(LAYER): m for m in group_materials(parent)}
@@ -553,4 +559,11 @@ def light_recipe_drawing(context, recipe, location=(0.0, 0.0, 0.0)):
 def lit_defaults():
     """From Grease Pencil's settings as its dialog starts them (LIT_SETTINGS)."""
     return {"resolution": GREASE_PENCIL_RESOLUTION, "spacing": DEFAULT_SPACING,
-            "shade": DEFAULT_SHADE, "relief": GREASE_PENCIL_RELIEF, "animation": True}
+            "shade": DEFAULT_SHADE, "relief": GREASE_PENCIL_RELIEF, "animation": True,
+            **{o.name: o.default for o in LAYER_EFFECTS}}
+
+
+def effects(settings):
+    """The relief effects of From Grease Pencil's settings (LAYER_EFFECTS) → make_shape's
+    keywords."""
+    return {o.name: settings[o.name] for o in LAYER_EFFECTS}
