@@ -171,7 +171,60 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
     n_s, z_s, sl_s = reduced_inputs(normals, heights_px, slopes, hs, ws)
     t = march(n_s, light, offset, k, heights_px=z_s, slopes=sl_s, occupancy=occupancy,
               reach=reach, stats=stats, cancel=cancel, progress=progress)
-    return np.clip(resample_separable(t, h, w), 0, 1).astype(dtype, copy=False)
+    return _upsampled(t, h, w, dtype, (n_s, z_s, sl_s) if plan is not None and
+                      light.kind == "sun" else None)
+
+
+# A reduced-size bake by crossings, kept for the edit that follows it (bake_edited): its
+# full-size t (weakly: gone with it) → (the reduced inputs, the reduced t); the newest few
+_REDUCED_BAKES = {}
+REDUCED_BAKES_KEPT = 8
+
+
+def _upsampled(t_s, h, w, dtype, reduced=None):
+    """A reduced bake's t at the shape's size (bilinear, clipped to 0…1); `reduced`: its
+    reduced inputs, kept with it when it was baked by crossings (for bake_edited)."""
+    t = np.clip(resample_separable(t_s, h, w), 0, 1).astype(dtype, copy=False)
+    if reduced is not None:
+        for gone in [k for k, (ref, _, _) in _REDUCED_BAKES.items() if ref() is None]:
+            del _REDUCED_BAKES[gone]
+        if len(_REDUCED_BAKES) >= REDUCED_BAKES_KEPT:
+            _REDUCED_BAKES.pop(next(iter(_REDUCED_BAKES)))
+        _REDUCED_BAKES[id(t)] = (weakref.ref(t), reduced, t_s)
+    return t
+
+
+def _reduced_bake_of(t):
+    """(reduced inputs, reduced t) of a reduced bake whose full-size t is `t`, or None."""
+    hit = _REDUCED_BAKES.get(id(t))
+    return None if hit is None or hit[0]() is not t else hit[1:]
+
+
+def reduced_box(box, f, h_s, w_s):
+    """The reduced pixels (a box) that read a full-size box when the size is divided by the
+    whole factor `f`: output pixel i reads input pixels f·i … f·i + f − 1 only
+    (resample_separable's taps at (i + ½)·f − ½)."""
+    if box is None:
+        return None
+    r0, r1, c0, c1 = box
+    return r0 // f, min(h_s, -(-r1 // f)), c0 // f, min(w_s, -(-c1 // f))
+
+
+def _reduced_edited(arrays, before, box, f, scale=None):
+    """The reduced inputs of an edited shape from those `before` it: only the reduced box
+    that reads the edit is reduced again, from its own block of full-size pixels (the same
+    taps: equal to reducing the whole)."""
+    if box is None or arrays is None:
+        return before
+    r0, r1, c0, c1 = box
+    out = before.copy()
+    part = resample_separable(arrays[r0 * f:r1 * f, c0 * f:c1 * f], r1 - r0, c1 - c0)
+    if scale is not None:
+        part = part * scale
+    elif part.ndim == 3 and part.shape[2] == 3:          # normals: renormalised
+        part /= np.sqrt(np.einsum("...i,...i->...", part, part))[..., None]
+    out[r0:r1, c0:c1] = part
+    return out
 
 
 def bake_edited(normals, light, offset, quality, t_before, normals_box, heights_box, *,
@@ -179,20 +232,39 @@ def bake_edited(normals, light, offset, quality, t_before, normals_box, heights_
                 reach=np.inf):
     """bake() of a shape an edit changed in normals_box and heights_box (core/strokes.py),
     from t_before, its bake before the edit at the same level, light and settings (issue 41):
-    where the level bakes a sun by crossings at full size, only the rays that read a changed
-    pixel are traced again (crossings.sun_cos_theta_edited; equal to the whole bake). None
-    where the level bakes otherwise (a reduced resolution, a march, a point light): bake the
-    whole then (those levels are the cheap ones, or the reference)."""
+    where the level bakes a sun by crossings, only the rays that read a changed pixel are
+    traced again (crossings.sun_cos_theta_edited; equal to the whole bake) — at a reduced
+    size (draft, preview: a whole factor smaller) from the reduced inputs and t kept with
+    t_before, their boxes that read the edit reduced again, then upsampled. None where the
+    level bakes otherwise (a march, a point light, a size that is no whole multiple, nothing
+    kept): bake the whole then (those are the cheap ones, or the reference)."""
     _, scale, dtype = quality_settings(quality, steps, scale)
     h, w = normals.shape[:2]
-    fast_final = quality == "final" and min(h, w) >= FAST_FINAL_MIN_PX
-    plan = _crossings_plan(light, quality, fast_final and occupancy == "linear", h, w,
+    fast_level = quality in ("draft", "preview") or (quality == "final"
+                                                      and min(h, w) >= FAST_FINAL_MIN_PX)
+    plan = _crossings_plan(light, quality, fast_level and occupancy == "linear", h, w,
                            slopes is not None, offset)
-    if plan is None or plan[0] != (h, w) or light.kind != "sun" or t_before.shape != (h, w):
+    if plan is None or light.kind != "sun" or t_before.shape != (h, w):
         return None
     normals = normals.astype(dtype, copy=False)
-    t = crossings.sun_cos_theta_edited(
-        normals, light, offset, t_before.astype(dtype, copy=False), normals_box, heights_box,
-        heights_px=None if heights_px is None else heights_px.astype(dtype, copy=False),
-        slopes=None if slopes is None else slopes.astype(dtype, copy=False), reach=reach)
-    return None if t is None else t.astype(dtype, copy=False)
+    heights_px = None if heights_px is None else heights_px.astype(dtype, copy=False)
+    slopes = None if slopes is None else slopes.astype(dtype, copy=False)
+    (hs, ws), _ = plan
+    if (hs, ws) == (h, w):
+        t = crossings.sun_cos_theta_edited(
+            normals, light, offset, t_before.astype(dtype, copy=False), normals_box,
+            heights_box, heights_px=heights_px, slopes=slopes, reach=reach)
+        return None if t is None else t.astype(dtype, copy=False)
+    # a reduced level (draft, preview): the reduced inputs patched where the edit reaches
+    # them, the reduced rays that read a changed reduced pixel traced again, then upsampled
+    f, kept = h // hs, _reduced_bake_of(t_before)
+    if kept is None or hs * f != h or ws * f != w or w // ws != f:
+        return None
+    (n_s, z_s, sl_s), t_s = kept
+    nb, hb = reduced_box(normals_box, f, hs, ws), reduced_box(heights_box, f, hs, ws)
+    reduced = (_reduced_edited(normals, n_s, nb, f),
+               _reduced_edited(heights_px, z_s, hb, f, normals.dtype.type(ws / w)),
+               _reduced_edited(slopes, sl_s, nb, f))
+    t_s = crossings.sun_cos_theta_edited(reduced[0], light, offset, t_s, nb, hb,
+                                         heights_px=reduced[1], slopes=reduced[2], reach=reach)
+    return None if t_s is None else _upsampled(t_s, h, w, dtype, reduced)

@@ -19,8 +19,8 @@ from conftest import REPO
 PACKAGE = os.path.join(REPO, "dynpaint_addon")
 # Imports inside a function that are allowed: what is optional or heavy for some callers
 # (the command line runs without Blender until a command asks for it).
-LAZY = {("dynpaint_addon.cli.render", "dynpaint_addon.blender.headless"),
-        ("dynpaint_addon.cli.turntable", "dynpaint_addon.blender.headless")}
+LAZY = {(f"dynpaint_addon.cli.{command}", "dynpaint_addon.blender.headless")
+        for command in ("render", "turntable", "export_web")}
 LAZY_EXTERNAL = {"bpy", "OpenEXR", "cycles"}
 
 

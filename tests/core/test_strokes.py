@@ -6,7 +6,7 @@ import pytest
 
 from dynpaint_addon import params
 from dynpaint_addon.core import crossings, strokes
-from dynpaint_addon.core.bake import bake_edited
+from dynpaint_addon.core.bake import bake, bake_edited
 from dynpaint_addon.core.input_rules import ImageData
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.pipeline import shape_normals, shape_normals_edited
@@ -117,10 +117,38 @@ def test_a_stroke_re_traces_a_small_part_of_the_image():
     assert changed.size and changed[:, 1].max() <= 300 + 20          # downlight (−x) of it
     assert np.abs(t2 - bake_edited(shape2[0], sun, 0.01, "final", t, strokes.whole(512, 512),
                                    strokes.whole(512, 512), heights_px=shape2[1])).max() <= 1e-6
-    # the levels that bake at a reduced size, and point lights, are baked whole
+    # a reduced level with no reduced bake kept for t, and point lights, are baked whole
     assert bake_edited(shape2[0], sun, 0.01, "draft", t, nb, hb, heights_px=shape2[1]) is None
     assert bake_edited(shape2[0], Light("point", (0.2, 0.1, 0.5)), 0.01, "final", t, nb, hb,
                        heights_px=shape2[1]) is None
+
+
+@pytest.mark.parametrize("quality", ["draft", "preview"])
+def test_random_strokes_at_a_reduced_level_equal_its_whole_bake(quality):
+    """The draft and preview levels bake a sun by crossings at a whole factor smaller (768²:
+    96², 192²): 30 random strokes, each baked from the last bake (the reduced inputs patched
+    where the stroke reaches them, the reduced rays that read it traced again), equal the
+    level's whole bake of the edited shape within 1e-6 after each of them."""
+    rng = np.random.default_rng(5)
+    p = params.defaults()
+    p.shape.kind, p.shape.height_scale = "height", 0.2
+    img = ImageData(_dome(768), 16)
+    shape = shape_normals(img, p)
+    suns = SUNS[:2]
+    ts = [bake(shape[0], sun, 0.01, quality, heights_px=shape[1]) for sun in suns]
+    for k in range(30):
+        pixels = _stroke(rng, img.pixels)
+        box = strokes.changed_box(img.pixels, pixels)
+        img = ImageData(pixels, 16)
+        if box is None:
+            continue
+        shape, nb, hb = shape_normals_edited(img, p, shape, box)
+        for i, sun in enumerate(suns):
+            t = bake_edited(shape[0], sun, 0.01, quality, ts[i], nb, hb, heights_px=shape[1])
+            assert t is not None, (k, i)
+            whole = bake(shape[0], sun, 0.01, quality, heights_px=shape[1])
+            assert np.abs(t - whole).max() <= 1e-6, (k, sun.vector)
+            ts[i] = t
 
 
 def test_boxes():
