@@ -34,6 +34,20 @@ def _stroke(rng, px):
     return out
 
 
+def _stroked(rng, img, p, shape, n):
+    """`n` random strokes on a height map's image, each decoded from the decode before →
+    (stroke number, the edited image, (its decode, normals' box, heights' box)) of those
+    that changed a pixel."""
+    for k in range(n):
+        pixels = _stroke(rng, img.pixels)
+        box = strokes.changed_box(img.pixels, pixels)
+        img = ImageData(pixels, 16)
+        if box is not None:
+            edited = shape_normals_edited(img, p, shape, box)
+            shape = edited[0]
+            yield k, img, edited
+
+
 @pytest.mark.parametrize("preblur", [0.0, 1.5])
 def test_random_strokes_on_a_height_map_equal_the_whole_decode_and_bake(preblur):
     """200 random strokes on a 160² height map, 5 suns (one straight up: baked whole): after
@@ -46,13 +60,7 @@ def test_random_strokes_on_a_height_map_equal_the_whole_decode_and_bake(preblur)
     shape = shape_normals(img, p)
     ts = [crossings.sun_cos_theta(shape[0], sun, 0.01, heights_px=shape[1]) for sun in SUNS]
     retraced = 0
-    for k in range(200):
-        pixels = _stroke(rng, img.pixels)
-        box = strokes.changed_box(img.pixels, pixels)
-        img = ImageData(pixels, 16)
-        if box is None:
-            continue
-        shape, normals_box, heights_box = shape_normals_edited(img, p, shape, box)
+    for k, img, (shape, normals_box, heights_box) in _stroked(rng, img, p, shape, 200):
         whole = shape_normals(img, p)
         assert np.array_equal(shape[0], whole[0]) and np.array_equal(shape[1], whole[1]), k
         for i, sun in enumerate(SUNS):
@@ -136,13 +144,7 @@ def test_random_strokes_at_a_reduced_level_equal_its_whole_bake(quality):
     shape = shape_normals(img, p)
     suns = SUNS[:2]
     ts = [bake(shape[0], sun, 0.01, quality, heights_px=shape[1]) for sun in suns]
-    for k in range(30):
-        pixels = _stroke(rng, img.pixels)
-        box = strokes.changed_box(img.pixels, pixels)
-        img = ImageData(pixels, 16)
-        if box is None:
-            continue
-        shape, nb, hb = shape_normals_edited(img, p, shape, box)
+    for k, img, (shape, nb, hb) in _stroked(rng, img, p, shape, 30):
         for i, sun in enumerate(suns):
             t = bake_edited(shape[0], sun, 0.01, quality, ts[i], nb, hb, heights_px=shape[1])
             assert t is not None, (k, i)
