@@ -1,8 +1,9 @@
 """Pictures of the exported web page for README.md and docs/web.md (issue 17): the portrait
 sample exported by `export-web`, opened in headless Chromium (software WebGL2), before and
-after a drag moves its key light to the left and the wheel lowers it.
+after a drag moves its key light to the left and the wheel lowers it; and (issue 42) the
+Grease Pencil sample walk's page, lit in background Blender, paused on a frame of its walk.
 
-    .venv/bin/python docs/make_web_pictures.py            # ≈ 5 s; writes docs/img/web/*.png
+    .venv/bin/python docs/make_web_pictures.py            # ≈ 40 s; writes docs/img/web/*.png
 
 Screenshots hold the browser's own text rendering, so they differ by a few pixels between
 machines' fonts: they are pictures, not test references (the page's pixels are tested in
@@ -16,12 +17,14 @@ import tempfile
 DOCS = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(DOCS))
 
+from dynpaint_addon.blender.headless import grease_pencil_page        # noqa: E402
 from dynpaint_addon.inputs.recipe import load_images, load_recipe      # noqa: E402
 from dynpaint_addon.inputs.samples import recipe_path                  # noqa: E402
 from testkit.chromium import Chromium                # noqa: E402
 from dynpaint_addon.web.page import page_data, write_page       # noqa: E402
 
 WINDOW = (960, 720)
+WALK_PX = 640           # the walk's layers drawn this wide (its page fits the window)
 
 
 def canvas_point(page, fx, fy):
@@ -51,7 +54,17 @@ def main(argv=None):
         page.evaluate("new Promise(done => requestAnimationFrame(() => "
                       "requestAnimationFrame(done)))")
         page.screenshot(os.path.join(args.out, "dragged.png"))
-    print(f"wrote {args.out}/page.png, dragged.png")
+        walk = load_recipe(recipe_path("walk"))
+        data, _ = grease_pencil_page(walk, width=WALK_PX, title=walk.name, credits=walk.credits)
+        path = os.path.join(folder, "walk.html")
+        write_page(path, data)
+        page = browser.open("file://" + path, *WINDOW)
+        page.evaluate("window.dynamicPainting.ready")
+        page.evaluate("window.dynamicPainting.setFrame(8)")
+        page.wait_for("!window.dynamicPainting.state.dirty && "
+                      "window.dynamicPainting.state.drawScale === 1")
+        page.screenshot(os.path.join(args.out, "walk.png"))
+    print(f"wrote {args.out}/page.png, dragged.png, walk.png")
 
 
 if __name__ == "__main__":

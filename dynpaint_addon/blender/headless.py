@@ -24,17 +24,17 @@ from .state.frames import painting_size
 from .state.lights import linked_lights, painting_frame_light
 
 
-def build_recipe_scene(recipe, size=1.0, notes=None):
+def build_recipe_scene(recipe, size=1.0, notes=None, drawing_width=None):
     """Empty scene → the recipe's painting, lights and an exact camera → (plane, material).
     A layered source (a layered recipe, or an .ora file or folder given as its path) is
     built as Add › Layered… builds it, a drawing's recipe as From Grease Pencil lights it,
-    the camera framing its back layer. notes: called with
-    what Add says about the painting (a list of lines), if given."""
+    the camera framing its back layer (its layers drawn `drawing_width` pixels across, when
+    given). notes: called with what Add says about the painting (a list of lines), if given."""
     bpy.ops.wm.read_homefile(use_empty=True)
     register_once()
     context = bpy.context
     if not isinstance(recipe, str) and recipe.drawing:      # a Grease Pencil drawing, lit
-        parent, messages = light_recipe_drawing(context, recipe)
+        parent, messages = light_recipe_drawing(context, recipe, width=drawing_width)
         mat = group_materials(parent)[0]
         plane = mat.dynamic_painting.plane
     elif isinstance(recipe, str) or recipe.layered:
@@ -131,13 +131,14 @@ def render_grease_pencil(path, object_name, engine, out, frame=None, width=None)
 
 
 def grease_pencil_page(source, object_name=None, width=None, **page):
-    """A Grease Pencil drawing lit as *From Grease Pencil* lights it — a .blend file's
-    (`source` its path, with the drawing's `object_name` and `width`) or a drawing's recipe
-    (`source` the Recipe) — as the web page's data (`export-web`): its layers' frames over
-    the scene's range, its lights and their animation → (data, warnings). page:
-    painting_page's title, credits, steps, max_size."""
+    """A Grease Pencil drawing lit as *From Grease Pencil* lights it, each layer drawn
+    `width` pixels across (default: its default) — a .blend file's (`source` its path, with
+    the drawing's `object_name`) or a drawing's recipe (`source` the Recipe) — as the web
+    page's data (`export-web`): its layers' frames over the scene's range, its lights and
+    their animation → (data, warnings). page: painting_page's title, credits, steps,
+    max_size."""
     if object_name is None:
-        mat = build_recipe_scene(source)[1]
+        mat = build_recipe_scene(source, drawing_width=width)[1]
     else:
         mat = build_grease_pencil_scene(source, object_name, width)[1]
     return painting_page(mat, bpy.context.scene, **page)

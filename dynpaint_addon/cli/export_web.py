@@ -37,15 +37,15 @@ def cmd_export_web(args):
         raise ExportError(f"--turntable-seconds {args.turntable_seconds}: must be positive")
     if not 0 < args.fps <= 240:
         raise ExportError(f"--fps {args.fps:g}: frames per second in 0 … 240")
-    if args.width is not None and not args.grease_pencil:
-        raise ExportError("--width is the drawing's width with --grease-pencil (a recipe's "
-                          "page takes --max-size)")
     start = time.perf_counter()
     if args.grease_pencil:
         return _export_grease_pencil(args, start, args.recipe, args.grease_pencil)
     recipe = None if is_layered_file(args.recipe) else load_recipe(args.recipe)
     if recipe is not None and recipe.drawing:
         return _export_grease_pencil(args, start, recipe)
+    if args.width is not None:
+        raise ExportError("--width is a drawing's width (--grease-pencil, or a drawing's "
+                          "recipe such as walk); a painting's page takes --max-size")
     if recipe is None or recipe.layered:
         return _export_layers(args, start, recipe)
     print_notes(recipe.notes)
@@ -144,6 +144,6 @@ def add_parser(sub):
                    help="RECIPE is a .blend file: light its Grease Pencil drawing OBJECT as "
                    "Add › From Grease Pencil does and export it, its frames played")
     w.add_argument("--width", type=int, metavar="PX",
-                   help="with --grease-pencil: each layer's drawing, in pixels across "
-                   "(default 1024)")
+                   help="a Grease Pencil drawing (--grease-pencil, or a drawing's recipe such "
+                   "as walk): each layer drawn this many pixels across (default 1024)")
     w.set_defaults(func=cmd_export_web)

@@ -306,6 +306,9 @@ def test_export_web_of_a_blend_files_drawing_plays_its_frames_lit(browser, tmp_p
         assert float(np.abs(got - want)[1:-1, 1:-1].mean()) <= 2e-3, frame
     done = run_cli("export-web", blend, "--width", "96", "--out", str(out))
     assert done.returncode != 0 and "Traceback" not in done.stderr
+    done = run_cli("export-web", "walk", "--width", "48", "--out", str(tmp_path / "walk.html"))
+    assert done.returncode == 0, done.stderr                 # a drawing's recipe: the sample
+    assert "3 layers on 48×" in done.stdout and "24 frames at 24 fps" in done.stdout
 
 
 def test_layers_the_artist_moved_toward_the_camera_keep_their_depths(drawing):

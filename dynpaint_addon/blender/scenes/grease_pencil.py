@@ -544,16 +544,20 @@ def refresh_lit_drawing(context, parent):
     return parent
 
 
-def light_recipe_drawing(context, recipe, location=(0.0, 0.0, 0.0)):
+def light_recipe_drawing(context, recipe, location=(0.0, 0.0, 0.0), width=None):
     """A recipe's drawing (its `drawing`, inputs/drawings.py) built in the scene, the scene's
-    frames set to the drawing's, and lit as From Grease Pencil lights it by default, with the
-    recipe's lights → (parent, notes)."""
+    frames set to the drawing's, and lit as From Grease Pencil lights it by default (each
+    layer drawn `width` pixels across, when given), with the recipe's lights → (parent,
+    notes)."""
     drawing = load_drawing(recipe.drawing)
     scene = context.scene
     scene.frame_start, scene.frame_end = frame_range(drawing)
     scene.frame_set(scene.frame_start)
     obj = build_drawing(scene, drawing, location)
-    return light_drawing(context, obj, lit_defaults(), lights=recipe.lights)
+    settings = lit_defaults()
+    if width:
+        settings["resolution"] = int(width)
+    return light_drawing(context, obj, settings, lights=recipe.lights)
 
 
 def lit_defaults():
