@@ -222,6 +222,11 @@ material called **"<material> shadow"** (on no slot needed) is drawn in place of
 for the dark images of the layers that use it. An edit of either redraws the layer it
 colours.
 
+**More than 8 layers.** A scene holds 8 lit layers: a drawing with more says which and asks
+first; tick *Merge Back Layers* and the back ones are drawn together as one lit layer (named
+after them, e.g. *01_Back_Extra_0*), the 7 in front keep their own — the merged ones no
+longer shadow each other.
+
 **Relief effects.** The dialog (and its *Adjust Last Operation* panel) takes Paint Shape's
 relief effects for every layer's inflated silhouette — *Profile*, *Bevel* (width, height,
 profile), *Detail* embossed from the layer's own colours, *Smoothing* — kept with the lit

@@ -181,13 +181,30 @@ def test_bad_drawings_are_said_clearly(drawing):
         drawn_layers(drawing)
     drawing.data.layers["Back"].hide = False
     drawing.data.layers.new("Empty")
-    layers, notes = drawn_layers(drawing)
-    assert [layer.name for layer in layers] == ["Back"]
+    groups, notes = drawn_layers(drawing)
+    assert [[layer.name for layer in group] for group in groups] == [["Back"]]
     assert any("Figure: hidden" in n for n in notes) and any("Empty: no frames" in n for n in notes)
     for k in range(MAX_LAYERS):                          # more layers than a scene holds
-        add_fill(drawing.data.layers.new(f"Extra {k}"), disc(0.0, 0.0, 0.1), 0)
-    with pytest.raises(GreasePencilError, match=f"at most {MAX_LAYERS}.*merge some"):
+        add_fill(drawing.data.layers.new(f"Extra {k}"), disc(0.1 * k - 0.4, 0.0, 0.1), 1)
+    with pytest.raises(GreasePencilError, match=f"at most {MAX_LAYERS} .*: tick Merge Back Layers "
+                       f"to draw the back 2 \\(Back, Extra 0\\) as one"):
         drawn_layers(drawing)
+    # … offered: the back ones drawn together as one lit layer, the scene's most
+    groups, notes = drawn_layers(drawing, merge=True)
+    assert len(groups) == MAX_LAYERS and [layer.name for layer in groups[0]] == ["Back",
+                                                                                   "Extra 0"]
+    assert any("Back, Extra 0: drawn together" in n for n in notes)
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=96, merge=True) == {"FINISHED"}
+    mats = group_materials(bpy.context.object)
+    assert len(mats) == MAX_LAYERS and mats[0][LAYER] == "01_Back_Extra_0"
+    def colours(mat):                                      # (blue card, orange discs)
+        rgb = srgb_to_linear(image_data_from_blender(mat.dynamic_painting.image_bright)
+                             .pixels[..., :3])
+        return (rgb[..., 2] > 0.6).sum(), ((rgb[..., 0] > 0.6) & (rgb[..., 2] < 0.4)).sum()
+    blue, orange = colours(mats[0])
+    assert blue > 1000 and orange > 20                     # the card and the first disc on it
+    blue, orange = colours(mats[1])
+    assert blue == 0 and orange > 20                       # the second disc alone
     mesh = bpy.data.objects.new("Mesh", bpy.data.meshes.new("Mesh"))
     bpy.context.scene.collection.objects.link(mesh)
     bpy.context.view_layer.objects.active = mesh

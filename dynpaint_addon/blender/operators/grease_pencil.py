@@ -15,6 +15,7 @@ changes, scenes/grease_pencil.refresh_lit_drawing). Its images are packed in the
 import bpy
 from bpy.props import BoolProperty, FloatProperty, IntProperty
 
+from ...core.layers import MAX_LAYERS
 from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING
 from ..bake.layers import group_materials
 from ..scenes.grease_pencil import (GREASE_PENCIL_RELIEF, GREASE_PENCIL_RESOLUTION,
@@ -46,6 +47,10 @@ class DYNPAINT_OT_add_grease_pencil(bpy.types.Operator):
         name="Animation", default=True,
         description="Light every frame of the scene's frame range where the drawing changes "
                     "over it (else the current frame alone)")
+    merge: BoolProperty(
+        name="Merge Back Layers", default=False,
+        description=f"Where more than {MAX_LAYERS} layers draw (a scene's most), draw the back "
+                    f"ones together as one lit layer (they no longer shadow each other)")
     relief: FloatProperty(
         name="Relief", default=GREASE_PENCIL_RELIEF, min=0.0, soft_max=1.0, precision=3,
         description="How round each layer's shapes are inflated: 1 makes a disc a hemisphere "

@@ -50,9 +50,12 @@ class GreasePencilError(UserError):
     """A Grease Pencil object that cannot be made a painting; the message says why."""
 
 
-def drawn_layers(obj):
-    """The layers of a Grease Pencil object that draw something, back to front → (layers,
-    notes about the layers left out: hidden, no frames, nothing drawn)."""
+def drawn_layers(obj, merge=False):
+    """The layers of a Grease Pencil object that draw something, back to front, as the lit
+    layers they become → (groups, notes about the layers left out: hidden, no frames,
+    nothing drawn, shadow colours; and merged): each group one lit layer — one layer, or
+    with `merge`, where more than a scene holds draw (§15: MAX_LAYERS), the back ones drawn
+    together as one."""
     if obj is None or obj.type != "GREASEPENCIL":
         raise GreasePencilError(f"{getattr(obj, 'name', 'nothing')} is not a Grease Pencil "
                                 f"object: select the drawing to light")
@@ -73,12 +76,18 @@ def drawn_layers(obj):
     if not kept:
         raise GreasePencilError(f"{obj.name} has no layer that draws anything"
                                 + (f" ({'; '.join(notes)})" if notes else ""))
-    if len(kept) > MAX_LAYERS:
+    if len(kept) <= MAX_LAYERS:
+        return [(layer,) for layer in kept], notes
+    back = kept[:len(kept) - MAX_LAYERS + 1]
+    if not merge:
         raise GreasePencilError(
             f"{obj.name} has {len(kept)} layers that draw; a scene of lit layers holds at most "
-            f"{MAX_LAYERS} (§15): merge some ({', '.join(layer.name for layer in kept)}) or "
-            f"hide those that need no light of their own")
-    return kept, notes
+            f"{MAX_LAYERS} (§15): tick Merge Back Layers to draw the back {len(back)} "
+            f"({', '.join(layer.name for layer in back)}) as one, merge some yourself, or hide "
+            f"those that need no light of their own")
+    notes.append(f"{', '.join(layer.name for layer in back)}: drawn together as one lit layer "
+                 f"(a scene holds {MAX_LAYERS}; they shadow each other no more)")
+    return [tuple(back)] + [(layer,) for layer in kept[len(back):]], notes
 
 
 SHADOW = " shadow"      # "<name> shadow": the shadow colours of layer or material <name>
@@ -115,9 +124,10 @@ def _draws(layer):
     return any(len(f.drawing.strokes) for f in layer.frames)
 
 
-def layer_stem(i, layer):
-    """The name of the i-th drawn layer's images and painting: NN_name, NN back to front."""
-    return f"{i + 1:02d}_{bpy.path.clean_name(layer.name)}"
+def layer_stem(i, group):
+    """The name of the i-th lit layer's images and painting (drawn_layers' groups): NN_name,
+    NN back to front; merged layers' names joined by '+'."""
+    return f"{i + 1:02d}_{bpy.path.clean_name('+'.join(layer.name for layer in group))}"
 
 
 def framing(obj, margin=MARGIN):
@@ -129,8 +139,10 @@ def framing(obj, margin=MARGIN):
 def layer_depths(layers, width, spacing):
     """Each layer's depth in front of the first (image widths of a drawing `width` wide):
     where the artist moved layers toward the camera (their translation's −Y, the front
-    view's depth), those; where none was moved, `spacing` apart in drawing order."""
-    ys = [float(layer.translation[1]) for layer in layers]
+    view's depth), those; where none was moved, `spacing` apart in drawing order. A group of
+    merged layers (drawn_layers) lies where its back one does."""
+    ys = [float((layer[0] if isinstance(layer, tuple) else layer).translation[1])
+          for layer in layers]
     if max(ys) - min(ys) > 1e-9:
         return [(ys[0] - y) / width for y in ys]
     return [i * spacing for i in range(len(layers))]
@@ -143,17 +155,18 @@ def animated(obj):
         obj.data.animation_data is not None or obj.animation_data is not None
 
 
-def shown_keyframes(obj, layer, frames):
-    """What the layer shows on each scene frame of `frames`: the frame number of the keyframe
-    it holds there (the last at or before it; None before the first) — or, where anything
-    of the drawing may change between keyframes (animation data, modifiers, effects), the
-    scene frame itself. Frames with one key look the same: drawn once."""
+def shown_keyframes(obj, group, frames):
+    """What a group of layers (drawn together) shows on each scene frame of `frames`: the
+    frame numbers of the keyframes its layers hold there (the last at or before it; None
+    before the first) — or, where anything of the drawing may change between keyframes
+    (animation data, modifiers, effects), the scene frame itself. Frames with one key look
+    the same: drawn once."""
     if obj.animation_data is not None or obj.data.animation_data is not None or \
             len(obj.modifiers) or len(obj.shader_effects) or \
             any(m is not None and m.animation_data is not None for m in obj.data.materials):
         return list(frames)
-    keys = sorted(frame.frame_number for frame in layer.frames)
-    return [max((k for k in keys if k <= f), default=None) for f in frames]
+    keys = [sorted(frame.frame_number for frame in layer.frames) for layer in group]
+    return [tuple(max((k for k in ks if k <= f), default=None) for ks in keys) for f in frames]
 
 
 def _points(layer):
@@ -189,19 +202,20 @@ def drawing_bounds(layers, margin=MARGIN):
 
 
 def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARGIN,
-                  only=None, shade=DEFAULT_SHADE):
-    """Draw each layer of the Grease Pencil object `obj` that draws something, alone, into
+                  only=None, shade=DEFAULT_SHADE, merge=False):
+    """Draw each layer of the Grease Pencil object `obj` that draws something, alone (or
+    with `merge`, the back ones together where more than a scene holds: drawn_layers), into
     `folder` (16-bit RGBA, sRGB as drawn) on each scene frame of `frames` (default: the
     current one) → (paths, bounds, notes, darks): paths[i][k] layer i's (back to front)
     drawing on frames[k], named NN_name.png for one frame, NN_name_FFFF.png for several;
     darks[i][k] its shadow colours on that frame where the artist named any (its layer
     "<name> shadow", else its materials' "<material> shadow" drawn in their place, the others
     `shade` × their colours), else darks[i] None; margin: around the drawing's bounds
-    (drawing_bounds); only: the names of the layers to draw (paths[i] None for the others;
-    the framing is the whole drawing's). A frame that shows what an earlier one showed
+    (drawing_bounds); only: the names of the layers to draw (paths[i] None for the others,
+    a merged group drawn if any of its layers is named; the framing is the whole drawing's). A frame that shows what an earlier one showed
     (shown_keyframes) is drawn once. The artist's scene, the object, its layers and
     materials are left as they were."""
-    layers, notes = drawn_layers(obj)
+    layers, notes = drawn_layers(obj, merge)
     x0, x1, z0, z1 = framing(obj, margin)
     w = max(1, int(width_px))
     h = max(1, round(w * (z1 - z0) / (x1 - x0)))
@@ -215,9 +229,10 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
     drawn_count = [0]
 
     def draw(shown, stem):
-        """`shown` alone on each frame → its paths, one per frame."""
+        """The layers `shown` alone on each frame → their paths, one per frame."""
+        names = {layer.name for layer in shown}
         for other in obj.data.layers:
-            other.hide = other.name != shown.name
+            other.hide = other.name not in names
             other.use_lights = False              # drawn as painted: the lights come later
         drawn, keys = {}, shown_keyframes(obj, shown, frames)
         for frame, key in zip(frames, keys):
@@ -256,18 +271,20 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
         scene.view_settings.view_transform = "Standard"
         scene.view_settings.look = "None"
         paths, darks = [], []
-        for i, layer in enumerate(layers):
-            stem = os.path.join(folder, layer_stem(i, layer))
-            if only is not None and layer.name not in only:
+        for i, group in enumerate(layers):
+            stem = os.path.join(folder, layer_stem(i, group))
+            if only is not None and not only & {layer.name for layer in group}:
                 paths.append(None)
                 darks.append(None)
                 continue
-            paths.append(draw(layer, stem))
-            if layer.name in partner_layers:
-                darks.append(draw(partner_layers[layer.name], stem + "_shadow"))
-            elif partner_materials.keys() & materials_used(layer):
+            paths.append(draw(group, stem))
+            partners = tuple(partner_layers[layer.name] for layer in group
+                             if layer.name in partner_layers)
+            if partners:
+                darks.append(draw(partners, stem + "_shadow"))
+            elif partner_materials.keys() & set().union(*map(materials_used, group)):
                 with materials_in_shadow(obj, partner_materials, shade):
-                    darks.append(draw(layer, stem + "_shadow"))
+                    darks.append(draw(group, stem + "_shadow"))
             else:
                 darks.append(None)
     finally:
@@ -370,7 +387,7 @@ GREASE_PENCIL_RESOLUTION = 1024     # px across the drawing: each layer's images
 # Paint Shape's relief effects (issue 41: make-shape inflate's options but its height, which
 # is Relief here), applied to every layer's inflated silhouette
 LAYER_EFFECTS = tuple(o for o in shape_options("inflate", "addon") if o.name != "height")
-LIT_SETTINGS = ("resolution", "spacing", "shade", "relief", "animation",
+LIT_SETTINGS = ("resolution", "spacing", "shade", "relief", "animation", "merge",
                 *(o.name for o in LAYER_EFFECTS))
 SOURCE = "dynamic_painting_grease_pencil"    # a lit copy's parent: its drawing and settings
 LAYER = "dynamic_painting_grease_pencil_layer"   # a lit layer's material: its layer's name
@@ -388,8 +405,8 @@ def drawn_paintings(scene, obj, settings, progress=None, only=None):
     try:
         paths, bounds, notes, darks = render_layers(
             obj, folder, settings["resolution"], frames, lambda f: progress(0.4 * f),
-            only=only, shade=settings["shade"])
-        layers = drawn_layers(obj)[0]
+            only=only, shade=settings["shade"], merge=settings["merge"])
+        layers = drawn_layers(obj, settings["merge"])[0]
         depths = layer_depths(layers, bounds[1] - bounds[0], settings["spacing"])
         made = []
         for i, (layer, layer_paths, dark_paths, depth) in enumerate(zip(layers, paths, darks,
@@ -509,7 +526,8 @@ def refresh_lit_drawing(context, parent):
     changed = {n for n, d in digests.items() if source.get("layers", {}).get(n) != d}
     mats = {m.get(LAYER): m for m in group_materials(parent)}
     # other layers drawn, or other bounds: made anew without drawing the changed ones first
-    same = set(mats) == {layer_stem(i, layer) for i, layer in enumerate(drawn_layers(obj)[0])} \
+    same = set(mats) == {layer_stem(i, group) for i, group
+                         in enumerate(drawn_layers(obj, settings["merge"])[0])} \
         and np.allclose(framing(obj), source["bounds"], rtol=0, atol=1e-9)
     if same:
         made, _, _, _ = drawn_paintings(context.scene, obj, settings, only=changed)
@@ -564,6 +582,7 @@ def lit_defaults():
     """From Grease Pencil's settings as its dialog starts them (LIT_SETTINGS)."""
     return {"resolution": GREASE_PENCIL_RESOLUTION, "spacing": DEFAULT_SPACING,
             "shade": DEFAULT_SHADE, "relief": GREASE_PENCIL_RELIEF, "animation": True,
+            "merge": False,
             **{o.name: o.default for o in LAYER_EFFECTS}}
 
 
