@@ -56,10 +56,11 @@ _SHAPES = {}
 SHAPE_FRAMES_MB = 512
 
 
-def bake_shape(mat, p, fresh=False):
+def bake_shape(mat, p, fresh=False, read=None):
     """The shape decoded for the bake (§2), cached per painting until its shape image or the
     shape settings change, so per-frame and live bakes do not read and decode it each time;
-    `fresh` decodes again (the image's pixels may have been edited)."""
+    `fresh` decodes again (the image's pixels may have been edited). read: channel → its
+    ImageData, where the caller has read the images already (PaintingState.read)."""
     s = mat.dynamic_painting
     key = shape_key(s, p)
     moving = key[1] is not None
@@ -68,7 +69,7 @@ def bake_shape(mat, p, fresh=False):
         cache = _SHAPES[mat.name] = BoundedCache(SHAPE_FRAMES_MB if moving else 0)
     hit = None if fresh else cache.get(key)
     if hit is None:
-        data = frame_data(mat, "shape")
+        data = read("shape") if read is not None else frame_data(mat, "shape")
         hit = _decoded_after_edit(mat, data, p) if not moving else None
         if hit is None:
             hit = shape_normals(data, p, np.float32)
@@ -220,9 +221,10 @@ def shadow_image_name(mat, light_name):
     return f"DP {mat.name} shadow {light_name}"
 
 
-def bake_shadows(mat, scene, depsgraph=None, force=True, progress=None, p=None):
+def bake_shadows(mat, scene, depsgraph=None, force=True, progress=None, p=None, read=None):
     """Bake the cos-θ term (§6) of the linked lights into their images. → milliseconds taken.
-    p: the painting's parameters when the caller has them (read from its settings if not).
+    p: the painting's parameters when the caller has them (read from its settings if not);
+    read: its images, where the caller read them (bake_shape).
 
     Without `force`, a light whose painting-frame position and shadow inputs are those of its
     last bake is skipped (static lights in an animation bake once). A failure leaves the
@@ -243,7 +245,7 @@ def bake_shadows(mat, scene, depsgraph=None, force=True, progress=None, p=None):
     due = [i for i, t in enumerate(results) if t is None]
     if due:
         check_bake_memory(mat, p, [todo[i][1] for i in due])
-        shape = bake_shape(mat, p, fresh=force)
+        shape = bake_shape(mat, p, fresh=force, read=read)
     for j, i in enumerate(due):
         part = None if progress is None else \
             (lambda f, j=j: progress((j + f) / len(due)))     # noqa: E731

@@ -91,13 +91,13 @@ def update(mat, scene=None, depsgraph=None, progress=None, bake="now", rebake=Fa
     warnings = update_derived_images(mat, state, force=force)
     sync_light_items(mat.dynamic_painting, state.lights)
     if state.params.shadows.enabled:
-        _bake(mat, scene, depsgraph, progress, bake, rebake or force, state.params)
+        _bake(mat, scene, depsgraph, progress, bake, rebake or force, state.params, state.read)
     rebuild_tree(mat, scene, force=force, state=state)
     clear_errors(mat)
     return warnings
 
 
-def _bake(mat, scene, depsgraph, progress, when, everything, p):
+def _bake(mat, scene, depsgraph, progress, when, everything, p, read):
     parent = layer_parent(mat)
     if parent is not None:            # a layer: the whole group bakes at once (§15)
         if when == "live" and not rendering() and not everything:
@@ -116,7 +116,7 @@ def _bake(mat, scene, depsgraph, progress, when, everything, p):
         LIVE.ensure(mat, scene, depsgraph, p)
         return
     s.shadows_stale = True         # until the bake succeeds (the panel says so)
-    bake_shadows(mat, scene, depsgraph, force=everything, progress=progress, p=p)
+    bake_shadows(mat, scene, depsgraph, force=everything, progress=progress, p=p, read=read)
 
 
 def invalidate_generated(mat):

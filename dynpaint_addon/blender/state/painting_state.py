@@ -27,7 +27,8 @@ class PaintingState:
     lights: list                # the linked light objects, in the tree's order
     features: Features          # what the graph is built for (§12)
     plan: list                  # [derived_inputs.Derived]: the images numpy derives
-    read: Callable = None       # channel → its ImageData now (a moving slot's frame, §16)
+    read: Callable = None       # channel → its ImageData now (a moving slot's frame, §16),
+    #                             read once per state
     frame: tuple = ()           # the painting frame shown: (channel, its frame) of each slot
     #                             that moves (§16); () for a still painting
 
@@ -60,6 +61,12 @@ def read_state(mat, scene):
                if (frame := slot_frame(mat, c, f)) is not None else image_source(img)
                for c, img in images.items()}
     features, plan = prepare(p, sources, [o.data.type.lower() for o in lights])
-    return PaintingState(p, images, lights, features, plan, lambda c: frame_data(mat, c, f),
+    reads = {}
+
+    def read(c):           # (each image read once per update: the derived images, the bake)
+        if c not in reads:
+            reads[c] = frame_data(mat, c, f)
+        return reads[c]
+    return PaintingState(p, images, lights, features, plan, read,
                          tuple((c, src.frame) for c, src in sources.items()
                                if src.frame is not None))
