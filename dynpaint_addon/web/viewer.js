@@ -982,7 +982,7 @@
 
   function setPlaying(on) {
     state.playing = on && lights.length > 0;
-    playButton.textContent = state.playing ? "Pause" : "Play";
+    playButton.textContent = state.playing ? "Pause light" : "Play light";   // (frames: their own)
     playButton.setAttribute("aria-pressed", String(state.playing));
     state.last = null;
   }

@@ -310,6 +310,9 @@ def test_export_web_of_a_blend_files_drawing_plays_its_frames_lit(browser, tmp_p
     assert "2 layers on 96×" in done.stdout and "3 frames at 24 fps" in done.stdout
     page = open_page(browser, str(out), query="?embed")
     assert page.evaluate("window.dynamicPainting.state.framesPlaying")
+    frames_button, light_button = page.evaluate(      # two Play buttons, told apart
+        "['frames-play', 'play'].map((id) => document.getElementById(id).textContent)")
+    assert light_button == "Play light" and frames_button == "Pause"
     w, h = page.evaluate("[document.getElementById('painting').width, "
                          "document.getElementById('painting').height]")
     for frame in (3, 2):
