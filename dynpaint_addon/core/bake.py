@@ -99,14 +99,9 @@ def reduced_inputs(normals, heights_px, slopes, hs, ws):
     if hit is not None and hit[1] == (hs, ws) and \
             all((ref() if ref is not None else None) is a for ref, a in zip(hit[0], arrays)):
         return hit[2]
-    dtype = normals.dtype.type
-    # averages of unit normals with N.z ≥ z_min: renormalising keeps N.z ≥ z_min (|n| ≤ 1,
-    # and |n| ≥ N.z ≥ z_min > 0, so the division is safe)
-    n_s = resample_separable(normals, hs, ws)
-    n_s /= np.sqrt(np.einsum("...i,...i->...", n_s, n_s))[..., None]
-    z_s = None if heights_px is None else \
-        resample_separable(heights_px, hs, ws) * dtype(ws / normals.shape[1])
-    sl_s = None if slopes is None else resample_separable(slopes, hs, ws)
+    n_s = _reduced(normals, hs, ws, "normals")
+    z_s = _reduced(heights_px, hs, ws, "heights", normals.dtype.type(ws / normals.shape[1]))
+    sl_s = _reduced(slopes, hs, ws, "slopes")
     if 4 * hs * ws <= normals.shape[0] * normals.shape[1]:
         for gone in [k for k, (refs, _, _) in _REDUCED.items() if refs[0]() is None]:
             del _REDUCED[gone]
@@ -115,6 +110,22 @@ def reduced_inputs(normals, heights_px, slopes, hs, ws):
         _REDUCED[key] = (tuple(None if a is None else weakref.ref(a) for a in arrays),
                          (hs, ws), (n_s, z_s, sl_s))
     return n_s, z_s, sl_s
+
+
+def _reduced(a, hs, ws, role, factor=None):
+    """One of the shape's inputs (or a block of it) at hs × ws as a reduced bake reads it:
+    'normals' renormalised, 'heights' times `factor` (reduced pixels per full pixel),
+    'slopes' as they are; None stays None."""
+    if a is None:
+        return None
+    out = resample_separable(a, hs, ws)
+    if role == "normals":
+        # averages of unit normals with N.z ≥ z_min: renormalising keeps N.z ≥ z_min (|n| ≤ 1,
+        # and |n| ≥ N.z ≥ z_min > 0, so the division is safe)
+        out /= np.sqrt(np.einsum("...i,...i->...", out, out))[..., None]
+    elif role == "heights":
+        out = out * factor
+    return out
 
 
 # shapes kept reduced: a scene holds at most 8 layers; a moving painting's drawings come
@@ -134,13 +145,8 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
     normals = normals.astype(dtype, copy=False)
     heights_px = None if heights_px is None else heights_px.astype(dtype, copy=False)
     slopes = None if slopes is None else slopes.astype(dtype, copy=False)
-    hs, ws = max(1, round(h * scale)), max(1, round(w * scale))
-    # Crossings smear one-pixel walls a little (a resampled grid): below ~512 px the K = 64
-    # march is more accurate and cheap anyway, so 'final' marches there.
-    fast_level = quality in ("draft", "preview") or (quality == "final"
-                                                      and min(hs, ws) >= FAST_FINAL_MIN_PX)
-    plan = _crossings_plan(light, quality, fast_level and occupancy == "linear", h, w,
-                           slopes is not None, offset)
+    hs, ws = _scaled(h, w, scale)
+    plan = _level_plan(light, quality, scale, occupancy, h, w, slopes is not None, offset)
     if plan is not None:
         (hs, ws), fast = plan
         if stats is not None:
@@ -173,6 +179,20 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
               reach=reach, stats=stats, cancel=cancel, progress=progress)
     return _upsampled(t, h, w, dtype, (n_s, z_s, sl_s) if plan is not None and
                       light.kind == "sun" else None)
+
+
+def _scaled(h, w, scale):
+    return max(1, round(h * scale)), max(1, round(w * scale))
+
+
+def _level_plan(light, quality, scale, occupancy, h, w, normal_map, offset):
+    """_crossings_plan of a bake at this level and resolution `scale`, or None (it marches).
+    Crossings smear one-pixel walls a little (a resampled grid): below ~512 px the K = 64
+    march is more accurate and cheap anyway, so 'final' marches there."""
+    fast_level = quality in ("draft", "preview") or (
+        quality == "final" and min(_scaled(h, w, scale)) >= FAST_FINAL_MIN_PX)
+    return _crossings_plan(light, quality, fast_level and occupancy == "linear", h, w,
+                           normal_map, offset)
 
 
 # A reduced-size bake by crossings, kept for the edit that follows it (bake_edited): its
@@ -210,20 +230,16 @@ def reduced_box(box, f, h_s, w_s):
     return r0 // f, min(h_s, -(-r1 // f)), c0 // f, min(w_s, -(-c1 // f))
 
 
-def _reduced_edited(arrays, before, box, f, scale=None):
-    """The reduced inputs of an edited shape from those `before` it: only the reduced box
-    that reads the edit is reduced again, from its own block of full-size pixels (the same
-    taps: equal to reducing the whole)."""
-    if box is None or arrays is None:
+def _reduced_edited(full, before, box, f, role, factor=None):
+    """A reduced input (_reduced's `role`) of an edited shape from the one `before` it: only
+    the reduced box that reads the edit is reduced again, from its own block of full-size
+    pixels (the same taps: equal to reducing the whole)."""
+    if box is None or full is None:
         return before
     r0, r1, c0, c1 = box
     out = before.copy()
-    part = resample_separable(arrays[r0 * f:r1 * f, c0 * f:c1 * f], r1 - r0, c1 - c0)
-    if scale is not None:
-        part = part * scale
-    elif part.ndim == 3 and part.shape[2] == 3:          # normals: renormalised
-        part /= np.sqrt(np.einsum("...i,...i->...", part, part))[..., None]
-    out[r0:r1, c0:c1] = part
+    out[r0:r1, c0:c1] = _reduced(full[r0 * f:r1 * f, c0 * f:c1 * f], r1 - r0, c1 - c0, role,
+                                 factor)
     return out
 
 
@@ -240,10 +256,7 @@ def bake_edited(normals, light, offset, quality, t_before, normals_box, heights_
     kept): bake the whole then (those are the cheap ones, or the reference)."""
     _, scale, dtype = quality_settings(quality, steps, scale)
     h, w = normals.shape[:2]
-    fast_level = quality in ("draft", "preview") or (quality == "final"
-                                                      and min(h, w) >= FAST_FINAL_MIN_PX)
-    plan = _crossings_plan(light, quality, fast_level and occupancy == "linear", h, w,
-                           slopes is not None, offset)
+    plan = _level_plan(light, quality, scale, occupancy, h, w, slopes is not None, offset)
     if plan is None or light.kind != "sun" or t_before.shape != (h, w):
         return None
     normals = normals.astype(dtype, copy=False)
@@ -258,13 +271,13 @@ def bake_edited(normals, light, offset, quality, t_before, normals_box, heights_
     # a reduced level (draft, preview): the reduced inputs patched where the edit reaches
     # them, the reduced rays that read a changed reduced pixel traced again, then upsampled
     f, kept = h // hs, _reduced_bake_of(t_before)
-    if kept is None or hs * f != h or ws * f != w or w // ws != f:
+    if kept is None or hs * f != h or ws * f != w:
         return None
     (n_s, z_s, sl_s), t_s = kept
     nb, hb = reduced_box(normals_box, f, hs, ws), reduced_box(heights_box, f, hs, ws)
-    reduced = (_reduced_edited(normals, n_s, nb, f),
-               _reduced_edited(heights_px, z_s, hb, f, normals.dtype.type(ws / w)),
-               _reduced_edited(slopes, sl_s, nb, f))
+    reduced = (_reduced_edited(normals, n_s, nb, f, "normals"),
+               _reduced_edited(heights_px, z_s, hb, f, "heights", normals.dtype.type(ws / w)),
+               _reduced_edited(slopes, sl_s, nb, f, "slopes"))
     t_s = crossings.sun_cos_theta_edited(reduced[0], light, offset, t_s, nb, hb,
                                          heights_px=reduced[1], slopes=reduced[2], reach=reach)
     return None if t_s is None else _upsampled(t_s, h, w, dtype, reduced)

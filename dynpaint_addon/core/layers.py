@@ -132,16 +132,19 @@ class Scene:
     placement on the canvas, and (on first use) each layer as an occluder.
 
     layers: [Layer] (equal depths keep their order); canvas: (H, W) in pixels (default: the
-    back layer's shape image's size)."""
+    back layer's shape image's size); prepared: {index: its prepared inputs} of layers
+    another Scene prepared already (the same images and parameters)."""
 
-    def __init__(self, layers, canvas=None, dtype=np.float32):
+    def __init__(self, layers, canvas=None, dtype=np.float32, prepared=None):
         if not layers:
             raise ValueError("a layered scene needs at least one layer")
         if len(layers) > MAX_LAYERS:
             raise ValueError(f"{len(layers)} layers: a scene holds at most {MAX_LAYERS}")
         self.layers, self.canvas = layers, canvas_size(layers, canvas)
         self.order = sorted(range(len(layers)), key=lambda i: float(layers[i].depth))
-        self.ready = {i: prepare(layers[i].images, layers[i].p, dtype) for i in self.order}
+        prepared = prepared or {}
+        self.ready = {i: prepared[i] if i in prepared else
+                      prepare(layers[i].images, layers[i].p, dtype) for i in self.order}
         self.places = {i: placement(layers[i], self.ready[i].size, self.canvas)
                        for i in self.order}
         self._occluders, self._origins = {}, {}

@@ -271,29 +271,29 @@ def shadow_colours(bright, drawn, shade):
     """A layer's dark image from the shadow colours an artist drew for it (issue 42): `drawn`
     over the shaded `bright` (where they drew none, the shaded rule), composited in linear
     light, with the bright image's alpha (its coverage is the layer's)."""
-    base = shaded(bright, shade)
-
-    def linear(img):
-        rgb = np.asarray(img.rgb(), np.float64)
-        return rgb if img.bits == 32 else srgb_to_linear(rgb)
     a = drawn.alpha()
-    a = np.ones(drawn.pixels.shape[:2]) if a is None else np.asarray(a, np.float64)
-    rgb = linear(drawn) * a[..., None] + linear(base) * (1 - a[..., None])
-    rgb = rgb if bright.bits == 32 else linear_to_srgb(rgb)
-    alpha = bright.alpha()
-    px = rgb if alpha is None else np.dstack([rgb, alpha])
-    return ImageData(px.astype(np.float32), bright.bits, f"{bright.name} (shadow colours)")
+    a = (np.ones(drawn.pixels.shape[:2]) if a is None else np.asarray(a, np.float64))[..., None]
+    dark = _linear(drawn) * a + _linear(bright) * float(shade) * (1 - a)
+    return _like(bright, dark, "shadow colours")
 
 
 def shaded(img, shade):
     """A dark image for a painted one: `shade` × its linear colour, its alpha kept."""
+    return _like(img, _linear(img) * float(shade), "shaded")
+
+
+def _linear(img):
+    """An image's colour, linear (float64 (H, W, 3))."""
     rgb = np.asarray(img.rgb(), np.float64)
-    linear = rgb if img.bits == 32 else srgb_to_linear(rgb)
-    dark = linear * float(shade)
-    dark = dark if img.bits == 32 else linear_to_srgb(dark)
+    return rgb if img.bits == 32 else srgb_to_linear(rgb)
+
+
+def _like(img, linear, what):
+    """Linear colour stored as `img` stores its colour, with its alpha: ImageData."""
+    rgb = linear if img.bits == 32 else linear_to_srgb(linear)
     alpha = img.alpha()
-    px = dark if alpha is None else np.dstack([dark, alpha])
-    return ImageData(px.astype(np.float32), img.bits, f"{img.name} (shaded)")
+    px = rgb if alpha is None else np.dstack([rgb, alpha])
+    return ImageData(px.astype(np.float32), img.bits, f"{img.name} ({what})")
 
 
 def is_layered_file(path):

@@ -321,22 +321,28 @@ def scene_data(layers, lights, title="", credits="", steps=None, max_size=None,
     (page_frames), with what the shadow pass reads of each; the page swaps them together."""
     canvas = layers[0].images["shape"].pixels.shape[:2]
     factor = 1.0 if not max_size else min(1.0, max_size / max(canvas))
-    scenes = [Scene([dataclasses.replace(layer, images={
+    drawn = [[dataclasses.replace(layer, images={
         c: shrink(img, round(max(img.size) * factor)) for c, img in layer.images.items()})
-        for layer in drawn]) for drawn in [layers] + list((frames or {}).get("scenes", [])[1:])]
-    scene = scenes[0]
+        for layer in scene_layers]
+        for scene_layers in [layers] + list((frames or {}).get("scenes", [])[1:])]
+    scene = Scene(drawn[0])
     out, warnings = [], []
     for position, i in enumerate(scene.order):
         layer, place = scene.layers[i], scene.places[i]
-        firsts, drawing_of = _distinct([s.layers[i].images for s in scenes])
+        firsts, drawing_of = _distinct([d[i].images for d in drawn])
         moving = None if len(firsts) == 1 else {
-            "drawings": [scenes[s].layers[i].images for s in firsts], "fps": frames["fps"],
+            "drawings": [drawn[s][i].images for s in firsts], "fps": frames["fps"],
             "sequence": [drawing_of[s] for s in frames["sequence"]]}
         data, warns = page_data(layer.images, lights, layer.p, steps=steps, looks=False,
                                 frames=moving)
         warnings += [f"{layer.name}: {w}" for w in warns]
         data.update(name=layer.name, place=[place.corner[0], place.corner[1], place.px, place.z])
-        reads = [_shadow_pass_reads(scenes[s], position, data["shadows"]) for s in firsts]
+        # each other drawing of this layer in the first scene, the others as prepared there
+        # (what the pass reads of a layer is its own: one drawing prepared at a time)
+        reads = [_shadow_pass_reads(scene if s == 0 else Scene(
+            [drawn[s][i] if k == i else lay for k, lay in enumerate(drawn[0])],
+            prepared={k: r for k, r in scene.ready.items() if k != i}), position,
+            data["shadows"]) for s in firsts]
         data.update(reads[0])
         if moving:
             data["frames"].update({k: [r[k] for r in reads] for k in reads[0]})
@@ -358,12 +364,12 @@ def scene_data(layers, lights, title="", credits="", steps=None, max_size=None,
 
 def _distinct(drawings):
     """[{channel: ImageData}] → (the index of each distinct one's first, the distinct one each
-    is): two drawings are one when every image's pixels are equal."""
+    is): two drawings are one when every image is the same or its pixels are equal."""
     firsts, of = [], []
     for images in drawings:
         same = next((k for k, j in enumerate(firsts) if all(
-            np.array_equal(drawings[j][c].pixels, img.pixels) for c, img in images.items())),
-            None)
+            drawings[j][c] is img or np.array_equal(drawings[j][c].pixels, img.pixels)
+            for c, img in images.items())), None)
         if same is None:
             same = len(firsts)
             firsts.append(len(of))

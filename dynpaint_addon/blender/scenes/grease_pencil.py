@@ -139,10 +139,8 @@ def framing(obj, margin=MARGIN):
 def layer_depths(layers, width, spacing):
     """Each layer's depth in front of the first (image widths of a drawing `width` wide):
     where the artist moved layers toward the camera (their translation's −Y, the front
-    view's depth), those; where none was moved, `spacing` apart in drawing order. A group of
-    merged layers (drawn_layers) lies where its back one does."""
-    ys = [float((layer[0] if isinstance(layer, tuple) else layer).translation[1])
-          for layer in layers]
+    view's depth), those; where none was moved, `spacing` apart in drawing order."""
+    ys = [float(layer.translation[1]) for layer in layers]
     if max(ys) - min(ys) > 1e-9:
         return [(ys[0] - y) / width for y in ys]
     return [i * spacing for i in range(len(layers))]
@@ -212,9 +210,9 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
     "<name> shadow", else its materials' "<material> shadow" drawn in their place, the others
     `shade` × their colours), else darks[i] None; margin: around the drawing's bounds
     (drawing_bounds); only: the names of the layers to draw (paths[i] None for the others,
-    a merged group drawn if any of its layers is named; the framing is the whole drawing's). A frame that shows what an earlier one showed
-    (shown_keyframes) is drawn once. The artist's scene, the object, its layers and
-    materials are left as they were."""
+    a merged group drawn if any of its layers is named; the framing is the whole drawing's).
+    A frame that shows what an earlier one showed (shown_keyframes) is drawn once. The
+    artist's scene, the object, its layers and materials are left as they were."""
     layers, notes = drawn_layers(obj, merge)
     x0, x1, z0, z1 = framing(obj, margin)
     w = max(1, int(width_px))
@@ -407,7 +405,9 @@ def drawn_paintings(scene, obj, settings, progress=None, only=None):
             obj, folder, settings["resolution"], frames, lambda f: progress(0.4 * f),
             only=only, shade=settings["shade"], merge=settings["merge"])
         layers = drawn_layers(obj, settings["merge"])[0]
-        depths = layer_depths(layers, bounds[1] - bounds[0], settings["spacing"])
+        # a group of merged layers (drawn_layers) lies where its back one does
+        depths = layer_depths([group[0] for group in layers], bounds[1] - bounds[0],
+                              settings["spacing"])
         made = []
         for i, (layer, layer_paths, dark_paths, depth) in enumerate(zip(layers, paths, darks,
                                                                          depths)):
@@ -466,7 +466,8 @@ ATTRIBUTE_READS = {"FLOAT_VECTOR": ("vector", np.float32, 3), "FLOAT": ("value",
 def layer_digests(obj):
     """{layer name: digest} of what each layer of the drawing is drawn from: its settings,
     place and frames' strokes (points, radii, opacities, materials), its shadow colours'
-    layer's, and the materials' colours (their shadow colours' too) — what an edit of it changes (showing or hiding the drawing does not)."""
+    layer's, and the materials' colours (their shadow colours' too) — what an edit of it
+    changes (showing or hiding the drawing does not)."""
     materials = hashlib.sha1()
     for m in [*obj.data.materials, *shadow_materials(obj).values()]:
         g = getattr(m, "grease_pencil", None)

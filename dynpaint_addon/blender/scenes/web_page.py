@@ -2,6 +2,8 @@
 lights and their animation, its frames (§16) — and a scene of layers whole (§15), its layers'
 frames too (a lit Grease Pencil animation, issue 42). What File › Export › Dynamic Painting
 (.html) and `export-web FILE.blend --grease-pencil` share."""
+import dataclasses
+
 from ...inputs.imageio import image_data_from_blender
 from ...web.page import page_data, scene_data
 from ..bake.layers import group_layers, group_materials, layer_parent
@@ -55,8 +57,13 @@ def group_frames(mats, scene):
         key = tuple(slot_frame(mat, c, f) for mat in mats for c in channel_images(
             mat.dynamic_painting))
         sequence.append(firsts.setdefault(key, (len(firsts), f))[0])
-    return {"scenes": [group_layers(mats, f=f) for _, f in sorted(firsts.values())],
-            "sequence": sequence, "fps": frame_rate(scene)}
+    shown = [f for _, f in sorted(firsts.values())]
+    first = group_layers(mats, f=shown[0])
+    # a still image is read once: every drawing of the scene holds the same one
+    return {"scenes": [first] + [[dataclasses.replace(layer, images={
+        c: img if slot_frame(mat, c, f) is None else frame_data(mat, c, f)
+        for c, img in layer.images.items()}) for mat, layer in zip(mats, first)]
+        for f in shown[1:]], "sequence": sequence, "fps": frame_rate(scene)}
 
 
 def painting_page(mat, scene, title, credits="", steps=None, max_size=None, animation=True,
