@@ -18,6 +18,8 @@ from testkit.chromium import Chromium, find_chromium
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BLENDER_TESTS = os.path.join(REPO, "tests", "blender")
+# Measured: EEVEE's blended transparency renders α ≥ 1 − 1/255 as fully opaque (254/255 → 1).
+EEVEE_OPAQUE_SNAP = 1 - 1.5 / 255
 
 if os.environ.get("DYNPAINT_NO_BPY"):
     sys.modules["bpy"] = None        # `import bpy` raises ImportError

@@ -30,7 +30,8 @@ from .bake.live_bake import DEBOUNCE_S, rendering
 from .bake.shadow_images import forget_cached_shapes
 from .material.sync import invalidate_generated, update
 from .material.tree import rebuild_tree, tree_is_stale
-from .scenes.grease_pencil import drawing_of, refresh_lit_drawing, stale_lit_copies
+from .scenes.grease_pencil import (draft_lit_drawing, drawing_of, refresh_lit_drawing,
+                                    stale_lit_copies)
 from .state.edits import note_edited
 from .state.frame_sampling import only_reading_lights
 from .state.frames import forget_frames, moves
@@ -89,9 +90,9 @@ _REDRAWING = []     # a lit copy being redrawn: its own renders update the drawi
 def redraw_lit_drawings(scene, depsgraph):
     """A Grease Pencil drawing changed (a stroke, a keyframe, a material): redraw the lit
     copies made from it (scenes/grease_pencil.refresh_lit_drawing: the layers that changed)
-    — at once without a UI
-    (the headless contract), after DEBOUNCE_S of quiet with one (a drawing's strokes come
-    fast, and each redraw renders its layers)."""
+    — at once without a UI (the headless contract); with one, a draft at once
+    (draft_lit_drawing: drawn small, baked at draft) and the full redraw DEBOUNCE_S later (a
+    drawing's strokes come fast, and each full redraw renders its layers at full size)."""
     if _REDRAWING:
         return
     names = set()
@@ -107,6 +108,8 @@ def redraw_lit_drawings(scene, depsgraph):
     if not stale:
         return
     if not rendering():
+        for parent in stale:       # a draft of each stroke now, the full drawing once they stop
+            _redraw(parent, draft_lit_drawing)
         _PENDING.update(p.name for p in stale)
         if not bpy.app.timers.is_registered(_redraw_pending):
             bpy.app.timers.register(_redraw_pending, first_interval=DEBOUNCE_S)
@@ -128,10 +131,10 @@ def _redraw_pending():
     return None
 
 
-def _redraw(parent):
+def _redraw(parent, how=refresh_lit_drawing):
     _REDRAWING.append(parent.name)
     try:
-        refresh_lit_drawing(bpy.context, parent)
+        how(bpy.context, parent)
     except Exception as exc:        # never into Blender's update loop
         report(parent.name, exc)
     finally:

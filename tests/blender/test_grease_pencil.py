@@ -14,9 +14,9 @@ from mathutils import Vector  # noqa: E402
 
 from dynpaint_addon import blender  # noqa: E402
 from dynpaint_addon.blender.bake.layers import group_materials  # noqa: E402
-from dynpaint_addon.blender.scenes.grease_pencil import (LAYER, SOURCE,  # noqa: E402
-                                                         GreasePencilError, drawn_layers,
-                                                         layer_digests, render_layers)
+from dynpaint_addon.blender.scenes.grease_pencil import (  # noqa: E402
+    DRAFT_WIDTH, LAYER, SOURCE, GreasePencilError, draft_lit_drawing, drawn_layers,
+    layer_digests, render_layers, stale_lit_copies)
 from dynpaint_addon.core.colour import linear_to_srgb, srgb_to_linear  # noqa: E402
 from dynpaint_addon.inputs.layered_files import DEFAULT_SHADE  # noqa: E402
 from dynpaint_addon.inputs.imageio import image_data_from_blender, read_image  # noqa: E402
@@ -26,7 +26,7 @@ from dynpaint_addon.core.layers import MAX_LAYERS  # noqa: E402
 from testkit.grease_pencil import (add_fill, card_and_disc, disc, fill_material,  # noqa: E402
                                    rectangle, rolling_disc)
 
-from conftest import REPO, open_page, run_cli  # noqa: E402
+from conftest import EEVEE_OPAQUE_SNAP, REPO, open_page, run_cli  # noqa: E402
 
 
 @pytest.fixture
@@ -266,18 +266,21 @@ def saved_drawing(folder, make):
 
 def test_the_command_line_renders_a_blend_files_drawing_lit(tmp_path):
     """`render FILE.blend --grease-pencil OBJECT --frame N`: the drawing lit as the add-on
-    lights it, the frame's drawing (the disc where frame 2 puts it), numpy and Cycles alike;
-    a wrong object name is one clear line naming the file's drawings."""
+    lights it, the frame's drawing (the disc where frame 2 puts it), numpy, Cycles and EEVEE
+    alike (within 2e-3); a wrong object name is one clear line naming the file's drawings."""
     blend = saved_drawing(tmp_path, rolling_disc)
     outs = {}
-    for engine in ("numpy", "cycles"):
+    for engine in ("numpy", "cycles", "eevee"):
         out = tmp_path / f"{engine}.exr"
         done = run_cli("render", blend, "--grease-pencil", "Rolling disc", "--frame", "2",
                        "--width", "96", "--engine", engine, "--out", str(out))
         assert done.returncode == 0, done.stderr
         outs[engine] = read_image(str(out)).pixels
-    got, want = outs["cycles"], outs["numpy"]
-    assert got.shape == want.shape and np.abs(got - want)[1:-1, 1:-1].max() <= 2e-3
+    want = outs["numpy"]
+    for engine, got in outs.items():
+        if engine == "eevee":          # (its blending draws α ≥ 254/255 opaque)
+            got[..., 3] = np.where(want[..., 3] >= EEVEE_OPAQUE_SNAP, want[..., 3], got[..., 3])
+        assert got.shape == want.shape and np.abs(got - want)[1:-1, 1:-1].max() <= 2e-3, engine
     h, w = want.shape[:2]
     orange = (want[..., 0] > 1.5 * want[..., 2]) & (want[..., 3] > 0.5)
     x = (np.arange(w) + 0.5)[None, :].repeat(h, 0)
@@ -399,12 +402,50 @@ def test_a_lit_copy_follows_its_drawing(drawing):
     assert sorted(len(group_materials(o)) for o in lit) == [3, 3]
 
 
+def test_a_stroke_is_drafted_small_at_once_then_drawn_in_full(drawing):
+    """With a UI a stroke shows a draft at once (draft_lit_drawing): the changed layer drawn
+    DRAFT_WIDTH px across, enlarged into its images (not packed), the group baked at draft
+    quality, the lit copy's record left for the full redraw; a draft with nothing new draws
+    nothing; the full redraw after it is what it is without one (the headless contract)."""
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    bpy.context.scene.collection.objects.link(sun)
+    sun.rotation_euler = (np.radians(60), 0, np.radians(-60))
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=2 * DRAFT_WIDTH) == {"FINISHED"}
+    parent = bpy.context.object
+    back, front = group_materials(parent)
+    bright = front.dynamic_painting.image_bright
+    before = image_data_from_blender(bright).pixels[..., 3].copy()
+    t_before = image_data_from_blender(back.dynamic_painting.lights[0].shadow).pixels[..., 0]
+    add_fill(drawing.data.layers["Figure"], disc(0.6, -0.4, 0.15), 1)
+    assert draft_lit_drawing(bpy.context, parent)
+    drafted = image_data_from_blender(bright).pixels[..., 3].copy()
+    h, w = drafted.shape
+    assert tuple(bright.size) == (2 * DRAFT_WIDTH, h) and bright.is_dirty   # enlarged, unpacked
+    gained = drafted - before > 0.5
+    cx, cy = np.argwhere(gained)[:, 1].mean() / w, np.argwhere(gained)[:, 0].mean() / h
+    assert gained.sum() > 100 and abs(cx - (0.6 + 1.04) / 2.08) < 0.03     # the new disc
+    items = [m.dynamic_painting.lights[0] for m in (back, front)]
+    assert all("|draft|" in item.bake_key for item in items)             # baked at draft
+    t_draft = image_data_from_blender(items[0].shadow).pixels[..., 0].copy()
+    assert np.abs(t_draft - t_before).max() > 0.1                        # its shadow there
+    assert stale_lit_copies(bpy.context.scene, {drawing.name}) == [parent]
+    assert not draft_lit_drawing(bpy.context, parent)                   # nothing new
+    drawing.data.update_tag()
+    bpy.context.view_layer.update()                                     # the full redraw
+    full = image_data_from_blender(bright).pixels[..., 3]
+    assert not stale_lit_copies(bpy.context.scene, {drawing.name})
+    assert all("|draft|" not in item.bake_key for item in items)
+    assert 0 < np.abs(full - drafted).max() and np.abs(full - drafted).mean() < 0.02
+    t_full = image_data_from_blender(items[0].shadow).pixels[..., 0]
+    assert np.abs(t_full - t_draft).mean() < 0.02                        # the draft was near
+
+
 def test_the_cost_benchmark_runs():
     """benchmarks/grease_pencil_cost.py at a tiny size (numbers, not speed)."""
     sys.path.insert(0, os.path.join(REPO, "benchmarks"))
     import grease_pencil_cost
     m, page_mb = grease_pencil_cost.measure(48, 1)
-    assert len(m) == 6 and all(seconds > 0 for seconds in m.values()) and page_mb > 0
+    assert len(m) == 7 and all(seconds > 0 for seconds in m.values()) and page_mb > 0
 
 
 def test_the_frames_benchmark_runs_and_nothing_still_flickers():

@@ -16,14 +16,13 @@ from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
 from dynpaint_addon.inputs.recipe import load_images  # noqa: E402
 
+from conftest import EEVEE_OPAQUE_SNAP  # noqa: E402
 from parity_recipes import RECIPES, make_recipe, write_images  # noqa: E402
 
 # The issue asks for 1e-3 (Cycles) and 3e-3 (EEVEE); Cycles measures ≤ 5e-6 here, so a
 # regression shows long before it breaks the promise.
 TOLERANCE = {"cycles": 1e-4, "eevee": 3e-3}
 BORDER = 1   # the height gradient is one-sided there in numpy, extended in nodes
-# Measured: EEVEE's blended transparency renders α ≥ 1 − 1/255 as fully opaque (254/255 → 1).
-EEVEE_OPAQUE_SNAP = 1 - 1.5 / 255
 
 
 @pytest.fixture(scope="module")

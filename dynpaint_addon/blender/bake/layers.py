@@ -81,35 +81,52 @@ def group_key(mats, depsgraph=None):
     return repr(parts)
 
 
-_SCENES = {}     # parent name → (key without lights, core Scene): a drag keeps it
+_SCENES = {}     # parent name → (key without lights, core Scene, layer_keys): a drag keeps it
+
+
+def layer_keys(mats):
+    """Per layer, what its prepared inputs (§2) depend on: its parameters, the edits of the
+    images the core reads and the frames they show (not its place)."""
+    return [repr((m.name, repr(settings_to_params(m.dynamic_painting)),
+                  versions({c: img for c, img in channel_images(m.dynamic_painting).items()
+                            if c in LAYER_CHANNELS}),
+                  tuple(slot_frame(m, c) for c in LAYER_CHANNELS))) for m in mats]
 
 
 def core_scene(parent, mats, depsgraph=None, key=None):
     """The core Scene of a layered group, made once per group key (its layers' inputs read
-    from Blender and prepared once: a moving light reuses them); key: group_key's, when the
-    caller has it."""
+    from Blender and prepared once: a moving light reuses them; a layer whose own inputs did
+    not change keeps its prepared ones when another is edited, layer_keys); key: group_key's,
+    when the caller has it."""
     key = key or group_key(mats, depsgraph)
     hit = _SCENES.get(parent.name)
     if hit is None or hit[0] != key:
-        layers = group_layers(mats, depsgraph, LAYER_CHANNELS)
+        keys = layer_keys(mats)
+        before = {} if hit is None else {k: i for i, k in enumerate(hit[2])}
+        kept = {i: before[k] for i, k in enumerate(keys) if k in before}
+        layers = group_layers(mats, depsgraph, LAYER_CHANNELS,
+                              kept={mats[i].name: hit[1].layers[j].images
+                                    for i, j in kept.items()})
         for layer in layers:
             layer.p.shadows.enabled = True
-        hit = (key, Scene(layers))
+        hit = (key, Scene(layers, prepared={i: hit[1].ready[j] for i, j in kept.items()}),
+               keys)
         _SCENES[parent.name] = hit
     return hit[1]
 
 
-def group_layers(mats, depsgraph=None, channels=None, f=None):
+def group_layers(mats, depsgraph=None, channels=None, f=None, kept=None):
     """The paintings of a group (group_materials) as the core's layers (§15): their images
     (only `channels` when given) at scene frame `f` (default: now), parameters, and places
-    in the back layer's frame."""
+    in the back layer's frame; kept: {material name: images} already read (not read again)."""
     back = mats[0].dynamic_painting.plane
     layers = []
     for mat in mats:
         s = mat.dynamic_painting
         depth, offset, scale = _placement(back, s.plane, depsgraph)
-        images = {c: frame_data(mat, c, f) for c in channel_images(s)     # (§16: the frame's)
-                  if channels is None or c in channels}
+        images = (kept or {}).get(mat.name) or \
+            {c: frame_data(mat, c, f) for c in channel_images(s)     # (§16: the frame's)
+             if channels is None or c in channels}
         layers.append(Layer(images, settings_to_params(s), mat.name, depth,
                             s.layer_thickness or None, offset, scale))
     return layers

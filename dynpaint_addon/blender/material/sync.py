@@ -81,7 +81,9 @@ def update(mat, scene=None, depsgraph=None, progress=None, bake="now", rebake=Fa
     bake: when a cos-θ image that is out of date is baked — 'now'; 'live' (someone is
     interacting: in the live-bake worker, preview then final, when no render runs and every
     light has an image to show meanwhile, else now); 'missing' (only lights without an image
-    now: a light moved in a script or a render waits for the per-frame bake).
+    now: a light moved in a script or a render waits for the per-frame bake); 'draft' (a
+    layer's group at draft quality now, its final bake left to the next update: a drawing's
+    stroke while strokes come, scenes/grease_pencil.draft_lit_drawing).
     rebake: bake every light again (the shape's pixels may have changed); force: remake
     every derived image and rebuild the tree as well.
     """
@@ -100,7 +102,9 @@ def update(mat, scene=None, depsgraph=None, progress=None, bake="now", rebake=Fa
 def _bake(mat, scene, depsgraph, progress, when, everything, p, read):
     parent = layer_parent(mat)
     if parent is not None:            # a layer: the whole group bakes at once (§15)
-        if when == "live" and not rendering() and not everything:
+        if when == "draft":
+            bake_group(parent, depsgraph, quality="draft")
+        elif when == "live" and not rendering() and not everything:
             bake_group_live(parent, depsgraph)
         else:
             bake_group(parent, depsgraph, force=everything)

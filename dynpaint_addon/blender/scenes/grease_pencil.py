@@ -39,7 +39,7 @@ from ..bake.live_bake import rendering
 from ..material.sync import update
 from ..state.edits import note_edited
 from ..state.frames import forget_frames, moves
-from ..state.images import packed_image, refill_packed_image
+from ..state.images import packed_image, refill_enlarged, refill_packed_image
 from .layered_build import build_layered, remove_objects
 from .painting_scene import NO_CAMERA, unchanged_images_on_failure
 
@@ -513,54 +513,113 @@ def stale_lit_copies(scene, names):
     return out
 
 
+def _in_place(scene, obj, parent, source, settings, only):
+    """The lit copy's layer materials {stem: material} and the drawing's layers that changed
+    (layer_digests, against `source`'s) drawn anew at settings' resolution (only: the names
+    that changed) → (materials, made: drawn_paintings' entries), or None where they cannot
+    be written in place (other layers, bounds or frames: the lit copy is made anew)."""
+    mats = {m.get(LAYER): m for m in group_materials(parent)}
+    same = set(mats) == {layer_stem(i, group) for i, group
+                         in enumerate(drawn_layers(obj, settings["merge"])[0])} \
+        and np.allclose(framing(obj), source["bounds"], rtol=0, atol=1e-9)
+    if not same:       # (made anew without drawing the changed ones first)
+        return None
+    made, _, _, _ = drawn_paintings(scene, obj, settings, only=only)
+    if any((table is None) != (not moves(mats[name]))
+           for name, _, imgs, _, table in made if imgs is not None):
+        return None
+    return mats, [(name, imgs) for name, _, imgs, _, _ in made if imgs is not None]
+
+
+def _source(parent):
+    """(the drawing, the lit copy's settings, its recorded source) of a lit copy, or None
+    where its drawing is gone."""
+    source = json.loads(parent[SOURCE])
+    obj = bpy.data.objects.get(source["object"])
+    if obj is None or obj.type != "GREASEPENCIL":
+        return None
+    return obj, {**lit_defaults(), **{k: source[k] for k in LIT_SETTINGS if k in source}}, \
+        source
+
+
 def refresh_lit_drawing(context, parent):
     """Redraw the lit copy `parent` from its drawing as it is now: the layers that changed
     (layer_digests) drawn again and their images written in place where the layers, the
     drawing's bounds, sizes and frames are as before (their edits noted, so the group bakes
     again), else the lit copy made anew → the parent (a new one then)."""
-    source = json.loads(parent[SOURCE])
-    obj = bpy.data.objects.get(source["object"])
-    if obj is None or obj.type != "GREASEPENCIL":
+    found = _source(parent)
+    if found is None:
         return parent
-    settings = {**lit_defaults(), **{k: source[k] for k in LIT_SETTINGS if k in source}}
+    obj, settings, source = found
     digests = layer_digests(obj)
     changed = {n for n, d in digests.items() if source.get("layers", {}).get(n) != d}
-    mats = {m.get(LAYER): m for m in group_materials(parent)}
-    # other layers drawn, or other bounds: made anew without drawing the changed ones first
-    same = set(mats) == {layer_stem(i, group) for i, group
-                         in enumerate(drawn_layers(obj, settings["merge"])[0])} \
-        and np.allclose(framing(obj), source["bounds"], rtol=0, atol=1e-9)
-    if same:
-        made, _, _, _ = drawn_paintings(context.scene, obj, settings, only=changed)
-        same = all((table is None) == (not moves(mats[name]))
-                   for name, _, imgs, _, table in made if imgs is not None)
+    in_place = _in_place(context.scene, obj, parent, source, settings, changed)
     written = []
-    if same:
-        for name, _, imgs, _, _ in made:
-            if imgs is None:                       # (a layer the change left alone)
-                continue
-            s = mats[name].dynamic_painting
+    if in_place is not None:
+        mats, made = in_place
+        for name, imgs in made:
             for channel, data in imgs.items():
-                img = getattr(s, f"image_{channel}")
+                img = getattr(mats[name].dynamic_painting, f"image_{channel}")
                 if img is None or not refill_packed_image(img, data):
-                    same = False
+                    in_place = None
                     break
                 written.append(img.name)
-            if not same:
+            if in_place is None:
                 break
-    if not same:                                   # other layers, sizes or frames: anew
+    if in_place is None:                           # other layers, sizes or frames: anew
         hidden = obj.hide_get()
         remove_objects(list(parent.children) + [parent], images=True)
         obj.hide_set(False)
         parent, _ = light_drawing(context, obj, settings)
         obj.hide_set(hidden or obj.hide_get())
         return parent
+    _DRAFTED.pop(parent.name, None)
     note_edited(written)
     forget_frames()
     parent[SOURCE] = json.dumps({**source, "layers": digests})
     for mat in mats.values():       # (the first bakes the group; a UI gets a draft first)
         update(mat, context.scene, bake="now" if rendering() else "live")
     return parent
+
+
+DRAFT_WIDTH = 128      # px: a stroke's draft drawing (Blender's draw costs its pixels here)
+_DRAFTED = {}          # lit copy's name → the layer digests its last draft drew
+
+
+def draft_lit_drawing(context, parent):
+    """A stroke while the artist draws (issue 42: draft while drawing, final after): the
+    layers that changed since the last draft drawn at DRAFT_WIDTH px across and made
+    paintings there (their relief inflated at that size), enlarged into their images and the
+    group baked at draft quality. Nothing is packed and the lit copy's record is left as it
+    was: refresh_lit_drawing draws them at full size once the strokes stop. → whether it
+    drew (False: nothing new, or other layers, bounds or frames, or a layer that moves:
+    those wait for the full redraw)."""
+    found = _source(parent)
+    if found is None:
+        return False
+    obj, settings, source = found
+    digests = layer_digests(obj)
+    last = _DRAFTED.get(parent.name, source.get("layers", {}))
+    changed = {n for n, d in digests.items() if last.get(n) != d}
+    if not changed:
+        return False
+    small = {**settings, "resolution": min(DRAFT_WIDTH, settings["resolution"]),
+             "animation": False}
+    in_place = _in_place(context.scene, obj, parent, source, small, changed)
+    if in_place is None:
+        return False
+    mats, made = in_place
+    written = []
+    for name, imgs in made:
+        for channel, data in imgs.items():
+            img = getattr(mats[name].dynamic_painting, f"image_{channel}")
+            if img is not None and refill_enlarged(img, data):
+                written.append(img.name)
+    _DRAFTED[parent.name] = digests
+    note_edited(written)
+    for mat in mats.values():       # (the first bakes the group)
+        update(mat, context.scene, bake="draft")
+    return True
 
 
 def light_recipe_drawing(context, recipe, location=(0.0, 0.0, 0.0), width=None):

@@ -8,7 +8,8 @@ import bpy
 
 from ... import params
 from ...core.frames import expand_pattern, is_pattern
-from ...core.input_rules import pixel_role
+from ...core.input_rules import ImageData, pixel_role
+from ...core.sampling import resample_separable
 from ...inputs.imageio import file_channels, file_header
 from ...inputs.memory import check_read
 from ...inputs.painting_frames import BoundedCache, sequence_numbers
@@ -189,15 +190,26 @@ def _rgba(data):
                           axis=2).astype(np.float32)
 
 
-def refill_packed_image(img, data):
+def refill_packed_image(img, data, pack=True):
     """Write ImageData into an image packed_image made from data of the same size and kind,
-    packed again → whether it could (False: another size or bit depth)."""
+    packed again (unless not `pack`: a draft the next write replaces) → whether it could
+    (False: another size or bit depth)."""
     h, w = data.pixels.shape[:2]
     if tuple(img.size) != (w, h) or img.is_float != (data.bits == 32):
         return False
     img.pixels.foreach_set(np.ascontiguousarray(_rgba(data)).ravel())
-    img.pack()
+    if pack:
+        img.pack()
     return True
+
+
+def refill_enlarged(img, data):
+    """A draft drawn smaller (ImageData of the image's kind) written into the packed image
+    `img` at its size (bilinear, resample_separable), not packed: the full-size drawing that
+    follows replaces it → whether it could (False: another bit depth)."""
+    w, h = img.size
+    big = ImageData(resample_separable(_rgba(data), h, w), data.bits, data.name)
+    return refill_packed_image(img, big, pack=False)
 
 
 def packed_image(name, data, channel):
