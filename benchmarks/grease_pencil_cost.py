@@ -10,7 +10,8 @@ stroke's redraw of its lit copy.
   final quality), in the add-on;
 - its web page (File › Export on the lit copy; `export-web FILE.blend --grease-pencil`);
 - a stroke: a fill added to the figure's layer, its draft as a UI shows it at once
-  (draft_lit_drawing: the layer drawn small, enlarged, the group baked at draft) — goal
+  (draft_lit_drawing: the layer drawn small and enlarged, the group's shadows baked from
+  its layers made as small) — goal
   ≤ 100 ms at 1024² (issue 42) — and the depsgraph update that redraws the lit copy in full
   (handlers.redraw_lit_drawings → refresh_lit_drawing, the layer drawn again at full size,
   the group baked at final: what follows once the strokes stop).
@@ -126,7 +127,8 @@ def main(argv=None):
     lines += ["", f"The web page holds the three layers' images and shaders: {page_mb:.1f} MB.",
               "", f"A stroke with a UI shows a draft at once (draft_lit_drawing: the changed "
               f"layer drawn {DRAFT_WIDTH} px across, made a painting there, enlarged into its "
-              f"images, the group baked at draft quality): {draft:.0f} ms, "
+              f"images where it changed, the group's shadows baked from its layers made as "
+              f"small, draft_group): {draft:.0f} ms, "
               f"{final / draft:.0f}× sooner than the full redraw that follows once the "
               f"strokes stop ({final:.0f} ms). Blender's drawing of a layer costs its pixels "
               f"here (one layer at 128 px: {floor:.0f} ms; the three at {args.size}²: the "

@@ -35,7 +35,7 @@ from .scenes.grease_pencil import (draft_lit_drawing, drawing_of, refresh_lit_dr
 from .state.edits import note_edited
 from .state.frame_sampling import only_reading_lights
 from .state.frames import forget_frames, moves
-from .state.images import forget_frames_made
+from .state.images import forget_enlarged, forget_frames_made
 from .state.painted import forget_painted, painted_layers, watched_images
 from .state.settings import channel_images
 from .state.status import problems, report
@@ -196,6 +196,7 @@ def remake_generated_images(*_):
     forget_cached_shapes()
     forget_frames()
     forget_frames_made()
+    forget_enlarged()
     forget_painted()
     forget_scenes()
     paintings_ = [m for m in bpy.data.materials if m.dynamic_painting.is_painting]

@@ -12,6 +12,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .bake import QUALITY, quality_settings
 from .input_rules import input_notes, silhouette_channel
 from .pipeline import (normal_map_relief_px, prepare, render, shadow_term,
                        silhouette_alpha, transparency_k)
@@ -166,31 +167,40 @@ class Scene:
         return [light_in_layer(lt, self.places[i], self.ready[i].size, self.canvas)
                 for lt in lights]
 
-    def bake(self, light, quality=None, progress=None):
+    def bake(self, light, quality=None, progress=None, reduced=1.0):
         """t = t_own·T of one light on every layer → [(H_i, W_i)] in the layers' order;
         each at its own shadows' quality level, or at `quality` for all (a live bake while
         a light is dragged: 'draft'). The inputs stay prepared: a scene made once serves
-        every light of a drag."""
+        every light of a drag. reduced: how many times smaller the scene's layers are than
+        the paintings they stand for (a draft drawn small): each level's reduction of the
+        pixels is divided by it, so the level reads about as many pixels as it would at
+        full size (its K and sampling kept; the own term marched)."""
         out = [None] * len(self.layers)
         for position, i in enumerate(self.order):
             ready, p = self.ready[i], self.layers[i].p
-            if quality is not None:
+            if quality is not None or reduced != 1.0:
                 p = copy.deepcopy(p)
-                p.shadows.quality = quality
+                p.shadows.quality = quality or p.shadows.quality
+            level = p.shadows.quality
+            if reduced != 1.0 and level in QUALITY:
+                p.shadows.steps, scale, _ = quality_settings(level)
+                p.shadows.quality, p.shadows.resolution = "custom", min(1.0, scale * reduced)
             own = shadow_term(ready.n, ready.z_px, ready.slopes, self.own_lights(i, [light])[0],
                               p)
-            through = self.through(i, [light], p.shadows.quality)
+            through = self.through(i, [light], level, reduced)
             out[i] = own if through is None else own * through[0].astype(own.dtype)
             if progress is not None:
                 progress((position + 1) / len(self.order))
         return out
 
-    def through(self, i, lights, quality=None):
+    def through(self, i, lights, quality=None, reduced=1.0):
         """Per light, T of layer i (§15): what the layers in front let through along its
-        rays, at its own shadows' quality level; None when nothing is in front."""
+        rays, at its own shadows' quality level (its pixels' reduction divided by
+        `reduced`: bake); None when nothing is in front."""
         p = self.layers[i].p
         level = quality or p.shadows.quality
-        q = LAYER_QUALITY.get(level, LAYER_QUALITY["final"])
+        q = dict(LAYER_QUALITY.get(level, LAYER_QUALITY["final"]))
+        q["scale"] = min(1.0, q["scale"] * reduced)
         front = [self.occluder(k, q["scale"]) for k in self.order[self.order.index(i) + 1:]]
         if not front:
             return None

@@ -116,26 +116,27 @@ def resample(img, height, width, extension="extend"):
 RESAMPLE_BAND_PIXELS = 1 << 20
 
 
-def resample_separable(img, height, width):
+def resample_separable(img, height, width, box=None):
     """`resample` (bilinear at the new pixel centres, extended edges) of an (H, W) or
     (H, W, C) image, done as two 1-D passes with precomputed indices and weights: the same
     values up to rounding, ~5× faster (the bake resamples to and from its reduced resolution
-    with it, §13)."""
+    with it, §13). box: (r0, r1, c0, c1), only those rows and columns of the result (the
+    same values as the whole one's there)."""
     h, w = img.shape[:2]
+    r0, r1, c0, c1 = box or (0, height, 0, width)
     if (h, w) == (height, width):
-        return img
+        return img if box is None else img[r0:r1, c0:c1]
     dtype = img.dtype.type
     extra = (None,) * (img.ndim - 2)
 
-    def taps(n_in, n_out):
-        c = np.clip((np.arange(n_out) + 0.5) * (n_in / n_out) - 0.5, 0, n_in - 1)
+    def taps(n_in, n_out, lo, hi):
+        c = np.clip((np.arange(lo, hi) + 0.5) * (n_in / n_out) - 0.5, 0, n_in - 1)
         i0 = np.floor(c).astype(np.intp)
         return i0, np.minimum(i0 + 1, n_in - 1), (c - i0).astype(dtype)
-    i0, i1, fy = taps(h, height)
+    i0, i1, fy = taps(h, height, r0, r1)
     fy = fy[(slice(None), None) + extra]
-    j0, j1, fx = taps(w, width)
+    j0, j1, fx = taps(w, width, c0, c1)
     fx = fx[(slice(None),) + extra]
-
 
     def lerp(lo, hi, f):        # lo + (hi − lo)·f, in hi (a fresh gather)
         hi -= lo
@@ -152,6 +153,19 @@ def resample_separable(img, height, width):
     if height > h:
         return along_rows(along_columns(img))
     return along_columns(along_rows(img))
+
+
+def enlarged_box(box, size, new_size):
+    """The pixels of resample_separable's (bilinear) result at `new_size` (H, W) whose taps
+    read a pixel of `box` (r0, r1, c0, c1) of an image of `size` (h, w): what an edit of that
+    box changes in the enlarged image (a pixel to spare on each side)."""
+    def span(lo, hi, n_in, n_out):
+        k = n_out / n_in          # output i reads ⌊(i + ½)/k − ½⌋ and the one after
+        return (max(0, int(np.floor((lo - 0.5) * k - 0.5)) - 1),
+                min(n_out, int(np.ceil((hi + 0.5) * k - 0.5)) + 1))
+    (r0, r1), (c0, c1) = (span(box[0], box[1], size[0], new_size[0]),
+                          span(box[2], box[3], size[1], new_size[1]))
+    return r0, r1, c0, c1
 
 
 def gaussian_blur(img, sigma_px, extension="extend"):

@@ -13,7 +13,7 @@ bpy = pytest.importorskip("bpy")
 from mathutils import Vector  # noqa: E402
 
 from dynpaint_addon import blender  # noqa: E402
-from dynpaint_addon.blender.bake.layers import group_materials  # noqa: E402
+from dynpaint_addon.blender.bake.layers import DRAFTED, group_materials  # noqa: E402
 from dynpaint_addon.blender.scenes.grease_pencil import (  # noqa: E402
     DRAFT_WIDTH, LAYER, SOURCE, GreasePencilError, draft_lit_drawing, drawn_layers,
     layer_digests, render_layers, stale_lit_copies)
@@ -404,8 +404,8 @@ def test_a_lit_copy_follows_its_drawing(drawing):
 
 def test_a_stroke_is_drafted_small_at_once_then_drawn_in_full(drawing):
     """With a UI a stroke shows a draft at once (draft_lit_drawing): the changed layer drawn
-    DRAFT_WIDTH px across, enlarged into its images (not packed), the group baked at draft
-    quality, the lit copy's record left for the full redraw; a draft with nothing new draws
+    DRAFT_WIDTH px across, enlarged into its images (not packed), the group's shadows from
+    the layers made as small (draft_group), the lit copy's record left for the full redraw; a draft with nothing new draws
     nothing; the full redraw after it is what it is without one (the headless contract)."""
     sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
     bpy.context.scene.collection.objects.link(sun)
@@ -425,7 +425,7 @@ def test_a_stroke_is_drafted_small_at_once_then_drawn_in_full(drawing):
     cx, cy = np.argwhere(gained)[:, 1].mean() / w, np.argwhere(gained)[:, 0].mean() / h
     assert gained.sum() > 100 and abs(cx - (0.6 + 1.04) / 2.08) < 0.03     # the new disc
     items = [m.dynamic_painting.lights[0] for m in (back, front)]
-    assert all("|draft|" in item.bake_key for item in items)             # baked at draft
+    assert all(item.bake_key == DRAFTED for item in items)               # a draft's shadows
     t_draft = image_data_from_blender(items[0].shadow).pixels[..., 0].copy()
     assert np.abs(t_draft - t_before).max() > 0.1                        # its shadow there
     assert stale_lit_copies(bpy.context.scene, {drawing.name}) == [parent]
@@ -434,7 +434,7 @@ def test_a_stroke_is_drafted_small_at_once_then_drawn_in_full(drawing):
     bpy.context.view_layer.update()                                     # the full redraw
     full = image_data_from_blender(bright).pixels[..., 3]
     assert not stale_lit_copies(bpy.context.scene, {drawing.name})
-    assert all("|draft|" not in item.bake_key for item in items)
+    assert all(item.bake_key not in ("", DRAFTED) for item in items)
     assert 0 < np.abs(full - drafted).max() and np.abs(full - drafted).mean() < 0.02
     t_full = image_data_from_blender(items[0].shadow).pixels[..., 0]
     assert np.abs(t_full - t_draft).mean() < 0.02                        # the draft was near

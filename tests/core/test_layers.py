@@ -8,7 +8,7 @@ from dynpaint_addon.core.input_rules import ImageData
 from dynpaint_addon.core.layers import Layer, Scene, placement, render_scene, scene_notes
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.pipeline import render
-from dynpaint_addon.core.sampling import pixel_centres
+from dynpaint_addon.core.sampling import pixel_centres, resample_separable
 from dynpaint_addon.core.transmittance import Occluder, transmittance
 from dynpaint_addon.inputs.recipe import load_images, load_recipe
 from dynpaint_addon.inputs.samples import recipe_path
@@ -313,3 +313,23 @@ def test_a_receiver_wholly_above_a_layer_takes_nothing_from_it():
         for maps in (True, False):
             t = transmittance(plane_origins(40.0), light, [card(24, 40, 16.0)], maps=maps)
             assert t.min() == 1.0
+
+
+def test_a_scene_made_small_bakes_a_draft_as_near_as_the_full_sized_draft():
+    """Scene.bake(reduced=f) of the scene drawn f× smaller (a stroke's draft, issue 42):
+    each level's reduction divided by f, its t enlarged is about as near the full-size final
+    bake as the full-size draft is, and nearer than the small scene's plain draft."""
+    light = Light("sun", (0.45, -0.5, 0.74))
+
+    def scene(size):
+        return Scene([Layer(images, p, name, depth)
+                      for name, depth, images, p in builtin_scene_layers(size)])
+    big, small = scene(384), scene(96)
+    final, draft = big.bake(light, "final"), big.bake(light, "draft")
+
+    def error(ts):
+        return max(float(np.abs(resample_separable(t, *want.shape) - want).mean())
+                   for t, want in zip(ts, final))
+    reduced, plain = error(small.bake(light, "draft", reduced=4.0)), \
+        error(small.bake(light, "draft"))
+    assert reduced <= 1.5 * error(draft) and reduced < plain

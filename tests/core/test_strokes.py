@@ -10,6 +10,7 @@ from dynpaint_addon.core.bake import bake, bake_edited
 from dynpaint_addon.core.input_rules import ImageData
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.pipeline import shape_normals, shape_normals_edited
+from dynpaint_addon.core.sampling import enlarged_box, resample_separable
 from dynpaint_addon.core.shape import slopes_from_normals
 
 SUNS = [Light("sun", v) for v in ((1, 0.3, 0.5), (-0.2, -1, 0.3), (0.05, 0.9, 1.2),
@@ -163,3 +164,22 @@ def test_boxes():
     assert strokes.changed_box(a, a[:3]) is None             # (sizes differ: not a box)
     assert strokes.union(None, (1, 2, 3, 4), (0, 1, 5, 6)) == (0, 2, 3, 6)
     assert strokes.grow((1, 2, 3, 4), 2.2, 5, 5) == (0, 5, 0, 5)
+
+
+def test_an_enlarged_image_redone_where_an_edit_reads_equals_the_whole():
+    """enlarged_box (a stroke's draft written again only where it changed, issue 42): the
+    enlarged image with that box resampled again from the edited small one is the whole
+    enlargement of it, bit for bit, for whole and other factors."""
+    rng = np.random.default_rng(7)
+    for small, big in [((24, 32), (192, 256)), ((31, 17), (100, 40)), ((9, 9), (9, 27))]:
+        img = rng.random(small + (4,)).astype(np.float32)
+        out = resample_separable(img, *big)
+        for _ in range(20):
+            r0, c0 = rng.integers(0, small[0]), rng.integers(0, small[1])
+            box = (r0, min(small[0], r0 + rng.integers(1, 4)), c0,
+                   min(small[1], c0 + rng.integers(1, 4)))
+            img = img.copy()
+            img[box[0]:box[1], box[2]:box[3]] = rng.random((box[1] - box[0], box[3] - box[2], 4))
+            b0, b1, b2, b3 = again = enlarged_box(box, small, big)
+            out[b0:b1, b2:b3] = resample_separable(img, *big, again)
+            assert np.array_equal(out, resample_separable(img, *big))

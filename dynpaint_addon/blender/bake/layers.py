@@ -19,7 +19,9 @@ import numpy as np
 
 import bpy
 
+from ...core.input_rules import ImageData
 from ...core.layers import Layer, Scene
+from ...core.sampling import resample_separable
 from ..state.edits import versions
 from ..state.frames import frame_data, slot_frame
 from ..state.lights import painting_frame_light, plane_matrix
@@ -135,6 +137,7 @@ def group_layers(mats, depsgraph=None, channels=None, f=None, kept=None):
 def forget_scenes():
     """Another file is open, or undo: the cached scenes may show other planes."""
     _SCENES.clear()
+    _SMALL.clear()
     _FINAL_DUE.clear()
 
 
@@ -147,14 +150,8 @@ def bake_group(parent, depsgraph=None, quality=None, force=False):
         return 0.0
     group = group_key(mats, depsgraph)
     key = group + f"|{quality or 'own'}"
-    back = plane_matrix(mats[0], depsgraph)
-    items = [(mat, item) for mat in mats for item in mat.dynamic_painting.lights
-             if item.object is not None]
-    lights = {}            # light object name → core Light in the back layer's frame
-    for _, item in items:
-        if item.object.name not in lights:
-            lights[item.object.name] = painting_frame_light(item.object, back, depsgraph)
-    todo = {item.object.name: lights[item.object.name] for _, item in items
+    lights = group_lights(mats, depsgraph)
+    todo = {item.object.name: lights[item.object.name] for _, item in _linked(mats)
             if force or item.shadow is None or
             item.bake_key != _key(key, lights[item.object.name])}
     if not todo:
@@ -169,6 +166,75 @@ def bake_group(parent, depsgraph=None, quality=None, force=False):
                              _key(key, todo[item.object.name]))
         mat.dynamic_painting.shadows_stale = False
     return (time.perf_counter() - start) * 1000
+
+
+def _linked(mats):
+    """(material, light item) of each light linked to a layer of the group."""
+    return [(mat, item) for mat in mats for item in mat.dynamic_painting.lights
+            if item.object is not None]
+
+
+def group_lights(mats, depsgraph=None):
+    """{light object name: core Light in the back layer's frame} of the group's lights."""
+    back = plane_matrix(mats[0], depsgraph)
+    lights = {}
+    for _, item in _linked(mats):
+        if item.object.name not in lights:
+            lights[item.object.name] = painting_frame_light(item.object, back, depsgraph)
+    return lights
+
+
+DRAFTED = "draft"      # the bake key of cos-θ images a draft wrote: the next bake redoes them
+_SMALL = {}            # parent name → {layer_keys' key: its images made small} (draft_group)
+
+
+def draft_group(parent, drawn, depsgraph=None):
+    """A draft of a group's shadows (§15) from layers drawn small (issue 42: a stroke on a
+    drawing while strokes come): `drawn` {material name: the layer's images, a whole factor
+    f smaller than its images}; the other layers' images made as small (bilinear, kept by
+    layer_keys: a stroke reads them once), the small scene baked at draft quality as the
+    full-size one would be (Scene.bake's `reduced`) and each t enlarged into its cos-θ
+    images, keyed DRAFTED so that the next bake_group bakes them at full size.
+    → milliseconds taken."""
+    mats = group_materials(parent)
+    lights = group_lights(mats, depsgraph)
+    if not mats or not lights or not drawn:
+        return 0.0
+    start = time.perf_counter()
+    name, small = next(iter(drawn.items()))
+    full_w = bpy.data.materials[name].dynamic_painting.image_shape.size[0]
+    f = full_w / small["shape"].size[0]
+    kept, images = _SMALL.get(parent.name, {}), {}
+    keys = layer_keys(mats)
+    for mat, key in zip(mats, keys):
+        if mat.name in drawn:
+            images[mat.name] = drawn[mat.name]
+        elif key in kept:
+            images[mat.name] = kept[key]
+        else:
+            images[mat.name] = {c: _made_small(frame_data(mat, c), f)
+                                for c in channel_images(mat.dynamic_painting)
+                                if c in LAYER_CHANNELS}
+    _SMALL[parent.name] = dict(zip(keys, (images[m.name] for m in mats)))
+    layers = group_layers(mats, depsgraph, LAYER_CHANNELS, kept=images)
+    for layer in layers:
+        layer.p.shadows.enabled = True
+    scene = Scene(layers)
+    for light_name, light in lights.items():
+        for mat, t in zip(mats, scene.bake(light, "draft", reduced=f)):
+            w, h = mat.dynamic_painting.image_shape.size
+            t = np.clip(resample_separable(t, h, w), 0, 1)
+            for item in mat.dynamic_painting.lights:
+                if item.object is not None and item.object.name == light_name:
+                    write_shadow(mat, item, t, DRAFTED)
+    return (time.perf_counter() - start) * 1000
+
+
+def _made_small(img, f):
+    """ImageData `f` times smaller (bilinear at the new pixel centres)."""
+    w, h = img.size
+    return ImageData(resample_separable(img.pixels, max(1, round(h / f)), max(1, round(w / f))),
+                     img.bits, img.name)
 
 
 def bake_painting(mat, scene, depsgraph=None, force=True, progress=None, p=None):

@@ -81,9 +81,8 @@ def update(mat, scene=None, depsgraph=None, progress=None, bake="now", rebake=Fa
     bake: when a cos-θ image that is out of date is baked — 'now'; 'live' (someone is
     interacting: in the live-bake worker, preview then final, when no render runs and every
     light has an image to show meanwhile, else now); 'missing' (only lights without an image
-    now: a light moved in a script or a render waits for the per-frame bake); 'draft' (a
-    layer's group at draft quality now, its final bake left to the next update: a drawing's
-    stroke while strokes come, scenes/grease_pencil.draft_lit_drawing).
+    now: a light moved in a script or a render waits for the per-frame bake); 'none' (left
+    as they are: a draft wrote them, bake/layers.draft_group).
     rebake: bake every light again (the shape's pixels may have changed); force: remake
     every derived image and rebuild the tree as well.
     """
@@ -92,7 +91,7 @@ def update(mat, scene=None, depsgraph=None, progress=None, bake="now", rebake=Fa
     state = read_state(mat, scene)          # the settings, read once for the whole update
     warnings = update_derived_images(mat, state, force=force)
     sync_light_items(mat.dynamic_painting, state.lights)
-    if state.params.shadows.enabled:
+    if state.params.shadows.enabled and bake != "none":
         _bake(mat, scene, depsgraph, progress, bake, rebake or force, state.params, state.read)
     rebuild_tree(mat, scene, force=force, state=state)
     clear_errors(mat)
@@ -102,9 +101,7 @@ def update(mat, scene=None, depsgraph=None, progress=None, bake="now", rebake=Fa
 def _bake(mat, scene, depsgraph, progress, when, everything, p, read):
     parent = layer_parent(mat)
     if parent is not None:            # a layer: the whole group bakes at once (§15)
-        if when == "draft":
-            bake_group(parent, depsgraph, quality="draft")
-        elif when == "live" and not rendering() and not everything:
+        if when == "live" and not rendering() and not everything:
             bake_group_live(parent, depsgraph)
         else:
             bake_group(parent, depsgraph, force=everything)

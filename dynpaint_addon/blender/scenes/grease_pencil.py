@@ -34,12 +34,13 @@ from ...inputs.imageio import quiet_native, read_image
 from ...inputs.drawings import frame_range, load_drawing
 from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING, painting_of_frames
 from ...shapes.methods import options as shape_options
-from ..bake.layers import group_materials
+from ..bake.layers import draft_group, group_materials
 from ..bake.live_bake import rendering
 from ..material.sync import update
 from ..state.edits import note_edited
 from ..state.frames import forget_frames, moves
-from ..state.images import packed_image, refill_enlarged, refill_packed_image
+from ..state.images import (forget_enlarged, packed_image, refill_enlarged,
+                            refill_packed_image)
 from .layered_build import build_layered, remove_objects
 from .painting_scene import NO_CAMERA, unchanged_images_on_failure
 
@@ -574,6 +575,7 @@ def refresh_lit_drawing(context, parent):
         obj.hide_set(hidden or obj.hide_get())
         return parent
     _DRAFTED.pop(parent.name, None)
+    forget_enlarged(written)
     note_edited(written)
     forget_frames()
     parent[SOURCE] = json.dumps({**source, "layers": digests})
@@ -617,8 +619,9 @@ def draft_lit_drawing(context, parent):
                 written.append(img.name)
     _DRAFTED[parent.name] = digests
     note_edited(written)
-    for mat in mats.values():       # (the first bakes the group)
-        update(mat, context.scene, bake="draft")
+    draft_group(parent, {mats[name].name: imgs for name, imgs in made})
+    for name, _ in made:            # their derived images; the shadows the draft's
+        update(mats[name], context.scene, bake="none")
     return True
 
 

@@ -8,8 +8,9 @@ import bpy
 
 from ... import params
 from ...core.frames import expand_pattern, is_pattern
-from ...core.input_rules import ImageData, pixel_role
-from ...core.sampling import resample_separable
+from ...core.input_rules import pixel_role
+from ...core.sampling import enlarged_box, resample_separable
+from ...core.strokes import changed_box
 from ...inputs.imageio import file_channels, file_header
 from ...inputs.memory import check_read
 from ...inputs.painting_frames import BoundedCache, sequence_numbers
@@ -203,13 +204,41 @@ def refill_packed_image(img, data, pack=True):
     return True
 
 
+# image name → (the small RGBA refill_enlarged last wrote, its enlarged RGBA, the image's
+# pointer: a new image of the name is another)
+_ENLARGED = {}
+
+
 def refill_enlarged(img, data):
     """A draft drawn smaller (ImageData of the image's kind) written into the packed image
     `img` at its size (bilinear, resample_separable), not packed: the full-size drawing that
-    follows replaces it → whether it could (False: another bit depth)."""
+    follows replaces it (forget_enlarged). After a draft of the same image only the pixels
+    that read a changed small pixel are enlarged again (enlarged_box: the same values).
+    → whether it wrote (False: nothing changed, or another bit depth)."""
     w, h = img.size
-    big = ImageData(resample_separable(_rgba(data), h, w), data.bits, data.name)
-    return refill_packed_image(img, big, pack=False)
+    if img.is_float != (data.bits == 32):
+        return False
+    small = _rgba(data)
+    last = _ENLARGED.get(img.name)
+    if last is not None and last[2] == img.as_pointer() and last[0].shape == small.shape \
+            and last[1].shape == (h, w, 4):
+        box = changed_box(last[0], small)
+        if box is None:
+            return False
+        big = last[1]
+        r0, r1, c0, c1 = out = enlarged_box(box, small.shape[:2], (h, w))
+        big[r0:r1, c0:c1] = resample_separable(small, h, w, out)
+    else:
+        big = resample_separable(small, h, w)
+    _ENLARGED[img.name] = (small, big, img.as_pointer())
+    img.pixels.foreach_set(big.ravel())
+    return True
+
+
+def forget_enlarged(names=None):
+    """The drafts kept by refill_enlarged of these images (all: None): written over since."""
+    for name in list(_ENLARGED) if names is None else names:
+        _ENLARGED.pop(name, None)
 
 
 def packed_image(name, data, channel):
