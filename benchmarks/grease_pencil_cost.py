@@ -132,7 +132,7 @@ def main(argv=None):
               f"{final / draft:.0f}× sooner than the full redraw that follows once the "
               f"strokes stop ({final:.0f} ms). Blender's drawing of a layer costs its pixels "
               f"here (one layer at 128 px: {floor:.0f} ms; the three at {args.size}²: the "
-              f"first row): {gpu_words()}"]
+              f"first row): {gpu_words()} Measured on a GPU: [on-a-gpu.md](on-a-gpu.md)."]
     publish(lines, args.out)
     return m
 

@@ -183,9 +183,11 @@ the camera (its layer's translation), else *Spacing* apart (0.05 of its width) �
 inflated by parts from its alpha with a low *Relief* (0.1 of a hemisphere: a drawing's layers
 lie close), the layers in front shadowing those behind. The drawing is hidden, not changed:
 unhide it and draw on, and the lit copy follows — each change of the drawing (a stroke, a
-keyframe, a material's colour) redraws its layers in place once the drawing has been still
-for 0.3 s (at once in scripts and renders, after a depsgraph evaluation); a layer added or
-removed makes the lit copy anew. An animated
+keyframe, a material's colour) shows at once as a draft (the changed layer drawn 128 px
+across and enlarged, its shadows from the layers made as small: 0.2 s at 1024² here) and is
+drawn in full in place once the drawing has been still for 0.3 s (at once in scripts and
+renders, after a depsgraph evaluation); a layer added or removed makes the lit copy anew.
+An animated
 drawing (a layer with more than one keyframe, or animated data) is drawn on every frame of
 the scene's range: a layer whose drawing changes becomes a painting of sprite sheets that
 follow the scene's frames (§16; each frame's shape inflated by parts, so what does not
