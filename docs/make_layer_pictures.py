@@ -185,8 +185,8 @@ lie close), the layers in front shadowing those behind. The drawing is hidden, n
 unhide it and draw on, and the lit copy follows — each change of the drawing (a stroke, a
 keyframe, a material's colour) shows at once as a draft (the changed layer drawn 128 px
 across and enlarged, its shadows from the layers made as small: 0.2 s at 1024² here) and is
-drawn in full in place once the drawing has been still for 0.3 s (at once in scripts and
-renders, after a depsgraph evaluation); a layer added or removed makes the lit copy anew.
+drawn in full in place once no stroke has come for 1 s (at once in scripts and renders,
+after a depsgraph evaluation); a layer added or removed makes the lit copy anew.
 An animated
 drawing (a layer with more than one keyframe, or animated data) is drawn on every frame of
 the scene's range: a layer whose drawing changes becomes a painting of sprite sheets that

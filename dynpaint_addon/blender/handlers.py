@@ -22,6 +22,8 @@ while an operator only reads the lights frame by frame (frame_sampling.py). A ha
 raises into Blender: failures are reported (status.py) and the painting keeps its last good
 images (shadow_images.bake_shadows writes only after a complete bake).
 """
+import time
+
 import bpy
 from bpy.app.handlers import persistent
 
@@ -91,8 +93,8 @@ def redraw_lit_drawings(scene, depsgraph):
     """A Grease Pencil drawing changed (a stroke, a keyframe, a material): redraw the lit
     copies made from it (scenes/grease_pencil.refresh_lit_drawing: the layers that changed)
     — at once without a UI (the headless contract); with one, a draft at once
-    (draft_lit_drawing: drawn small, baked at draft) and the full redraw DEBOUNCE_S later (a
-    drawing's strokes come fast, and each full redraw renders its layers at full size)."""
+    (draft_lit_drawing: drawn small) and the full redraw once no stroke has come for
+    STROKES_QUIET_S."""
     if _REDRAWING:
         return
     names = set()
@@ -108,33 +110,49 @@ def redraw_lit_drawings(scene, depsgraph):
     if not stale:
         return
     if not rendering():
+        now = time.perf_counter()
         for parent in stale:       # a draft of each stroke now, the full drawing once they stop
-            _redraw(parent, draft_lit_drawing)
-        _PENDING.update(p.name for p in stale)
+            if _redraw(parent, draft_lit_drawing):
+                _PENDING[parent.name] = now
+            else:                  # (nothing new since the last draft, or no draft possible)
+                _PENDING.setdefault(parent.name, now)
         if not bpy.app.timers.is_registered(_redraw_pending):
-            bpy.app.timers.register(_redraw_pending, first_interval=DEBOUNCE_S)
+            bpy.app.timers.register(_redraw_pending, first_interval=STROKES_QUIET_S)
         return
     for parent in stale:
         _redraw(parent)
 
 
-_PENDING = set()
+# The full redraw waits for a pause in the strokes longer than a dragged light's (DEBOUNCE_S):
+# a drawing's strokes come with short lifts of the pen between them, and the full redraw
+# holds Blender while it draws every changed layer at full size (seconds at 1024² without a
+# GPU: docs/grease-pencil-cost.md); the draft shows each stroke meanwhile.
+STROKES_QUIET_S = max(DEBOUNCE_S, 1.0)
+_PENDING = {}       # lit copy's name → when its last stroke was drafted
 
 
 def _redraw_pending():
-    scene = bpy.context.scene
-    for name in list(_PENDING):
-        _PENDING.discard(name)
+    """Timer: the full redraw of the lit copies whose strokes have paused → seconds until the
+    next is due (None: none left)."""
+    scene, now = bpy.context.scene, time.perf_counter()
+    for name, since in list(_PENDING.items()):
+        if now - since < STROKES_QUIET_S:
+            continue
+        del _PENDING[name]
         parent = bpy.data.objects.get(name)
         if parent is not None and parent in stale_lit_copies(scene, {drawing_of(parent)}):
             _redraw(parent)
-    return None
+    if not _PENDING:
+        return None
+    return max(0.05, STROKES_QUIET_S - (time.perf_counter() - max(_PENDING.values())))
 
 
 def _redraw(parent, how=refresh_lit_drawing):
+    """how(context, parent) of a lit copy, its errors reported → what it returned (None when
+    it failed)."""
     _REDRAWING.append(parent.name)
     try:
-        how(bpy.context, parent)
+        return how(bpy.context, parent)
     except Exception as exc:        # never into Blender's update loop
         report(parent.name, exc)
     finally:

@@ -5,6 +5,7 @@ import base64
 import json
 import os
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -13,6 +14,7 @@ bpy = pytest.importorskip("bpy")
 from mathutils import Vector  # noqa: E402
 
 from dynpaint_addon import blender  # noqa: E402
+from dynpaint_addon.blender import handlers  # noqa: E402
 from dynpaint_addon.blender.bake.layers import DRAFTED, group_materials  # noqa: E402
 from dynpaint_addon.blender.scenes.grease_pencil import (  # noqa: E402
     DRAFT_WIDTH, LAYER, SOURCE, GreasePencilError, draft_lit_drawing, drawn_layers,
@@ -405,8 +407,9 @@ def test_a_lit_copy_follows_its_drawing(drawing):
 def test_a_stroke_is_drafted_small_at_once_then_drawn_in_full(drawing):
     """With a UI a stroke shows a draft at once (draft_lit_drawing): the changed layer drawn
     DRAFT_WIDTH px across, enlarged into its images (not packed), the group's shadows from
-    the layers made as small (draft_group), the lit copy's record left for the full redraw; a draft with nothing new draws
-    nothing; the full redraw after it is what it is without one (the headless contract)."""
+    the layers made as small (draft_group), the lit copy's record left for the full redraw;
+    a draft with nothing new draws nothing; the full redraw comes once the strokes pause
+    (STROKES_QUIET_S: the UI's timer, called here)."""
     sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
     bpy.context.scene.collection.objects.link(sun)
     sun.rotation_euler = (np.radians(60), 0, np.radians(-60))
@@ -430,8 +433,11 @@ def test_a_stroke_is_drafted_small_at_once_then_drawn_in_full(drawing):
     assert np.abs(t_draft - t_before).max() > 0.1                        # its shadow there
     assert stale_lit_copies(bpy.context.scene, {drawing.name}) == [parent]
     assert not draft_lit_drawing(bpy.context, parent)                   # nothing new
-    drawing.data.update_tag()
-    bpy.context.view_layer.update()                                     # the full redraw
+    handlers._PENDING[parent.name] = time.perf_counter()
+    assert handlers._redraw_pending() > 0.5 * handlers.STROKES_QUIET_S
+    assert stale_lit_copies(bpy.context.scene, {drawing.name}) == [parent]
+    handlers._PENDING[parent.name] -= handlers.STROKES_QUIET_S
+    assert handlers._redraw_pending() is None                           # the full redraw
     full = image_data_from_blender(bright).pixels[..., 3]
     assert not stale_lit_copies(bpy.context.scene, {drawing.name})
     assert all(item.bake_key not in ("", DRAFTED) for item in items)
