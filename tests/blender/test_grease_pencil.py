@@ -17,8 +17,8 @@ from dynpaint_addon import blender  # noqa: E402
 from dynpaint_addon.blender import handlers  # noqa: E402
 from dynpaint_addon.blender.bake.layers import DRAFTED, group_materials  # noqa: E402
 from dynpaint_addon.blender.scenes.grease_pencil import (  # noqa: E402
-    DRAFT_WIDTH, LAYER, SOURCE, GreasePencilError, draft_lit_drawing, drawn_layers,
-    layer_digests, render_layers, stale_lit_copies)
+    DRAFT_WIDTH, LAYER, SOURCE, GreasePencilError, animated, draft_lit_drawing,
+    drawn_layers, layer_digests, render_layers, stale_lit_copies)
 from dynpaint_addon.core.colour import linear_to_srgb, srgb_to_linear  # noqa: E402
 from dynpaint_addon.inputs.layered_files import DEFAULT_SHADE  # noqa: E402
 from dynpaint_addon.inputs.imageio import image_data_from_blender, read_image  # noqa: E402
@@ -248,6 +248,32 @@ def test_an_animated_drawing_is_lit_frame_by_frame(drawing):
     assert np.all(np.diff(shadow_x) > 0.5 * step)      # the shadow follows the disc
     lit = (np.abs(ts[0] - ts[2]) > 1e-4).mean()       # the card changes where shadows moved
     assert 0 < lit < 0.25
+
+
+def test_a_drawing_whose_material_is_animated_is_lit_frame_by_frame(drawing):
+    """One keyframe per layer, the disc's colour keyframed from orange to green over frames
+    1–3: the drawing changes (animated), its disc's layer is a painting that moves, its
+    bright image on frame 3 green; playing the frames leaves the lit copy current."""
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end = 1, 3
+    colour = drawing.data.materials["orange"].grease_pencil
+    colour.keyframe_insert("fill_color", frame=1)
+    colour.fill_color = (0.1, 0.8, 0.2, 1.0)
+    colour.keyframe_insert("fill_color", frame=3)
+    scene.frame_set(1)
+    assert animated(drawing)
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=64) == {"FINISHED"}
+    back, front = group_materials(bpy.context.object)
+    assert moves(front) and not moves(back)
+    rgb, digests = {}, {}
+    for frame in (1, 3):
+        scene.frame_set(frame)
+        px = frame_data(front, "bright").pixels
+        rgb[frame] = px[..., :3][px[..., 3] > 0.9].mean(axis=0)
+        digests[frame] = layer_digests(drawing)
+    assert rgb[1][0] > rgb[1][1] and rgb[3][1] > rgb[3][0]      # orange, then green
+    # playing it is no edit: the colour is read by its keys, not the frame's value
+    assert digests[1] == digests[3] and not stale_lit_copies(scene, {drawing.name})
 
 
 def saved_drawing(folder, make):

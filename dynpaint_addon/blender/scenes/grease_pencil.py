@@ -37,6 +37,7 @@ from ...shapes.methods import options as shape_options
 from ..bake.layers import draft_group, group_materials
 from ..bake.live_bake import rendering
 from ..material.sync import update
+from ..state.animation import fcurves
 from ..state.edits import note_edited
 from ..state.frames import forget_frames, moves
 from ..state.images import (forget_enlarged, packed_image, refill_enlarged,
@@ -149,9 +150,15 @@ def layer_depths(layers, width, spacing):
 
 def animated(obj):
     """Whether a drawing changes over the frames: a layer with more than one keyframe, or
-    animated data (layer transforms, modifiers' settings)."""
-    return any(len(layer.frames) > 1 for layer in obj.data.layers) or \
-        obj.data.animation_data is not None or obj.animation_data is not None
+    animation data (_animation_data)."""
+    return any(len(layer.frames) > 1 for layer in obj.data.layers) or _animation_data(obj)
+
+
+def _animation_data(obj):
+    """Whether anything the drawing is drawn from is animated: the object (its modifiers' and
+    effects' settings too), its data (layer transforms, opacities) or its materials."""
+    return obj.animation_data is not None or obj.data.animation_data is not None or \
+        any(m is not None and m.animation_data is not None for m in obj.data.materials)
 
 
 def shown_keyframes(obj, group, frames):
@@ -160,9 +167,7 @@ def shown_keyframes(obj, group, frames):
     before the first) — or, where anything of the drawing may change between keyframes
     (animation data, modifiers, effects), the scene frame itself. Frames with one key look
     the same: drawn once."""
-    if obj.animation_data is not None or obj.data.animation_data is not None or \
-            len(obj.modifiers) or len(obj.shader_effects) or \
-            any(m is not None and m.animation_data is not None for m in obj.data.materials):
+    if _animation_data(obj) or len(obj.modifiers) or len(obj.shader_effects):
         return list(frames)
     keys = [sorted(frame.frame_number for frame in layer.frames) for layer in group]
     return [tuple(max((k for k in ks if k <= f), default=None) for ks in keys) for f in frames]
@@ -464,6 +469,13 @@ ATTRIBUTE_READS = {"FLOAT_VECTOR": ("vector", np.float32, 3), "FLOAT": ("value",
                    "FLOAT_COLOR": ("color", np.float32, 4)}
 
 
+MATERIAL_DRAWN = ("color", "fill_color", "show_fill", "show_stroke")   # what layer_digests reads
+
+
+def _plain(value):
+    return tuple(value) if hasattr(value, "__len__") else value
+
+
 def layer_digests(obj):
     """{layer name: digest} of what each layer of the drawing is drawn from: its settings,
     place and frames' strokes (points, radii, opacities, materials), its shadow colours'
@@ -472,9 +484,14 @@ def layer_digests(obj):
     materials = hashlib.sha1()
     for m in [*obj.data.materials, *shadow_materials(obj).values()]:
         g = getattr(m, "grease_pencil", None)
-        if g is not None:
-            materials.update(repr((tuple(g.color), tuple(g.fill_color), g.show_fill,
-                                   g.show_stroke)).encode())
+        if g is not None:          # an animated colour by its keys: not the frame's value
+            curves = fcurves(m)
+            moving = {fc.data_path for fc in curves}
+            materials.update(repr((
+                [_plain(getattr(g, f)) for f in MATERIAL_DRAWN
+                 if f"grease_pencil.{f}" not in moving],
+                [(fc.data_path, fc.array_index, [tuple(k.co) for k in fc.keyframe_points])
+                 for fc in curves])).encode())
     out = {}
     for layer in obj.data.layers:
         digest = hashlib.sha1(materials.digest())

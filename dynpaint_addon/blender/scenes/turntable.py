@@ -12,10 +12,10 @@ import math
 import os
 
 import bpy
-from bpy_extras import anim_utils
 from mathutils import Vector
 
 from ..material.sync import update
+from ..state.animation import fcurves
 from ..state.lights import linked_lights, painting_frame_light
 
 PIVOT_NAME = "Turntable"
@@ -46,17 +46,11 @@ def _clear_transform_animation(obj):
     ad = obj.animation_data
     if ad is None or ad.action is None:
         return 0
-    fcurves = _fcurves(ad.action, obj)
-    dropped = [fc for fc in fcurves if fc.data_path.startswith(("location", "rotation"))]
+    curves = fcurves(obj)
+    dropped = [fc for fc in curves if fc.data_path.startswith(("location", "rotation"))]
     for fc in dropped:
-        fcurves.remove(fc)
+        curves.remove(fc)
     return len(dropped)
-
-
-def _fcurves(action, obj):
-    """An action's F-curves for `obj` (Blender 5.0 keeps them in layered channelbags)."""
-    bag = anim_utils.action_get_channelbag_for_slot(action, obj.animation_data.action_slot)
-    return bag.fcurves if bag is not None else action.fcurves
 
 
 def add_light_turntable(context, mat, light=None, kind="SUN", frame_start=1, frame_end=96,
@@ -105,7 +99,7 @@ def add_light_turntable(context, mat, light=None, kind="SUN", frame_start=1, fra
     for frame, angle in ((frame_start, 0.0), (frame_end + 1, sign * 2 * math.pi)):
         pivot.rotation_euler.z = angle
         pivot.keyframe_insert("rotation_euler", index=2, frame=frame)
-    fc = next(f for f in _fcurves(pivot.animation_data.action, pivot)
+    fc = next(f for f in fcurves(pivot)
               if f.data_path == "rotation_euler" and f.array_index == 2)
     for key in fc.keyframe_points:
         key.interpolation = "LINEAR"
