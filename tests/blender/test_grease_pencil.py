@@ -452,7 +452,8 @@ def test_a_stroke_is_drafted_small_at_once_then_drawn_in_full(drawing):
     assert tuple(bright.size) == (2 * DRAFT_WIDTH, h) and bright.is_dirty   # enlarged, unpacked
     gained = drafted - before > 0.5
     cx, cy = np.argwhere(gained)[:, 1].mean() / w, np.argwhere(gained)[:, 0].mean() / h
-    assert gained.sum() > 100 and abs(cx - (0.6 + 1.04) / 2.08) < 0.03     # the new disc
+    assert gained.sum() > 100 and abs(cx - (0.6 + 1.04) / 2.08) < 0.03 \
+        and abs(cy - (-0.4 + 0.79) / 1.58) < 0.03                        # the new disc
     items = [m.dynamic_painting.lights[0] for m in (back, front)]
     assert all(item.bake_key == DRAFTED for item in items)               # a draft's shadows
     t_draft = image_data_from_blender(items[0].shadow).pixels[..., 0].copy()
