@@ -172,7 +172,7 @@ class Scene:
         each at its own shadows' quality level, or at `quality` for all (a live bake while
         a light is dragged: 'draft'). The inputs stay prepared: a scene made once serves
         every light of a drag. reduced: how many times smaller the scene's layers are than
-        the paintings they stand for (a draft drawn small): each level's reduction of the
+        the paintings they stand for (§15, a scene drawn small): each level's reduction of the
         pixels is divided by it, so the level reads about as many pixels as it would at
         full size (its K and sampling kept; the own term marched)."""
         out = [None] * len(self.layers)
