@@ -190,20 +190,20 @@ _SMALL = {}            # parent name → {layer_keys' key: its images made small
 
 def draft_group(parent, drawn, depsgraph=None):
     """A draft of a group's shadows (§15) from layers drawn small (issue 42: a stroke on a
-    drawing while strokes come): `drawn` {material name: the layer's images, a whole factor
-    f smaller than its images}; the other layers' images made as small (bilinear, kept by
+    drawing while strokes come): `drawn` {material name: the layer's images, f times
+    smaller than its images}; the other layers' images made as small (bilinear, kept by
     layer_keys: a stroke reads them once), the small scene baked at draft quality as the
     full-size one would be (Scene.bake's `reduced`) and each t enlarged into its cos-θ
     images, keyed DRAFTED so that the next bake_group bakes them at full size.
     → milliseconds taken."""
     mats = group_materials(parent)
-    lights = group_lights(mats, depsgraph)
-    if not mats or not lights or not drawn:
+    lights = group_lights(mats, depsgraph) if mats else {}
+    if not lights or not drawn:
         return 0.0
     start = time.perf_counter()
     name, small = next(iter(drawn.items()))
-    full_w = bpy.data.materials[name].dynamic_painting.image_shape.size[0]
-    f = full_w / small["shape"].size[0]
+    full = bpy.data.materials[name].dynamic_painting.image_shape.size
+    f = (full[0] / small["shape"].size[0], full[1] / small["shape"].size[1])   # (x, y)
     kept, images = _SMALL.get(parent.name, {}), {}
     keys = layer_keys(mats)
     for mat, key in zip(mats, keys):
@@ -221,7 +221,7 @@ def draft_group(parent, drawn, depsgraph=None):
         layer.p.shadows.enabled = True
     scene = Scene(layers)
     for light_name, light in lights.items():
-        for mat, t in zip(mats, scene.bake(light, "draft", reduced=f)):
+        for mat, t in zip(mats, scene.bake(light, "draft", reduced=f[0])):
             w, h = mat.dynamic_painting.image_shape.size
             t = np.clip(resample_separable(t, h, w), 0, 1)
             for item in mat.dynamic_painting.lights:
@@ -231,10 +231,11 @@ def draft_group(parent, drawn, depsgraph=None):
 
 
 def _made_small(img, f):
-    """ImageData `f` times smaller (bilinear at the new pixel centres)."""
+    """ImageData f = (fx, fy) times smaller (bilinear at the new pixel centres): a layer of
+    the drawn one's size becomes exactly its size."""
     w, h = img.size
-    return ImageData(resample_separable(img.pixels, max(1, round(h / f)), max(1, round(w / f))),
-                     img.bits, img.name)
+    return ImageData(resample_separable(img.pixels, max(1, round(h / f[1])),
+                                        max(1, round(w / f[0]))), img.bits, img.name)
 
 
 def bake_painting(mat, scene, depsgraph=None, force=True, progress=None, p=None):

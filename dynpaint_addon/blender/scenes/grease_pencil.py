@@ -531,6 +531,10 @@ def stale_lit_copies(scene, names):
     return out
 
 
+DRAFT_WIDTH = 128      # px: a stroke's draft drawing (Blender's draw costs its pixels here)
+_DRAFTED = {}          # lit copy's name → the layer digests its last draft drew
+
+
 def _in_place(scene, obj, parent, source, settings, only):
     """The lit copy's layer materials {stem: material} and the drawing's layers that changed
     (layer_digests, against `source`'s) drawn anew at settings' resolution (only: the names
@@ -569,6 +573,7 @@ def refresh_lit_drawing(context, parent):
     if found is None:
         return parent
     obj, settings, source = found
+    _DRAFTED.pop(parent.name, None)                # (drafts are drawn over from here)
     digests = layer_digests(obj)
     changed = {n for n, d in digests.items() if source.get("layers", {}).get(n) != d}
     in_place = _in_place(context.scene, obj, parent, source, settings, changed)
@@ -591,7 +596,6 @@ def refresh_lit_drawing(context, parent):
         parent, _ = light_drawing(context, obj, settings)
         obj.hide_set(hidden or obj.hide_get())
         return parent
-    _DRAFTED.pop(parent.name, None)
     forget_enlarged(written)
     note_edited(written)
     forget_frames()
@@ -601,16 +605,13 @@ def refresh_lit_drawing(context, parent):
     return parent
 
 
-DRAFT_WIDTH = 128      # px: a stroke's draft drawing (Blender's draw costs its pixels here)
-_DRAFTED = {}          # lit copy's name → the layer digests its last draft drew
-
-
 def draft_lit_drawing(context, parent):
     """A stroke while the artist draws (issue 42: draft while drawing, final after): the
     layers that changed since the last draft drawn at DRAFT_WIDTH px across and made
-    paintings there (their relief inflated at that size), enlarged into their images and the
-    group baked at draft quality. Nothing is packed and the lit copy's record is left as it
-    was: refresh_lit_drawing draws them at full size once the strokes stop. → whether it
+    paintings there (their relief inflated at that size), enlarged into their images
+    (refill_enlarged) and the group's shadows drafted from its layers made as small
+    (draft_group). Nothing is packed and the lit copy's record is left as it was:
+    refresh_lit_drawing draws them at full size once the strokes stop. → whether it
     drew (False: nothing new, or other layers, bounds or frames, or a layer that moves:
     those wait for the full redraw)."""
     found = _source(parent)
