@@ -9,8 +9,10 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from dynpaint_addon.blender.bake.layers import (LAYERED, core_scene, forget_scenes,  # noqa: E402
-                                           group_materials, layer_parent, settle)
+from dynpaint_addon.blender.bake import layers  # noqa: E402
+from dynpaint_addon.blender.bake.layers import (LAYERED, bake_group_live,  # noqa: E402
+                                                core_scene, forget_scenes, group_materials,
+                                                layer_parent, settle)
 from dynpaint_addon.blender.headless import build_recipe_scene  # noqa: E402
 from dynpaint_addon.blender.scenes.painting_scene import exact_render_settings, output_settings  # noqa: E402
 from dynpaint_addon.blender.state.lights import painting_frame_light  # noqa: E402
@@ -74,6 +76,37 @@ def consistent(parent_name):
 
 def turn(obj, angle):
     obj.matrix_world = Matrix.Rotation(angle, 4, "X") @ obj.matrix_world
+
+
+def test_a_dragged_lights_final_bake_runs_beside_the_ui_and_never_writes_a_stale_group(
+        empty_scene, recipe):
+    """After a drag (bake_group_live: draft now) the final bake starts in a worker thread once
+    the light is still (layers._final_bakes, the UI's timer, called here) and is written by
+    the timer when done: each layer's shadows then equal a fresh core bake. A bake the group
+    outran (a layer moved meanwhile) is dropped, not written."""
+    parent = add_layered(recipe)
+    name, mats = parent.name, group_materials(parent)
+    key = bpy.data.objects["Key"]
+
+    def drag_then_start():
+        turn(key, 0.2)
+        assert bake_group_live(parent) > 0
+        assert all("|draft|" in m.dynamic_painting.lights[0].bake_key for m in mats)
+        layers._FINAL_DUE[name] -= layers.DEBOUNCE_S                 # still long enough
+        assert layers._final_bakes() == layers.POLL_S                 # started, not done
+        return layers._RUNNING[name]
+    job = drag_then_start()
+    job.thread.join()
+    assert layers._final_bakes() is None                              # written
+    assert all("|own|" in m.dynamic_painting.lights[0].bake_key for m in mats)
+    consistent(name)
+    job = drag_then_start()
+    bpy.data.objects["scene star"].location.x += 0.1                   # the group moves on
+    bpy.context.view_layer.update()                        # (its own bake, synchronous here)
+    job.thread.join()
+    assert not job.write()                                             # dropped
+    del layers._RUNNING[name]
+    consistent(name)
 
 
 def test_a_moved_light_or_layer_rebakes_the_group_and_undo_brings_it_back(empty_scene, recipe):

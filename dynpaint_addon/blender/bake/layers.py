@@ -11,8 +11,11 @@ every layer's cos-θ images at once; each image keeps the key of the whole group
 plane's place, every layer's bake settings, the light), so a change anywhere rebakes all.
 
 While a light is dragged the group bakes at draft quality at once and at its own quality
-once the light has been still for DEBOUNCE_S (a timer), like the live bake of one painting.
+once the light has been still for DEBOUNCE_S, like the live bake of one painting: the final
+bake runs in a worker thread on the scene read on the main thread (it takes seconds at
+1024²), and a timer writes it when done — or drops it where the group changed meanwhile.
 """
+import threading
 import time
 
 import numpy as np
@@ -139,15 +142,76 @@ def forget_scenes():
     _SCENES.clear()
     _SMALL.clear()
     _FINAL_DUE.clear()
+    _RUNNING.clear()              # (a running bake's results are dropped: its group is gone)
 
 
 def bake_group(parent, depsgraph=None, quality=None, force=False):
     """Bake every layer's cos-θ images (t = t_own·T, §15) for its linked lights, at the
     layers' own quality or `quality` for all; skipped when every image already has this
     bake's key (unless `force`). → milliseconds taken (0: nothing to do)."""
+    job = _group_job(parent, depsgraph, quality, force)
+    if job is None:
+        return 0.0
+    start = time.perf_counter()
+    job.run()
+    job.write()
+    return (time.perf_counter() - start) * 1000
+
+
+class _GroupBake:
+    """One bake of a group: what it bakes read from Blender (the group's key, its lights, the
+    core Scene: main thread), baked by run() (numpy only: any thread), written by write()
+    (main thread) where the group is still as it was read."""
+
+    def __init__(self, parent, mats, group, quality, todo, scene):
+        self.parent_name, self.names = parent.name, [m.name for m in mats]
+        self.group, self.quality, self.todo, self.scene = group, quality, todo, scene
+        self.key = group + f"|{quality or 'own'}"
+        self.results, self.error, self.thread = None, None, None
+
+    def run(self):
+        self.results = {name: self.scene.bake(light, self.quality)
+                        for name, light in self.todo.items()}
+
+    def _run_reporting(self):
+        try:
+            self.run()
+        except Exception as exc:          # (said on the main thread, by write)
+            self.error = exc
+
+    def start(self):
+        """run() in a worker thread (a UI stays free while a final bake takes seconds)."""
+        self.thread = threading.Thread(target=self._run_reporting, daemon=True)
+        self.thread.start()
+
+    def done(self):
+        return self.thread is None or not self.thread.is_alive()
+
+    def write(self):
+        """Write the results into each layer's cos-θ images — all or none: where the group
+        changed meanwhile (its layers, places, images or settings) they are dropped (a newer
+        bake is due). → whether it wrote."""
+        if self.error is not None:
+            raise self.error
+        parent = bpy.data.objects.get(self.parent_name)
+        mats = group_materials(parent) if parent is not None else []
+        if [m.name for m in mats] != self.names or group_key(mats) != self.group:
+            return False
+        for i, mat in enumerate(mats):       # written only once every bake is done
+            for item in mat.dynamic_painting.lights:
+                if item.object is not None and item.object.name in self.results:
+                    write_shadow(mat, item, self.results[item.object.name][i],
+                                 _key(self.key, self.todo[item.object.name]))
+            mat.dynamic_painting.shadows_stale = False
+        return True
+
+
+def _group_job(parent, depsgraph=None, quality=None, force=False):
+    """A _GroupBake of what is out of date in the group (its images' keys against this bake's;
+    all with `force`), or None where nothing is."""
     mats = group_materials(parent)
     if not mats:
-        return 0.0
+        return None
     group = group_key(mats, depsgraph)
     key = group + f"|{quality or 'own'}"
     lights = group_lights(mats, depsgraph)
@@ -155,17 +219,9 @@ def bake_group(parent, depsgraph=None, quality=None, force=False):
             if force or item.shadow is None or
             item.bake_key != _key(key, lights[item.object.name])}
     if not todo:
-        return 0.0
-    start = time.perf_counter()
-    scene = core_scene(parent, mats, depsgraph, group)
-    results = {name: scene.bake(light, quality) for name, light in todo.items()}
-    for i, mat in enumerate(mats):       # written only once every bake is done
-        for item in mat.dynamic_painting.lights:
-            if item.object is not None and item.object.name in results:
-                write_shadow(mat, item, results[item.object.name][i],
-                             _key(key, todo[item.object.name]))
-        mat.dynamic_painting.shadows_stale = False
-    return (time.perf_counter() - start) * 1000
+        return None
+    return _GroupBake(parent, mats, group, quality, todo,
+                      core_scene(parent, mats, depsgraph, group))
 
 
 def _linked(mats):
@@ -256,7 +312,7 @@ _FINAL_DUE = {}    # parent name → when its lights were last moved (a final ba
 
 def bake_group_live(parent, depsgraph=None):
     """A light moved interactively: the group at draft quality now, its own quality once the
-    light has been still for DEBOUNCE_S."""
+    light has been still for DEBOUNCE_S (in a worker thread: _final_bakes)."""
     ms = bake_group(parent, depsgraph, quality="draft")
     if ms:
         _FINAL_DUE[parent.name] = time.perf_counter()
@@ -265,24 +321,50 @@ def bake_group_live(parent, depsgraph=None):
     return ms
 
 
+_RUNNING = {}          # parent name → its final _GroupBake in a worker thread
+POLL_S = 0.05          # how often the timer looks for a finished final bake
+
+
 def _final_bakes():
-    """Timer: bake at the layers' own quality the groups whose lights are still."""
+    """Timer: the groups whose lights have been still DEBOUNCE_S start their bake at the
+    layers' own quality in a worker thread (one at a time per group: a group still baking
+    waits); finished ones are written here, on the main thread. → seconds to the next call."""
     now = time.perf_counter()
+    for name, job in list(_RUNNING.items()):
+        if job.done():
+            del _RUNNING[name]
+            _written(name, job)
     for name, since in list(_FINAL_DUE.items()):
-        if now - since < DEBOUNCE_S:
+        if now - since < DEBOUNCE_S or name in _RUNNING:
             continue
         del _FINAL_DUE[name]
         parent = bpy.data.objects.get(name)
         try:
-            if parent is not None:
-                bake_group(parent)
+            job = _group_job(parent) if parent is not None else None
+            if job is not None:
+                job.start()
+                _RUNNING[name] = job
         except Exception as exc:          # a timer never raises into Blender
             print(f"Dynamic Painting: layered bake of {name}: {exc}")
-    return DEBOUNCE_S if _FINAL_DUE else None
+    return POLL_S if _RUNNING else DEBOUNCE_S if _FINAL_DUE else None
+
+
+def _written(name, job):
+    try:
+        job.write()
+    except Exception as exc:              # a timer never raises into Blender
+        print(f"Dynamic Painting: layered bake of {name}: {exc}")
 
 
 def settle():
-    """Run the final bakes that are due now (tests and background mode, where no timer runs)."""
+    """Finish the final bakes that are running or due now, here (tests and background mode,
+    where no timer runs)."""
+    for name, job in list(_RUNNING.items()):
+        job.thread.join()
+        del _RUNNING[name]
+        _written(name, job)
     for name in list(_FINAL_DUE):
-        _FINAL_DUE[name] = 0.0
-    _final_bakes()
+        del _FINAL_DUE[name]
+        parent = bpy.data.objects.get(name)
+        if parent is not None:
+            bake_group(parent)
