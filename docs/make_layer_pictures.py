@@ -146,7 +146,8 @@ distance between layers.*
   Krita, GIMP or MyPaint), a folder of layer images (Photoshop's *Export Layers to Files*) or a
   layered recipe. Each layer becomes a plane under one parent Empty, at its depth, with the
   material every painting has; drag a light and every layer's shadows follow (draft while
-  dragging, final once it stops, per frame when rendering), move a layer (its plane, or
+  dragging, final once it stops — baked beside Blender's UI, which stays free —, per frame
+  when rendering), move a layer (its plane, or
   *Depth* in the **Layers** panel) and they move too; undo, save and reopen keep them. With a
   perspective camera, *Keep the Composition* scales each layer by (D − z)/D about the camera's
   axis, so the camera sees the painting as composed — and any camera move shows true parallax:

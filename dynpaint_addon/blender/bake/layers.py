@@ -189,13 +189,17 @@ class _GroupBake:
 
     def write(self):
         """Write the results into each layer's cos-θ images — all or none: where the group
-        changed meanwhile (its layers, places, images or settings) they are dropped (a newer
-        bake is due). → whether it wrote."""
+        changed meanwhile (its layers, places, images or settings, or a light it baked) they
+        are dropped (a newer bake is due, or done). → whether it wrote."""
         if self.error is not None:
             raise self.error
         parent = bpy.data.objects.get(self.parent_name)
         mats = group_materials(parent) if parent is not None else []
         if [m.name for m in mats] != self.names or group_key(mats) != self.group:
+            return False
+        lights = group_lights(mats)
+        if any(name not in lights or _key(self.key, lights[name]) != _key(self.key, light)
+               for name, light in self.todo.items()):
             return False
         for i, mat in enumerate(mats):       # written only once every bake is done
             for item in mat.dynamic_painting.lights:
