@@ -94,7 +94,11 @@ def build_grease_pencil_scene(path, object_name, width=None, frame=None):
     context.view_layer.objects.active = obj
     kwargs = {"resolution": width} if width else {}
     with context.temp_override(object=obj, active_object=obj):
-        if bpy.ops.dynpaint.add_grease_pencil(**kwargs) != {"FINISHED"}:
+        try:
+            done = bpy.ops.dynpaint.add_grease_pencil(**kwargs)
+        except RuntimeError as exc:      # (background Blender raises an operator's error report)
+            raise ValueError(str(exc).removeprefix("Error: ").strip()) from None
+        if done != {"FINISHED"}:
             raise ValueError(f"{object_name}: could not be lit (see the messages above)")
     parent = context.object
     mats = group_materials(parent)

@@ -196,6 +196,22 @@ def blender_image_bytes(header):
     return w * h * (4 if bytes_per_channel == 1 and not exr else 16)
 
 
+# Lighting a drawing (issue 42: From Grease Pencil, and a drawing's render, turntable and
+# page), per pixel of its frame: each distinct drawing of a layer kept (drawn, its dark copy
+# and inflated shape, its sprite-sheet cell), each lit layer (Blender's images of it, its
+# bake), and a fixed part. Fitted to peaks (RSS) of the walk sample (3 layers, 26 drawings)
+# at 256 and 512 px and a still 3-layer drawing at 512 and 1024 px; checked at 1024 (walk:
+# 4509 MiB measured, 4482 estimated) and 2048 (still: 3573 measured, 4349 estimated).
+DRAWING_CELL, DRAWING_LAYER, DRAWING_FIXED = 176, 255, 150 * MiB
+
+
+def drawing_bytes(drawings, layers, width, height):
+    """The peak of lighting a drawing: `drawings` distinct drawings over its `layers` lit
+    layers, each drawn width × height."""
+    return BASE_BYTES + DRAWING_FIXED + width * height * (drawings * DRAWING_CELL +
+                                                          layers * DRAWING_LAYER)
+
+
 def add_bytes(headers, p, lights, width=None):
     """The peak of Add › Dynamic Painting: Blender's copy of every image beside the numpy
     work of the first bake and the derived images (a render's phases), the painting worked

@@ -177,6 +177,9 @@ def test_each_layers_relief_takes_paint_shapes_effects(drawing):
 
 
 def test_bad_drawings_are_said_clearly(drawing):
+    """Hidden layers, a layer with no frames, more layers than a scene holds (offered to
+    merge), a size that would not fit in memory, an object that is not Grease Pencil: each
+    a clear message, nothing made."""
     for layer in drawing.data.layers:
         layer.hide = True
     with pytest.raises(GreasePencilError, match="no layer that draws anything.*hidden"):
@@ -207,6 +210,15 @@ def test_bad_drawings_are_said_clearly(drawing):
     assert blue > 1000 and orange > 20                     # the card and the first disc on it
     blue, orange = colours(mats[1])
     assert blue == 0 and orange > 20                       # the second disc alone
+    # a size whose drawings would not fit in memory: refused before anything is drawn
+    drawing.hide_set(False)
+    bpy.context.view_layer.objects.active = drawing
+    objects = len(bpy.data.objects)
+    with pytest.raises(RuntimeError, match=r"lighting Drawing \(8 drawings of 8 layers at "
+                       r"200000×.*\) would need about .* GiB of memory; this machine has .* "
+                       r"free: draw it smaller \(From Grease Pencil's Resolution"):
+        bpy.ops.dynpaint.add_grease_pencil(resolution=200000, merge=True)
+    assert len(bpy.data.objects) == objects                 # nothing made
     mesh = bpy.data.objects.new("Mesh", bpy.data.meshes.new("Mesh"))
     bpy.context.scene.collection.objects.link(mesh)
     bpy.context.view_layer.objects.active = mesh
@@ -295,7 +307,8 @@ def saved_drawing(folder, make):
 def test_the_command_line_renders_a_blend_files_drawing_lit(tmp_path):
     """`render FILE.blend --grease-pencil OBJECT --frame N`: the drawing lit as the add-on
     lights it, the frame's drawing (the disc where frame 2 puts it), numpy, Cycles and EEVEE
-    alike (within 2e-3); a wrong object name is one clear line naming the file's drawings."""
+    alike (within 2e-3); a wrong object name is one clear line naming the file's drawings, a
+    width whose drawings would not fit in memory one line with both numbers."""
     blend = saved_drawing(tmp_path, rolling_disc)
     outs = {}
     for engine in ("numpy", "cycles", "eevee"):
@@ -316,6 +329,10 @@ def test_the_command_line_renders_a_blend_files_drawing_lit(tmp_path):
     assert abs(cx - (-0.05 + 1.04) / 2.08) < 0.03
     done = run_cli("render", blend, "--grease-pencil", "Nothing", "--out", str(tmp_path / "x.png"))
     assert done.returncode != 0 and "Rolling disc" in done.stderr and "Traceback" not in done.stderr
+    done = run_cli("render", blend, "--grease-pencil", "Rolling disc", "--width", "200000",
+                   "--out", str(tmp_path / "x.png"))          # would not fit: said, not tried
+    assert done.returncode != 0 and "GiB of memory; this machine has" in done.stderr \
+        and "Traceback" not in done.stderr
 
 
 def test_a_turntable_of_a_blend_files_drawing(tmp_path):

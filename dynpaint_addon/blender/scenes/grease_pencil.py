@@ -30,6 +30,7 @@ from mathutils import Matrix, Vector
 from ...core.layers import MAX_LAYERS
 from ...core.lights import default_sun
 from ...errors import UserError
+from ...inputs import memory
 from ...inputs.imageio import quiet_native, read_image
 from ...inputs.drawings import frame_range, load_drawing
 from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING, painting_of_frames
@@ -221,10 +222,12 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
     artist's scene, the object, its layers and materials are left as they were."""
     layers, notes = drawn_layers(obj, merge)
     x0, x1, z0, z1 = framing(obj, margin)
-    w = max(1, int(width_px))
-    h = max(1, round(w * (z1 - z0) / (x1 - x0)))
-    os.makedirs(folder, exist_ok=True)
+    w, h = drawn_size(obj, width_px, margin)
     frames = [bpy.context.scene.frame_current] if frames is None else list(frames)
+    memory.check(*drawing_memory(obj, layers, frames, w, h, only),
+                 "draw it smaller (From Grease Pencil's Resolution, --width on the command "
+                 "line) or over fewer frames (the scene's frame range)")
+    os.makedirs(folder, exist_ok=True)
     partner_layers, partner_materials = shadow_layers(obj), shadow_materials(obj)
     scene = bpy.data.scenes.new(f"{obj.name} layers (Dynamic Painting)")
     cam = bpy.data.objects.new(f"{obj.name} layers camera", bpy.data.cameras.new("DP camera"))
@@ -298,6 +301,23 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
         bpy.data.objects.remove(cam)
         bpy.data.scenes.remove(scene)
     return paths, (x0, x1, z0, z1), notes, darks
+
+
+def drawn_size(obj, width_px, margin=MARGIN):
+    """(w, h) in pixels of each layer's drawing `width_px` across (the framing's shape)."""
+    x0, x1, z0, z1 = framing(obj, margin)
+    w = max(1, int(width_px))
+    return w, max(1, round(w * (z1 - z0) / (x1 - x0)))
+
+
+def drawing_memory(obj, layers, frames, w, h, only=None):
+    """(bytes, what) lighting the groups of `layers` (drawn_layers: those named in `only`)
+    of the drawing `obj` on `frames` at w × h needs at its peak (memory.drawing_bytes: each
+    distinct drawing, shown_keyframes, and each layer)."""
+    drawn = [group for group in layers if only is None or only & {x.name for x in group}]
+    drawings = sum(len(set(shown_keyframes(obj, group, frames))) for group in drawn)
+    return memory.drawing_bytes(drawings, len(drawn), w, h), \
+        f"lighting {obj.name} ({drawings} drawings of {len(drawn)} layers at {w}×{h})"
 
 
 def materials_used(layer):
@@ -397,14 +417,20 @@ SOURCE = "dynamic_painting_grease_pencil"    # a lit copy's parent: its drawing 
 LAYER = "dynamic_painting_grease_pencil_layer"   # a lit layer's material: its layer's name
 
 
+def drawing_frames(scene, obj, settings):
+    """The scene frames a drawing is drawn on (the scene's range where it is animated and
+    settings' `animation` asks for it), or None (the current frame alone)."""
+    return list(range(scene.frame_start, scene.frame_end + 1)) \
+        if settings["animation"] and animated(obj) else None
+
+
 def drawn_paintings(scene, obj, settings, progress=None, only=None):
     """Each layer of the drawing that draws something, drawn by Blender and made a painting
     (layered_files.painting_of_frames) → ([(name, depth, {channel: ImageData}, params,
     [frames] table or None)], bounds, frames or None, notes); only: the layers to draw (the
     others' entries hold None for their images, params and table)."""
     progress = progress or (lambda f: None)
-    frames = list(range(scene.frame_start, scene.frame_end + 1)) \
-        if settings["animation"] and animated(obj) else None
+    frames = drawing_frames(scene, obj, settings)
     folder = tempfile.mkdtemp(prefix="dynpaint-grease-pencil-")
     try:
         paths, bounds, notes, darks = render_layers(
