@@ -32,8 +32,8 @@ from .bake.live_bake import DEBOUNCE_S, rendering
 from .bake.shadow_images import forget_cached_shapes
 from .material.sync import invalidate_generated, update
 from .material.tree import rebuild_tree, tree_is_stale
-from .scenes.grease_pencil import (draft_lit_drawing, drawing_of, refresh_lit_drawing,
-                                    stale_lit_copies)
+from .scenes.grease_pencil import (draft_lit_drawing, drawing_of, forget_drafts,
+                                    refresh_lit_drawing, stale_lit_copies)
 from .state.edits import note_edited
 from .state.frame_sampling import only_reading_lights
 from .state.frames import forget_frames, moves
@@ -215,6 +215,7 @@ def remake_generated_images(*_):
     forget_frames()
     forget_frames_made()
     forget_enlarged()
+    forget_drafts()
     forget_painted()
     forget_scenes()
     paintings_ = [m for m in bpy.data.materials if m.dynamic_painting.is_painting]

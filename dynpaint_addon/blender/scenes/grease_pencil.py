@@ -631,6 +631,11 @@ def refresh_lit_drawing(context, parent):
     return parent
 
 
+def forget_drafts():
+    """Another file is open, or undo: the drafts' digests may be of other drawings."""
+    _DRAFTED.clear()
+
+
 def draft_lit_drawing(context, parent):
     """A stroke while the artist draws (issue 42: draft while drawing, final after): the
     layers that changed since the last draft drawn at DRAFT_WIDTH px across and made
