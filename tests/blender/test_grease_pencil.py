@@ -4,6 +4,7 @@ behind; bad input said clearly."""
 import base64
 import json
 import os
+import subprocess
 import sys
 import time
 
@@ -488,6 +489,18 @@ def test_a_stroke_is_drafted_small_at_once_then_drawn_in_full(drawing):
     assert 0 < np.abs(full - drafted).max() and np.abs(full - drafted).mean() < 0.02
     t_full = image_data_from_blender(items[0].shadow).pixels[..., 0]
     assert np.abs(t_full - t_draft).mean() < 0.02                        # the draft was near
+
+
+def test_the_memory_a_drawing_is_checked_for_meets_its_measured_peak():
+    """benchmarks/memory.py's drawing check at one width: From Grease Pencil of the still
+    drawing at 256 px in a fresh process, its estimate (what render_layers checks) against
+    its peak resident memory (docs/memory-numbers.md covers the walk and 256–1024 px)."""
+    sys.path.insert(0, os.path.join(REPO, "benchmarks"))
+    import memory as bench
+    argv = [sys.executable, "-c", bench.DRAWING, "hill", "256"]
+    guess = int(subprocess.run(argv + ["estimate"], capture_output=True, text=True, cwd=REPO,
+                               check=True).stdout.split()[-1])
+    assert abs(guess / bench.peak_rss(argv) - 1) <= bench.GOAL
 
 
 def test_the_cost_benchmark_runs():
