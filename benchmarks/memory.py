@@ -69,7 +69,7 @@ settings = {**gp.lit_defaults(), "resolution": width}
 if sys.argv[3:] == ["estimate"]:
     frames = gp.drawing_frames(scene, obj, settings) or [scene.frame_current]
     print(gp.drawing_memory(obj, gp.drawn_layers(obj)[0], frames,
-                            *gp.drawn_size(obj, width))[0])
+                            *gp.drawn_size(gp.framing(obj), width))[0])
 else:
     gp.light_drawing(bpy.context, obj, settings, lights=lights)
 """

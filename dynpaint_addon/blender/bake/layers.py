@@ -188,26 +188,38 @@ class _GroupBake:
         return self.thread is None or not self.thread.is_alive()
 
     def write(self):
-        """Write the results into each layer's cos-θ images — all or none: where the group
-        changed meanwhile (its layers, places, images or settings, or a light it baked) they
-        are dropped (a newer bake is due, or done). → whether it wrote."""
+        """Write the results into each layer's cos-θ images — all or none. A bake that ran in
+        a worker is dropped where the group changed meanwhile (its layers, places, images or
+        settings, or a light it baked): a newer bake is due, or done. (One run in place is
+        written as read: it may have read the evaluated scene of a render, which the
+        original objects checked here need not show.) → whether it wrote."""
         if self.error is not None:
             raise self.error
         parent = bpy.data.objects.get(self.parent_name)
         mats = group_materials(parent) if parent is not None else []
-        if [m.name for m in mats] != self.names or group_key(mats) != self.group:
+        if [m.name for m in mats] != self.names or \
+                self.thread is not None and not self._still_current(mats):
+            return False
+        _write_shadows(mats, self.results, lambda name: _key(self.key, self.todo[name]))
+        return True
+
+    def _still_current(self, mats):
+        if group_key(mats) != self.group:
             return False
         lights = group_lights(mats)
-        if any(name not in lights or _key(self.key, lights[name]) != _key(self.key, light)
-               for name, light in self.todo.items()):
-            return False
-        for i, mat in enumerate(mats):       # written only once every bake is done
-            for item in mat.dynamic_painting.lights:
-                if item.object is not None and item.object.name in self.results:
-                    write_shadow(mat, item, self.results[item.object.name][i],
-                                 _key(self.key, self.todo[item.object.name]))
-            mat.dynamic_painting.shadows_stale = False
-        return True
+        return all(name in lights and _key(self.key, lights[name]) == _key(self.key, light)
+                   for name, light in self.todo.items())
+
+
+def _write_shadows(mats, results, key_of):
+    """Each layer's cos-θ images of the lights in `results` ({light name: [t per layer]}),
+    keyed key_of(light name); the layers' shadows then current."""
+    for i, mat in enumerate(mats):
+        for item in mat.dynamic_painting.lights:
+            if item.object is not None and item.object.name in results:
+                write_shadow(mat, item, results[item.object.name][i],
+                             key_of(item.object.name))
+        mat.dynamic_painting.shadows_stale = False
 
 
 def _group_job(parent, depsgraph=None, quality=None, force=False):
@@ -280,13 +292,11 @@ def draft_group(parent, drawn, depsgraph=None):
     for layer in layers:
         layer.p.shadows.enabled = True
     scene = Scene(layers)
-    for light_name, light in lights.items():
-        for mat, t in zip(mats, scene.bake(light, "draft", reduced=f[0])):
-            w, h = mat.dynamic_painting.image_shape.size
-            t = np.clip(resample_separable(t, h, w), 0, 1)
-            for item in mat.dynamic_painting.lights:
-                if item.object is not None and item.object.name == light_name:
-                    write_shadow(mat, item, t, DRAFTED)
+    sizes = [m.dynamic_painting.image_shape.size for m in mats]          # (w, h): full size
+    results = {name: [np.clip(resample_separable(t, h, w), 0, 1) for t, (w, h)
+                      in zip(scene.bake(light, "draft", reduced=f[0]), sizes)]
+               for name, light in lights.items()}
+    _write_shadows(mats, results, lambda name: DRAFTED)
     return (time.perf_counter() - start) * 1000
 
 

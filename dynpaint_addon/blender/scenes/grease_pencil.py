@@ -221,8 +221,8 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
     A frame that shows what an earlier one showed (shown_keyframes) is drawn once. The
     artist's scene, the object, its layers and materials are left as they were."""
     layers, notes = drawn_layers(obj, merge)
-    x0, x1, z0, z1 = framing(obj, margin)
-    w, h = drawn_size(obj, width_px, margin)
+    x0, x1, z0, z1 = bounds = framing(obj, margin)
+    w, h = drawn_size(bounds, width_px)
     frames = [bpy.context.scene.frame_current] if frames is None else list(frames)
     memory.check(*drawing_memory(obj, layers, frames, w, h, only),
                  "draw it smaller (From Grease Pencil's Resolution, --width on the command "
@@ -303,9 +303,10 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
     return paths, (x0, x1, z0, z1), notes, darks
 
 
-def drawn_size(obj, width_px, margin=MARGIN):
-    """(w, h) in pixels of each layer's drawing `width_px` across (the framing's shape)."""
-    x0, x1, z0, z1 = framing(obj, margin)
+def drawn_size(bounds, width_px):
+    """(w, h) in pixels of each layer's drawing `width_px` across, the shape of its framing
+    `bounds` (x0, x1, z0, z1: framing)."""
+    x0, x1, z0, z1 = bounds
     w = max(1, int(width_px))
     return w, max(1, round(w * (z1 - z0) / (x1 - x0)))
 
