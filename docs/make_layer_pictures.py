@@ -185,9 +185,12 @@ inflated by parts from its alpha with a low *Relief* (0.1 of a hemisphere: a dra
 lie close), the layers in front shadowing those behind. The drawing is hidden, not changed:
 unhide it and draw on, and the lit copy follows — each change of the drawing (a stroke, a
 keyframe, a material's colour) shows at once as a draft (the changed layer drawn 128 px
-across and enlarged, its shadows from the layers made as small: 0.2 s at 1024² here) and is
-drawn in full in place once no stroke has come for 1 s (at once in scripts and renders,
-after a depsgraph evaluation); a layer added or removed makes the lit copy anew.
+across at one anti-aliasing sample and enlarged, its shadows from the layers made as small:
+under 0.1 s at 1024² here) and is drawn in full in place once no stroke has come for 1 s
+(at once in scripts and renders, after a depsgraph evaluation); a layer added or removed
+makes the lit copy anew. Blender draws each layer at the scene's Grease Pencil
+anti-aliasing samples (*Render Properties › Grease Pencil*, 8 unless set), as F12 would:
+each sample is a drawing of every pixel, so fewer make the full redraw sooner.
 An animated
 drawing (a layer with more than one keyframe, or animated data) is drawn on every frame of
 the scene's range: a layer whose drawing changes becomes a painting of sprite sheets that

@@ -27,6 +27,7 @@ import time
 import bpy
 from bpy.app.handlers import persistent
 
+from ..core.laplace import forget_solved_parts
 from .bake.layers import bake_painting, forget_scenes
 from .bake.live_bake import DEBOUNCE_S, rendering
 from .bake.shadow_images import forget_cached_shapes
@@ -216,6 +217,7 @@ def remake_generated_images(*_):
     forget_frames_made()
     forget_enlarged()
     forget_drafts()
+    forget_solved_parts()
     forget_painted()
     forget_scenes()
     paintings_ = [m for m in bpy.data.materials if m.dynamic_painting.is_painting]

@@ -16,6 +16,9 @@ solve −L z = b, so b is a "source": −Δz = b.
     >>> z.shape, float(abs(z).max())
     ((4, 5), 0.0)
 """
+import hashlib
+from collections import OrderedDict
+
 import numpy as np
 
 
@@ -84,6 +87,16 @@ class Grid:
         self.free = diag > 0
         self.inv_diag = np.where(self.free, 1 / np.where(self.free, diag, 1), 0).astype(dtype)
 
+    def dense(self):
+        """The operator as an (n, n) matrix over the grid's pixels in row order: the diagonal,
+        −w between neighbours (what `apply` gives each unit vector, exactly)."""
+        h, w = self.shape
+        a = np.diag(self.diag.ravel())
+        i = np.arange(h * w).reshape(h, w)
+        for weights, p, q in ((self.wx, i[:, :-1], i[:, 1:]), (self.wy, i[:-1], i[1:])):
+            a[p.ravel(), q.ravel()] = a[q.ravel(), p.ravel()] = 0 - weights.ravel()   # (no −0)
+        return a
+
     def apply(self, z):
         out = self.diag * z
         out[:, :-1] -= self.wx * z[:, 1:]
@@ -130,10 +143,8 @@ class Multigrid:
         self.levels = [grid]
         while self.levels[-1].shape[0] * self.levels[-1].shape[1] > 256:
             self.levels.append(_coarse(self.levels[-1]))
-        last = self.levels[-1]
-        dense = np.array([last.apply(e.reshape(last.shape)).ravel()
-                          for e in np.eye(last.shape[0] * last.shape[1], dtype=last.dtype)])
-        self.coarsest = np.linalg.pinv(dense.astype(np.float64), hermitian=True)
+        self.coarsest = np.linalg.pinv(self.levels[-1].dense().astype(np.float64),
+                                       hermitian=True)
 
     def __call__(self, r, level=0):
         grid = self.levels[level]
@@ -228,12 +239,46 @@ def parts(labels, count, where):
     return [(int(k), tuple(box[k])) for k in np.flatnonzero(kept)]
 
 
+_SOLVED = OrderedDict()    # a part's digest → (its z, iterations, residual), newest last
+SOLVED_BYTES = 64 << 20    # what the parts kept may hold; a part over a quarter of it is not
+                           # kept (nor hashed: a large image's solve is not a stroke's)
+
+
+def _digest(*arrays):
+    h = hashlib.blake2b(digest_size=16)
+    for a in arrays:
+        h.update(repr((a.shape, a.dtype.str)).encode())
+        h.update(np.ascontiguousarray(a).data)
+    return h.digest()
+
+
+def _solved(part, bk, tol):
+    """`solve` of one part, kept by its digest: a stroke re-solves the parts it touched only
+    (the others' heights are theirs, bit for bit: solve_parts)."""
+    if 4 * bk.size * 8 > SOLVED_BYTES:
+        return solve(part, bk, tol)
+    key = _digest(part.wx, part.wy, part.dirichlet, bk, np.array(tol))
+    if key in _SOLVED:
+        _SOLVED.move_to_end(key)
+        return _SOLVED[key]
+    _SOLVED[key] = found = solve(part, bk, tol)
+    while sum(z.nbytes for z, _, _ in _SOLVED.values()) > SOLVED_BYTES:
+        _SOLVED.popitem(last=False)
+    return found
+
+
+def forget_solved_parts():
+    """Drop the parts kept (their heights are the same when solved again: memory only)."""
+    _SOLVED.clear()
+
+
 def solve_parts(grid, b, labels, count, tol=1e-4):
     """`solve` on each connected part of the grid alone, in its own bounding box → (z, most
     iterations, largest relative residual). A part's heights depend on its own pixels only:
     the same drawing gives the same heights, bit for bit, wherever it lies and whatever else
-    in the image changes (a painting's frames, pipeline.md §16). labels: (H, W) in 0 … count
-    − 1, no grid edge joining two labels (`components` of the grid's edges)."""
+    in the image changes (a painting's frames, pipeline.md §16) — so the parts solved lately
+    are kept and a part met again is not solved again. labels: (H, W) in 0 … count − 1, no
+    grid edge joining two labels (`components` of the grid's edges)."""
     z = np.zeros(grid.shape)
     most, worst = 0, 0.0
     for k, (r0, r1, c0, c1) in parts(labels, count, grid.free):
@@ -244,7 +289,7 @@ def solve_parts(grid, b, labels, count, tol=1e-4):
         bk = np.where(own, b[r0:r1, c0:c1], 0)
         if not bk.any():                   # no source (a flat background): z = 0 exactly
             continue
-        zk, iterations, residual = solve(part, bk, tol)
+        zk, iterations, residual = _solved(part, bk, tol)
         z[r0:r1, c0:c1] = np.where(own, zk, z[r0:r1, c0:c1])
         most, worst = max(most, iterations), max(worst, residual)
     return z, most, worst

@@ -167,15 +167,19 @@ class Scene:
         return [light_in_layer(lt, self.places[i], self.ready[i].size, self.canvas)
                 for lt in lights]
 
-    def bake(self, light, quality=None, progress=None, reduced=1.0):
+    def bake(self, light, quality=None, progress=None, reduced=1.0, own=None):
         """t = t_own·T of one light on every layer → [(H_i, W_i)] in the layers' order;
         each at its own shadows' quality level, or at `quality` for all (a live bake while
         a light is dragged: 'draft'). The inputs stay prepared: a scene made once serves
         every light of a drag. reduced: how many times smaller the scene's layers are than
         the paintings they stand for (§15, a scene drawn small): each level's reduction of the
         pixels is divided by it, so the level reads about as many pixels as it would at
-        full size (its K and sampling kept; the own term marched)."""
-        out = [None] * len(self.layers)
+        full size (its K and sampling kept; the own term marched). own: {index: an entry
+        of an earlier bake's `self.own`} of layers whose inputs and parameters are those it
+        was baked from (a stroke on another layer: draft_group): its t_own is used where the
+        light it saw and the level are this bake's, not marched again; this bake's entries
+        are left in `self.own`."""
+        out, own, self.own = [None] * len(self.layers), own or {}, {}
         for position, i in enumerate(self.order):
             ready, p = self.ready[i], self.layers[i].p
             if quality is not None or reduced != 1.0:
@@ -185,10 +189,12 @@ class Scene:
             if reduced != 1.0 and level in QUALITY:
                 p.shadows.steps, scale, _ = quality_settings(level)
                 p.shadows.quality, p.shadows.resolution = "custom", min(1.0, scale * reduced)
-            own = shadow_term(ready.n, ready.z_px, ready.slopes, self.own_lights(i, [light])[0],
-                              p)
+            seen = (self.own_lights(i, [light])[0], quality, reduced)
+            t_own = own[i][1] if i in own and own[i][0] == seen else \
+                shadow_term(ready.n, ready.z_px, ready.slopes, seen[0], p)
+            self.own[i] = (seen, t_own)
             through = self.through(i, [light], level, reduced)
-            out[i] = own if through is None else own * through[0].astype(own.dtype)
+            out[i] = t_own if through is None else t_own * through[0].astype(t_own.dtype)
             if progress is not None:
                 progress((position + 1) / len(self.order))
         return out

@@ -16,13 +16,15 @@ from mathutils import Vector  # noqa: E402
 
 from dynpaint_addon import blender  # noqa: E402
 from dynpaint_addon.blender import handlers  # noqa: E402
-from dynpaint_addon.blender.bake.layers import DRAFTED, group_materials  # noqa: E402
+from dynpaint_addon.blender.bake.layers import (DRAFTED, forget_scenes,  # noqa: E402
+                                                group_materials)
 from dynpaint_addon.blender.scenes.grease_pencil import (  # noqa: E402
     DRAFT_WIDTH, LAYER, SOURCE, GreasePencilError, animated, draft_lit_drawing,
-    drawn_layers, layer_digests, render_layers, stale_lit_copies)
+    drawn_layers, forget_drafts, layer_digests, render_layers, stale_lit_copies)
 from dynpaint_addon.core.colour import linear_to_srgb, srgb_to_linear  # noqa: E402
 from dynpaint_addon.inputs.layered_files import DEFAULT_SHADE  # noqa: E402
 from dynpaint_addon.inputs.imageio import image_data_from_blender, read_image  # noqa: E402
+from dynpaint_addon.blender.material.sync import update  # noqa: E402
 from dynpaint_addon.blender.state.edits import version  # noqa: E402
 from dynpaint_addon.blender.state.frames import frame_data, moves  # noqa: E402
 from dynpaint_addon.core.layers import MAX_LAYERS  # noqa: E402
@@ -452,8 +454,9 @@ def test_a_stroke_is_drafted_small_at_once_then_drawn_in_full(drawing):
     """With a UI a stroke shows a draft at once (draft_lit_drawing): the changed layer drawn
     DRAFT_WIDTH px across, enlarged into its images (not packed), the group's shadows from
     the layers made as small (draft_group), the lit copy's record left for the full redraw;
-    a draft with nothing new draws nothing; the full redraw comes once the strokes pause
-    (STROKES_QUIET_S: the UI's timer, called here)."""
+    a draft with nothing new draws nothing; a draft of another layer keeps what the last
+    one made of the first; the full redraw comes once the strokes pause (STROKES_QUIET_S:
+    the UI's timer, called here)."""
     sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
     bpy.context.scene.collection.objects.link(sun)
     sun.rotation_euler = (np.radians(60), 0, np.radians(-60))
@@ -477,7 +480,27 @@ def test_a_stroke_is_drafted_small_at_once_then_drawn_in_full(drawing):
     t_draft = image_data_from_blender(items[0].shadow).pixels[..., 0].copy()
     assert np.abs(t_draft - t_before).max() > 0.1                        # its shadow there
     assert stale_lit_copies(bpy.context.scene, {drawing.name}) == [parent]
+    # the derived images made small and enlarged: as made from the enlarged images
+    derived = {d.channel: image_data_from_blender(d.image).pixels.copy()
+               for d in front.dynamic_painting.derived}
+    assert {"height", "silhouette"} <= set(derived)
+    for d in front.dynamic_painting.derived:
+        d.key = ""
+    update(front, bpy.context.scene, bake="none")
+    assert all(np.abs(image_data_from_blender(d.image).pixels - derived[d.channel]).max()
+               <= 1e-5 for d in front.dynamic_painting.derived)
     assert not draft_lit_drawing(bpy.context, parent)                   # nothing new
+    # a stroke on the other layer: the figure's small images, inputs and own term kept
+    # from the last draft, the same shadows as a draft from nothing kept, bit for bit
+    add_fill(drawing.data.layers["Back"], disc(-0.5, 0.3, 0.1), 1)
+    assert draft_lit_drawing(bpy.context, parent)
+    kept = [image_data_from_blender(item.shadow).pixels for item in items]
+    forget_scenes()
+    forget_drafts()
+    assert draft_lit_drawing(bpy.context, parent)                       # both drawn anew
+    assert all(np.array_equal(image_data_from_blender(item.shadow).pixels, t)
+               for item, t in zip(items, kept))
+    t_draft = kept[0][..., 0]
     handlers._PENDING[parent.name] = time.perf_counter()
     assert handlers._redraw_pending() > 0.5 * handlers.STROKES_QUIET_S
     assert stale_lit_copies(bpy.context.scene, {drawing.name}) == [parent]
@@ -508,7 +531,7 @@ def test_the_cost_benchmark_runs():
     sys.path.insert(0, os.path.join(REPO, "benchmarks"))
     import grease_pencil_cost
     m, page_mb = grease_pencil_cost.measure(48, 1)
-    assert len(m) == 7 and all(seconds > 0 for seconds in m.values()) and page_mb > 0
+    assert len(m) == 8 and all(seconds > 0 for seconds in m.values()) and page_mb > 0
 
 
 def test_the_frames_benchmark_runs_and_nothing_still_flickers():

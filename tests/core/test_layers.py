@@ -333,3 +333,25 @@ def test_a_scene_made_small_bakes_a_draft_as_near_as_the_full_sized_draft():
     reduced, plain = error(small.bake(light, "draft", reduced=4.0)), \
         error(small.bake(light, "draft"))
     assert reduced <= 1.5 * error(draft) and reduced < plain
+
+
+def test_a_layer_left_alone_keeps_its_own_term_and_the_bake_equals_a_fresh_one():
+    """Scene.bake(own=) with an earlier bake's own terms (a stroke's draft, issue 42: the
+    layers the stroke left alone): a layer whose light and level are as before takes its
+    t_own as it was, the rest are marched, and t equals a fresh bake's bit for bit; a
+    turned light is marched again."""
+    light, turned = Light("sun", (0.45, -0.5, 0.74)), Light("sun", (-0.3, 0.4, 0.8))
+    layers = [Layer(images, p, name, depth)
+              for name, depth, images, p in builtin_scene_layers(64)]
+    first = Scene(layers)
+    first.bake(light, "draft")
+    edited = dict(layers[-1].images)
+    edited["shape"] = ImageData(np.roll(edited["shape"].pixels, 5, axis=1),
+                                edited["shape"].bits)
+    layers[-1] = Layer(edited, layers[-1].p, layers[-1].name, layers[-1].depth)
+    left_alone = {i: first.own[i] for i in range(len(layers) - 1)}
+    for lt, kept in ((light, True), (turned, False)):
+        scene = Scene(layers, prepared={i: first.ready[i] for i in left_alone})
+        t = scene.bake(lt, "draft", own=left_alone)
+        assert all((scene.own[i][1] is left_alone[i][1]) == kept for i in left_alone)
+        assert all(np.array_equal(a, b) for a, b in zip(t, Scene(layers).bake(lt, "draft")))

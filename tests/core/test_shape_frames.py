@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from conftest import run_cli
+from dynpaint_addon.core import laplace
 from dynpaint_addon.core.frames import SheetGrid, sheet_cell
 from dynpaint_addon.core.inflate import inflate
 from dynpaint_addon.core.integrate import integrate
@@ -132,3 +133,30 @@ def test_photometric_methods_run_frame_by_frame_too(tmp_path):
                    tmp_path / "alone.exr").returncode == 0
     np.testing.assert_array_equal(read_image(str(tmp_path / "n_0002.exr")).pixels,
                                   read_image(str(tmp_path / "alone.exr")).pixels)
+
+
+def test_a_part_met_again_is_not_solved_again():
+    """solve_parts keeps the parts it solved lately (a stroke re-solves only the part it
+    touched): a frame whose square is the last frame's solves the dome alone, and its heights
+    equal a solve from nothing kept, bit for bit; a part moved whole is met again too (its
+    own box holds the same pixels); what is kept stays under SOLVED_BYTES."""
+    masks = [m > 0 for m in _masks()]
+    laplace.forget_solved_parts()
+    inflate(masks[0], "flat")
+    assert len(laplace._SOLVED) == 2                                 # the square, the dome
+    assert not np.array_equal(masks[1], masks[0])
+    inflate(masks[1], "flat")
+    assert len(laplace._SOLVED) == 2                                 # the dome slid
+    stroke = masks[0].copy()
+    stroke[40:44, 4:10] = True                                       # a dab of its own
+    kept = inflate(stroke, "flat").height
+    assert len(laplace._SOLVED) == 3                                 # the dab alone
+    laplace.forget_solved_parts()
+    assert np.array_equal(kept, inflate(stroke, "flat").height)
+    bound, laplace.SOLVED_BYTES = laplace.SOLVED_BYTES, 48 * 48 * 8 * 4
+    try:
+        for m in masks:
+            inflate(m, "flat")
+        assert sum(z.nbytes for z, _, _ in laplace._SOLVED.values()) <= laplace.SOLVED_BYTES
+    finally:
+        laplace.SOLVED_BYTES = bound

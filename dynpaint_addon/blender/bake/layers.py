@@ -28,6 +28,7 @@ from ...core.sampling import resample_separable
 from ..state.edits import versions
 from ..state.frames import frame_data, slot_frame
 from ..state.lights import painting_frame_light, plane_matrix
+from ..state.images import refill_enlarged
 from ..state.settings import channel_images, settings_to_params
 from .live_bake import DEBOUNCE_S
 from .shadow_images import bake_shadows, light_key, settings_key, write_shadow
@@ -211,15 +212,28 @@ class _GroupBake:
                    for name, light in self.todo.items())
 
 
-def _write_shadows(mats, results, key_of):
+def _write_shadows(mats, results, key_of, write=write_shadow):
     """Each layer's cos-θ images of the lights in `results` ({light name: [t per layer]}),
-    keyed key_of(light name); the layers' shadows then current."""
+    keyed key_of(light name), by write(mat, item, t, key); the layers' shadows then
+    current."""
     for i, mat in enumerate(mats):
         for item in mat.dynamic_painting.lights:
             if item.object is not None and item.object.name in results:
-                write_shadow(mat, item, results[item.object.name][i],
-                             key_of(item.object.name))
+                write(mat, item, results[item.object.name][i], key_of(item.object.name))
         mat.dynamic_painting.shadows_stale = False
+
+
+def _write_drafted(mat, item, t, key):
+    """A draft's small t enlarged into the light's cos-θ image at the layer's size: after a
+    draft of the same image only where t changed (refill_enlarged), the whole of it where
+    the image is new or of another size."""
+    w, h = mat.dynamic_painting.image_shape.size
+    img = item.shadow
+    if img is None or tuple(img.size) != (w, h) or not img.is_float:
+        write_shadow(mat, item, np.clip(resample_separable(t, h, w), 0, 1), key)
+    else:
+        refill_enlarged(img, ImageData(np.clip(t, 0, 1)[..., None], 32, img.name))
+        item.bake_key = key
 
 
 def _group_job(parent, depsgraph=None, quality=None, force=False):
@@ -257,7 +271,8 @@ def group_lights(mats, depsgraph=None):
 
 
 DRAFTED = "draft"      # the bake key of cos-θ images a draft wrote: the next bake redoes them
-_SMALL = {}            # parent name → {layer_keys' key: its images made small} (draft_group)
+_SMALL = {}            # parent name → {layer_keys' key: (its images made small, prepared,
+                       # {light name: its Scene.own entry})} (draft_group)
 
 
 def draft_group(parent, drawn, depsgraph=None):
@@ -266,7 +281,9 @@ def draft_group(parent, drawn, depsgraph=None):
     smaller than its images}; the other layers' images made as small (bilinear, kept by
     layer_keys: a stroke reads them once), the small scene baked at draft quality as the
     full-size one would be (Scene.bake's `reduced`) and each t enlarged into its cos-θ
-    images, keyed DRAFTED so that the next bake_group bakes them at full size.
+    images (where it changed: _write_drafted), keyed DRAFTED so that the next bake_group
+    bakes them at full size. A layer the strokes leave alone keeps its prepared inputs and
+    own terms from the last draft.
     → milliseconds taken."""
     mats = group_materials(parent)
     lights = group_lights(mats, depsgraph) if mats else {}
@@ -276,27 +293,29 @@ def draft_group(parent, drawn, depsgraph=None):
     name, small = next(iter(drawn.items()))
     full = bpy.data.materials[name].dynamic_painting.image_shape.size
     f = (full[0] / small["shape"].size[0], full[1] / small["shape"].size[1])   # (x, y)
-    kept, images = _SMALL.get(parent.name, {}), {}
+    before, images = _SMALL.get(parent.name, {}), {}
     keys = layer_keys(mats)
-    for mat, key in zip(mats, keys):
-        if mat.name in drawn:
-            images[mat.name] = drawn[mat.name]
-        elif key in kept:
-            images[mat.name] = kept[key]
-        else:
-            images[mat.name] = {c: _made_small(frame_data(mat, c), f)
-                                for c in channel_images(mat.dynamic_painting)
-                                if c in LAYER_CHANNELS}
-    _SMALL[parent.name] = dict(zip(keys, (images[m.name] for m in mats)))
+    kept = {i: before[key] for i, (mat, key) in enumerate(zip(mats, keys))
+            if key in before and mat.name not in drawn}
+    for i, mat in enumerate(mats):
+        images[mat.name] = drawn[mat.name] if mat.name in drawn else kept[i][0] \
+            if i in kept else {c: _made_small(frame_data(mat, c), f)
+                               for c in channel_images(mat.dynamic_painting)
+                               if c in LAYER_CHANNELS}
     layers = group_layers(mats, depsgraph, LAYER_CHANNELS, kept=images)
     for layer in layers:
         layer.p.shadows.enabled = True
-    scene = Scene(layers)
-    sizes = [m.dynamic_painting.image_shape.size for m in mats]          # (w, h): full size
-    results = {name: [np.clip(resample_separable(t, h, w), 0, 1) for t, (w, h)
-                      in zip(scene.bake(light, "draft", reduced=f[0]), sizes)]
-               for name, light in lights.items()}
-    _write_shadows(mats, results, lambda name: DRAFTED)
+    scene = Scene(layers, prepared={i: entry[1] for i, entry in kept.items()})
+    results, own = {}, {i: {} for i in range(len(mats))}
+    for name, light in lights.items():
+        results[name] = scene.bake(light, "draft", reduced=f[0],
+                                   own={i: entry[2][name] for i, entry in kept.items()
+                                        if name in entry[2]})
+        for i, entry in scene.own.items():
+            own[i][name] = entry
+    _SMALL[parent.name] = {key: (images[mat.name], scene.ready[i], own[i])
+                           for i, (mat, key) in enumerate(zip(mats, keys))}
+    _write_shadows(mats, results, lambda name: DRAFTED, _write_drafted)
     return (time.perf_counter() - start) * 1000
 
 

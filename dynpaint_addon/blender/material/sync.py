@@ -75,7 +75,7 @@ def sync_quality(sh, path):
 
 
 def update(mat, scene=None, depsgraph=None, progress=None, bake="now", rebake=False,
-           force=False):
+           force=False, small=None):
     """Bring the painting up to date: derived images, cos-θ images, then the tree. → warnings
 
     bake: when a cos-θ image that is out of date is baked — 'now'; 'live' (someone is
@@ -84,12 +84,13 @@ def update(mat, scene=None, depsgraph=None, progress=None, bake="now", rebake=Fa
     now: a light moved in a script or a render waits for the per-frame bake); 'none' (left
     as they are: a draft wrote them, bake/layers.draft_group).
     rebake: bake every light again (the shape's pixels may have changed); force: remake
-    every derived image and rebuild the tree as well.
+    every derived image and rebuild the tree as well; small: a draft's images drawn small
+    (update_derived_images').
     """
     scene = scene or bpy.context.scene
     update_painted_shape(mat)               # a painted shape first: it is the shape image
     state = read_state(mat, scene)          # the settings, read once for the whole update
-    warnings = update_derived_images(mat, state, force=force)
+    warnings = update_derived_images(mat, state, force=force, small=small)
     sync_light_items(mat.dynamic_painting, state.lights)
     if state.params.shadows.enabled and bake != "none":
         _bake(mat, scene, depsgraph, progress, bake, rebake or force, state.params, state.read)

@@ -207,7 +207,7 @@ def drawing_bounds(layers, margin=MARGIN):
 
 
 def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARGIN,
-                  only=None, shade=DEFAULT_SHADE, merge=False):
+                  only=None, shade=DEFAULT_SHADE, merge=False, samples=None):
     """Draw each layer of the Grease Pencil object `obj` that draws something, alone (or
     with `merge`, the back ones together where more than a scene holds: drawn_layers), into
     `folder` (16-bit RGBA, sRGB as drawn) on each scene frame of `frames` (default: the
@@ -217,13 +217,16 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
     "<name> shadow", else its materials' "<material> shadow" drawn in their place, the others
     `shade` × their colours), else darks[i] None; margin: around the drawing's bounds
     (drawing_bounds); only: the names of the layers to draw (paths[i] None for the others,
-    a merged group drawn if any of its layers is named; the framing is the whole drawing's).
-    A frame that shows what an earlier one showed (shown_keyframes) is drawn once. The
-    artist's scene, the object, its layers and materials are left as they were."""
+    a merged group drawn if any of its layers is named; the framing is the whole drawing's);
+    samples: Grease Pencil's anti-aliasing samples per pixel (default: the artist's scene's
+    render setting, as F12 draws the drawing; each costs a draw of every pixel). A frame
+    that shows what an earlier one showed (shown_keyframes) is drawn once. The artist's
+    scene, the object, its layers and materials are left as they were."""
     layers, notes = drawn_layers(obj, merge)
     x0, x1, z0, z1 = bounds = framing(obj, margin)
     w, h = drawn_size(bounds, width_px)
-    frames = [bpy.context.scene.frame_current] if frames is None else list(frames)
+    artist = bpy.context.scene
+    frames = [artist.frame_current] if frames is None else list(frames)
     memory.check(*drawing_memory(obj, layers, frames, w, h, only),
                  "draw it smaller (From Grease Pencil's Resolution, --width on the command "
                  "line) or over fewer frames (the scene's frame range)")
@@ -269,6 +272,10 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
         scene.camera = cam
         r = scene.render
         r.engine = "BLENDER_WORKBENCH"
+        scene.grease_pencil_settings.aa_samples = samples or \
+            artist.grease_pencil_settings.aa_samples
+        scene.grease_pencil_settings.antialias_threshold_render = \
+            artist.grease_pencil_settings.antialias_threshold_render
         r.resolution_x, r.resolution_y, r.resolution_percentage = w, h, 100
         r.film_transparent = True
         r.image_settings.file_format = "PNG"
@@ -425,18 +432,18 @@ def drawing_frames(scene, obj, settings):
         if settings["animation"] and animated(obj) else None
 
 
-def drawn_paintings(scene, obj, settings, progress=None, only=None):
+def drawn_paintings(scene, obj, settings, progress=None, only=None, samples=None):
     """Each layer of the drawing that draws something, drawn by Blender and made a painting
     (layered_files.painting_of_frames) → ([(name, depth, {channel: ImageData}, params,
     [frames] table or None)], bounds, frames or None, notes); only: the layers to draw (the
-    others' entries hold None for their images, params and table)."""
+    others' entries hold None for their images, params and table); samples: render_layers'."""
     progress = progress or (lambda f: None)
     frames = drawing_frames(scene, obj, settings)
     folder = tempfile.mkdtemp(prefix="dynpaint-grease-pencil-")
     try:
         paths, bounds, notes, darks = render_layers(
             obj, folder, settings["resolution"], frames, lambda f: progress(0.4 * f),
-            only=only, shade=settings["shade"], merge=settings["merge"])
+            only=only, shade=settings["shade"], merge=settings["merge"], samples=samples)
         layers = drawn_layers(obj, settings["merge"])[0]
         # a group of merged layers (drawn_layers) lies where its back one does
         depths = layer_depths([group[0] for group in layers], bounds[1] - bounds[0],
@@ -559,21 +566,23 @@ def stale_lit_copies(scene, names):
 
 
 DRAFT_WIDTH = 128      # px: a stroke's draft drawing (Blender's draw costs its pixels here)
+DRAFT_SAMPLES = 1      # and its anti-aliasing samples (each a draw of every pixel; SMAA stays)
 _DRAFTED = {}          # lit copy's name → the layer digests its last draft drew
 
 
-def _in_place(scene, obj, parent, source, settings, only):
+def _in_place(scene, obj, parent, source, settings, only, samples=None):
     """The lit copy's layer materials {stem: material} and the drawing's layers that changed
     (layer_digests, against `source`'s) drawn anew at settings' resolution (only: the names
-    that changed) → (materials, made: drawn_paintings' entries), or None where they cannot
-    be written in place (other layers, bounds or frames: the lit copy is made anew)."""
+    that changed; samples: render_layers') → (materials, made: drawn_paintings' entries), or
+    None where they cannot be written in place (other layers, bounds or frames: the lit
+    copy is made anew)."""
     mats = {m.get(LAYER): m for m in group_materials(parent)}
     same = set(mats) == {layer_stem(i, group) for i, group
                          in enumerate(drawn_layers(obj, settings["merge"])[0])} \
         and np.allclose(framing(obj), source["bounds"], rtol=0, atol=1e-9)
     if not same:       # (made anew without drawing the changed ones first)
         return None
-    made, _, _, _ = drawn_paintings(scene, obj, settings, only=only)
+    made, _, _, _ = drawn_paintings(scene, obj, settings, only=only, samples=samples)
     if any((table is None) != (not moves(mats[name]))
            for name, _, imgs, _, table in made if imgs is not None):
         return None
@@ -639,13 +648,13 @@ def forget_drafts():
 
 def draft_lit_drawing(context, parent):
     """A stroke while the artist draws (issue 42: draft while drawing, final after): the
-    layers that changed since the last draft drawn at DRAFT_WIDTH px across and made
-    paintings there (their relief inflated at that size), enlarged into their images
-    (refill_enlarged) and the group's shadows drafted from its layers made as small
-    (draft_group). Nothing is packed and the lit copy's record is left as it was:
-    refresh_lit_drawing draws them at full size once the strokes stop. → whether it
-    drew (False: nothing new, or other layers, bounds or frames, or a layer that moves:
-    those wait for the full redraw)."""
+    layers that changed since the last draft drawn at DRAFT_WIDTH px across (DRAFT_SAMPLES
+    a pixel) and made paintings there (their relief inflated at that size), enlarged into
+    their images (refill_enlarged) and the group's shadows drafted from its layers made as
+    small (draft_group). Nothing is packed and the lit copy's record is left as it was:
+    refresh_lit_drawing draws them at full size once the strokes stop. → whether it drew
+    (False: nothing new, or other layers, bounds or frames, or a layer that moves: those
+    wait for the full redraw)."""
     found = _source(parent)
     if found is None:
         return False
@@ -657,7 +666,7 @@ def draft_lit_drawing(context, parent):
         return False
     small = {**settings, "resolution": min(DRAFT_WIDTH, settings["resolution"]),
              "animation": False}
-    in_place = _in_place(context.scene, obj, parent, source, small, changed)
+    in_place = _in_place(context.scene, obj, parent, source, small, changed, DRAFT_SAMPLES)
     if in_place is None:
         return False
     mats, made = in_place
@@ -670,8 +679,8 @@ def draft_lit_drawing(context, parent):
     _DRAFTED[parent.name] = digests
     note_edited(written)
     draft_group(parent, {mats[name].name: imgs for name, imgs in made})
-    for name, _ in made:            # their derived images; the shadows the draft's
-        update(mats[name], context.scene, bake="none")
+    for name, imgs in made:         # their derived images from the small ones; the shadows
+        update(mats[name], context.scene, bake="none", small=imgs)     # the draft's
     return True
 
 

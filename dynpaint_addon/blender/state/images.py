@@ -8,7 +8,7 @@ import bpy
 
 from ... import params
 from ...core.frames import expand_pattern, is_pattern
-from ...core.input_rules import pixel_role
+from ...core.input_rules import ImageData, pixel_role
 from ...core.sampling import enlarged_box, resample_separable
 from ...core.strokes import changed_box
 from ...inputs.imageio import file_channels, file_header
@@ -117,16 +117,23 @@ def derived_image(settings, channel):
     return next((d.image for d in settings.derived if d.channel == channel), None)
 
 
-def update_derived_images(mat, state, force=False):
+def update_derived_images(mat, state, force=False, small=None):
     """Make the images numpy derives from the inputs (state.plan: PaintingState's), only those
-    whose key changed (or all: `force`), reading each source once; drop the rest.
-    → warnings (non-finite pixels replaced)."""
+    whose key changed (or all: `force`), reading each source once; drop the rest. small:
+    {channel: ImageData} of a draft drawn smaller than its images (issue 42): what derives
+    from them is made at their size and enlarged into its image (refill_enlarged: where it
+    changed), the painting's size kept. → warnings (non-finite pixels replaced)."""
     s = mat.dynamic_painting
-    imgs, plan = state.images, state.plan
+    imgs, plan, small = state.images, state.plan, small or {}
     stored = {d.channel: d for d in s.derived}
     todo = [d for d in plan if force or d.channel not in stored or stored[d.channel].image is None
             or stored[d.channel].key != d.key]
-    made, warnings = _make(mat, state, todo)
+    if small:
+        made, warnings = make_derived(
+            todo, lambda c: small[c] if c in small else state.read(c),
+            lambda c: pixel_role(c, state.params))
+    else:
+        made, warnings = _make(mat, state, todo)
     images = {}
     base = f"DP {mat.name}"
     for item in todo:
@@ -135,6 +142,9 @@ def update_derived_images(mat, state, force=False):
             image = images.get(item.same_as) or derived_image(s, item.same_as)
         elif rgba is None:               # checked: the input itself has no NaN/Inf
             image = imgs[item.source]
+        elif item.source in small:
+            image = _enlarged_into(f"{base} {item.channel}{' finite' * item.finite_copy}",
+                                   rgba, imgs[item.source].size)
         else:
             suffix = " finite" if item.finite_copy else ""
             image = float_image(f"{base} {item.channel}{suffix}", rgba)
@@ -233,6 +243,16 @@ def refill_enlarged(img, data):
     _ENLARGED[img.name] = (small, big, img.as_pointer())
     img.pixels.foreach_set(big.ravel())
     return True
+
+
+def _enlarged_into(name, rgba, size):
+    """The float image `name` holding RGBA made small, enlarged to `size` (w, h)."""
+    img = bpy.data.images.get(name)
+    if img is None or tuple(img.size) != tuple(size) or not img.is_float:
+        w, h = size
+        return float_image(name, resample_separable(rgba, h, w))
+    refill_enlarged(img, ImageData(rgba, 32, name))
+    return img
 
 
 def forget_enlarged(names=None):
