@@ -187,8 +187,9 @@ unhide it and draw on, and the lit copy follows — each change of the drawing (
 keyframe, a material's colour) shows at once as a draft (the changed layer drawn 128 px
 across at one anti-aliasing sample and enlarged, its shadows from the layers made as small:
 under 0.1 s at 1024² here) and is drawn in full in place once no stroke has come for 1 s
-(at once in scripts and renders, after a depsgraph evaluation); a layer added or removed
-makes the lit copy anew. Blender draws each layer at the scene's Grease Pencil
+(Blender holds only while it draws the changed layer; its painting and the shadows are made
+in worker threads; at once in scripts and renders, after a depsgraph evaluation); a layer
+added or removed makes the lit copy anew. Blender draws each layer at the scene's Grease Pencil
 anti-aliasing samples (*Render Properties › Grease Pencil*, 8 unless set), as F12 would:
 each sample is a drawing of every pixel, so fewer make the full redraw sooner.
 An animated

@@ -34,7 +34,8 @@ from .bake.shadow_images import forget_cached_shapes
 from .material.sync import invalidate_generated, update
 from .material.tree import rebuild_tree, tree_is_stale
 from .scenes.grease_pencil import (draft_lit_drawing, drawing_of, forget_drafts,
-                                    refresh_lit_drawing, stale_lit_copies)
+                                    redrawing, redrawing_now, refresh_lit_drawing,
+                                    stale_lit_copies)
 from .state.edits import note_edited
 from .state.frame_sampling import only_reading_lights
 from .state.frames import forget_frames, moves
@@ -87,16 +88,13 @@ def on_depsgraph_update(scene, depsgraph):
             report(mat, exc)
 
 
-_REDRAWING = []     # a lit copy being redrawn: its own renders update the drawing too
-
-
 def redraw_lit_drawings(scene, depsgraph):
     """A Grease Pencil drawing changed (a stroke, a keyframe, a material): redraw the lit
     copies made from it (scenes/grease_pencil.refresh_lit_drawing: the layers that changed)
     — at once without a UI (the headless contract); with one, a draft at once
     (draft_lit_drawing: drawn small) and the full redraw once no stroke has come for
     STROKES_QUIET_S."""
-    if _REDRAWING:
+    if redrawing_now():             # (a lit copy's own renders of its drawing)
         return
     names = set()
     for u in depsgraph.updates:
@@ -127,7 +125,8 @@ def redraw_lit_drawings(scene, depsgraph):
 # The full redraw waits for a pause in the strokes longer than a dragged light's (DEBOUNCE_S):
 # a drawing's strokes come with short lifts of the pen between them, and the full redraw
 # holds Blender while it draws every changed layer at full size (seconds at 1024² without a
-# GPU: docs/grease-pencil-cost.md); the draft shows each stroke meanwhile.
+# GPU: docs/grease-pencil-cost.md; the paintings are then made in a worker thread,
+# grease_pencil._Redraw); the draft shows each stroke meanwhile.
 STROKES_QUIET_S = max(DEBOUNCE_S, 1.0)
 _PENDING = {}       # lit copy's name → when its last stroke was drafted
 
@@ -151,13 +150,11 @@ def _redraw_pending():
 def _redraw(parent, how=refresh_lit_drawing):
     """how(context, parent) of a lit copy, its errors reported → what it returned (None when
     it failed)."""
-    _REDRAWING.append(parent.name)
     try:
-        return how(bpy.context, parent)
+        with redrawing(parent.name):
+            return how(bpy.context, parent)
     except Exception as exc:        # never into Blender's update loop
         report(parent.name, exc)
-    finally:
-        _REDRAWING.clear()
 
 
 @persistent

@@ -17,6 +17,7 @@ solve −L z = b, so b is a "source": −Δz = b.
     ((4, 5), 0.0)
 """
 import hashlib
+import threading
 from collections import OrderedDict
 
 import numpy as np
@@ -240,6 +241,7 @@ def parts(labels, count, where):
 
 
 _SOLVED = OrderedDict()    # a part's digest → (its z, iterations, residual), newest last
+_SOLVED_LOCK = threading.Lock()    # (a lit drawing's redraw inflates in a worker thread)
 SOLVED_BYTES = 64 << 20    # what the parts kept may hold; a part over a quarter of it is not
                            # kept (nor hashed: a large image's solve is not a stroke's)
 
@@ -258,18 +260,22 @@ def _solved(part, bk, tol):
     if 4 * bk.size * 8 > SOLVED_BYTES:
         return solve(part, bk, tol)
     key = _digest(part.wx, part.wy, part.dirichlet, bk, np.array(tol))
-    if key in _SOLVED:
-        _SOLVED.move_to_end(key)
-        return _SOLVED[key]
-    _SOLVED[key] = found = solve(part, bk, tol)
-    while sum(z.nbytes for z, _, _ in _SOLVED.values()) > SOLVED_BYTES:
-        _SOLVED.popitem(last=False)
+    with _SOLVED_LOCK:
+        if key in _SOLVED:
+            _SOLVED.move_to_end(key)
+            return _SOLVED[key]
+    found = solve(part, bk, tol)
+    with _SOLVED_LOCK:
+        _SOLVED[key] = found
+        while sum(z.nbytes for z, _, _ in _SOLVED.values()) > SOLVED_BYTES:
+            _SOLVED.popitem(last=False)
     return found
 
 
 def forget_solved_parts():
     """Drop the parts kept (their heights are the same when solved again: memory only)."""
-    _SOLVED.clear()
+    with _SOLVED_LOCK:
+        _SOLVED.clear()
 
 
 def solve_parts(grid, b, labels, count, tol=1e-4):

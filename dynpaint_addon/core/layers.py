@@ -149,6 +149,7 @@ class Scene:
         self.places = {i: placement(layers[i], self.ready[i].size, self.canvas)
                        for i in self.order}
         self._occluders, self._origins = {}, {}
+        self.own = {}            # the last bake's own terms (bake's `own`)
 
     def occluder(self, k, scale=1.0):
         """Layer k as the layers behind it meet it, its images at `scale` of its pixels."""

@@ -18,9 +18,11 @@ from dynpaint_addon import blender  # noqa: E402
 from dynpaint_addon.blender import handlers  # noqa: E402
 from dynpaint_addon.blender.bake.layers import (DRAFTED, forget_scenes,  # noqa: E402
                                                 group_materials)
+from dynpaint_addon.blender.scenes import grease_pencil  # noqa: E402
 from dynpaint_addon.blender.scenes.grease_pencil import (  # noqa: E402
     DRAFT_WIDTH, LAYER, SOURCE, GreasePencilError, animated, draft_lit_drawing,
-    drawn_layers, forget_drafts, layer_digests, render_layers, stale_lit_copies)
+    drawn_layers, forget_drafts, layer_digests, refresh_lit_drawing, render_layers,
+    stale_lit_copies)
 from dynpaint_addon.core.colour import linear_to_srgb, srgb_to_linear  # noqa: E402
 from dynpaint_addon.inputs.layered_files import DEFAULT_SHADE  # noqa: E402
 from dynpaint_addon.inputs.imageio import image_data_from_blender, read_image  # noqa: E402
@@ -450,6 +452,45 @@ def test_a_lit_copy_follows_its_drawing(drawing):
     assert sorted(len(group_materials(o)) for o in lit) == [3, 3]
 
 
+def test_a_full_redraw_is_made_beside_the_ui_and_one_the_drawing_outran_is_dropped(drawing):
+    """With a UI the full redraw has Blender draw the changed layer and a worker thread make
+    it a painting (refresh_lit_drawing, beside); finish_redraws (the UI's timer, called
+    here) writes it once made: the lit copy is then what a fresh From Grease Pencil makes,
+    bit for bit. A redraw the drawing outran (a stroke meanwhile) is dropped, not written:
+    the lit copy stays stale for the redraw of that stroke."""
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    bpy.context.scene.collection.objects.link(sun)
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=96) == {"FINISHED"}
+    parent, scene = bpy.context.object, bpy.context.scene
+    figure = drawing.data.layers["Figure"]
+    add_fill(figure, disc(0.6, -0.4, 0.15), 1)
+    assert refresh_lit_drawing(bpy.context, parent, beside=True) is parent
+    job = grease_pencil._REDRAWS[parent.name]
+    assert stale_lit_copies(scene, {drawing.name}) == [parent]          # not written yet
+    job.thread.join()
+    assert grease_pencil.finish_redraws() is None
+    assert not stale_lit_copies(scene, {drawing.name})
+    front = group_materials(parent)[-1].dynamic_painting
+    drawing.hide_set(False)
+    bpy.context.view_layer.objects.active = drawing
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=96) == {"FINISHED"}
+    fresh = group_materials(bpy.context.object)[-1].dynamic_painting
+    for c in ("shape", "dark", "bright"):
+        assert np.array_equal(image_data_from_blender(getattr(front, f"image_{c}")).pixels,
+                              image_data_from_blender(getattr(fresh, f"image_{c}")).pixels)
+    add_fill(figure, disc(-0.5, 0.3, 0.1), 1)
+    refresh_lit_drawing(bpy.context, parent, beside=True)
+    job = grease_pencil._REDRAWS[parent.name]
+    add_fill(figure, disc(0.2, 0.5, 0.05), 1)                      # a stroke meanwhile
+    shown = image_data_from_blender(front.image_bright).pixels.copy()
+    job.thread.join()
+    assert grease_pencil.finish_redraws() is None
+    assert np.array_equal(image_data_from_blender(front.image_bright).pixels, shown)
+    assert parent in stale_lit_copies(scene, {drawing.name})             # dropped
+    refresh_lit_drawing(bpy.context, parent)                            # (in place here)
+    assert parent not in stale_lit_copies(scene, {drawing.name})
+
+
 def test_a_stroke_is_drafted_small_at_once_then_drawn_in_full(drawing):
     """With a UI a stroke shows a draft at once (draft_lit_drawing): the changed layer drawn
     DRAFT_WIDTH px across, enlarged into its images (not packed), the group's shadows from
@@ -531,7 +572,7 @@ def test_the_cost_benchmark_runs():
     sys.path.insert(0, os.path.join(REPO, "benchmarks"))
     import grease_pencil_cost
     m, page_mb = grease_pencil_cost.measure(48, 1)
-    assert len(m) == 8 and all(seconds > 0 for seconds in m.values()) and page_mb > 0
+    assert len(m) == 10 and all(seconds > 0 for seconds in m.values()) and page_mb > 0
 
 
 def test_the_frames_benchmark_runs_and_nothing_still_flickers():

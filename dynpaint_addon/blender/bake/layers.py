@@ -298,10 +298,14 @@ def draft_group(parent, drawn, depsgraph=None):
     kept = {i: before[key] for i, (mat, key) in enumerate(zip(mats, keys))
             if key in before and mat.name not in drawn}
     for i, mat in enumerate(mats):
-        images[mat.name] = drawn[mat.name] if mat.name in drawn else kept[i][0] \
-            if i in kept else {c: _made_small(frame_data(mat, c), f)
-                               for c in channel_images(mat.dynamic_painting)
-                               if c in LAYER_CHANNELS}
+        if mat.name in drawn:
+            images[mat.name] = drawn[mat.name]
+        elif i in kept:
+            images[mat.name] = kept[i][0]
+        else:
+            images[mat.name] = {c: _made_small(frame_data(mat, c), f)
+                                for c in channel_images(mat.dynamic_painting)
+                                if c in LAYER_CHANNELS}
     layers = group_layers(mats, depsgraph, LAYER_CHANNELS, kept=images)
     for layer in layers:
         layer.p.shadows.enabled = True

@@ -21,6 +21,7 @@ import math
 import os
 import shutil
 import tempfile
+import threading
 
 import numpy as np
 
@@ -43,6 +44,7 @@ from ..state.edits import note_edited
 from ..state.frames import forget_frames, moves
 from ..state.images import (forget_enlarged, packed_image, refill_enlarged,
                             refill_packed_image)
+from ..state.status import report
 from .layered_build import build_layered, remove_objects
 from .painting_scene import NO_CAMERA, unchanged_images_on_failure
 
@@ -432,39 +434,60 @@ def drawing_frames(scene, obj, settings):
         if settings["animation"] and animated(obj) else None
 
 
-def drawn_paintings(scene, obj, settings, progress=None, only=None, samples=None):
-    """Each layer of the drawing that draws something, drawn by Blender and made a painting
-    (layered_files.painting_of_frames) → ([(name, depth, {channel: ImageData}, params,
-    [frames] table or None)], bounds, frames or None, notes); only: the layers to draw (the
-    others' entries hold None for their images, params and table); samples: render_layers'."""
+def drawn_images(scene, obj, settings, progress=None, only=None, samples=None):
+    """Each layer of the drawing that draws something, drawn by Blender (render_layers, read
+    back) → ([(name, depth, [ImageData per frame] or None, [its dark ones] or None)], bounds,
+    frames or None, notes); only: the layers to draw (the others' images None); samples:
+    render_layers'."""
     progress = progress or (lambda f: None)
     frames = drawing_frames(scene, obj, settings)
     folder = tempfile.mkdtemp(prefix="dynpaint-grease-pencil-")
     try:
         paths, bounds, notes, darks = render_layers(
-            obj, folder, settings["resolution"], frames, lambda f: progress(0.4 * f),
-            only=only, shade=settings["shade"], merge=settings["merge"], samples=samples)
+            obj, folder, settings["resolution"], frames, progress, only=only,
+            shade=settings["shade"], merge=settings["merge"], samples=samples)
         layers = drawn_layers(obj, settings["merge"])[0]
         # a group of merged layers (drawn_layers) lies where its back one does
         depths = layer_depths([group[0] for group in layers], bounds[1] - bounds[0],
                               settings["spacing"])
-        made = []
-        for i, (layer, layer_paths, dark_paths, depth) in enumerate(zip(layers, paths, darks,
-                                                                         depths)):
-            name = layer_stem(i, layer)
-            if layer_paths is None:
-                made.append((name, depth, None, None, None))
-                continue
-            images, p, lines, table = painting_of_frames(
-                name, [read_image(path) for path in layer_paths], settings["shade"],
-                settings["relief"], dark_paths and [read_image(path) for path in dark_paths],
-                effects(settings))
-            notes += [f"{name}: {n}" for n in lines]
-            made.append((name, depth, images, p, table))
-            progress(0.4 + 0.3 * (i + 1) / len(paths))
+        drawn = [(layer_stem(i, layer), depth,
+                  layer_paths and [read_image(path) for path in layer_paths],
+                  dark_paths and [read_image(path) for path in dark_paths])
+                 for i, (layer, layer_paths, dark_paths, depth)
+                 in enumerate(zip(layers, paths, darks, depths))]
     finally:
         shutil.rmtree(folder, ignore_errors=True)
-    return made, bounds, frames, notes
+    return drawn, bounds, frames, notes
+
+
+def made_paintings(drawn, settings, progress=None):
+    """drawn_images' layers made paintings (layered_files.painting_of_frames; numpy alone, so
+    a worker thread may run it: _Redraw) → ([(name, depth, {channel: ImageData}, params,
+    [frames] table or None)], notes); a layer not drawn holds None for the last three."""
+    made, notes = [], []
+    for i, (name, depth, cells, dark) in enumerate(drawn):
+        if cells is None:
+            made.append((name, depth, None, None, None))
+            continue
+        images, p, lines, table = painting_of_frames(name, cells, settings["shade"],
+                                                     settings["relief"], dark, effects(settings))
+        notes += [f"{name}: {n}" for n in lines]
+        made.append((name, depth, images, p, table))
+        if progress is not None:
+            progress((i + 1) / len(drawn))
+    return made, notes
+
+
+def drawn_paintings(scene, obj, settings, progress=None, only=None, samples=None):
+    """Each layer of the drawing that draws something, drawn by Blender and made a painting
+    (drawn_images, made_paintings) → ([(name, depth, {channel: ImageData}, params, [frames]
+    table or None)], bounds, frames or None, notes); only: the layers to draw (the
+    others' entries hold None for their images, params and table); samples: render_layers'."""
+    progress = progress or (lambda f: None)
+    drawn, bounds, frames, notes = drawn_images(scene, obj, settings, lambda f: progress(0.4 * f),
+                                                only, samples)
+    made, lines = made_paintings(drawn, settings, lambda f: progress(0.4 + 0.3 * f))
+    return made, bounds, frames, notes + lines
 
 
 def light_drawing(context, obj, settings, progress=None, lights=None):
@@ -570,23 +593,24 @@ DRAFT_SAMPLES = 1      # and its anti-aliasing samples (each a draw of every pix
 _DRAFTED = {}          # lit copy's name → the layer digests its last draft drew
 
 
-def _in_place(scene, obj, parent, source, settings, only, samples=None):
-    """The lit copy's layer materials {stem: material} and the drawing's layers that changed
-    (layer_digests, against `source`'s) drawn anew at settings' resolution (only: the names
-    that changed; samples: render_layers') → (materials, made: drawn_paintings' entries), or
-    None where they cannot be written in place (other layers, bounds or frames: the lit
-    copy is made anew)."""
+def _layer_materials(obj, parent, source, settings):
+    """The lit copy's layer materials {stem: material}, or None where the drawing's layers or
+    bounds are not those it was made from (it is made anew then)."""
     mats = {m.get(LAYER): m for m in group_materials(parent)}
     same = set(mats) == {layer_stem(i, group) for i, group
                          in enumerate(drawn_layers(obj, settings["merge"])[0])} \
         and np.allclose(framing(obj), source["bounds"], rtol=0, atol=1e-9)
-    if not same:       # (made anew without drawing the changed ones first)
-        return None
-    made, _, _, _ = drawn_paintings(scene, obj, settings, only=only, samples=samples)
+    return mats if same else None
+
+
+def _in_place(mats, made):
+    """The made paintings (drawn_paintings' entries) that can be written into the lit copy's
+    materials `mats` → [(stem, images)], or None where one of them moves and its material
+    does not, or the other way round (other frames: the lit copy is made anew)."""
     if any((table is None) != (not moves(mats[name]))
            for name, _, imgs, _, table in made if imgs is not None):
         return None
-    return mats, [(name, imgs) for name, _, imgs, _, _ in made if imgs is not None]
+    return [(name, imgs) for name, _, imgs, _, _ in made if imgs is not None]
 
 
 def _source(parent):
@@ -600,32 +624,52 @@ def _source(parent):
         source
 
 
-def refresh_lit_drawing(context, parent):
+def _changed(obj, source):
+    """(the drawing's layer digests now, the names of the layers changed since `source`)."""
+    digests = layer_digests(obj)
+    return digests, {n for n, d in digests.items() if source.get("layers", {}).get(n) != d}
+
+
+def refresh_lit_drawing(context, parent, beside=None):
     """Redraw the lit copy `parent` from its drawing as it is now: the layers that changed
     (layer_digests) drawn again and their images written in place where the layers, the
     drawing's bounds, sizes and frames are as before (their edits noted, so the group bakes
-    again), else the lit copy made anew → the parent (a new one then)."""
+    again), else the lit copy made anew → the parent (a new one then). beside (default:
+    with a UI, rendering() not): Blender draws the layers now and a worker thread makes
+    them paintings; finish_redraws writes them once made, if the drawing is still as drawn."""
     found = _source(parent)
     if found is None:
         return parent
     obj, settings, source = found
     _DRAFTED.pop(parent.name, None)                # (drafts are drawn over from here)
-    digests = layer_digests(obj)
-    changed = {n for n, d in digests.items() if source.get("layers", {}).get(n) != d}
-    in_place = _in_place(context.scene, obj, parent, source, settings, changed)
+    digests, changed = _changed(obj, source)
+    mats = _layer_materials(obj, parent, source, settings)
+    if mats is not None and (not rendering() if beside is None else beside):
+        drawn = drawn_images(context.scene, obj, settings, only=changed)[0]
+        _REDRAWS[parent.name] = _Redraw(digests, drawn, settings)
+        if not bpy.app.timers.is_registered(finish_redraws):
+            bpy.app.timers.register(finish_redraws, first_interval=POLL_S)
+        return parent
+    made = None if mats is None else \
+        _in_place(mats, drawn_paintings(context.scene, obj, settings, only=changed)[0])
+    return _written(context, parent, mats, made, obj, settings, source, digests)
+
+
+def _written(context, parent, mats, made, obj, settings, source, digests):
+    """The made paintings written into the lit copy's images in place (packed) and its
+    record updated, or the lit copy made anew where they cannot be (made None, or an image
+    of another size or kind) → the parent."""
     written = []
-    if in_place is not None:
-        mats, made = in_place
-        for name, imgs in made:
-            for channel, data in imgs.items():
-                img = getattr(mats[name].dynamic_painting, f"image_{channel}")
-                if img is None or not refill_packed_image(img, data):
-                    in_place = None
-                    break
-                written.append(img.name)
-            if in_place is None:
+    for name, imgs in made or ():
+        for channel, data in imgs.items():
+            img = getattr(mats[name].dynamic_painting, f"image_{channel}")
+            if img is None or not refill_packed_image(img, data):
+                made = None
                 break
-    if in_place is None:                           # other layers, sizes or frames: anew
+            written.append(img.name)
+        if made is None:
+            break
+    if made is None:                               # other layers, sizes or frames: anew
         hidden = obj.hide_get()
         remove_objects(list(parent.children) + [parent], images=True)
         obj.hide_set(False)
@@ -641,9 +685,77 @@ def refresh_lit_drawing(context, parent):
     return parent
 
 
+_REDRAWING = []        # a lit copy being redrawn: its own renders update the drawing too
+
+
+@contextlib.contextmanager
+def redrawing(name):
+    """While lit copy `name` is redrawn (its drawing's updates are its own: redrawing_now)."""
+    _REDRAWING.append(name)
+    try:
+        yield
+    finally:
+        _REDRAWING.clear()
+
+
+def redrawing_now():
+    return bool(_REDRAWING)
+
+
+_REDRAWS = {}          # lit copy's name → its _Redraw (the newest: an older one is dropped)
+POLL_S = 0.05          # how often finish_redraws looks for made paintings
+
+
+class _Redraw:
+    """A full redraw's layers, drawn by Blender, made paintings in a worker thread (the
+    inflation of a changed part at full size takes a second at 1024²) while the UI goes on."""
+
+    def __init__(self, digests, drawn, settings):
+        self.digests, self.made, self.error = digests, None, None
+        self.thread = threading.Thread(target=self._run, args=(drawn, settings), daemon=True)
+        self.thread.start()
+
+    def _run(self, drawn, settings):
+        try:
+            self.made = made_paintings(drawn, settings)[0]
+        except Exception as exc:        # (said on the main thread: finish_redraws)
+            self.error = exc
+
+
+def finish_redraws():
+    """Timer: the full redraws whose paintings are made written into their lit copies
+    (_written), where the drawing is still as Blender drew it — else dropped: the strokes
+    since are drafted, and their own full redraw follows. → seconds to the next call
+    (None: none left)."""
+    for name, job in list(_REDRAWS.items()):
+        if job.thread.is_alive():
+            continue
+        del _REDRAWS[name]
+        parent = bpy.data.objects.get(name)
+        found = None if parent is None else _source(parent)
+        if found is None:
+            continue
+        if job.error is not None:
+            report(name, job.error)
+            continue
+        obj, settings, source = found
+        mats = _layer_materials(obj, parent, source, settings)
+        if mats is None or layer_digests(obj) != job.digests:
+            continue
+        try:
+            with redrawing(name):
+                _written(bpy.context, parent, mats, _in_place(mats, job.made), obj,
+                         settings, source, job.digests)
+        except Exception as exc:        # never into Blender's timer loop
+            report(name, exc)
+    return POLL_S if _REDRAWS else None
+
+
 def forget_drafts():
-    """Another file is open, or undo: the drafts' digests may be of other drawings."""
+    """Another file is open, or undo: the drafts' digests and the redraws under way may be
+    of other drawings."""
     _DRAFTED.clear()
+    _REDRAWS.clear()
 
 
 def draft_lit_drawing(context, parent):
@@ -659,17 +771,17 @@ def draft_lit_drawing(context, parent):
     if found is None:
         return False
     obj, settings, source = found
-    digests = layer_digests(obj)
-    last = _DRAFTED.get(parent.name, source.get("layers", {}))
-    changed = {n for n, d in digests.items() if last.get(n) != d}
-    if not changed:
+    digests, changed = _changed(obj, {"layers": _DRAFTED.get(parent.name,
+                                                             source.get("layers", {}))})
+    mats = _layer_materials(obj, parent, source, settings)
+    if not changed or mats is None:
         return False
     small = {**settings, "resolution": min(DRAFT_WIDTH, settings["resolution"]),
              "animation": False}
-    in_place = _in_place(context.scene, obj, parent, source, small, changed, DRAFT_SAMPLES)
-    if in_place is None:
+    made = _in_place(mats, drawn_paintings(context.scene, obj, small, only=changed,
+                                           samples=DRAFT_SAMPLES)[0])
+    if made is None:
         return False
-    mats, made = in_place
     written = []
     for name, imgs in made:
         for channel, data in imgs.items():
