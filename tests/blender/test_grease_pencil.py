@@ -16,6 +16,7 @@ from mathutils import Vector  # noqa: E402
 
 from dynpaint_addon import blender  # noqa: E402
 from dynpaint_addon.blender import handlers  # noqa: E402
+from dynpaint_addon.blender.bake import layers as group_bakes  # noqa: E402
 from dynpaint_addon.blender.bake.layers import (DRAFTED, forget_scenes,  # noqa: E402
                                                 group_materials)
 from dynpaint_addon.blender.scenes import grease_pencil  # noqa: E402
@@ -455,9 +456,11 @@ def test_a_lit_copy_follows_its_drawing(drawing):
 def test_a_full_redraw_is_made_beside_the_ui_and_one_the_drawing_outran_is_dropped(drawing):
     """With a UI the full redraw has Blender draw the changed layer and a worker thread make
     it a painting (refresh_lit_drawing, beside); finish_redraws (the UI's timer, called
-    here) writes it once made: the lit copy is then what a fresh From Grease Pencil makes,
-    bit for bit. A redraw the drawing outran (a stroke meanwhile) is dropped, not written:
-    the lit copy stays stale for the redraw of that stroke."""
+    here) writes it once made and leaves the group's final bake to a worker (no full-size
+    draft: the stroke's shows meanwhile): the lit copy is then what a fresh From Grease
+    Pencil makes, bit for bit, its shadows within 1e-6. A redraw the drawing outran (a
+    stroke meanwhile) is dropped, not written: the lit copy stays stale for the redraw of
+    that stroke."""
     sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
     bpy.context.scene.collection.objects.link(sun)
     assert bpy.ops.dynpaint.add_grease_pencil(resolution=96) == {"FINISHED"}
@@ -467,17 +470,24 @@ def test_a_full_redraw_is_made_beside_the_ui_and_one_the_drawing_outran_is_dropp
     assert refresh_lit_drawing(bpy.context, parent, beside=True) is parent
     job = grease_pencil._REDRAWS[parent.name]
     assert stale_lit_copies(scene, {drawing.name}) == [parent]          # not written yet
+    back, front = (m.dynamic_painting for m in group_materials(parent))
+    baked = back.lights[0].bake_key
     job.thread.join()
     assert grease_pencil.finish_redraws() is None
     assert not stale_lit_copies(scene, {drawing.name})
-    front = group_materials(parent)[-1].dynamic_painting
+    assert back.lights[0].bake_key == baked and parent.name in group_bakes._FINAL_DUE
+    group_bakes.settle()                                # (the worker's final bake, joined)
+    assert back.lights[0].bake_key not in (baked, DRAFTED) and "|own|" in back.lights[0].bake_key
+    t = image_data_from_blender(back.lights[0].shadow).pixels
     drawing.hide_set(False)
     bpy.context.view_layer.objects.active = drawing
     assert bpy.ops.dynpaint.add_grease_pencil(resolution=96) == {"FINISHED"}
-    fresh = group_materials(bpy.context.object)[-1].dynamic_painting
+    fresh_back, fresh = (m.dynamic_painting for m in group_materials(bpy.context.object))
     for c in ("shape", "dark", "bright"):
         assert np.array_equal(image_data_from_blender(getattr(front, f"image_{c}")).pixels,
                               image_data_from_blender(getattr(fresh, f"image_{c}")).pixels)
+    assert np.abs(t - image_data_from_blender(fresh_back.lights[0].shadow).pixels).max() \
+        <= 1e-6
     add_fill(figure, disc(-0.5, 0.3, 0.1), 1)
     refresh_lit_drawing(bpy.context, parent, beside=True)
     job = grease_pencil._REDRAWS[parent.name]

@@ -352,10 +352,16 @@ def bake_group_live(parent, depsgraph=None):
     light has been still for DEBOUNCE_S (in a worker thread: _final_bakes)."""
     ms = bake_group(parent, depsgraph, quality="draft")
     if ms:
-        _FINAL_DUE[parent.name] = time.perf_counter()
-        if not bpy.app.timers.is_registered(_final_bakes):
-            bpy.app.timers.register(_final_bakes, first_interval=DEBOUNCE_S)
+        final_bake_due(parent, DEBOUNCE_S)
     return ms
+
+
+def final_bake_due(parent, after=0.0):
+    """The group's final bake started in a worker thread `after` seconds from now (0: with no
+    draft first — its shadows show a stroke's draft already, draft_group)."""
+    _FINAL_DUE[parent.name] = time.perf_counter() - DEBOUNCE_S + after
+    if not bpy.app.timers.is_registered(_final_bakes):
+        bpy.app.timers.register(_final_bakes, first_interval=max(after, POLL_S))
 
 
 _RUNNING = {}          # parent name → its final _GroupBake in a worker thread

@@ -36,7 +36,7 @@ from ...inputs.imageio import quiet_native, read_image
 from ...inputs.drawings import frame_range, load_drawing
 from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING, painting_of_frames
 from ...shapes.methods import options as shape_options
-from ..bake.layers import draft_group, group_materials
+from ..bake.layers import draft_group, final_bake_due, group_materials
 from ..bake.live_bake import rendering
 from ..material.sync import update
 from ..state.animation import fcurves
@@ -655,10 +655,11 @@ def refresh_lit_drawing(context, parent, beside=None):
     return _written(context, parent, mats, made, obj, settings, source, digests)
 
 
-def _written(context, parent, mats, made, obj, settings, source, digests):
+def _written(context, parent, mats, made, obj, settings, source, digests, beside=False):
     """The made paintings written into the lit copy's images in place (packed) and its
     record updated, or the lit copy made anew where they cannot be (made None, or an image
-    of another size or kind) → the parent."""
+    of another size or kind) → the parent. The group is baked now, or `beside` the UI: at
+    its own quality in a worker thread (final_bake_due)."""
     written = []
     for name, imgs in made or ():
         for channel, data in imgs.items():
@@ -680,8 +681,10 @@ def _written(context, parent, mats, made, obj, settings, source, digests):
     note_edited(written)
     forget_frames()
     parent[SOURCE] = json.dumps({**source, "layers": digests})
-    for mat in mats.values():       # (the first bakes the group; a UI gets a draft first)
-        update(mat, context.scene, bake="now" if rendering() else "live")
+    for mat in mats.values():       # (the first bakes the group, unless beside the UI)
+        update(mat, context.scene, bake="none" if beside else "now")
+    if beside:                      # the stroke's draft shows till then: no full-size draft
+        final_bake_due(parent)
     return parent
 
 
@@ -745,7 +748,7 @@ def finish_redraws():
         try:
             with redrawing(name):
                 _written(bpy.context, parent, mats, _in_place(mats, job.made), obj,
-                         settings, source, job.digests)
+                         settings, source, job.digests, beside=True)
         except Exception as exc:        # never into Blender's timer loop
             report(name, exc)
     return POLL_S if _REDRAWS else None
