@@ -652,10 +652,10 @@ def refresh_lit_drawing(context, parent, beside=None):
         return parent
     made = None if mats is None else \
         _in_place(mats, drawn_paintings(context.scene, obj, settings, only=changed)[0])
-    return _written(context, parent, mats, made, obj, settings, source, digests)
+    return _write_redraw(context, parent, mats, made, obj, settings, source, digests)
 
 
-def _written(context, parent, mats, made, obj, settings, source, digests, beside=False):
+def _write_redraw(context, parent, mats, made, obj, settings, source, digests, beside=False):
     """The made paintings written into the lit copy's images in place (packed) and its
     record updated, or the lit copy made anew where they cannot be (made None, or an image
     of another size or kind) → the parent. The group is baked now, or `beside` the UI: at
@@ -727,9 +727,9 @@ class _Redraw:
 
 def finish_redraws():
     """Timer: the full redraws whose paintings are made written into their lit copies
-    (_written), where the drawing is still as Blender drew it — else dropped: the strokes
-    since are drafted, and their own full redraw follows. → seconds to the next call
-    (None: none left)."""
+    (_write_redraw), where the drawing is still as Blender drew it — else dropped: the
+    strokes since are drafted, and their own full redraw follows. → seconds to the next
+    call (None: none left)."""
     for name, job in list(_REDRAWS.items()):
         if job.thread.is_alive():
             continue
@@ -747,8 +747,8 @@ def finish_redraws():
             continue
         try:
             with redrawing(name):
-                _written(bpy.context, parent, mats, _in_place(mats, job.made), obj,
-                         settings, source, job.digests, beside=True)
+                _write_redraw(bpy.context, parent, mats, _in_place(mats, job.made), obj,
+                              settings, source, job.digests, beside=True)
         except Exception as exc:        # never into Blender's timer loop
             report(name, exc)
     return POLL_S if _REDRAWS else None
