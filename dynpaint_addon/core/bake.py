@@ -12,7 +12,8 @@ import weakref
 import numpy as np
 
 from . import crossings
-from .sampling import resample_separable
+from .sampling import enlarged_box, resample_separable
+from .strokes import changed_box
 from .shadow import BakeCancelled, cos_theta_shadow
 
 # §13 quality levels of the bake: K, the resolution the march runs at (the result is upsampled
@@ -201,10 +202,19 @@ _REDUCED_BAKES = {}
 REDUCED_BAKES_KEPT = 8
 
 
-def _upsampled(t_s, h, w, dtype, reduced=None):
+def _upsampled(t_s, h, w, dtype, reduced=None, before=None):
     """A reduced bake's t at the shape's size (bilinear, clipped to 0…1); `reduced`: its
-    reduced inputs, kept with it when it was baked by crossings (for bake_edited)."""
-    t = np.clip(resample_separable(t_s, h, w), 0, 1).astype(dtype, copy=False)
+    reduced inputs, kept with it when it was baked by crossings (for bake_edited); before:
+    (the reduced t, its t at full size) of the bake an edit changed — only the pixels that
+    read a changed reduced pixel are upsampled again (enlarged_box: the same values)."""
+    if before is not None and before[0].shape == t_s.shape and \
+            before[1].shape == (h, w) and before[1].dtype == dtype:
+        t, box = before[1].copy(), changed_box(before[0], t_s)
+        if box is not None:
+            r0, r1, c0, c1 = out = enlarged_box(box, t_s.shape, (h, w))
+            t[r0:r1, c0:c1] = np.clip(resample_separable(t_s, h, w, out), 0, 1)
+    else:
+        t = np.clip(resample_separable(t_s, h, w), 0, 1).astype(dtype, copy=False)
     if reduced is not None:
         for gone in [k for k, (ref, _, _) in _REDUCED_BAKES.items() if ref() is None]:
             del _REDUCED_BAKES[gone]
@@ -278,6 +288,8 @@ def bake_edited(normals, light, offset, quality, t_before, normals_box, heights_
     reduced = (_reduced_edited(normals, n_s, nb, f, "normals"),
                _reduced_edited(heights_px, z_s, hb, f, "heights", normals.dtype.type(ws / w)),
                _reduced_edited(slopes, sl_s, nb, f, "slopes"))
-    t_s = crossings.sun_cos_theta_edited(reduced[0], light, offset, t_s, nb, hb,
-                                         heights_px=reduced[1], slopes=reduced[2], reach=reach)
-    return None if t_s is None else _upsampled(t_s, h, w, dtype, reduced)
+    edited = crossings.sun_cos_theta_edited(reduced[0], light, offset, t_s, nb, hb,
+                                            heights_px=reduced[1], slopes=reduced[2],
+                                            reach=reach)
+    return None if edited is None else _upsampled(edited, h, w, dtype, reduced,
+                                                  (t_s, t_before))

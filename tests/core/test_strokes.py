@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from dynpaint_addon import params
-from dynpaint_addon.core import crossings, strokes
+from dynpaint_addon.core import bake as core_bake, crossings, strokes
 from dynpaint_addon.core.bake import bake, bake_edited
 from dynpaint_addon.core.input_rules import ImageData
 from dynpaint_addon.core.lights import Light
@@ -183,3 +183,20 @@ def test_an_enlarged_image_redone_where_an_edit_reads_equals_the_whole():
             b0, b1, b2, b3 = again = enlarged_box(box, small, big)
             out[b0:b1, b2:b3] = resample_separable(img, *big, again)
             assert np.array_equal(out, resample_separable(img, *big))
+
+
+def test_an_edited_reduced_bake_upsamples_only_what_changed_and_equals_the_whole():
+    """_upsampled(before=) (core/bake.py): after an edit of a reduced bake's t only the full-size
+    pixels that read a changed reduced pixel are upsampled again (a 4096² draft's dab: 11 ms,
+    not 190–370 ms); the same array as upsampling the whole, bit for bit, for random edits
+    and for none."""
+    rng = np.random.default_rng(7)
+    t_s = rng.random((48, 40)).astype(np.float32)
+    t = core_bake._upsampled(t_s, 384, 320, np.float32)
+    for _ in range(20):
+        edited = t_s.copy()
+        r, c = rng.integers(0, 44), rng.integers(0, 36)
+        edited[r:r + rng.integers(0, 5), c:c + rng.integers(0, 5)] = rng.random()
+        got = core_bake._upsampled(edited, 384, 320, np.float32, before=(t_s, t))
+        assert np.array_equal(got, core_bake._upsampled(edited, 384, 320, np.float32))
+        t_s, t = edited, got
