@@ -25,13 +25,15 @@ import bpy
 from ...core.input_rules import ImageData
 from ...core.layers import Layer, Scene
 from ...core.sampling import resample_separable
+from ...nodegraph.derived_inputs import grey_rgba
 from ..state.edits import versions
 from ..state.frames import frame_data, slot_frame
 from ..state.lights import painting_frame_light, plane_matrix
-from ..state.images import refill_enlarged
+from ..state.images import enlarged_into
 from ..state.settings import channel_images, settings_to_params
 from .live_bake import DEBOUNCE_S
-from .shadow_images import bake_shadows, light_key, settings_key, write_shadow
+from .shadow_images import (bake_shadows, light_key, settings_key, shadow_image_name,
+                            write_shadow)
 
 LAYERED = "dynamic_painting_layered"     # custom property that marks a layered scene's parent
 LAYER_CHANNELS = ("shape", "dark", "bright", "transparency")   # what T and t_own read
@@ -224,16 +226,12 @@ def _write_shadows(mats, results, key_of, write=write_shadow):
 
 
 def _write_drafted(mat, item, t, key):
-    """A draft's small t enlarged into the light's cos-θ image at the layer's size: after a
-    draft of the same image only where t changed (refill_enlarged), the whole of it where
-    the image is new or of another size."""
-    w, h = mat.dynamic_painting.image_shape.size
-    img = item.shadow
-    if img is None or tuple(img.size) != (w, h) or not img.is_float:
-        write_shadow(mat, item, np.clip(resample_separable(t, h, w), 0, 1), key)
-    else:
-        refill_enlarged(img, ImageData(np.clip(t, 0, 1)[..., None], 32, img.name))
-        item.bake_key = key
+    """A draft's small t enlarged into the light's cos-θ image at the layer's size
+    (enlarged_into: where it changed since the last draft)."""
+    item.shadow = enlarged_into(shadow_image_name(mat, item.object.name),
+                                grey_rgba(np.clip(t, 0, 1)),
+                                mat.dynamic_painting.image_shape.size)
+    item.bake_key = key
 
 
 def _group_job(parent, depsgraph=None, quality=None, force=False):

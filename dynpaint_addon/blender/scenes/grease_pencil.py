@@ -624,10 +624,11 @@ def _source(parent):
         source
 
 
-def _changed(obj, source):
-    """(the drawing's layer digests now, the names of the layers changed since `source`)."""
+def _changed(obj, recorded):
+    """(the drawing's layer digests now, the names of the layers whose digest is not the one
+    `recorded`)."""
     digests = layer_digests(obj)
-    return digests, {n for n, d in digests.items() if source.get("layers", {}).get(n) != d}
+    return digests, {n for n, d in digests.items() if recorded.get(n) != d}
 
 
 def refresh_lit_drawing(context, parent, beside=None):
@@ -642,7 +643,7 @@ def refresh_lit_drawing(context, parent, beside=None):
         return parent
     obj, settings, source = found
     _DRAFTED.pop(parent.name, None)                # (drafts are drawn over from here)
-    digests, changed = _changed(obj, source)
+    digests, changed = _changed(obj, source.get("layers", {}))
     mats = _layer_materials(obj, parent, source, settings)
     if mats is not None and (not rendering() if beside is None else beside):
         drawn = drawn_images(context.scene, obj, settings, only=changed)[0]
@@ -774,8 +775,7 @@ def draft_lit_drawing(context, parent):
     if found is None:
         return False
     obj, settings, source = found
-    digests, changed = _changed(obj, {"layers": _DRAFTED.get(parent.name,
-                                                             source.get("layers", {}))})
+    digests, changed = _changed(obj, _DRAFTED.get(parent.name, source.get("layers", {})))
     mats = _layer_materials(obj, parent, source, settings)
     if not changed or mats is None:
         return False

@@ -142,12 +142,10 @@ def update_derived_images(mat, state, force=False, small=None):
             image = images.get(item.same_as) or derived_image(s, item.same_as)
         elif rgba is None:               # checked: the input itself has no NaN/Inf
             image = imgs[item.source]
-        elif item.source in small:
-            image = _enlarged_into(f"{base} {item.channel}{' finite' * item.finite_copy}",
-                                   rgba, imgs[item.source].size)
         else:
-            suffix = " finite" if item.finite_copy else ""
-            image = float_image(f"{base} {item.channel}{suffix}", rgba)
+            name = f"{base} {item.channel}{' finite' * item.finite_copy}"
+            image = enlarged_into(name, rgba, imgs[item.source].size) \
+                if item.source in small else float_image(name, rgba)
         images[item.channel] = image
         _store(s, item.channel, image, item.key)
     wanted = {d.channel for d in plan}
@@ -245,8 +243,10 @@ def refill_enlarged(img, data):
     return True
 
 
-def _enlarged_into(name, rgba, size):
-    """The float image `name` holding RGBA made small, enlarged to `size` (w, h)."""
+def enlarged_into(name, rgba, size):
+    """The float image `name` holding RGBA made small, enlarged to `size` (w, h): after a
+    draft of the same image only where it changed (refill_enlarged), the whole of it where
+    the image is new or of another size."""
     img = bpy.data.images.get(name)
     if img is None or tuple(img.size) != tuple(size) or not img.is_float:
         w, h = size
