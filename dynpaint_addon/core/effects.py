@@ -4,8 +4,8 @@ each a few numbers, added to an inflated figure's heights (image widths througho
 
 * bevel: a rim that rises from the figure's edge over `width` to `height`, its cross-section
   a quarter circle (round: √(1 − (1 − t)²)) or a ramp (linear: t), t = distance / width ≤ 1;
-  the distance to the edge is an octagonal one (4- and 8-neighbour steps taken in turn: within
-  8 % of the Euclidean distance), the image's border counting as edge, as inflate's does.
+  the distance to the edge is the Euclidean one (`edge_distance`), the image's border counting
+  as edge, as inflate's does.
 * smooth: a Gaussian blur of the heights inside the figure, normalised by the blurred mask so
   the edge does not pull them down.
 * structure: a tileable image's values, less their mean, repeated every `scale` image widths
@@ -25,23 +25,30 @@ from .sampling import gaussian_blur, sample_bilinear
 BEVEL_PROFILES = ("round", "linear")
 
 
-def edge_distance(mask, limit_px):
+def edge_distance(mask, limit_px=None):
     """Euclidean distance (pixels, centre to centre) from each pixel of `mask` (H, W) bool to
     the nearest pixel outside it or beyond the image, up to `limit_px` (farther pixels read
-    limit_px); 0 outside. Exact within the limit: each column's distance to the nearest
-    outside pixel first, then the nearest over the columns within the limit on either side
-    (the separable distance transform, its second pass by brute force over 2·limit + 1 shifts)."""
+    limit_px; None: no limit); 0 outside. Exact within the limit: each column's distance to
+    the nearest outside pixel first, then the nearest over the columns within the limit on
+    either side (the separable distance transform, its second pass by brute force over
+    2·limit + 1 shifts)."""
     mask = np.asarray(mask, bool)
     h, w = mask.shape
     rows = np.arange(h)[:, None]
     above = np.maximum.accumulate(np.where(mask, -1, rows), axis=0)     # -1: beyond the top
     below = np.minimum.accumulate(np.where(mask, h, rows)[::-1], axis=0)[::-1]
-    g = np.minimum(rows - above, below - rows).astype(np.float64)       # 0 outside
+    g = np.minimum(rows - above, below - rows)                          # 0 outside
+    if limit_px is None:          # no pixel is farther from the edge than from its column's
+        limit_px = float(g.max()) if g.size else 0.0
     reach = int(np.ceil(limit_px))
-    g2 = np.pad(np.minimum(g, reach + 1) ** 2, ((0, 0), (reach + 1, reach + 1)))  # beyond: 0
-    best = np.full((h, w), float(limit_px) ** 2)
+    # squared distances in whole pixels: exact in int32 (below 2³¹ up to 16384² images)
+    g2 = np.pad(np.minimum(g, reach + 1).astype(np.int32) ** 2,
+                ((0, 0), (reach + 1, reach + 1)))                        # beyond: 0
+    best = np.full((h, w), 2 * (reach + 1) ** 2, np.int32)
+    shifted = np.empty_like(best)
     for s in range(-reach - 1, reach + 2):
-        np.minimum(best, g2[:, reach + 1 + s: reach + 1 + s + w] + s * s, out=best)
+        np.add(g2[:, reach + 1 + s: reach + 1 + s + w], s * s, out=shifted)
+        np.minimum(best, shifted, out=best)
     return np.where(mask, np.minimum(np.sqrt(best), limit_px), 0.0)
 
 

@@ -5,13 +5,24 @@ Inside the figure (a mask, e.g. the painting's alpha) solve −Δh = 1 with h = 
 (its solve, profile and detail mean its own): the same drawing gives the same heights, bit
 for bit, whatever else the image holds — frames of an animation keep what does not change
 (pipeline.md §16). For a disc of radius R, h = (R² − r²)/4, so the
-*round* profile z = 2√h is exactly the hemisphere √(R² − r²); on any other outline it gives
-round cross-sections that follow the figure (Lumo, Monster Mash). Other profiles reshape the
-round one, normalised u = z / max z:
+*round* profile z = 2√h is exactly the hemisphere √(R² − r²); on any other outline it follows
+the figure smoothly (Lumo, Monster Mash), but its cross-sections are round only where the
+outline is: a long strip of half-width a gets h = (a² − x²)/2, z = √2 · √(a² − x²), half as
+tall again as round (a ring becomes a torus √2 too tall). Other profiles reshape the round
+one, normalised u = z / max z:
 
 * round:    z                          (a ball for a disc)
 * soft:     max z · u²                 (the Poisson bump itself: gentle rims, a pointed middle)
 * flat:     max z · (1 − (1 − min(2u, 1))²)   (rounded rims, a plateau above half height)
+
+and one is made apart, with no Poisson solve:
+
+* tube:     √(d · (2a − d))            (every cross-section a semicircle as wide as the figure)
+
+d is a pixel's distance to the figure's edge, a the half-width of the figure where the pixel
+lies: the distance to the edge at the ridge (the medial axis) that its steepest climb up d
+first reaches (Teddy's rule: heights from the chordal axis). A disc gives the same hemisphere
+as round, a strip a half-cylinder of its own width, a ring the true torus.
 
 Optional detail embosses the painting's luminance: + strength · (blurred luminance − its
 mean inside the figure), so painted folds and features stand out.
@@ -21,15 +32,22 @@ mean inside the figure), so painted folds and features stand out.
     >>> z = inflate(x * x + y * y < 0.4 ** 2).height
     >>> abs(float(z.max()) - 0.4) < 0.004     # a hemisphere of radius 0.4 image widths
     True
+    >>> r = np.hypot(x, y)
+    >>> ring = (0.2 < r) & (r < 0.4)             # a torus's tube of radius 0.1 image widths
+    >>> [round(float(inflate(ring, p).height.max()), 2) for p in ("round", "tube")]
+    [0.15, 0.1]
 """
 from dataclasses import dataclass
 
 import numpy as np
 
+from .effects import edge_distance
 from .laplace import Grid, components, parts, solve_parts
 from .sampling import gaussian_blur
 
-PROFILES = ("round", "soft", "flat")
+RESHAPED = ("round", "soft", "flat")      # the round profile reshaped (shape_profile)
+PROFILES = RESHAPED + ("tube",)
+RIDGE_SLOPE = 0.5   # a climb gaining less than this per pixel walked runs along a ridge
 
 
 @dataclass
@@ -80,14 +98,46 @@ def inflate(mask, profile="round", height=1.0, detail=0.0, luminance=None, detai
         grid = _dirichlet_grid(mask)
         labels, count = components(grid.wx > 0, grid.wy > 0) if by_parts else \
             (np.zeros((h, w), np.int64), 1)
-        poisson, iterations, residual = solve_parts(grid, mask / float(w * w), labels, count,
-                                                    tol=tol)
-        z = 2 * np.sqrt(np.maximum(poisson, 0)) * height
-        z = _per_part(shape_profile, z, labels, count, mask, profile)
+        if profile == "tube":
+            z = tube_heights(mask, labels) / w * height
+        else:
+            poisson, iterations, residual = solve_parts(grid, mask / float(w * w), labels,
+                                                        count, tol=tol)
+            z = 2 * np.sqrt(np.maximum(poisson, 0)) * height
+            z = _per_part(shape_profile, z, labels, count, mask, profile)
         if detail and luminance is not None:
             lum = gaussian_blur(np.asarray(luminance, np.float64), detail_blur * w)
             z = z + detail * _per_part(_less_mean, lum, labels, count, mask)
     return Inflated(np.where(mask, z, 0.0), iterations, residual)
+
+
+def tube_heights(mask, labels):
+    """The tube profile's heights (pixels) of a figure (H, W) bool whose parts are `labels`:
+    √(d · (2a − d)) (see the module's docstring). d: the exact Euclidean distance to the
+    nearest pixel outside, less the half pixel from that pixel's centre to the edge. a: each
+    pixel climbs to its 8-neighbour (of its own part) of largest d while that gains at least
+    RIDGE_SLOPE per pixel walked (off a ridge d rises one per pixel; along one, by the ridge's
+    own slope), by pointer jumping; a is d where the climb stops."""
+    h, w = mask.shape
+    d = np.where(mask, edge_distance(mask) - 0.5, -1.0)
+    index = np.arange(h * w).reshape(h, w)
+    padded_d = np.pad(d, 1, constant_values=-1.0)
+    padded_label = np.pad(np.where(mask, labels, -1), 1, constant_values=-1)
+    rate, parent = np.full((h, w), RIDGE_SLOPE), index.copy()
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            if dy == dx == 0:
+                continue
+            seen = np.s_[1 + dy: 1 + dy + h, 1 + dx: 1 + dx + w]
+            gain = (padded_d[seen] - d) / np.hypot(dy, dx)
+            steeper = (gain >= rate) & (padded_label[seen] == labels) & mask
+            rate = np.where(steeper, gain, rate)
+            parent = np.where(steeper, index + dy * w + dx, parent)
+    top = parent.ravel()
+    for _ in range(max(int(np.ceil(np.log2(max(h * w, 2)))), 1)):
+        top = top[top]       # each round doubles the steps climbed; every climb ends on a ridge
+    a = d.ravel()[top].reshape(h, w)
+    return np.where(mask, np.sqrt(np.clip(d * (2 * a - d), 0.0, None)), 0.0)
 
 
 def _less_mean(values):

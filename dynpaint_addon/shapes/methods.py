@@ -99,15 +99,19 @@ class Option:
 
 
 O = Option
-PROFILE_HELP = {"round": "A disc becomes a hemisphere; any outline gets round cross-sections",
+PROFILE_HELP = {"round": "A disc becomes a hemisphere; other outlines are rounded as a whole "
+                "(a long part comes out taller than it is wide)",
                 "soft": "Gentle at the rim, pointed in the middle",
-                "flat": "Rounded rims and a plateau (a coin, a cushion)"}
+                "flat": "Rounded rims and a plateau (a coin, a cushion)",
+                "tube": "Every cross-section a semicircle as wide as the figure there (a ring "
+                "becomes a torus, an arm a tube)"}
 OPTIONS = (
     # inflate
     O("image", ("inflate",), "file", help="painting with alpha, or a mask (white = figure)",
       where="cli", positional="IMAGE"),
     O("profile", ("inflate",), PROFILES, "round", "The rim's profile: round (a disc gives a "
-      "hemisphere), soft or flat (rounded rims, a plateau)", choice_help=PROFILE_HELP),
+      "hemisphere), soft, flat (rounded rims, a plateau) or tube (round cross-sections as "
+      "wide as the figure)", choice_help=PROFILE_HELP),
     O("height", ("inflate",), float, 1.0, "Scale of the relief: 1 makes a disc's hemisphere as "
       "tall as its radius", min=0.01, max=10.0),
     O("mask_channel", ("inflate",), MASK_CHANNELS, "auto", "what of IMAGE is the figure (auto: "

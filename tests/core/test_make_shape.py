@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from dynpaint_addon import params
-from dynpaint_addon.core.inflate import PROFILES, inflate
+from dynpaint_addon.core.inflate import PROFILES, RESHAPED, inflate
 from dynpaint_addon.core.input_rules import ImageData
 from dynpaint_addon.core.integrate import components, integrate
 from dynpaint_addon.core.laplace import Grid, poisson_neumann, solve
@@ -172,7 +172,7 @@ def test_a_disc_inflates_into_a_hemisphere():
     assert np.all(result.height[~disc] == 0)
 
 
-@pytest.mark.parametrize("profile", PROFILES)
+@pytest.mark.parametrize("profile", RESHAPED)
 def test_profiles_share_the_round_peak_and_stay_inside(profile):
     x, y = grid_xy(64, 80)
     mask = (np.abs(x) < 0.3) & (np.abs(y) < 0.2)
@@ -183,6 +183,42 @@ def test_profiles_share_the_round_peak_and_stay_inside(profile):
         assert np.mean(z[mask] > 0.99 * top) > 0.2          # a plateau
     if profile == "soft":
         assert np.mean(z[mask]) < np.mean(inflate(mask, "round").height[mask])
+
+
+def test_the_tube_profile_gives_a_disc_its_hemisphere_a_ring_its_torus_a_strip_its_cylinder():
+    """Round cross-sections as wide as the figure (core/inflate's docstring): where the round
+    profile makes a ring's tube and a strip half as tall again, the tube profile is within
+    1.5 pixels over the inner half of each cross-section and at its top (256²; the edge is
+    read between pixel centres)."""
+    size = 256
+    x, y = grid_xy(size, size)
+    r = np.hypot(x, y)
+    disc = r < 0.4
+    hemisphere = np.sqrt(np.clip(0.4 ** 2 - r * r, 0, None))
+    ring = (r > 0.2) & (r < 0.4)
+    torus = np.sqrt(np.clip(0.1 ** 2 - (r - 0.3) ** 2, 0, None))
+    strip = (np.abs(y) < 0.1) & (np.abs(x) < 0.45)
+    cylinder = np.sqrt(np.clip(0.1 ** 2 - y * y, 0, None))
+    middle = np.abs(x) < 0.3                       # away from the strip's rounded ends
+    # near the edge the profile is steep: half a pixel there is much of the height
+    inner = ((disc, hemisphere, r < 0.2, 0.4), (ring, torus, np.abs(r - 0.3) < 0.05, 0.1),
+             (strip, cylinder, (np.abs(y) < 0.05) & middle, 0.1))
+    for mask, true, where, radius in inner:
+        tube = inflate(mask, "tube").height
+        assert np.abs(tube - true)[where].max() < 1.5 / size
+        assert abs(tube.max() - radius) < 1.5 / size
+        assert np.all(tube[~mask] == 0) and np.all(tube >= 0)
+    assert inflate(ring).height.max() > 1.4 * 0.1 > 1.3 * inflate(ring, "tube").height.max()
+    assert inflate(strip).height[strip & middle].max() > 1.35 * 0.1
+
+
+def test_the_tube_profile_keeps_each_part_bit_for_bit_when_another_moves():
+    """§16: a figure's heights depend on its own pixels only, whatever else the image holds."""
+    x, y = grid_xy(96, 128)
+    still = (x + 0.25) ** 2 / 0.15 ** 2 + y * y / 0.3 ** 2 < 1
+    moved = [still | ((x - c) ** 2 + y * y < 0.1 ** 2) for c in (0.15, 0.3)]
+    a, b = (inflate(m, "tube").height for m in moved)
+    assert np.array_equal(a[still], b[still]) and not np.array_equal(a, b)
 
 
 def test_inflated_detail_follows_the_luminance():
