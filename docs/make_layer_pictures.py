@@ -189,7 +189,9 @@ across at one anti-aliasing sample and enlarged, its shadows from the layers mad
 under 0.1 s at 1024² here) and is drawn in full in place once no stroke has come for 1 s
 (Blender holds only while it draws the changed layer; its painting and the shadows are made
 in worker threads; at once in scripts and renders, after a depsgraph evaluation); a layer
-added or removed makes the lit copy anew. Blender draws each layer at the scene's Grease Pencil
+added or removed, or a stroke past the drawing's bounds (its draft shows it as far as the lit
+copy reaches), makes the lit copy anew — with a UI, from paintings made in a worker while the
+old one shows, its shadows a draft at once and final in a worker. Blender draws each layer at the scene's Grease Pencil
 anti-aliasing samples (*Render Properties › Grease Pencil*, 8 unless set), as F12 would:
 each sample is a drawing of every pixel, so fewer make the full redraw sooner.
 An animated

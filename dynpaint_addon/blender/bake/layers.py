@@ -140,6 +140,13 @@ def group_layers(mats, depsgraph=None, channels=None, f=None, kept=None):
     return layers
 
 
+def forget_group(name):
+    """The group under parent `name` is gone (a lit copy made anew under the same name): its
+    cached scene and drafts go with it."""
+    _SCENES.pop(name, None)
+    _SMALL.pop(name, None)
+
+
 def forget_scenes():
     """Another file is open, or undo: the cached scenes may show other planes."""
     _SCENES.clear()

@@ -209,7 +209,7 @@ def drawing_bounds(layers, margin=MARGIN):
 
 
 def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARGIN,
-                  only=None, shade=DEFAULT_SHADE, merge=False, samples=None):
+                  only=None, shade=DEFAULT_SHADE, merge=False, samples=None, bounds=None):
     """Draw each layer of the Grease Pencil object `obj` that draws something, alone (or
     with `merge`, the back ones together where more than a scene holds: drawn_layers), into
     `folder` (16-bit RGBA, sRGB as drawn) on each scene frame of `frames` (default: the
@@ -221,11 +221,13 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
     (drawing_bounds); only: the names of the layers to draw (paths[i] None for the others,
     a merged group drawn if any of its layers is named; the framing is the whole drawing's);
     samples: Grease Pencil's anti-aliasing samples per pixel (default: the artist's scene's
-    render setting, as F12 draws the drawing; each costs a draw of every pixel). A frame
-    that shows what an earlier one showed (shown_keyframes) is drawn once. The artist's
-    scene, the object, its layers and materials are left as they were."""
+    render setting, as F12 draws the drawing; each costs a draw of every pixel); bounds:
+    the framing (x0, x1, z0, z1) drawn in (default: the drawing's, framing: a stroke's
+    draft keeps its lit copy's). A frame that shows what an earlier one showed
+    (shown_keyframes) is drawn once. The artist's scene, the object, its layers and
+    materials are left as they were."""
     layers, notes = drawn_layers(obj, merge)
-    x0, x1, z0, z1 = bounds = framing(obj, margin)
+    x0, x1, z0, z1 = bounds = framing(obj, margin) if bounds is None else tuple(bounds)
     w, h = drawn_size(bounds, width_px)
     artist = bpy.context.scene
     frames = [artist.frame_current] if frames is None else list(frames)
@@ -434,18 +436,18 @@ def drawing_frames(scene, obj, settings):
         if settings["animation"] and animated(obj) else None
 
 
-def drawn_images(scene, obj, settings, progress=None, only=None, samples=None):
+def drawn_images(scene, obj, settings, progress=None, only=None, samples=None, bounds=None):
     """Each layer of the drawing that draws something, drawn by Blender (render_layers, read
     back) → ([(name, depth, [ImageData per frame] or None, [its dark ones] or None)], bounds,
-    frames or None, notes); only: the layers to draw (the others' images None); samples:
-    render_layers'."""
+    frames or None, notes); only: the layers to draw (the others' images None); samples,
+    bounds: render_layers'."""
     progress = progress or (lambda f: None)
     frames = drawing_frames(scene, obj, settings)
     folder = tempfile.mkdtemp(prefix="dynpaint-grease-pencil-")
     try:
         paths, bounds, notes, darks = render_layers(
             obj, folder, settings["resolution"], frames, progress, only=only,
-            shade=settings["shade"], merge=settings["merge"], samples=samples)
+            shade=settings["shade"], merge=settings["merge"], samples=samples, bounds=bounds)
         layers = drawn_layers(obj, settings["merge"])[0]
         # a group of merged layers (drawn_layers) lies where its back one does
         depths = layer_depths([group[0] for group in layers], bounds[1] - bounds[0],
@@ -478,24 +480,29 @@ def made_paintings(drawn, settings, progress=None):
     return made, notes
 
 
-def drawn_paintings(scene, obj, settings, progress=None, only=None, samples=None):
+def drawn_paintings(scene, obj, settings, progress=None, only=None, samples=None,
+                    bounds=None):
     """Each layer of the drawing that draws something, drawn by Blender and made a painting
     (drawn_images, made_paintings) → ([(name, depth, {channel: ImageData}, params, [frames]
     table or None)], bounds, frames or None, notes); only: the layers to draw (the
-    others' entries hold None for their images, params and table); samples: render_layers'."""
+    others' entries hold None for their images, params and table); samples, bounds:
+    render_layers'."""
     progress = progress or (lambda f: None)
     drawn, bounds, frames, notes = drawn_images(scene, obj, settings, lambda f: progress(0.4 * f),
-                                                only, samples)
+                                                only, samples, bounds)
     made, lines = made_paintings(drawn, settings, lambda f: progress(0.4 + 0.3 * f))
     return made, bounds, frames, notes + lines
 
 
-def light_drawing(context, obj, settings, progress=None, lights=None):
+def light_drawing(context, obj, settings, progress=None, lights=None, painted=None,
+                  bake="now"):
     """The drawing `obj` as a scene of lit layers (§15) where it is, the drawing hidden →
     (parent, notes). settings: LIT_SETTINGS' values (the operator's); lights: core Lights in
-    the lit copy's frame, added where the scene has none (default: the default sun)."""
-    made, (x0, x1, z0, z1), frames, notes = drawn_paintings(context.scene, obj, settings,
-                                                          progress)
+    the lit copy's frame, added where the scene has none (default: the default sun);
+    painted: drawn_paintings' result where it is made already (a redraw's, beside the UI);
+    bake: build_layered's."""
+    made, (x0, x1, z0, z1), frames, notes = painted or drawn_paintings(context.scene, obj,
+                                                                       settings, progress)
     layers, tables, images = [], {}, {}
     for name, depth, imgs, p, table in made:
         images[name] = {c: packed_image(f"{obj.name} {name} {c}", img, c)
@@ -508,11 +515,11 @@ def light_drawing(context, obj, settings, progress=None, lights=None):
     with unchanged_images_on_failure():           # (its images are packed copies)
         parent, messages = build_layered(context, obj.name, layers, lights or [default_sun()],
                                          notes, x1 - x0, parallax=False, add_lights=True,
-                                         frames=tables, place=place)
+                                         frames=tables, place=place, bake=bake,
+                                         name=f"{obj.name} (lit)")
     for mat in group_materials(parent):           # which layer each painting shows
         bright = mat.dynamic_painting.image_bright
         mat[LAYER] = next(n for n, imgs in images.items() if imgs["bright"] == bright)
-    parent.name = f"{obj.name} (lit)"
     parent[SOURCE] = json.dumps({"object": obj.name, **settings, "layers": layer_digests(obj),
                                  "bounds": [x0, x1, z0, z1]})
     obj.hide_render = True
@@ -593,13 +600,13 @@ DRAFT_SAMPLES = 1      # and its anti-aliasing samples (each a draw of every pix
 _DRAFTED = {}          # lit copy's name → the layer digests its last draft drew
 
 
-def _layer_materials(obj, parent, source, settings):
+def _layer_materials(obj, parent, source, settings, bounds=True):
     """The lit copy's layer materials {stem: material}, or None where the drawing's layers or
-    bounds are not those it was made from (it is made anew then)."""
+    (with `bounds`) its bounds are not those it was made from (it is made anew then)."""
     mats = {m.get(LAYER): m for m in group_materials(parent)}
     same = set(mats) == {layer_stem(i, group) for i, group
                          in enumerate(drawn_layers(obj, settings["merge"])[0])} \
-        and np.allclose(framing(obj), source["bounds"], rtol=0, atol=1e-9)
+        and (not bounds or np.allclose(framing(obj), source["bounds"], rtol=0, atol=1e-9))
     return mats if same else None
 
 
@@ -636,8 +643,9 @@ def refresh_lit_drawing(context, parent, beside=None):
     (layer_digests) drawn again and their images written in place where the layers, the
     drawing's bounds, sizes and frames are as before (their edits noted, so the group bakes
     again), else the lit copy made anew → the parent (a new one then). beside (default:
-    with a UI, rendering() not): Blender draws the layers now and a worker thread makes
-    them paintings; finish_redraws writes them once made, if the drawing is still as drawn."""
+    with a UI, rendering() not): Blender draws the layers now (all of them where the lit
+    copy is made anew) and a worker thread makes them paintings; finish_redraws writes them
+    once made, or makes the lit copy anew from them, if the drawing is still as drawn."""
     found = _source(parent)
     if found is None:
         return parent
@@ -645,15 +653,31 @@ def refresh_lit_drawing(context, parent, beside=None):
     _DRAFTED.pop(parent.name, None)                # (drafts are drawn over from here)
     digests, changed = _changed(obj, source.get("layers", {}))
     mats = _layer_materials(obj, parent, source, settings)
-    if mats is not None and (not rendering() if beside is None else beside):
-        drawn = drawn_images(context.scene, obj, settings, only=changed)[0]
-        _REDRAWS[parent.name] = _Redraw(digests, drawn, settings)
+    if not rendering() if beside is None else beside:
+        drawn, bounds, frames, notes = drawn_images(
+            context.scene, obj, settings, only=None if mats is None else changed)
+        _REDRAWS[parent.name] = _Redraw(digests, drawn, settings,
+                                        anew=None if mats is not None else (bounds, frames, notes))
         if not bpy.app.timers.is_registered(finish_redraws):
             bpy.app.timers.register(finish_redraws, first_interval=POLL_S)
         return parent
     made = None if mats is None else \
         _in_place(mats, drawn_paintings(context.scene, obj, settings, only=changed)[0])
     return _write_redraw(context, parent, mats, made, obj, settings, source, digests)
+
+
+def _made_anew(context, parent, obj, settings, painted=None, beside=False):
+    """The lit copy `parent` removed (its images too) and made again from its drawing (its
+    bounds, layers, sizes or frames are no longer those it was made from) → the new parent.
+    painted: light_drawing's; beside the UI, its shadows baked as a dragged light's: a
+    draft now, the final in a worker thread (bake_group_live)."""
+    hidden = obj.hide_get()
+    remove_objects(list(parent.children) + [parent], images=True)
+    obj.hide_set(False)
+    parent, _ = light_drawing(context, obj, settings, painted=painted,
+                              bake="live" if beside else "now")
+    obj.hide_set(hidden or obj.hide_get())
+    return parent
 
 
 def _write_redraw(context, parent, mats, made, obj, settings, source, digests, beside=False):
@@ -672,12 +696,7 @@ def _write_redraw(context, parent, mats, made, obj, settings, source, digests, b
         if made is None:
             break
     if made is None:                               # other layers, sizes or frames: anew
-        hidden = obj.hide_get()
-        remove_objects(list(parent.children) + [parent], images=True)
-        obj.hide_set(False)
-        parent, _ = light_drawing(context, obj, settings)
-        obj.hide_set(hidden or obj.hide_get())
-        return parent
+        return _made_anew(context, parent, obj, settings)
     forget_enlarged(written)
     note_edited(written)
     forget_frames()
@@ -712,10 +731,12 @@ POLL_S = 0.05          # how often finish_redraws looks for made paintings
 
 class _Redraw:
     """A full redraw's layers, drawn by Blender, made paintings in a worker thread (the
-    inflation of a changed part at full size takes a second at 1024²) while the UI goes on."""
+    inflation of a changed part at full size takes a second at 1024²) while the UI goes on.
+    anew: (bounds, frames, notes) of drawn_images where the lit copy is made anew from them
+    (a stroke beyond the drawing's bounds: every layer drawn again), else None."""
 
-    def __init__(self, digests, drawn, settings):
-        self.digests, self.made, self.error = digests, None, None
+    def __init__(self, digests, drawn, settings, anew=None):
+        self.digests, self.anew, self.made, self.error = digests, anew, None, None
         self.thread = threading.Thread(target=self._run, args=(drawn, settings), daemon=True)
         self.thread.start()
 
@@ -728,9 +749,10 @@ class _Redraw:
 
 def finish_redraws():
     """Timer: the full redraws whose paintings are made written into their lit copies
-    (_write_redraw), where the drawing is still as Blender drew it — else dropped: the
-    strokes since are drafted, and their own full redraw follows. → seconds to the next
-    call (None: none left)."""
+    (_write_redraw) or made their lit copies anew (_made_anew, its shadows baked as a
+    dragged light's: a draft now, final in a worker), where the drawing is still as Blender
+    drew it — else dropped: the strokes since are drafted, and their own full redraw
+    follows. → seconds to the next call (None: none left)."""
     for name, job in list(_REDRAWS.items()):
         if job.thread.is_alive():
             continue
@@ -744,12 +766,17 @@ def finish_redraws():
             continue
         obj, settings, source = found
         mats = _layer_materials(obj, parent, source, settings)
-        if mats is None or layer_digests(obj) != job.digests:
+        if (mats is None and job.anew is None) or layer_digests(obj) != job.digests:
             continue
         try:
             with redrawing(name):
-                _write_redraw(bpy.context, parent, mats, _in_place(mats, job.made), obj,
-                              settings, source, job.digests, beside=True)
+                if job.anew is not None:
+                    bounds, frames, notes = job.anew
+                    _made_anew(bpy.context, parent, obj, settings,
+                               (job.made, bounds, frames, notes), beside=True)
+                else:
+                    _write_redraw(bpy.context, parent, mats, _in_place(mats, job.made), obj,
+                                  settings, source, job.digests, beside=True)
         except Exception as exc:        # never into Blender's timer loop
             report(name, exc)
     return POLL_S if _REDRAWS else None
@@ -767,22 +794,23 @@ def draft_lit_drawing(context, parent):
     layers that changed since the last draft drawn at DRAFT_WIDTH px across (DRAFT_SAMPLES
     a pixel) and made paintings there (their relief inflated at that size), enlarged into
     their images (refill_enlarged) and the group's shadows drafted from its layers made as
-    small (draft_group). Nothing is packed and the lit copy's record is left as it was:
-    refresh_lit_drawing draws them at full size once the strokes stop. → whether it drew
-    (False: nothing new, or other layers, bounds or frames, or a layer that moves: those
-    wait for the full redraw)."""
+    small (draft_group), in the lit copy's framing (a stroke past the drawing's bounds shows
+    as far as they reach: the full redraw makes the lit copy anew). Nothing is packed and
+    the lit copy's record is left as it was: refresh_lit_drawing draws them at full size
+    once the strokes stop. → whether it drew (False: nothing new, or other layers or
+    frames, or a layer that moves: those wait for the full redraw)."""
     found = _source(parent)
     if found is None:
         return False
     obj, settings, source = found
     digests, changed = _changed(obj, _DRAFTED.get(parent.name, source.get("layers", {})))
-    mats = _layer_materials(obj, parent, source, settings)
+    mats = _layer_materials(obj, parent, source, settings, bounds=False)
     if not changed or mats is None:
         return False
     small = {**settings, "resolution": min(DRAFT_WIDTH, settings["resolution"]),
              "animation": False}
     made = _in_place(mats, drawn_paintings(context.scene, obj, small, only=changed,
-                                           samples=DRAFT_SAMPLES)[0])
+                                           samples=DRAFT_SAMPLES, bounds=source["bounds"])[0])
     if made is None:
         return False
     written = []

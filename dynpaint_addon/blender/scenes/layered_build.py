@@ -9,9 +9,10 @@ from mathutils import Matrix, Vector
 
 from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING, is_layered_file, load_scene
 from ...inputs.recipe import DEFAULT_SUN_NOTE, hidden_notes, load_recipe
-from ..bake.layers import LAYERED, group_materials
+from ..bake.layers import LAYERED, bake_group_live, forget_group, group_materials
 from ..material.sync import batch, update
-from ..state.images import packed_image
+from ..state.edits import note_edited
+from ..state.images import forget_enlarged, packed_image
 from ..state.lights import add_light, linked_lights
 from ..state.settings import channel_images
 from .painting_scene import FACE_CAMERA, create_painting, face_scene_camera
@@ -48,12 +49,16 @@ def add_layered(context, path, spacing=DEFAULT_SPACING, shade=DEFAULT_SHADE, siz
 
 
 def build_layered(context, stem, layers, lights, messages, size=1.0, parallax=True,
-                  rotation=None, progress=None, add_lights=True, frames=None, place=None):
+                  rotation=None, progress=None, add_lights=True, frames=None, place=None,
+                  bake="now", name=None):
     """add_layered's build, of `layers` as scene_layers gives them → (parent, messages);
     frames: {layer name: its [frames] table} for layers that move (§16: sheets, sequences);
-    place: the parent's world matrix (else at the 3D cursor, facing the camera)."""
+    place: the parent's world matrix (else at the 3D cursor, facing the camera); bake: the
+    group's shadows baked 'now', or 'live' (beside the UI, as for a dragged light: a draft
+    now, the final in a worker thread, bake_group_live); name: the parent's (default: stem),
+    given before the bake (a final bake due finds its group by it)."""
     scene = context.scene
-    parent = bpy.data.objects.new(stem, None)
+    parent = bpy.data.objects.new(name or stem, None)
     parent.empty_display_type = "PLAIN_AXES"
     parent.empty_display_size = 0.25 * size
     parent[LAYERED] = 1
@@ -106,8 +111,11 @@ def build_layered(context, stem, layers, lights, messages, size=1.0, parallax=Tr
         with batch():        # shadows on, all at once: a partial group would bake
             for plane, on in zip(planes, shadows):
                 plane.active_material.dynamic_painting.shadows.enabled = on
+        if bake == "live":    # beside the UI: the group's draft now, its final in a worker
+            bake_group_live(parent)
         for plane in planes:  # the first bakes the whole group, the others find it baked
-            messages += update(plane.active_material, scene)
+            messages += update(plane.active_material, scene,
+                               bake="none" if bake == "live" else bake)
     except Exception:
         remove_objects(planes + [parent])
         raise
@@ -116,14 +124,20 @@ def build_layered(context, stem, layers, lights, messages, size=1.0, parallax=Tr
 
 def remove_objects(objects, images=False):
     """Objects gone with their meshes and materials (a layered build that failed, a lit copy
-    made anew); `images`: the materials' paintings' images too (images the build made)."""
+    made anew); `images`: the materials' paintings' images too (images the build made): an
+    image made again under the same name is then a new edit of it (its version bumped), so
+    no key made of its name and version mistakes it for the one removed."""
     for obj in objects:
         mesh = obj.data
         mats = list(mesh.materials) if mesh is not None else []
         if images:
             for img in {img for mat in mats
                         for img in channel_images(mat.dynamic_painting).values()}:
+                note_edited([img.name])
+                forget_enlarged([img.name])
                 bpy.data.images.remove(img)
+        if obj.get(LAYERED):
+            forget_group(obj.name)
         bpy.data.objects.remove(obj)
         if mesh is not None:
             bpy.data.meshes.remove(mesh)
