@@ -453,6 +453,21 @@ def test_a_lit_copy_follows_its_drawing(drawing):
     assert sorted(len(group_materials(o)) for o in lit) == [3, 3]
 
 
+def assert_what_a_fresh_lit_copy_makes(drawing, back, front):
+    """A lit copy's two layers (back, front: their dynamic_painting) are what a fresh From
+    Grease Pencil makes of the drawing as it is now: the front's images bit for bit, the
+    back's shadows within 1e-6."""
+    t = image_data_from_blender(back.lights[0].shadow).pixels.copy()
+    drawing.hide_set(False)
+    bpy.context.view_layer.objects.active = drawing
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=96) == {"FINISHED"}
+    fresh_back, fresh = (m.dynamic_painting for m in group_materials(bpy.context.object))
+    for c in ("shape", "dark", "bright"):
+        assert np.array_equal(image_data_from_blender(getattr(front, f"image_{c}")).pixels,
+                              image_data_from_blender(getattr(fresh, f"image_{c}")).pixels)
+    assert np.abs(t - image_data_from_blender(fresh_back.lights[0].shadow).pixels).max() <= 1e-6
+
+
 def test_a_stroke_beyond_the_drawings_bounds_makes_the_lit_copy_anew_beside_the_ui(drawing):
     """A stroke past the drawing's bounds changes every layer's framing and the images'
     sizes: with a UI, its draft shows the stroke as far as the lit copy's framing reaches;
@@ -489,15 +504,7 @@ def test_a_stroke_beyond_the_drawings_bounds_makes_the_lit_copy_anew_beside_the_
                                        for n in group_materials(lit)[0].node_tree.nodes)
     group_bakes.settle()
     assert "|own|" in made_back.lights[0].bake_key and made_back.lights[0].shadow == drafted
-    drawing.hide_set(False)
-    bpy.context.view_layer.objects.active = drawing
-    assert bpy.ops.dynpaint.add_grease_pencil(resolution=96) == {"FINISHED"}
-    fresh_back, fresh = (m.dynamic_painting for m in group_materials(bpy.context.object))
-    for c in ("shape", "dark", "bright"):
-        assert np.array_equal(image_data_from_blender(getattr(made_front, f"image_{c}")).pixels,
-                              image_data_from_blender(getattr(fresh, f"image_{c}")).pixels)
-    assert np.abs(image_data_from_blender(made_back.lights[0].shadow).pixels -
-                  image_data_from_blender(fresh_back.lights[0].shadow).pixels).max() <= 1e-6
+    assert_what_a_fresh_lit_copy_makes(drawing, made_back, made_front)
 
 
 def test_a_full_redraw_is_made_beside_the_ui_and_one_the_drawing_outran_is_dropped(drawing):
@@ -525,16 +532,7 @@ def test_a_full_redraw_is_made_beside_the_ui_and_one_the_drawing_outran_is_dropp
     assert back.lights[0].bake_key == baked and parent.name in group_bakes._FINAL_DUE
     group_bakes.settle()                                # (the worker's final bake, joined)
     assert back.lights[0].bake_key not in (baked, DRAFTED) and "|own|" in back.lights[0].bake_key
-    t = image_data_from_blender(back.lights[0].shadow).pixels
-    drawing.hide_set(False)
-    bpy.context.view_layer.objects.active = drawing
-    assert bpy.ops.dynpaint.add_grease_pencil(resolution=96) == {"FINISHED"}
-    fresh_back, fresh = (m.dynamic_painting for m in group_materials(bpy.context.object))
-    for c in ("shape", "dark", "bright"):
-        assert np.array_equal(image_data_from_blender(getattr(front, f"image_{c}")).pixels,
-                              image_data_from_blender(getattr(fresh, f"image_{c}")).pixels)
-    assert np.abs(t - image_data_from_blender(fresh_back.lights[0].shadow).pixels).max() \
-        <= 1e-6
+    assert_what_a_fresh_lit_copy_makes(drawing, back, front)
     add_fill(figure, disc(-0.5, 0.3, 0.1), 1)
     refresh_lit_drawing(bpy.context, parent, beside=True)
     job = grease_pencil._REDRAWS[parent.name]
