@@ -17,6 +17,7 @@ from ..core.integrate import integrate
 from ..core.occlusion import ambient_occlusion
 from ..core.photometric import SIDES, normals_from_profiles, normals_from_rg_photo
 from ..core.pipeline import normal_map_relief_px, shape_normals
+from ..core.snap import snapped
 from ..inputs.channel_names import sprite_lamp_side
 from ..inputs.imageio import read_image, write_exr, write_png
 from ..inputs.painting_frames import FrameInputs, PaintingFrames, grid_of, painting_slots
@@ -152,9 +153,12 @@ def make_inflate(args, read):
         raise ShapeError(f"{img.name or args.image}: no figure to inflate (its mask is empty: "
                          f"give an image with alpha, or a mask painted white on black)")
     started = time.perf_counter()
-    result = inflate(mask, args.profile, args.height, args.detail,
-                     linear_luminance(read(args.detail_image) if args.detail_image
-                                      else img) if args.detail else None, args.detail_blur)
+    lum = linear_luminance(read(args.detail_image) if args.detail_image else img) \
+        if args.detail or args.snap else None
+    if lum is not None and lum.shape != mask.shape:
+        raise ShapeError(f"{args.detail_image}: not the size of {args.image}: resample one")
+    mask = snapped(mask, lum, args.snap)
+    result = inflate(mask, args.profile, args.height, args.detail, lum, args.detail_blur)
     tile = linear_luminance(read(args.structure)) if args.structure else None
     heights = with_effects(result.height, mask, args.bevel_width, args.bevel_height,
                            args.bevel_profile, args.smoothing, tile, args.structure_scale,

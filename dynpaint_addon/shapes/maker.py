@@ -18,6 +18,7 @@ from ..core.inputs import mask_values
 from ..core.integrate import integrate
 from ..core.photometric import normals_from_profiles, normals_from_rg_photo
 from ..core.sampling import resample
+from ..core.snap import snapped
 from ..core.shape import (decode_normal_map, default_preblur_px, height_field_px,
                          normals_from_height_px, preblurred_height)
 from ..errors import UserError
@@ -167,17 +168,18 @@ def with_effects(heights, mask, bevel_width=0.0, bevel_height=0.0, bevel_profile
     return z
 
 
-def inflate_silhouette(images, p, profile, height, detail, detail_blur, bevel_width,
+def inflate_silhouette(images, p, profile, height, snap, detail, detail_blur, bevel_width,
                        bevel_height, bevel_profile, smoothing):
-    """inflate: the painting's silhouette (the alpha of its shape, dark or bright image)
-    inflated into a round height field (core.inflate), its luminance embossed as detail, a
-    bevel and a smoothing (with_effects)."""
+    """inflate: the painting's silhouette (the alpha of its shape, dark or bright image),
+    snapped onto the painting's edges (core.snap), inflated into a round height field
+    (core.inflate), its luminance embossed as detail, a bevel and a smoothing
+    (with_effects)."""
     channel, alpha = _silhouette(images)
-    mask = alpha >= 0.5
     painting = images.get("bright") or images.get("dark")
-    lum = linear_luminance(painting) if detail and painting is not None else None
-    if lum is not None and lum.shape != mask.shape:
+    lum = linear_luminance(painting) if (detail or snap) and painting is not None else None
+    if lum is not None and lum.shape != alpha.shape:
         raise ShapeError("the painting and its silhouette differ in size: resample one")
+    mask = snapped(alpha >= 0.5, lum, snap)
     values = with_effects(inflate(mask, profile, height, detail, lum, detail_blur).height, mask,
                           bevel_width, bevel_height, bevel_profile, smoothing)
     return "height", _with_alpha(values, alpha), [

@@ -6,7 +6,7 @@ these two tables, as params.py generates a painting's properties and recipe keys
 is added in one place. `make_shape` runs a method on a painting's images. No bpy here.
 
     >>> [o.name for o in options("inflate", "addon")]
-    ['profile', 'height', 'detail', 'detail_blur', 'bevel_width', 'bevel_height', 'bevel_profile', 'smoothing']
+    ['profile', 'height', 'snap', 'detail', 'detail_blur', 'bevel_width', 'bevel_height', 'bevel_profile', 'smoothing']
     >>> OPTION["height"].check(20.0)
     Traceback (most recent call last):
     ValueError: 20.0 is out of range [0.01, 10.0]
@@ -116,11 +116,15 @@ OPTIONS = (
       "tall as its radius", min=0.01, max=10.0),
     O("mask_channel", ("inflate",), MASK_CHANNELS, "auto", "what of IMAGE is the figure (auto: "
       "its alpha, else a painted mask)", where="cli"),
+    O("snap", ("inflate",), float, 0.0, "Move the mask's edge onto the painting's strongest "
+      "edge within this distance (image widths; 0 = off): for a mask painted by hand a little "
+      "off the figure (0.01 is a few pixels)", label="Snap to the Painting", min=0.0, max=0.05,
+      precision=4),
     O("detail", ("inflate",), float, 0.0, "Emboss the painting's luminance: image widths of "
       "relief per unit of luminance (0.005–0.02 is subtle; 0 = none; negative: the dark "
       "parts stand out instead)", min=-0.1, max=0.1),
     O("detail_image", ("inflate",), "file", help="the painting whose luminance is embossed "
-      "(default IMAGE)", where="cli"),
+      "and whose edges --snap finds (default IMAGE)", where="cli"),
     O("detail_blur", ("inflate",), float, 0.002, "Blur of the embossed luminance (image widths)",
       min=0.0, max=0.05, precision=4),
     O("bevel_width", ("inflate",), float, 0.0, "A bevel: a rim rising from the figure's edge "

@@ -30,6 +30,7 @@ True
 import numpy as np
 
 from ..core.inflate import inflate
+from ..core.snap import snapped
 from .maker import with_effects
 from .methods import OPTIONS as MAKE_SHAPE_OPTIONS
 
@@ -49,12 +50,14 @@ def defaults():
 
 def figure_relief(mask, luminance=None, structure_tile=None, **values):
     """The figure's relief (H, W) in image widths: the mask (bool, or 0..1 read at
-    MASK_LEVEL) inflated by parts with `values` (OPTIONS; defaults where not given), the
-    painting's `luminance` embossed where values['detail'] asks, then the effects."""
+    MASK_LEVEL) snapped onto the painting's edges where values['snap'] asks, inflated by
+    parts with `values` (OPTIONS; defaults where not given), the painting's `luminance`
+    embossed where values['detail'] asks, then the effects."""
     v = {**defaults(), **values}
     mask = np.asarray(mask) >= MASK_LEVEL if np.asarray(mask).dtype != bool else np.asarray(mask)
     if not mask.any():
         return np.zeros(mask.shape)
+    mask = snapped(mask, luminance, v["snap"])
     z = inflate(mask, v["profile"], v["height"], v["detail"], luminance, v["detail_blur"]).height
     return with_effects(z, mask, v["bevel_width"], v["bevel_height"], v["bevel_profile"],
                         v["smoothing"], structure_tile, v["structure_scale"],

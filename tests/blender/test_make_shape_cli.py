@@ -189,3 +189,22 @@ def test_every_method_on_non_square_8_and_16_bit_files_writes_finite_maps(tmp_pa
         ok(run_cli("make-shape", *args, "--out", tmp_path / out))
         px = read_image(tmp_path / out).pixels
         assert px.shape[:2] == (h, w) and np.all(np.isfinite(px)), out
+
+
+def test_inflate_snaps_a_hand_painted_mask_onto_the_paintings_outline(tmp_path):
+    """make-shape inflate MASK --detail-image PAINTING --snap: the figure inflated is where the
+    painting's outline is, not where the hand slipped (core/snap.py); without --snap, where
+    the mask is."""
+    size = 128
+    y, x = np.mgrid[0:size, 0:size] + 0.5
+    figure = (x - 64) ** 2 + (y - 64) ** 2 < 40 ** 2
+    slipped = (x - 67) ** 2 + (y - 62) ** 2 < 40 ** 2            # 3 px right, 2 down
+    write_png(tmp_path / "mask.png", slipped.astype(float), bits=8)
+    write_png(tmp_path / "painting.png", np.dstack([np.where(figure, 0.25, 0.9)] * 3), bits=8)
+    for snap, out in (("0", "plain.exr"), ("0.04", "snapped.exr")):
+        ok(run_cli("make-shape", "inflate", tmp_path / "mask.png", "--detail-image",
+                   tmp_path / "painting.png", "--snap", snap, "--out", tmp_path / out))
+    plain, snapped = (read_image(tmp_path / f).pixels[..., 0] > 0 for f in ("plain.exr",
+                                                                             "snapped.exr"))
+    assert (plain != slipped).sum() == 0
+    assert (snapped != figure).sum() < 0.15 * (slipped != figure).sum()

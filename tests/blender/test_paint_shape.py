@@ -18,6 +18,7 @@ from dynpaint_addon.blender import headless  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.core.pipeline import shape_normals  # noqa: E402
 from dynpaint_addon.inputs.imageio import image_data_from_blender, read_image  # noqa: E402
+from dynpaint_addon.shapes.maker import linear_luminance  # noqa: E402
 from dynpaint_addon.inputs.recipe import load_images, load_recipe  # noqa: E402
 from dynpaint_addon.shapes.painted import figure_relief, painted_height  # noqa: E402
 
@@ -112,6 +113,12 @@ def test_painting_the_figure_mask_inflates_it_and_the_settings_reshape_it(tmp_pa
     want = painted_height(before, figure_relief(mask, bevel_width=0.05, bevel_height=0.03),
                           None, 0)
     assert np.abs(bevelled - want).max() <= 1e-6 and np.abs(bevelled - made).max() > 0.01
+    pt.snap = 0.02                                  # the mask snapped onto the painting's edges
+    lum = linear_luminance(image_data_from_blender(s.image_bright))
+    want = painted_height(before, figure_relief(mask, lum, bevel_width=0.05, bevel_height=0.03,
+                                                snap=0.02), None, 0)
+    assert np.abs(pixels(pt.made)[..., 0] - want).max() <= 1e-6
+    assert np.abs(pixels(pt.made)[..., 0] - bevelled).max() > 1e-3     # (it moved the edge)
     assert status.LAST_ERRORS == []
 
 

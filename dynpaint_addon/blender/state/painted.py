@@ -122,7 +122,7 @@ def _relief(settings, size):
     values = option_values(pt)
     painting = settings.image_bright or settings.image_dark
     lum = None
-    if values["detail"] and painting is not None:
+    if (values["detail"] or values["snap"]) and painting is not None:
         lum = at_size(linear_luminance(image_data_from_blender(painting)), size)
     tile = linear_luminance(image_data_from_blender(pt.structure)) \
         if values["structure_strength"] and pt.structure is not None else None
