@@ -48,6 +48,8 @@ from .sampling import gaussian_blur
 RESHAPED = ("round", "soft", "flat")      # the round profile reshaped (shape_profile)
 PROFILES = RESHAPED + ("tube",)
 RIDGE_SLOPE = 0.5   # a climb gaining less than this per pixel walked runs along a ridge
+TUBE_SMOOTH = 0.015     # image widths the half-widths a are blurred by: neighbours that climbed
+#                         to different ridges would meet in a crease
 
 
 @dataclass
@@ -117,7 +119,8 @@ def tube_heights(mask, labels):
     nearest pixel outside, less the half pixel from that pixel's centre to the edge. a: each
     pixel climbs to its 8-neighbour (of its own part) of largest d while that gains at least
     RIDGE_SLOPE per pixel walked (off a ridge d rises one per pixel; along one, by the ridge's
-    own slope), by pointer jumping; a is d where the climb stops."""
+    own slope), by pointer jumping; a is d where the climb stops, blurred by TUBE_SMOOTH
+    inside each part (neighbours that climbed to different ridges would meet in a crease)."""
     h, w = mask.shape
     d = np.where(mask, edge_distance(mask) - 0.5, -1.0)
     index = np.arange(h * w).reshape(h, w)
@@ -136,8 +139,27 @@ def tube_heights(mask, labels):
     top = parent.ravel()
     for _ in range(max(int(np.ceil(np.log2(max(h * w, 2)))), 1)):
         top = top[top]       # each round doubles the steps climbed; every climb ends on a ridge
-    a = d.ravel()[top].reshape(h, w)
+    a = _smoothed_in_parts(d.ravel()[top].reshape(h, w), mask, labels, TUBE_SMOOTH * w)
+    a = np.maximum(a, d)      # (a pixel lies no farther in than its part's half-width)
     return np.where(mask, np.sqrt(np.clip(d * (2 * a - d), 0.0, None)), 0.0)
+
+
+def _smoothed_in_parts(values, mask, labels, sigma_px):
+    """values (H, W) blurred by sigma_px inside each part of the figure alone (normalised by
+    the part's own blurred mask: its edge does not pull them toward 0)."""
+    out = values.copy()
+    if sigma_px <= 0:
+        return out
+    h, w = mask.shape
+    reach = int(np.ceil(3 * sigma_px))
+    for k, (r0, r1, c0, c1) in parts(labels, int(labels.max()) + 1, mask):
+        r0, r1, c0, c1 = max(r0 - reach, 0), min(r1 + reach, h), max(c0 - reach, 0), \
+            min(c1 + reach, w)
+        own = (labels[r0:r1, c0:c1] == k) & mask[r0:r1, c0:c1]
+        weight = gaussian_blur(own.astype(np.float64), sigma_px)
+        blurred = gaussian_blur(np.where(own, values[r0:r1, c0:c1], 0.0), sigma_px)
+        out[r0:r1, c0:c1][own] = blurred[own] / np.maximum(weight[own], 1e-12)
+    return out
 
 
 def _less_mean(values):
