@@ -421,8 +421,10 @@ def build_drawing(scene, drawing, location=(0.0, 0.0, 0.0)):
 GREASE_PENCIL_RELIEF = 0.1
 GREASE_PENCIL_RESOLUTION = 1024     # px across the drawing: each layer's images
 # Paint Shape's relief effects (issue 41: make-shape inflate's options but its height, which
-# is Relief here), applied to every layer's inflated silhouette
-LAYER_EFFECTS = tuple(o for o in shape_options("inflate", "addon") if o.name != "height")
+# is Relief here, and its snap: Blender draws a layer's alpha exactly where its strokes are),
+# applied to every layer's inflated silhouette
+LAYER_EFFECTS = tuple(o for o in shape_options("inflate", "addon")
+                      if o.name not in ("height", "snap"))
 LIT_SETTINGS = ("resolution", "spacing", "shade", "relief", "animation", "merge",
                 *(o.name for o in LAYER_EFFECTS))
 SOURCE = "dynamic_painting_grease_pencil"    # a lit copy's parent: its drawing and settings
