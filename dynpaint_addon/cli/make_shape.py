@@ -11,13 +11,11 @@ import numpy as np
 
 from .. import params
 from ..core.frames import SheetGrid, expand_pattern, is_pattern
-from ..core.inflate import inflate
 from ..core.input_rules import input_notes
 from ..core.integrate import integrate
 from ..core.occlusion import ambient_occlusion
 from ..core.photometric import SIDES, normals_from_profiles, normals_from_rg_photo
 from ..core.pipeline import normal_map_relief_px, shape_normals
-from ..core.snap import snapped
 from ..inputs.channel_names import sprite_lamp_side
 from ..inputs.imageio import read_image, write_exr, write_png
 from ..inputs.painting_frames import FrameInputs, PaintingFrames, grid_of, painting_slots
@@ -27,8 +25,10 @@ from ..params import FRAME_BY_KEY
 from ..shapes.frames import MadeFrames, fill_sheet, on_one_floor
 from ..shapes.maker import (ShapeError, decode_normals, encode_normals, figure_and_source,
                             figure_mask, height_widths, linear_luminance, normals_of_height,
-                            same_size, with_effects)
+                            same_size)
 from ..shapes.methods import METHODS, options
+from ..shapes.painted import OPTIONS as RELIEF_OPTIONS
+from ..shapes.painted import figure_relief, reads_painting
 from .notes import check_and_print, figure_note, print_notes
 
 
@@ -153,16 +153,13 @@ def make_inflate(args, read):
         raise ShapeError(f"{img.name or args.image}: no figure to inflate (its mask is empty: "
                          f"give an image with alpha, or a mask painted white on black)")
     started = time.perf_counter()
+    values = {o.name: getattr(args, o.name) for o in RELIEF_OPTIONS}
     lum = linear_luminance(read(args.detail_image) if args.detail_image else img) \
-        if args.detail or args.snap else None
+        if reads_painting(values) else None
     if lum is not None and lum.shape != mask.shape:
         raise ShapeError(f"{args.detail_image}: not the size of {args.image}: resample one")
-    mask = snapped(mask, lum, args.snap)
-    result = inflate(mask, args.profile, args.height, args.detail, lum, args.detail_blur)
     tile = linear_luminance(read(args.structure)) if args.structure else None
-    heights = with_effects(result.height, mask, args.bevel_width, args.bevel_height,
-                           args.bevel_profile, args.smoothing, tile, args.structure_scale,
-                           args.structure_strength)
+    heights = figure_relief(mask, lum, tile, **values)      # as Paint Shape's figure mask
     _timed(args, "inflate", started)
     return Made("height", heights, [figure_note(args.image, source)])
 

@@ -70,12 +70,16 @@ def bevel(mask, width, height, profile="round"):
 def smooth(heights, mask, sigma):
     """The heights blurred by `sigma` image widths inside the figure (mask-normalised)."""
     mask = np.asarray(mask, bool)
-    sigma_px = float(sigma) * mask.shape[1]
+    return smooth_px(heights, mask, float(sigma) * mask.shape[1])
+
+
+def smooth_px(values, mask, sigma_px):
+    """values (H, W) blurred by sigma_px pixels inside `mask` (H, W) bool, normalised by the
+    blurred mask (the edge does not pull them toward 0); 0 outside."""
     if sigma_px <= 0:
-        return np.where(mask, heights, 0.0)
-    m = mask.astype(np.float64)
-    blurred = gaussian_blur(np.where(mask, heights, 0.0), sigma_px)
-    weight = gaussian_blur(m, sigma_px)
+        return np.where(mask, values, 0.0)
+    blurred = gaussian_blur(np.where(mask, values, 0.0), sigma_px)
+    weight = gaussian_blur(mask.astype(np.float64), sigma_px)
     return np.where(mask, blurred / np.maximum(weight, 1e-12), 0.0)
 
 

@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .effects import edge_distance
+from .effects import edge_distance, smooth_px
 from .laplace import Grid, components, parts, solve_parts
 from .sampling import gaussian_blur
 
@@ -145,8 +145,8 @@ def tube_heights(mask, labels):
 
 
 def _smoothed_in_parts(values, mask, labels, sigma_px):
-    """values (H, W) blurred by sigma_px inside each part of the figure alone (normalised by
-    the part's own blurred mask: its edge does not pull them toward 0)."""
+    """values (H, W) blurred by sigma_px inside each part of the figure alone (smooth_px in
+    the part's box: a part's values never read another's)."""
     out = values.copy()
     if sigma_px <= 0:
         return out
@@ -156,9 +156,7 @@ def _smoothed_in_parts(values, mask, labels, sigma_px):
         r0, r1, c0, c1 = max(r0 - reach, 0), min(r1 + reach, h), max(c0 - reach, 0), \
             min(c1 + reach, w)
         own = (labels[r0:r1, c0:c1] == k) & mask[r0:r1, c0:c1]
-        weight = gaussian_blur(own.astype(np.float64), sigma_px)
-        blurred = gaussian_blur(np.where(own, values[r0:r1, c0:c1], 0.0), sigma_px)
-        out[r0:r1, c0:c1][own] = blurred[own] / np.maximum(weight[own], 1e-12)
+        out[r0:r1, c0:c1][own] = smooth_px(values[r0:r1, c0:c1], own, sigma_px)[own]
     return out
 
 

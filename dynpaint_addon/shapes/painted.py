@@ -48,6 +48,12 @@ def defaults():
     return {o.name: o.default for o in OPTIONS}
 
 
+def reads_painting(values):
+    """Whether a relief of `values` (OPTIONS) reads the painting's luminance: its detail
+    embossed, or the mask snapped onto its edges."""
+    return bool(values["detail"] or values["snap"])
+
+
 def figure_relief(mask, luminance=None, structure_tile=None, **values):
     """The figure's relief (H, W) in image widths: the mask (bool, or 0..1 read at
     MASK_LEVEL) snapped onto the painting's edges where values['snap'] asks, inflated by

@@ -720,7 +720,7 @@ def redrawing(name):
     try:
         yield
     finally:
-        _REDRAWING.clear()
+        _REDRAWING.pop()
 
 
 def redrawing_now():
@@ -767,7 +767,7 @@ def finish_redraws():
             report(name, job.error)
             continue
         obj, settings, source = found
-        mats = _layer_materials(obj, parent, source, settings)
+        mats = None if job.anew else _layer_materials(obj, parent, source, settings)
         if (mats is None and job.anew is None) or layer_digests(obj) != job.digests:
             continue
         try:

@@ -11,8 +11,7 @@ from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING, is_layered_f
 from ...inputs.recipe import DEFAULT_SUN_NOTE, hidden_notes, load_recipe
 from ..bake.layers import LAYERED, bake_group_live, forget_group, group_materials
 from ..material.sync import batch, update
-from ..state.edits import note_edited
-from ..state.images import forget_enlarged, packed_image
+from ..state.images import packed_image, remove_images
 from ..state.lights import add_light, linked_lights
 from ..state.settings import channel_images
 from .painting_scene import FACE_CAMERA, create_painting, face_scene_camera
@@ -124,18 +123,14 @@ def build_layered(context, stem, layers, lights, messages, size=1.0, parallax=Tr
 
 def remove_objects(objects, images=False):
     """Objects gone with their meshes and materials (a layered build that failed, a lit copy
-    made anew); `images`: the materials' paintings' images too (images the build made): an
-    image made again under the same name is then a new edit of it (its version bumped), so
-    no key made of its name and version mistakes it for the one removed."""
+    made anew); `images`: the materials' paintings' images too (images the build made:
+    remove_images)."""
     for obj in objects:
         mesh = obj.data
         mats = list(mesh.materials) if mesh is not None else []
         if images:
-            for img in {img for mat in mats
-                        for img in channel_images(mat.dynamic_painting).values()}:
-                note_edited([img.name])
-                forget_enlarged([img.name])
-                bpy.data.images.remove(img)
+            remove_images({img for mat in mats
+                           for img in channel_images(mat.dynamic_painting).values()})
         if obj.get(LAYERED):
             forget_group(obj.name)
         bpy.data.objects.remove(obj)

@@ -21,7 +21,7 @@ from ...inputs import memory
 from ...inputs.imageio import file_channels, file_header, image_data_from_blender
 from ..material.sync import batch, update
 from ..state.frames import frames_of, painting_size
-from ..state.images import downsampled, load_image, prepare_channel_image
+from ..state.images import downsampled, load_image, prepare_channel_image, remove_images
 from ..state.lights import add_light, linked_lights
 from ..state.settings import frames_to_settings, params_to_settings
 
@@ -49,8 +49,7 @@ def unchanged_images_on_failure():
     try:
         yield
     except Exception:
-        for img in [i for i in bpy.data.images if i not in known]:
-            bpy.data.images.remove(img)
+        remove_images([i for i in bpy.data.images if i not in known])
         raise
 
 

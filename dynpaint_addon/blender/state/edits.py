@@ -6,7 +6,9 @@ Blender says an image's pixels changed by a depsgraph update of the Image: after
 the image. Each Image update seen bumps that image's version here; the keys of what is made
 from an image — its derived images (nodegraph/derived_inputs), the decoded shape and the
 cos-θ bakes (bake/shadow_images), a layered group's scene (bake/layers) — carry the version,
-so `sync.update` redoes exactly what the edited image feeds, as a setting change does.
+so `sync.update` redoes exactly what the edited image feeds, as a setting change does. An
+image the add-on removes counts as edited too (state/images.remove_images): one made again
+under its name is not the one a key remembers.
 """
 _VERSIONS = {}       # image name → how many times its pixels were seen edited this session
 

@@ -15,6 +15,7 @@ from ...inputs.imageio import file_channels, file_header
 from ...inputs.memory import check_read
 from ...inputs.painting_frames import BoundedCache, sequence_numbers
 from ...nodegraph.derived_inputs import grey_rgba, make_derived
+from .edits import note_edited
 
 COLOUR_CHANNELS = {c for c, (_, kind) in params.CHANNELS.items() if kind == "colour"}
 
@@ -253,6 +254,18 @@ def enlarged_into(name, rgba, size):
         return float_image(name, resample_separable(rgba, h, w))
     refill_enlarged(img, ImageData(rgba, 32, name))
     return img
+
+
+def remove_images(images):
+    """Images the add-on made, removed (a lit copy made anew, a build that failed): an image
+    made again under one of their names is then a new edit of it (its version bumped), so no
+    key made of a name and a version mistakes it for the one removed; their kept drafts
+    (refill_enlarged) go with them."""
+    names = [img.name for img in images]
+    for img in images:
+        bpy.data.images.remove(img)
+    note_edited(names)
+    forget_enlarged(names)
 
 
 def forget_enlarged(names=None):

@@ -20,7 +20,7 @@ from ...core.shape import preblurred_height
 from ...inputs.imageio import image_data_from_blender
 from ...shapes.maker import at_size, encode_normals, linear_luminance
 from ...shapes.painted import (NEUTRAL, OPTIONS, figure_relief, painted_height,
-                               painted_normals)
+                               painted_normals, reads_painting)
 from .edits import key_name, note_edited
 from .images import made_shape_image
 
@@ -122,7 +122,7 @@ def _relief(settings, size):
     values = option_values(pt)
     painting = settings.image_bright or settings.image_dark
     lum = None
-    if (values["detail"] or values["snap"]) and painting is not None:
+    if reads_painting(values) and painting is not None:
         lum = at_size(linear_luminance(image_data_from_blender(painting)), size)
     tile = linear_luminance(image_data_from_blender(pt.structure)) \
         if values["structure_strength"] and pt.structure is not None else None
