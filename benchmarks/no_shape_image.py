@@ -45,7 +45,7 @@ from dynpaint_addon.core.sampling import gaussian_blur  # noqa: E402
 from dynpaint_addon.core.shadow import cos_theta_shadow  # noqa: E402
 from dynpaint_addon.core.shape import normals_from_height_px  # noqa: E402
 from dynpaint_addon.core.snap import snap_to_edges  # noqa: E402
-from dynpaint_addon.shapes.maker import with_effects  # noqa: E402
+from dynpaint_addon.shapes.relief import with_effects  # noqa: E402
 
 DETAILS = (0.005, 0.01, 0.02)
 SHIFT = (2, -1)          # the hand mask's offset from the true silhouette: x, y pixels

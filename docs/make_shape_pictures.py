@@ -29,8 +29,9 @@ from dynpaint_addon.core.pipeline import render, shape_normals  # noqa: E402
 from dynpaint_addon.core.snap import snap_to_edges              # noqa: E402
 from dynpaint_addon.inputs.imageio import write_png                    # noqa: E402
 from dynpaint_addon.shapes.maker import (encode_normals, linear_luminance,  # noqa: E402
-                                          normals_of_height, with_effects)
+                                          normals_of_height)
 from dynpaint_addon.shapes.painted import NEUTRAL, figure_relief, painted_height  # noqa: E402
+from dynpaint_addon.shapes.relief import with_effects  # noqa: E402
 
 PX = 192
 SNAP_PX = 4          # the --snap picture's reach, pixels (about 0.02 image widths at PX)
@@ -94,7 +95,7 @@ def inflated_glass():
 
 def effects_glass():
     """Inflate's effects: the bottle's silhouette inflated flat with a bevel and smoothing,
-    then with a woven structure, each rendered (shapes.maker.with_effects)."""
+    then with a woven structure, each rendered (shapes.relief.with_effects)."""
     recipe, images = sample_images("glass", PX)
     alpha = images["shape"].alpha()
     mask = alpha >= 0.5

@@ -28,7 +28,8 @@ from ..shapes.maker import (ShapeError, decode_normals, encode_normals, figure_a
                             same_size)
 from ..shapes.methods import METHODS, options
 from ..shapes.painted import OPTIONS as RELIEF_OPTIONS
-from ..shapes.painted import figure_relief, reads_painting
+from ..shapes.painted import figure_relief
+from ..shapes.relief import reads_painting
 from .notes import check_and_print, figure_note, print_notes
 
 

@@ -202,25 +202,35 @@ def components(wx, wy):
     start = np.ones((h, w), bool)
     start[:, 1:] = ~wx
     run = np.cumsum(start.ravel()).reshape(h, w) - 1
-    dense, count = graph_parts(int(run[-1, -1]) + 1, run[:-1][wy], run[1:][wy])
+    a, b = run[:-1][wy], run[1:][wy]
+    # two runs that touch along many columns are one edge: in row order their pairs repeat
+    # one after another (both runs' indices only grow along a row)
+    new = np.ones(a.shape, bool)
+    new[1:] = (a[1:] != a[:-1]) | (b[1:] != b[:-1])
+    dense, count = graph_parts(int(run[-1, -1]) + 1, a[new], b[new])
     return dense[run], count
 
 
 def graph_parts(n, a, b):
     """Connected parts of a graph of n nodes with edges a[i]–b[i] → (labels in 0 … count − 1,
-    count), by min-label propagation with pointer jumping."""
+    count; parts numbered in the order of their first node), by min-label propagation with
+    pointer jumping over the nodes that have an edge (the others are parts of their own)."""
     label = np.arange(n)
+    nodes, ends = np.unique(np.concatenate([a, b]), return_inverse=True)
+    least = np.arange(len(nodes))                      # each node's least node joined to it
+    a, b = ends[:len(a)], ends[len(a):]
     while True:
-        low = np.minimum(label[a], label[b])
-        new = label.copy()
+        low = np.minimum(least[a], least[b])
+        new = least.copy()
         np.minimum.at(new, a, low)
         np.minimum.at(new, b, low)
         new = new[new]
-        if np.array_equal(new, label):
+        if np.array_equal(new, least):
             break
-        label = new
-    _, dense = np.unique(label, return_inverse=True)
-    return dense, int(dense.max()) + 1 if dense.size else 0
+        least = new
+    label[nodes] = nodes[least]
+    first = label == np.arange(n)                      # each part's least node
+    return (np.cumsum(first) - 1)[label], int(first.sum())
 
 
 def parts(labels, count, where):

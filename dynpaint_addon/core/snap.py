@@ -25,11 +25,15 @@ is not an edge (a figure the frame cuts goes on beyond it).
 
 (what is left: pixels whose centre lies within a fraction of a pixel of the outline, where
 the distance to a mask's pixel edge and to the round outline differ).
+
+Every step reads a bounded neighbourhood (snap_margin_px) and none reads where in the image
+it is, so a stroke on the mask is snapped again around its box alone (`resnapped`: Paint
+Shape's figure mask), bit for bit what snapping the whole mask gives.
 """
 import numpy as np
 
 from .effects import edge_distance
-from .sampling import gaussian_blur, sample_bilinear
+from .sampling import gaussian_blur
 
 STEP_PX = 0.25       # the offsets tried along the normal, this far apart
 PEAK = 0.5           # the share of its top above which a peak's offsets count
@@ -47,12 +51,48 @@ def signed_edge_distance(mask, limit_px):
     return np.where(mask, inside, -outside) - np.where(mask, 0.5, -0.5)
 
 
-def snapped(mask, luminance, reach):
+def snapped(mask, luminance, reach, before=None):
     """The mask snapped onto the painting's edges within `reach` image widths (make-shape
-    inflate's --snap); as it is where reach is 0 or there is no painting (luminance None)."""
+    inflate's --snap); as it is where reach is 0 or there is no painting (luminance None).
+    before: (an earlier mask, what this gave for it) with the same painting and reach — only
+    around what changed is it snapped again (resnapped)."""
     if not reach or luminance is None:
         return np.asarray(mask, bool)
-    return snap_to_edges(mask, luminance, reach * np.shape(mask)[1])
+    reach_px = reach * np.shape(mask)[1]
+    if before is not None and np.shape(before[0]) == np.shape(mask):
+        return resnapped(*before, mask, luminance, reach_px)
+    return snap_to_edges(mask, luminance, reach_px)
+
+
+def _radius(sigma_px):
+    return max(1, int(np.ceil(3 * sigma_px)))       # core.sampling.gaussian_blur's
+
+
+def snap_margin_px(reach_px, blur_px=0.7, smooth_px=2.0):
+    """How far (pixels, along either axis) a change to the mask or the painting can change
+    snap_to_edges' result: the offsets' smoothing around each edge pixel, whose own offset
+    reads the signed distance (reach + 2 px of mask, +1 for its padding), its normal (a blur
+    and a central difference of that) and the painting's gradient along the normal (reach +
+    1 px, the bilinear's next pixel, the painting's blur and difference)."""
+    distance = int(np.ceil(reach_px + 2.5)) + 1
+    normal = distance + _radius(1.0) + 1
+    search = int(np.ceil(reach_px + 1)) + 1 + _radius(blur_px) + 1
+    return _radius(smooth_px) + max(normal, search)
+
+
+def _along(img, ys, xs, dx, dy):
+    """img bilinearly at (ys + dy, xs + dx) in pixel-centre coordinates, indices clamped to the
+    image (its edge extended): the integer part and the fraction split from the offsets alone,
+    so the samples do not depend on where in the image (or a crop of it) the pixel lies."""
+    h, w = img.shape
+    jx, iy = np.floor(dx), np.floor(dy)
+    fx, fy = dx - jx, dy - iy
+    j0, i0 = xs[:, None] + jx.astype(np.int64), ys[:, None] + iy.astype(np.int64)
+    j1, i1 = np.clip(j0 + 1, 0, w - 1), np.clip(i0 + 1, 0, h - 1)
+    j0, i0 = np.clip(j0, 0, w - 1), np.clip(i0, 0, h - 1)
+    bottom = img[i0, j0] * (1 - fx) + img[i0, j1] * fx
+    top = img[i1, j0] * (1 - fx) + img[i1, j1] * fx
+    return bottom * (1 - fy) + top * fy
 
 
 def snap_to_edges(mask, luminance, reach_px, blur_px=0.7, smooth_px=2.0):
@@ -69,9 +109,8 @@ def snap_to_edges(mask, luminance, reach_px, blur_px=0.7, smooth_px=2.0):
     ys, xs = np.nonzero(np.abs(s) <= 1.0)
     ux, uy, at = nx[ys, xs] / norm[ys, xs], ny[ys, xs] / norm[ys, xs], s[ys, xs]
     ts = np.arange(-reach_px, reach_px + STEP_PX / 2, STEP_PX)
-    # the gradient at signed distance t on each pixel's normal (pixel centres at +0.5)
-    g = sample_bilinear(strength, xs[:, None] + 0.5 + ux[:, None] * (ts - at[:, None]),
-                        ys[:, None] + 0.5 + uy[:, None] * (ts - at[:, None]))
+    # the gradient at signed distance t on each pixel's normal
+    g = _along(strength, ys, xs, ux[:, None] * (ts - at[:, None]), uy[:, None] * (ts - at[:, None]))
     top = np.argmax(g - 1e-9 * np.abs(ts), axis=1)          # the nearest of equal peaks
     peak = g[np.arange(len(ys)), top]
     # a step's gradient peaks between two pixel centres, and interpolated its top is flat
@@ -87,3 +126,29 @@ def snap_to_edges(mask, luminance, reach_px, blur_px=0.7, smooth_px=2.0):
     delta = np.where(spread > 1e-9, gaussian_blur(offset, smooth_px) / np.maximum(spread, 1e-9),
                      0.0)
     return s > delta
+
+
+def resnapped(before, snapped_before, mask, luminance, reach_px, blur_px=0.7, smooth_px=2.0):
+    """snap_to_edges(mask, …), given what it gave for the mask `before` (the same painting and
+    settings): only the box around the pixels that changed (and snap_margin_px beyond it) is
+    snapped again, from a crop reaching the margin beyond that — bit for bit the whole
+    mask's snap (Paint Shape's stroke on the figure mask)."""
+    mask = np.asarray(mask, bool)
+    changed = np.asarray(before, bool) != mask
+    if not changed.any():
+        return np.array(snapped_before, bool)
+    h, w = mask.shape
+    m = snap_margin_px(reach_px, blur_px, smooth_px)
+    rows, cols = np.flatnonzero(changed.any(1)), np.flatnonzero(changed.any(0))
+    out = (max(rows[0] - m, 0), min(rows[-1] + 1 + m, h), max(cols[0] - m, 0),
+           min(cols[-1] + 1 + m, w))
+    crop = (max(out[0] - m, 0), min(out[1] + m, h), max(out[2] - m, 0), min(out[3] + m, w))
+    if crop == (0, h, 0, w):
+        return snap_to_edges(mask, luminance, reach_px, blur_px, smooth_px)
+    part = snap_to_edges(mask[crop[0]:crop[1], crop[2]:crop[3]],
+                         np.asarray(luminance)[crop[0]:crop[1], crop[2]:crop[3]],
+                         reach_px, blur_px, smooth_px)
+    result = np.array(snapped_before, bool)
+    result[out[0]:out[1], out[2]:out[3]] = part[out[0] - crop[0]:out[1] - crop[0],
+                                                out[2] - crop[2]:out[3] - crop[2]]
+    return result

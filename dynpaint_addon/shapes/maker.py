@@ -12,16 +12,14 @@ Methods: integrate (normal map → height), normals (height → normal map, §2)
 import numpy as np
 
 from ..core.colour import srgb_to_linear
-from ..core.effects import bevel, smooth, structure
-from ..core.inflate import inflate
 from ..core.inputs import mask_values
 from ..core.integrate import integrate
 from ..core.photometric import normals_from_profiles, normals_from_rg_photo
 from ..core.sampling import resample
-from ..core.snap import snapped
 from ..core.shape import (decode_normal_map, default_preblur_px, height_field_px,
                          normals_from_height_px, preblurred_height)
 from ..errors import UserError
+from .relief import reads_painting, snapped_relief
 
 GREENS = ("opengl", "directx")
 
@@ -151,40 +149,19 @@ def _shape_alpha(images):
 
 # Each method: (images, p, its options) → (kind, RGBA pixels, report lines). Its options
 # and their defaults are in shapes.methods.OPTIONS; shapes.methods.make_shape calls them.
-def with_effects(heights, mask, bevel_width=0.0, bevel_height=0.0, bevel_profile="round",
-                 smoothing=0.0, structure_tile=None, structure_scale=None,
-                 structure_strength=0.0):
-    """An inflated figure's heights with the effects (core/effects.py) that are asked for: a
-    bevel added, then smoothed, then a structure pattern added (after the smoothing, which
-    would blur it away). Each is off unless given (its values as shapes.methods.OPTIONS
-    offers them)."""
-    z = np.asarray(heights, np.float64)
-    if bevel_width > 0 and bevel_height:
-        z = z + bevel(mask, bevel_width, bevel_height, bevel_profile)
-    if smoothing > 0:
-        z = smooth(z, mask, smoothing)
-    if structure_tile is not None and structure_strength:
-        z = z + structure(structure_tile, mask, structure_scale, structure_strength)
-    return z
-
-
-def inflate_silhouette(images, p, profile, height, snap, detail, detail_blur, bevel_width,
-                       bevel_height, bevel_profile, smoothing):
-    """inflate: the painting's silhouette (the alpha of its shape, dark or bright image),
-    snapped onto the painting's edges (core.snap), inflated into a round height field
-    (core.inflate), its luminance embossed as detail, a bevel and a smoothing
-    (with_effects)."""
+def inflate_silhouette(images, p, **values):
+    """inflate: the painting's silhouette (the alpha of its shape, dark or bright image) made
+    a relief with the inflate options `values` (shapes/relief.py: snapped onto the painting's
+    edges, inflated, its luminance embossed, a bevel and a smoothing)."""
     channel, alpha = _silhouette(images)
     painting = images.get("bright") or images.get("dark")
-    lum = linear_luminance(painting) if (detail or snap) and painting is not None else None
+    lum = linear_luminance(painting) if reads_painting(values) and painting is not None else None
     if lum is not None and lum.shape != alpha.shape:
         raise ShapeError("the painting and its silhouette differ in size: resample one")
-    mask = snapped(alpha >= 0.5, lum, snap)
-    values = with_effects(inflate(mask, profile, height, detail, lum, detail_blur).height, mask,
-                          bevel_width, bevel_height, bevel_profile, smoothing)
-    return "height", _with_alpha(values, alpha), [
-        f"inflated the {channel} image's silhouette ({profile}), highest point "
-        f"{values.max():.3g} image widths"]
+    heights = snapped_relief(alpha >= 0.5, lum, None, values)
+    return "height", _with_alpha(heights, alpha), [
+        f"inflated the {channel} image's silhouette ({values['profile']}), highest point "
+        f"{heights.max():.3g} image widths"]
 
 
 def integrate_normal_map(images, p, use_mask, depth, floor=None):

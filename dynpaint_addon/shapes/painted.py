@@ -10,7 +10,7 @@ the painting reads is made from them, in image widths:
   over a normal map, the painted relief's slopes are added to the map's own instead
   (painted_normals: the made shape is a normal map);
 - relief: the mask inflated part by part (core.inflate), its painting's luminance embossed
-  as detail, then the effects of shapes.maker.with_effects (bevel, smoothing, structure);
+  as detail, then the effects (shapes/relief.py: bevel, smoothing, structure);
 - strength: image widths of relief for a layer painted from ½ to white.
 
 No bpy here: the add-on (blender/state/painted.py) keeps the relief while only the height
@@ -29,10 +29,8 @@ True
 """
 import numpy as np
 
-from ..core.inflate import inflate
-from ..core.snap import snapped
-from .maker import with_effects
 from .methods import OPTIONS as MAKE_SHAPE_OPTIONS
+from .relief import snapped_relief
 
 NEUTRAL = 0.5        # the height layer's canvas: a grey both Add and Subtract brushes move
 MASK_LEVEL = 0.5     # a mask pixel at or above it is the figure
@@ -48,26 +46,18 @@ def defaults():
     return {o.name: o.default for o in OPTIONS}
 
 
-def reads_painting(values):
-    """Whether a relief of `values` (OPTIONS) reads the painting's luminance: its detail
-    embossed, or the mask snapped onto its edges."""
-    return bool(values["detail"] or values["snap"])
+def painted_figure(mask):
+    """The figure (H, W) bool of a painted mask (bool, or 0..1 read at MASK_LEVEL)."""
+    mask = np.asarray(mask)
+    return mask if mask.dtype == bool else mask >= MASK_LEVEL
 
 
 def figure_relief(mask, luminance=None, structure_tile=None, **values):
-    """The figure's relief (H, W) in image widths: the mask (bool, or 0..1 read at
-    MASK_LEVEL) snapped onto the painting's edges where values['snap'] asks, inflated by
-    parts with `values` (OPTIONS; defaults where not given), the painting's `luminance`
-    embossed where values['detail'] asks, then the effects."""
-    v = {**defaults(), **values}
-    mask = np.asarray(mask) >= MASK_LEVEL if np.asarray(mask).dtype != bool else np.asarray(mask)
-    if not mask.any():
-        return np.zeros(mask.shape)
-    mask = snapped(mask, luminance, v["snap"])
-    z = inflate(mask, v["profile"], v["height"], v["detail"], luminance, v["detail_blur"]).height
-    return with_effects(z, mask, v["bevel_width"], v["bevel_height"], v["bevel_profile"],
-                        v["smoothing"], structure_tile, v["structure_scale"],
-                        v["structure_strength"])
+    """The figure's relief (H, W) in image widths (shapes/relief.py): the painted mask
+    (painted_figure) snapped onto the painting's edges where values['snap'] asks, inflated,
+    `luminance` embossed, the effects — `values` OPTIONS, their defaults where not given."""
+    return snapped_relief(painted_figure(mask), luminance, structure_tile,
+                          {**defaults(), **values})
 
 
 def painted_height(base, relief, layer, strength):

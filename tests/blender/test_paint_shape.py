@@ -122,6 +122,40 @@ def test_painting_the_figure_mask_inflates_it_and_the_settings_reshape_it(tmp_pa
     assert status.LAST_ERRORS == []
 
 
+def test_strokes_on_the_figure_mask_with_snap_are_what_the_whole_mask_makes(tmp_path):
+    """Snap to the Painting on: each stroke on the figure mask is snapped again around its box
+    alone (core/snap.resnapped), and the made shape is what the whole mask makes, bit for bit;
+    the painting edited, the mask is snapped onto its new edges (with no detail embossed)."""
+    mat = painting(tmp_path, 128)
+    s = mat.dynamic_painting
+    paint(s.image_bright, disc(64, 64, 32, 0.1))            # a dark figure, 2 px past the mask
+    bpy.ops.dynpaint.paint_shape()
+    pt = s.painted
+    before = pixels(pt.made)[..., 0].copy()
+    pt.snap = 0.03
+
+    def made_as_whole():
+        lum = linear_luminance(image_data_from_blender(s.image_bright))
+        mask = pixels(pt.mask)[..., 0]
+        want = painted_height(before, figure_relief(mask, lum, snap=0.03), None, 0)
+        assert np.abs(pixels(pt.made)[..., 0] - want).max() <= 1e-6
+        return mask
+
+    paint(pt.mask, disc(64, 64, 30, 1.0))
+    mask = made_as_whole()
+    unsnapped = painted_height(before, figure_relief(mask), None, 0)
+    assert np.abs(pixels(pt.made)[..., 0] - unsnapped).max() > 1e-3      # (it moved the edge)
+    for cx, cy, r, v in ((92, 64, 5, 1.0), (40, 50, 4, 0.0), (64, 20, 7, 1.0), (20, 100, 3, 1.0)):
+        paint(pt.mask, disc(cx, cy, r, v))
+        made_as_whole()
+    shown = pixels(pt.made)[..., 0].copy()
+    paint(s.image_bright, disc(64, 64, 34, 0.1))            # the painted figure grown
+    made_as_whole()
+    assert np.abs(pixels(pt.made)[..., 0] - shown).max() > 1e-3
+    assert np.abs(shadow(mat) - whole_bake(mat)).max() <= 1e-6
+    assert status.LAST_ERRORS == []
+
+
 def test_a_stroke_on_the_height_layer_changes_the_shape_in_its_box_and_bakes_incrementally(
         tmp_path, monkeypatch):
     """512²: a dab on the height layer raises the made shape by strength × (value − ½) in the

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from dynpaint_addon.core.effects import bevel, edge_distance, smooth, structure
-from dynpaint_addon.shapes.maker import with_effects
+from dynpaint_addon.shapes.relief import with_effects
 
 N = 200
 Y, X = (np.mgrid[0:N, 0:N] + 0.5) / N - 0.5

@@ -3,7 +3,8 @@ paintings): the slip undone, nothing moved where the painting has no edge near, 
 border no edge."""
 import numpy as np
 
-from dynpaint_addon.core.snap import signed_edge_distance, snap_to_edges, snapped
+from dynpaint_addon.core.snap import (resnapped, signed_edge_distance, snap_margin_px,
+                                      snap_to_edges, snapped)
 
 
 def centred(size=96):
@@ -47,3 +48,33 @@ def test_the_images_border_is_no_edge():
     assert np.array_equal(got, figure)
     s = signed_edge_distance(mask, 5)
     assert s[0, 10] == s[48, 10] == 5.0 and s[48, 49] == 0.5 and s[48, 50] == -0.5
+
+
+def test_a_stroke_resnapped_around_its_box_is_the_whole_masks_snap_bit_for_bit():
+    """Paint Shape's figure mask, Snap on: 60 random dabs (painted and erased, some at the
+    image's border, some two at once far apart), each snapped again around its box alone
+    — bit for bit the whole mask's snap; and no dab changes the snap beyond the margin."""
+    rng = np.random.default_rng(4)
+    x, y = centred(160)
+    r = np.hypot(x + 10, y)
+    figure = (r < 40) | ((np.abs(y + 20) < 6) & (x > 0))            # a disc and a limb
+    painting = front_lit(figure, np.sqrt(np.clip(40 ** 2 - r * r, 0, None))) \
+        + 0.05 * rng.random(figure.shape)                           # and the canvas's grain
+    reach = 6.0
+    margin = snap_margin_px(reach)
+    mask = np.roll(figure, 2, axis=1)
+    snapped_mask = snap_to_edges(mask, painting, reach)
+    for i in range(60):
+        before, after = mask, mask.copy()
+        for _ in range(1 + (i % 7 == 0)):
+            cx, cy = rng.integers(-5, 165, 2)
+            after[np.hypot(x + 80 - cx, y + 80 - cy) < rng.uniform(1, 9)] = bool(i % 2)
+        whole = snap_to_edges(after, painting, reach)
+        got = resnapped(before, snapped_mask, after, painting, reach)
+        assert np.array_equal(got, whole), i
+        moved = np.argwhere(whole != snapped_mask)
+        if len(moved):
+            changed = np.argwhere(before != after)
+            far = np.abs(moved[:, None, :] - changed[None, :, :]).max(-1).min(1)
+            assert far.max() <= margin, i
+        mask, snapped_mask = after, got

@@ -19,8 +19,9 @@ from ...core.input_rules import normal_map_normals
 from ...core.shape import preblurred_height
 from ...inputs.imageio import image_data_from_blender
 from ...shapes.maker import at_size, encode_normals, linear_luminance
-from ...shapes.painted import (NEUTRAL, OPTIONS, figure_relief, painted_height,
-                               painted_normals, reads_painting)
+from ...core.snap import snapped
+from ...shapes.painted import NEUTRAL, OPTIONS, painted_figure, painted_height, painted_normals
+from ...shapes.relief import reads_painting, relief_of_figure
 from .edits import key_name, note_edited
 from .images import made_shape_image
 
@@ -82,7 +83,7 @@ def _relief_key(settings):
     values = option_values(pt)
     painting = settings.image_bright or settings.image_dark
     return repr((key_name(pt.mask) if pt.mask else None, sorted(values.items()),
-                 key_name(painting) if values["detail"] and painting else None,
+                 key_name(painting) if reads_painting(values) and painting else None,
                  key_name(pt.structure) if values["structure_strength"] and pt.structure
                  else None))
 
@@ -103,8 +104,10 @@ def painted_key(settings):
 
 
 # material name → (key, array): the mask's relief and the base heights, kept while only the
-# height layer changes
-_RELIEF, _BASE = {}, {}
+# height layer changes; the painting's luminance, kept while it does not change
+_RELIEF, _BASE, _LUMINANCE = {}, {}, {}
+# material name → (key, figure, its snap): a stroke on the mask is snapped around its box alone
+_SNAPPED = {}
 
 
 def _kept(cache, mat, key, make):
@@ -114,7 +117,16 @@ def _kept(cache, mat, key, make):
     return hit[1]
 
 
-def _relief(settings, size):
+def _snapped(mat, figure, lum, reach, key):
+    """snapped(figure, lum, reach), only around what changed since the last (core/snap.py:
+    bit for bit the whole mask's) while the painting and the reach are the same."""
+    hit = _SNAPPED.get(mat.name)
+    got = snapped(figure, lum, reach, hit[1:] if hit is not None and hit[0] == key else None)
+    _SNAPPED[mat.name] = (key, figure, got)
+    return got
+
+
+def _relief(mat, settings, size):
     pt = settings.painted
     w, h = size
     if pt.mask is None:
@@ -123,10 +135,15 @@ def _relief(settings, size):
     painting = settings.image_bright or settings.image_dark
     lum = None
     if reads_painting(values) and painting is not None:
-        lum = at_size(linear_luminance(image_data_from_blender(painting)), size)
+        lum = _kept(_LUMINANCE, mat, (key_name(painting), size), lambda: at_size(
+            linear_luminance(image_data_from_blender(painting)), size))
     tile = linear_luminance(image_data_from_blender(pt.structure)) \
         if values["structure_strength"] and pt.structure is not None else None
-    return figure_relief(_grey(pt.mask, size), lum, tile, **values)
+    figure = painted_figure(_grey(pt.mask, size))
+    if lum is not None:
+        figure = _snapped(mat, figure, lum, values["snap"],
+                          (key_name(painting), size, values["snap"]))
+    return relief_of_figure(figure, lum, tile, values)
 
 
 def base_reads(p):
@@ -166,7 +183,7 @@ def update_painted_shape(mat):
     if key == pt.key:
         return False
     size = tuple(pt.made.size)
-    relief = _kept(_RELIEF, mat, _relief_key(s), lambda: _relief(s, size))
+    relief = _kept(_RELIEF, mat, _relief_key(s), lambda: _relief(mat, s, size))
     base, alpha = _kept(_BASE, mat, _base_key(s), lambda: _base(s, size))
     layer = _grey(pt.height_layer, size) if pt.height_layer is not None else None
     over_normals = base is not None and base.ndim == 3
@@ -193,7 +210,7 @@ def show_layer(mat, scene):
 
 def forget_painted(mat=None):
     """Another file is open (every painting), or a painting's layers were replaced."""
-    for cache in (_RELIEF, _BASE):
+    for cache in (_RELIEF, _BASE, _LUMINANCE, _SNAPPED):
         if mat is None:
             cache.clear()
         else:
