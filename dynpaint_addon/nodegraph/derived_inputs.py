@@ -83,6 +83,13 @@ class Derived:
     finite_copy: bool = False            # replaces its source: needed only if the source has
     #                                      NaN/Inf pixels or `make` converts it (else None)
     same_as: str = ""                    # equal to another derived image: share it
+    grey: Callable = None                # a grey image's: ImageData → (grey (H, W), alpha or
+    #                                      None); `make` is grey_rgba of it (make_derived's grey)
+
+
+def _grey_item(channel, source, key, grey):
+    """A derived grey image: made from grey(ImageData) → (grey, alpha or None)."""
+    return Derived(channel, source, key, lambda d: grey_rgba(*grey(d)), grey=grey)
 
 
 def _key(channel, source, p, *extra):
@@ -134,17 +141,18 @@ def derived_inputs(features, p, sources):
         src = sources["shape"]
         sigma = p.shape.preblur
         sigma = float(default_preblur_px(src.bits) if sigma == "auto" else sigma)
-        out.append(Derived("height", "shape", _key("height", src, p, sigma),
-                           lambda d: grey_rgba(preblurred_height(d.grey(), sigma), _alpha(d))))
+        out.append(_grey_item("height", "shape", _key("height", src, p, sigma),
+                              lambda d: (preblurred_height(d.grey(), sigma), _alpha(d))))
     if "relief" in need:
         src = sources["shape"]
-        out.append(Derived("relief", "shape", _key("relief", src, p),
-                           lambda d: grey_rgba(_relief_widths(d, p))))
+        out.append(_grey_item("relief", "shape", _key("relief", src, p),
+                              lambda d: (_relief_widths(d, p), None)))
     if "silhouette" in need:
         # A float copy of the alpha: EEVEE reads 8-bit alpha up to 1/255 off (254 → 255).
         channel = features.silhouette
-        out.append(Derived("silhouette", channel, _key("silhouette", sources[channel], p, channel),
-                           lambda d: grey_rgba(*[np.clip(np.nan_to_num(d.alpha()), 0, 1)] * 2)))
+        out.append(_grey_item("silhouette", channel,
+                              _key("silhouette", sources[channel], p, channel),
+                              lambda d: (np.clip(np.nan_to_num(d.alpha()), 0, 1),) * 2))
     for channel, sec in (("environment", p.reflection), ("background", p.refraction)):
         if channel in need:
             out.append(Derived(channel, channel, _key(channel, sources[channel], p),
@@ -229,12 +237,14 @@ def _alpha(data):
     return None if a is None else np.clip(a, 0, 1)
 
 
-def make_derived(items, read, role_of):
+def make_derived(items, read, role_of, grey=False):
     """Make every item that needs pixels, reading each source once → ({channel: RGBA, or None
     where the source itself or the image of `same_as` will do}, warnings).
 
     read(channel) → ImageData; role_of(channel) → the role core/inputs.py replaces NaN/Inf by
-    ('colour', 'normal' or 'height': core.input_rules.pixel_role)."""
+    ('colour', 'normal' or 'height': core.input_rules.pixel_role); grey: a grey item's
+    (grey, alpha or None) instead of its RGBA (for a writer that keeps the RGBA it wrote and
+    fills only what changed: the add-on's grey_image)."""
     cache, made, warnings = {}, {}, []
     for item in items:
         if item.same_as:
@@ -246,6 +256,9 @@ def make_derived(items, read, role_of):
             if cache[item.source][1]:
                 warnings.append(cache[item.source][1])
         data, warning = cache[item.source]
+        if grey and item.grey is not None:
+            made[item.channel] = item.grey(data)
+            continue
         rgba = item.make(data)
         if rgba is None and item.finite_copy and warning:
             rgba = _rgba(data.pixels)            # a finite copy of the source

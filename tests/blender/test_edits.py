@@ -17,11 +17,12 @@ from dynpaint_addon.blender.bake import shadow_images  # noqa: E402
 from dynpaint_addon.blender.material.sync import update  # noqa: E402
 from dynpaint_addon.blender.scenes.painting_scene import exact_render_settings, output_settings  # noqa: E402
 from dynpaint_addon.blender.state import status  # noqa: E402
-from dynpaint_addon.blender.state.images import load_image  # noqa: E402
+from dynpaint_addon.blender.state.images import grey_image, load_image  # noqa: E402
 from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
 from dynpaint_addon.blender.state.settings import channel_images, settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
+from dynpaint_addon.nodegraph.derived_inputs import grey_rgba  # noqa: E402
 from dynpaint_addon.inputs.recipe import Recipe  # noqa: E402
 from testkit.sun_painting import image_pixels, sun_painting  # noqa: E402
 
@@ -392,7 +393,38 @@ def test_strokes_on_a_large_height_map_bake_incrementally_and_equal_a_whole_bake
 
 def test_the_paint_latency_benchmark_runs_and_checks_incremental_equals_whole():
     """benchmarks/paint_latency.py at a tiny size (numbers, not speed): both levels timed,
-    incremental and whole, and the painting after the dabs equals a whole bake."""
+    incremental and whole (the figure mask's too), and the painting after the dabs equals a
+    whole bake."""
     m = paint_latency.measure(128, 1)
-    assert all(m[level][0] > 0 and m[level][1] > 0 for level in ("draft", "final"))
+    assert all(m[level][0] > 0 and m[level][1] > 0 for level in ("draft", "final", "mask"))
     assert m["error"] <= 1e-6
+
+
+def test_a_grey_image_rewritten_where_it_changed_holds_the_whole_write():
+    """grey_image keeps the RGBA it wrote and fills only the box that changed (a stroke's
+    cos-θ and derived images): after greys edited in boxes — with NaN, with an alpha and
+    without, the image written over by something else meanwhile, its size changed — the
+    image holds grey_rgba of the newest, exactly."""
+    rng = np.random.default_rng(7)
+    grey = rng.random((40, 56)).astype(np.float32)
+    alpha = rng.random(grey.shape).astype(np.float32)
+    name = "DP test grey written where it changed"
+    for step in range(10):
+        grey, alpha = grey.copy(), alpha.copy()
+        r, c = rng.integers(0, grey.shape[0]), rng.integers(0, grey.shape[1])
+        if step != 5:
+            grey[r:r + 9, c:c + 13] = rng.random(grey[r:r + 9, c:c + 13].shape)
+        if step in (4, 5):                                   # (5: the alpha alone)
+            alpha[c // 2:c // 2 + 7, r:r + 5] = rng.random(alpha[c // 2:c // 2 + 7, r:r + 5].shape)
+        if step == 2:
+            grey[5, 5] = np.nan
+        if step == 6:
+            bpy.data.images[name].pixels.foreach_set(np.zeros(40 * 56 * 4, np.float32))
+        if step == 8:
+            grey = rng.random((24, 32)).astype(np.float32)
+        img = grey_image(name, grey, alpha if 3 <= step <= 6 else None)
+        px = np.empty(len(img.pixels), np.float32)
+        img.pixels.foreach_get(px)
+        want = grey_rgba(grey, alpha if 3 <= step <= 6 else None)
+        assert np.array_equal(px.reshape(grey.shape + (4,)), want, equal_nan=True), step
+    bpy.data.images.remove(img)

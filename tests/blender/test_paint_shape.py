@@ -9,9 +9,11 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from dynpaint_addon.blender.bake import shadow_images  # noqa: E402
+from dynpaint_addon.blender.material import sync  # noqa: E402
 from dynpaint_addon.blender.material.sync import update  # noqa: E402
 from dynpaint_addon.blender.operators import paint_shape  # noqa: E402
-from dynpaint_addon.blender.state import status  # noqa: E402
+from dynpaint_addon.blender.state import painted as painted_state, status  # noqa: E402
+from dynpaint_addon.blender.state.edits import note_edited  # noqa: E402
 from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
 from dynpaint_addon.blender.state.settings import channel_images, settings_to_params  # noqa: E402
 from dynpaint_addon.blender import headless  # noqa: E402
@@ -154,6 +156,59 @@ def test_strokes_on_the_figure_mask_with_snap_are_what_the_whole_mask_makes(tmp_
     assert np.abs(pixels(pt.made)[..., 0] - shown).max() > 1e-3
     assert np.abs(shadow(mat) - whole_bake(mat)).max() <= 1e-6
     assert status.LAST_ERRORS == []
+
+
+def test_beside_the_ui_a_mask_strokes_relief_is_made_in_a_worker(tmp_path, monkeypatch):
+    """Live (a UI is up): a stroke on the figure mask leaves the made shape as it was and its
+    relief is made in a worker (a large figure's part takes ~0.5 s to solve at 1024²);
+    strokes while it runs wait, the newest replacing older ones; the timer then brings the
+    painting up to date — what the layers make, the relief not made again."""
+    mat = painting(tmp_path, 128)
+    s = mat.dynamic_painting
+    bpy.ops.dynpaint.paint_shape()
+    pt = s.painted
+    before = pixels(pt.made)[..., 0].copy()
+    pt.snap = 0.02
+
+    def stroke(fn):                        # as Texture Paint's dab, seen live
+        px = image_pixels(pt.mask)
+        fn(px)
+        pt.mask.pixels.foreach_set(px.ravel())
+        note_edited([pt.mask.name])
+        return painted_state.update_painted_shape(mat, live=True)
+
+    for cx in (60, 64, 68, 72):
+        assert not stroke(disc(cx, 64, 30, 1.0))
+        assert np.array_equal(pixels(pt.made)[..., 0], before)
+    painted_state.LIVE_RELIEFS.wait()
+    monkeypatch.setattr(painted_state, "relief_from", lambda job: 1 / 0)   # made already
+    assert sync._reliefs_made() is None                      # (the timer's last look)
+    mask = pixels(pt.mask)[..., 0]
+    lum = linear_luminance(image_data_from_blender(s.image_bright))
+    want = painted_height(before, figure_relief(mask, lum, snap=0.02), None, 0)
+    assert np.abs(pixels(pt.made)[..., 0] - want).max() <= 1e-6
+    assert np.abs(shadow(mat) - whole_bake(mat)).max() <= 1e-6
+    assert status.LAST_ERRORS == []
+
+
+def test_a_relief_that_fails_in_the_worker_is_reported_and_the_shape_kept(tmp_path,
+                                                                          monkeypatch):
+    """A worker's error reaches the painting's status from the timer (never into Blender's
+    timers), and the made shape stays as it was."""
+    mat = painting(tmp_path, 64)
+    bpy.ops.dynpaint.paint_shape()
+    pt = mat.dynamic_painting.painted
+    before = pixels(pt.made).copy()
+    monkeypatch.setattr(painted_state, "relief_from", lambda job: np.zeros((2, 2)) / None)
+    px = image_pixels(pt.mask)
+    disc(32, 32, 12, 1.0)(px)
+    pt.mask.pixels.foreach_set(px.ravel())
+    note_edited([pt.mask.name])
+    assert not painted_state.update_painted_shape(mat, live=True)
+    painted_state.LIVE_RELIEFS.wait()
+    assert sync._reliefs_made() is None
+    assert len(status.LAST_ERRORS) == 1 and "unsupported operand" in status.LAST_ERRORS[0][1]
+    assert np.array_equal(pixels(pt.made), before)
 
 
 def test_a_stroke_on_the_height_layer_changes_the_shape_in_its_box_and_bakes_incrementally(

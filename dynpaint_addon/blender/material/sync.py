@@ -17,7 +17,7 @@ from ..bake.live_bake import LIVE, rendering
 from ..bake.shadow_images import bake_shadows, forget_cached_shape, stale_lights
 from ..state.frames import forget_frames
 from ..state.images import prepare_channel_image, update_derived_images
-from ..state.painted import update_painted_shape
+from ..state.painted import LIVE_RELIEFS, update_painted_shape
 from ..state.painting_state import read_state
 from ..state.status import clear_errors, report
 from .tree import rebuild_tree, sync_light_items
@@ -83,12 +83,17 @@ def update(mat, scene=None, depsgraph=None, progress=None, bake="now", rebake=Fa
     light has an image to show meanwhile, else now); 'missing' (only lights without an image
     now: a light moved in a script or a render waits for the per-frame bake); 'none' (left
     as they are: a draft wrote them, bake/layers.draft_group).
+    A painted shape's relief to make again is made in a worker where bake is 'live' (the
+    painting brought up to date by a timer when it is ready: state/painted.LiveReliefs).
     rebake: bake every light again (the shape's pixels may have changed); force: remake
     every derived image and rebuild the tree as well; small: a draft's images drawn small
     (update_derived_images').
     """
     scene = scene or bpy.context.scene
-    update_painted_shape(mat)               # a painted shape first: it is the shape image
+    live = bake == "live" and not rendering()
+    update_painted_shape(mat, live)         # a painted shape first: it is the shape image
+    if live and LIVE_RELIEFS.busy() and not bpy.app.timers.is_registered(_reliefs_made):
+        bpy.app.timers.register(_reliefs_made, first_interval=RELIEF_POLL_S)
     state = read_state(mat, scene)          # the settings, read once for the whole update
     warnings = update_derived_images(mat, state, force=force, small=small)
     sync_light_items(mat.dynamic_painting, state.lights)
@@ -97,6 +102,25 @@ def update(mat, scene=None, depsgraph=None, progress=None, bake="now", rebake=Fa
     rebuild_tree(mat, scene, force=force, state=state)
     clear_errors(mat)
     return warnings
+
+
+RELIEF_POLL_S = 0.02
+
+
+def _reliefs_made():
+    """Timer: the paintings whose figure relief the worker made (state/painted.LiveReliefs)
+    brought up to date → seconds to the next look (None: no relief is being made)."""
+    for name, exc in LIVE_RELIEFS.finished():
+        mat = bpy.data.materials.get(name)
+        if mat is None:
+            continue
+        try:
+            if exc is not None:
+                raise exc
+            update(mat, bpy.context.scene, bake="live")
+        except Exception as error:         # never into Blender's timers
+            report(mat, error)
+    return RELIEF_POLL_S if LIVE_RELIEFS.busy() else None
 
 
 def _bake(mat, scene, depsgraph, progress, when, everything, p, read):

@@ -10,7 +10,7 @@ from ... import params
 from ...core.frames import expand_pattern, is_pattern
 from ...core.input_rules import ImageData, pixel_role
 from ...core.sampling import enlarged_box, resample_separable
-from ...core.strokes import changed_box
+from ...core.strokes import changed_box, union
 from ...inputs.imageio import file_channels, file_header
 from ...inputs.memory import check_read
 from ...inputs.painting_frames import BoundedCache, sequence_numbers
@@ -109,8 +109,34 @@ def float_image(name, rgba):
     return img
 
 
-def grey_image(name, grey):
-    return float_image(name, grey_rgba(grey))
+# image name → (the float32 RGBA grey_image last wrote into it, whether it had an alpha): the
+# next write of that image fills the box that changed alone (a stroke's cos-θ and derived
+# images: grey_rgba of 4096² takes ~115 ms on 2 cores, a stroke's box next to nothing); the
+# image always receives the whole buffer, so it is right whatever else wrote it meanwhile
+KEPT_RGBA_MB = 1024
+_KEPT_RGBA = BoundedCache(KEPT_RGBA_MB)
+
+
+def grey_image(name, grey, alpha=None):
+    """A float image holding a grey (H, W) in RGB and `alpha` (H, W; None: 1), written from
+    the RGBA kept since its last write where there is one (only the pixels that changed are
+    copied into it: the same RGBA as grey_rgba's)."""
+    grey = np.asarray(grey, np.float32)
+    alpha = None if alpha is None else np.asarray(alpha, np.float32)
+    hit = _KEPT_RGBA.get(name)
+    if hit is None or hit[0].shape[:2] != grey.shape or hit[1] != (alpha is not None):
+        rgba = grey_rgba(grey, alpha)
+        _KEPT_RGBA.put(name, (rgba, alpha is not None), rgba.nbytes)
+    else:
+        rgba = hit[0]
+        box = union(changed_box(rgba[..., 0], grey),
+                    None if alpha is None else changed_box(rgba[..., 3], alpha))
+        if box is not None:
+            r0, r1, c0, c1 = box
+            rgba[r0:r1, c0:c1, :3] = grey[r0:r1, c0:c1, None]
+            if alpha is not None:
+                rgba[r0:r1, c0:c1, 3] = alpha[r0:r1, c0:c1]
+    return float_image(name, rgba)
 
 
 # -- derived images -------------------------------------------------------------------------
@@ -145,8 +171,12 @@ def update_derived_images(mat, state, force=False, small=None):
             image = imgs[item.source]
         else:
             name = f"{base} {item.channel}{' finite' * item.finite_copy}"
-            image = enlarged_into(name, rgba, imgs[item.source].size) \
-                if item.source in small else float_image(name, rgba)
+            if item.source in small:
+                image = enlarged_into(name, rgba, imgs[item.source].size)
+            elif isinstance(rgba, tuple):            # make_derived's grey: (grey, alpha)
+                image = grey_image(name, *rgba)
+            else:
+                image = float_image(name, rgba)
         images[item.channel] = image
         _store(s, item.channel, image, item.key)
     wanted = {d.channel for d in plan}
@@ -167,8 +197,8 @@ def _make(mat, state, todo):
     """make_derived for `todo`, from the cache where a moving painting made them before."""
     def role(channel):
         return pixel_role(channel, state.params)
-    if not state.frame:
-        return make_derived(todo, state.read, role)
+    if not state.frame:           # a still painting's grey images: written where they changed
+        return make_derived(todo, state.read, role, grey=True)
     cache = _MADE.setdefault(mat.name, BoundedCache(FRAME_DERIVED_MB))
     found = {d.channel: cache.get(d.key) for d in todo}
     missing = [d for d in todo if found[d.channel] is None]
@@ -181,8 +211,10 @@ def _make(mat, state, todo):
 
 
 def forget_frames_made():
-    """Another file is open: what was derived may belong to same-named paintings of the last."""
+    """Another file is open: what was derived may belong to same-named paintings of the last
+    (and the RGBA kept for the images grey_image writes is memory only)."""
     _MADE.clear()
+    _KEPT_RGBA.clear()
 
 
 def _store(settings, channel, image, key):

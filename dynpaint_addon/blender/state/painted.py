@@ -8,9 +8,15 @@ the relief's settings whenever one of them changes: compared by key, as derived 
 (sync.update calls update_painted_shape first, so a stroke's Image update, a setting and
 undo all land here). The mask's relief is kept while only the height layer changes, so a
 stroke on the height layer changes the made image in its box alone, and the decode and the
-bake follow incrementally (bake/shadow_images.py).
+bake follow incrementally (bake/shadow_images.py). A stroke on the mask re-solves the part it
+touched and snaps again around its box (core/snap.resnapped); beside the UI that relief is
+made in a worker thread (LiveReliefs), the painting kept as it was until it is ready.
 """
 import json
+import queue
+import threading
+import time
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -117,20 +123,24 @@ def _kept(cache, mat, key, make):
     return hit[1]
 
 
-def _snapped(mat, figure, lum, reach, key):
-    """snapped(figure, lum, reach), only around what changed since the last (core/snap.py:
-    bit for bit the whole mask's) while the painting and the reach are the same."""
-    hit = _SNAPPED.get(mat.name)
-    got = snapped(figure, lum, reach, hit[1:] if hit is not None and hit[0] == key else None)
-    _SNAPPED[mat.name] = (key, figure, got)
-    return got
+@dataclass
+class ReliefJob:
+    """What a figure relief is made from, read from Blender on the main thread: the rest
+    (relief_from) is numpy, for a worker thread too."""
+    material: str
+    key: str                    # _relief_key
+    figure: np.ndarray          # (H, W) bool: the mask painted
+    luminance: object           # (H, W) or None: the painting's, where the relief reads it
+    tile: object                # the structure image's luminance, or None
+    values: dict                # the relief's settings (OPTIONS)
+    snap_key: tuple             # the painting and the reach its snap is kept for
 
 
-def _relief(mat, settings, size):
+def relief_job(mat, settings, size):
+    """The ReliefJob of a painting's figure mask now (None: it has no mask)."""
     pt = settings.painted
-    w, h = size
     if pt.mask is None:
-        return np.zeros((h, w))
+        return None
     values = option_values(pt)
     painting = settings.image_bright or settings.image_dark
     lum = None
@@ -139,11 +149,97 @@ def _relief(mat, settings, size):
             linear_luminance(image_data_from_blender(painting)), size))
     tile = linear_luminance(image_data_from_blender(pt.structure)) \
         if values["structure_strength"] and pt.structure is not None else None
-    figure = painted_figure(_grey(pt.mask, size))
-    if lum is not None:
-        figure = _snapped(mat, figure, lum, values["snap"],
-                          (key_name(painting), size, values["snap"]))
-    return relief_of_figure(figure, lum, tile, values)
+    return ReliefJob(mat.name, _relief_key(settings), painted_figure(_grey(pt.mask, size)), lum,
+                     tile, values, (key_name(painting) if painting else None, size,
+                                    values["snap"]))
+
+
+def relief_from(job):
+    """The job's relief (image widths): its figure snapped — around what changed since the
+    last snap of the same painting and reach alone (core/snap.py: bit for bit the whole
+    mask's) — inflated and with the effects (shapes/relief.py)."""
+    figure = job.figure
+    if job.luminance is not None:
+        hit = _SNAPPED.get(job.material)
+        figure = snapped(figure, job.luminance, job.values["snap"],
+                         hit[1:] if hit is not None and hit[0] == job.snap_key else None)
+        _SNAPPED[job.material] = (job.snap_key, job.figure, figure)
+    return relief_of_figure(figure, job.luminance, job.tile, job.values)
+
+
+def _relief(mat, settings, size):
+    job = relief_job(mat, settings, size)
+    return np.zeros(size[::-1]) if job is None else relief_from(job)
+
+
+class LiveReliefs:
+    """Figure reliefs made in a worker thread beside the UI (a stroke on a large figure's mask
+    re-solves its part: ~0.5 s at 1024², docs/paint-latency.md): the painting shows its shape
+    as it was meanwhile, and is brought up to date when the relief is ready (material/sync's
+    timer). One job per painting at a time; a request while one runs waits for it, the newest
+    replacing any older one waiting. Without a UI the relief is made at once (the headless
+    contract)."""
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.running, self.waiting = set(), {}
+        self.newest = {}            # material name → the key of its newest job
+        self.done = queue.Queue()
+
+    def request(self, mat, settings, size):
+        """Make the painting's relief as its settings and mask are now (unless that is the
+        newest job already)."""
+        key = _relief_key(settings)
+        with self.lock:
+            if mat.name in self.running and self.newest.get(mat.name) == key:
+                return
+        job = relief_job(mat, settings, size)
+        with self.lock:
+            self.newest[mat.name] = key
+            if mat.name in self.running:
+                self.waiting[mat.name] = job
+                return
+            self.running.add(mat.name)
+        threading.Thread(target=self._run, args=(job,), daemon=True).start()
+
+    def _run(self, job):
+        name = job.material
+        while job is not None:
+            try:
+                self.done.put((name, job.key, relief_from(job), None))
+            except Exception as exc:             # reported on the main thread
+                self.done.put((name, job.key, None, exc))
+            with self.lock:
+                job = self.waiting.pop(name, None)
+                if job is None:
+                    self.running.discard(name)
+
+    def busy(self):
+        """Whether a relief is being made, or one made is not yet taken (finished)."""
+        with self.lock:
+            return bool(self.running) or not self.done.empty()
+
+    def finished(self):
+        """(main thread) The reliefs made since the last call, kept for their paintings →
+        [(material name, the error where one failed, else None)]."""
+        out = []
+        while True:
+            try:
+                name, key, relief, exc = self.done.get_nowait()
+            except queue.Empty:
+                return out
+            if relief is not None:
+                _RELIEF[name] = (key, relief)
+            out.append((name, exc))
+
+    def wait(self, timeout=60.0):
+        """(tests) Until no relief is being made."""
+        end = time.monotonic() + timeout
+        while self.running and time.monotonic() < end:
+            time.sleep(0.01)
+
+
+LIVE_RELIEFS = LiveReliefs()
 
 
 def base_reads(p):
@@ -171,10 +267,11 @@ def _base(settings, size):
     return at_size(values, size), None if alpha is None else at_size(alpha, size)
 
 
-def update_painted_shape(mat):
+def update_painted_shape(mat, live=False):
     """Remake the made shape image where what it depends on changed (painted_key) → whether
     it was remade. Its edit is noted (state/edits.py), so what is made from the shape image —
-    its derived images, the decode, the bakes — follows."""
+    its derived images, the decode, the bakes — follows. live (beside the UI): a relief to
+    make again is made in LIVE_RELIEFS' worker, the made shape left as it is until then."""
     s = mat.dynamic_painting
     if not is_painted(s):
         return False
@@ -183,6 +280,10 @@ def update_painted_shape(mat):
     if key == pt.key:
         return False
     size = tuple(pt.made.size)
+    hit = _RELIEF.get(mat.name)
+    if live and (hit is None or hit[0] != _relief_key(s)) and pt.mask is not None:
+        LIVE_RELIEFS.request(mat, s, size)
+        return False
     relief = _kept(_RELIEF, mat, _relief_key(s), lambda: _relief(mat, s, size))
     base, alpha = _kept(_BASE, mat, _base_key(s), lambda: _base(s, size))
     layer = _grey(pt.height_layer, size) if pt.height_layer is not None else None
