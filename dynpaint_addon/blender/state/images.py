@@ -113,7 +113,7 @@ def float_image(name, rgba):
 # next write of that image fills the box that changed alone (a stroke's cos-θ and derived
 # images: grey_rgba of 4096² takes ~115 ms on 2 cores, a stroke's box next to nothing); the
 # image always receives the whole buffer, so it is right whatever else wrote it meanwhile
-KEPT_RGBA_MB = 1024
+KEPT_RGBA_MB = 512
 _KEPT_RGBA = BoundedCache(KEPT_RGBA_MB)
 
 
