@@ -46,7 +46,9 @@ from dynpaint_addon.core.input_rules import ImageData  # noqa: E402
 from dynpaint_addon.core.layers import Layer, bake_scene  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 
-GRID = 1024                  # mesh grid cells per image width: stair steps of ¼ px at 256²
+GRID = 1024                  # mesh grid cells per image width, and at least 4 per pixel:
+#                              stair steps of ¼ px at any size (1 px steps at 1024² cost the
+#                              thin shadows' IoU 0.03–0.05 against smooth cards)
 
 
 def disc(cx, cy, r):
@@ -131,11 +133,11 @@ LIGHTS = [(f"sun {e}°/{a}°", Light("sun", sun_direction(e, a))) for e, a in SU
     ("sun 45°/220°, 5° wide", Light("sun", sun_direction(45, 220), size=math.radians(5)))]
 
 
-def add_card(card, z, thickness):
-    """A card of the scene: the faces of a GRID-per-width grid over its box whose centres are
-    inside, at height z (plus its relief), made solid `thickness` downward."""
+def add_card(card, z, thickness, grid=GRID):
+    """A card of the scene: the faces of a `grid`-per-width grid over its box whose centres
+    are inside, at height z (plus its relief), made solid `thickness` downward."""
     x0, y0, x1, y1 = card.box
-    nx, ny = int(round((x1 - x0) * GRID)), int(round((y1 - y0) * GRID))
+    nx, ny = int(round((x1 - x0) * grid)), int(round((y1 - y0) * grid))
     xs, ys = np.linspace(x0, x1, nx + 1), np.linspace(y0, y1, ny + 1)
     gx, gy = np.meshgrid(xs, ys)
     gz = z + (card.relief(gx, gy) if card.relief else np.zeros_like(gx))
@@ -159,8 +161,9 @@ def add_card(card, z, thickness):
 def build(size, depths):
     """A scene's 3D objects → (scene, [[objects] per layer]) (the ground is the first)."""
     scene = build_scene(size, [])
+    grid = max(GRID, 4 * size)
     objects = [[bpy.data.objects["ground"]] if not layer.cards else
-               [add_card(card, layer.depth, layer.thickness) for card in layer.cards]
+               [add_card(card, layer.depth, layer.thickness, grid) for card in layer.cards]
                for layer in depths]
     return scene, objects
 
@@ -261,11 +264,27 @@ def evaluate(size, offset, name=OWN):
     return compare(size, depths, core_layers(size, depths), offset)
 
 
+# (size, the scene's depths, light, layer, front_casts) → its truth: a scene's renders serve
+# every comparison made with it in one run (grease_pencil_truth.py compares three routes)
+_TRUTHS = {}
+
+
 def compare(size, depths, layers, offset):
-    """The core's `layers` of a scene of `depths` against its 3D truth (built here, so after
-    anything else that empties Blender's scene), at d = offset → evaluate's rows."""
-    folder = tempfile.mkdtemp()
-    scene, objects = build(size, depths)
+    """The core's `layers` of a scene of `depths` against its 3D truth (built here when a
+    truth is not rendered yet in this run, so after anything else that empties Blender's
+    scene), at d = offset → evaluate's rows."""
+    built = []
+
+    def rendered(i, label, light, front_casts=True):
+        key = (size, repr(depths), label, i, front_casts)
+        if key not in _TRUTHS:
+            if not built:
+                built.append((tempfile.mkdtemp(), *build(size, depths)))
+            folder, scene, objects = built[0]
+            _TRUTHS[key] = render_truth(scene, objects, i, light, folder,
+                                        f"{label}_{i}{'' if front_casts else 'a'}", front_casts)
+        return _TRUTHS[key]
+
     for layer in layers:
         layer.p.shadows.offset = offset
     rows, seconds = [], {}
@@ -275,13 +294,12 @@ def compare(size, depths, layers, offset):
         seconds[label] = time.perf_counter() - start
         r2 = point_falloff(light, layers) if light.kind == "point" else [1.0] * len(layers)
         for i, (layer, spec) in enumerate(zip(layers, depths)):
-            truth = render_truth(scene, objects, i, light, folder, f"{label}_{i}") * r2[i]
+            truth = rendered(i, label, light) * r2[i]
             mask = np.ones((size, size), bool) if i == 0 else _inner(layer)
             err = float(np.abs(t[i] - truth)[mask].mean())
             if i < len(layers) - 1:      # the cast shadows: against each one's own, alone
                 alone = bake_scene([layer], light)[0]
-                truth_alone = render_truth(scene, objects, i, light, folder, f"{label}_{i}a",
-                                           front_casts=False) * r2[i]
+                truth_alone = rendered(i, label, light, front_casts=False) * r2[i]
                 # where 3D lights the layer alone: in its own shadow no shadow is cast (and
                 # §6's look at d > 0 lightens the core's there)
                 lit = mask & (truth_alone >= LIT)
