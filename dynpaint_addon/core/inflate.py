@@ -43,7 +43,7 @@ import numpy as np
 
 from .effects import edge_distance, smooth_px
 from .laplace import Grid, components, parts, solve_parts
-from .sampling import gaussian_blur
+from .sampling import gaussian_blur, gaussian_radius
 
 RESHAPED = ("round", "soft", "flat")      # the round profile reshaped (shape_profile)
 PROFILES = RESHAPED + ("tube",)
@@ -151,7 +151,7 @@ def _smoothed_in_parts(values, mask, labels, sigma_px):
     if sigma_px <= 0:
         return out
     h, w = mask.shape
-    reach = int(np.ceil(3 * sigma_px))
+    reach = gaussian_radius(sigma_px)
     for k, (r0, r1, c0, c1) in parts(labels, int(labels.max()) + 1, mask):
         r0, r1, c0, c1 = max(r0 - reach, 0), min(r1 + reach, h), max(c0 - reach, 0), \
             min(c1 + reach, w)

@@ -168,6 +168,11 @@ def enlarged_box(box, size, new_size):
     return r0, r1, c0, c1
 
 
+def gaussian_radius(sigma_px):
+    """Pixels gaussian_blur reads on each side of a pixel (its kernel's reach, 3σ up)."""
+    return max(1, int(np.ceil(3 * sigma_px)))
+
+
 def gaussian_blur(img, sigma_px, extension="extend"):
     """Separable Gaussian blur of an (H, W[, C]) image, sigma in pixels, borders by extension.
 
@@ -176,7 +181,7 @@ def gaussian_blur(img, sigma_px, extension="extend"):
     """
     if not sigma_px > 0:
         return img
-    radius = max(1, int(np.ceil(3 * sigma_px)))
+    radius = gaussian_radius(sigma_px)
     offsets = np.arange(-radius, radius + 1)
     kernel = np.exp(-0.5 * (offsets / sigma_px) ** 2)
     kernel = (kernel / kernel.sum()).astype(img.dtype)

@@ -33,7 +33,7 @@ Shape's figure mask), bit for bit what snapping the whole mask gives.
 import numpy as np
 
 from .effects import edge_distance
-from .sampling import gaussian_blur
+from .sampling import gaussian_blur, gaussian_radius
 
 STEP_PX = 0.25       # the offsets tried along the normal, this far apart
 PEAK = 0.5           # the share of its top above which a peak's offsets count
@@ -64,10 +64,6 @@ def snapped(mask, luminance, reach, before=None):
     return snap_to_edges(mask, luminance, reach_px)
 
 
-def _radius(sigma_px):
-    return max(1, int(np.ceil(3 * sigma_px)))       # core.sampling.gaussian_blur's
-
-
 def snap_margin_px(reach_px, blur_px=0.7, smooth_px=2.0):
     """How far (pixels, along either axis) a change to the mask or the painting can change
     snap_to_edges' result: the offsets' smoothing around each edge pixel, whose own offset
@@ -75,9 +71,9 @@ def snap_margin_px(reach_px, blur_px=0.7, smooth_px=2.0):
     and a central difference of that) and the painting's gradient along the normal (reach +
     1 px, the bilinear's next pixel, the painting's blur and difference)."""
     distance = int(np.ceil(reach_px + 2.5)) + 1
-    normal = distance + _radius(1.0) + 1
-    search = int(np.ceil(reach_px + 1)) + 1 + _radius(blur_px) + 1
-    return _radius(smooth_px) + max(normal, search)
+    normal = distance + gaussian_radius(1.0) + 1
+    search = int(np.ceil(reach_px + 1)) + 1 + gaussian_radius(blur_px) + 1
+    return gaussian_radius(smooth_px) + max(normal, search)
 
 
 def _along(img, ys, xs, dx, dy):

@@ -19,7 +19,7 @@ bottom, §0).
 import numpy as np
 
 from .input_rules import ImageData
-from .sampling import gaussian_blur
+from .sampling import gaussian_blur, gaussian_radius
 from .shape import normals_from_height_px
 
 
@@ -92,7 +92,7 @@ def height_shape_edited(shape, before, box, height_scale, preblur_px, z_min):
     normals, heights, _ = before
     h, w = heights.shape
     dtype = heights.dtype
-    radius = max(1, int(np.ceil(3 * preblur_px))) if preblur_px > 0 else 0
+    radius = gaussian_radius(preblur_px) if preblur_px > 0 else 0
     z_box = grow(box, radius, h, w)
     n_box = grow(z_box, 1, h, w)
     z_read = grow(n_box, 1, h, w)           # heights the gradient of n_box reads …

@@ -136,8 +136,9 @@ class ReliefJob:
     snap_key: tuple             # the painting and the reach its snap is kept for
 
 
-def relief_job(mat, settings, size):
-    """The ReliefJob of a painting's figure mask now (None: it has no mask)."""
+def relief_job(mat, settings, size, key):
+    """The ReliefJob of a painting's figure mask now, its `key` _relief_key's (None: it has
+    no mask)."""
     pt = settings.painted
     if pt.mask is None:
         return None
@@ -149,7 +150,7 @@ def relief_job(mat, settings, size):
             linear_luminance(image_data_from_blender(painting)), size))
     tile = linear_luminance(image_data_from_blender(pt.structure)) \
         if values["structure_strength"] and pt.structure is not None else None
-    return ReliefJob(mat.name, _relief_key(settings), painted_figure(_grey(pt.mask, size)), lum,
+    return ReliefJob(mat.name, key, painted_figure(_grey(pt.mask, size)), lum,
                      tile, values, (key_name(painting) if painting else None, size,
                                     values["snap"]))
 
@@ -167,8 +168,8 @@ def relief_from(job):
     return relief_of_figure(figure, job.luminance, job.tile, job.values)
 
 
-def _relief(mat, settings, size):
-    job = relief_job(mat, settings, size)
+def _relief(mat, settings, size, key):
+    job = relief_job(mat, settings, size, key)
     return np.zeros(size[::-1]) if job is None else relief_from(job)
 
 
@@ -186,14 +187,13 @@ class LiveReliefs:
         self.newest = {}            # material name → the key of its newest job
         self.done = queue.Queue()
 
-    def request(self, mat, settings, size):
-        """Make the painting's relief as its settings and mask are now (unless that is the
-        newest job already)."""
-        key = _relief_key(settings)
+    def request(self, mat, settings, size, key):
+        """Make the painting's relief as its settings and mask are now, `key` _relief_key's
+        (unless that is the newest job already)."""
         with self.lock:
             if mat.name in self.running and self.newest.get(mat.name) == key:
                 return
-        job = relief_job(mat, settings, size)
+        job = relief_job(mat, settings, size, key)
         with self.lock:
             self.newest[mat.name] = key
             if mat.name in self.running:
@@ -280,11 +280,11 @@ def update_painted_shape(mat, live=False):
     if key == pt.key:
         return False
     size = tuple(pt.made.size)
-    hit = _RELIEF.get(mat.name)
-    if live and (hit is None or hit[0] != _relief_key(s)) and pt.mask is not None:
-        LIVE_RELIEFS.request(mat, s, size)
+    relief_key, hit = _relief_key(s), _RELIEF.get(mat.name)
+    if live and (hit is None or hit[0] != relief_key) and pt.mask is not None:
+        LIVE_RELIEFS.request(mat, s, size, relief_key)
         return False
-    relief = _kept(_RELIEF, mat, _relief_key(s), lambda: _relief(mat, s, size))
+    relief = _kept(_RELIEF, mat, relief_key, lambda: _relief(mat, s, size, relief_key))
     base, alpha = _kept(_BASE, mat, _base_key(s), lambda: _base(s, size))
     layer = _grey(pt.height_layer, size) if pt.height_layer is not None else None
     over_normals = base is not None and base.ndim == 3
