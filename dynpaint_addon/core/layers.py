@@ -22,15 +22,16 @@ from .transmittance import Occluder, Placement, transmittance
 # §15 for each quality level (§13): the resolution T is found at (receivers and occluders
 # alike, then resampled to each layer's pixels, as §13's bakes), the march's spacing along
 # a ray in pixels of the layer crossed at that resolution, how many points of a light's
-# disc a light with a size is sampled at, and the grid of rays (per side) across a pixel on
-# a shadow's edge (transmittance's antialias).
+# disc a light with a size is sampled at (and at how many again where those disagree: a
+# penumbra, "Light size"), and the grid of rays (per side) across a pixel on a shadow's edge
+# (transmittance's antialias).
 # The slab of a flat card is crossed in a few pixels, so few samples are exact enough; a
 # relief's slab takes one sample per `spacing` pixels of its crossing, at most `steps`.
 LAYER_QUALITY = {
-    "draft": {"scale": 0.125, "spacing": 1.0, "disc": 4, "antialias": 1},
-    "preview": {"scale": 0.5, "spacing": 1.0, "disc": 8, "antialias": 2},
-    "final": {"scale": 1.0, "spacing": 1.0, "disc": 16, "antialias": 4},
-    "reference": {"scale": 1.0, "spacing": 0.25, "disc": 64, "antialias": 4},
+    "draft": {"scale": 0.125, "spacing": 1.0, "disc": 4, "penumbra": 0, "antialias": 1},
+    "preview": {"scale": 0.5, "spacing": 1.0, "disc": 8, "penumbra": 32, "antialias": 2},
+    "final": {"scale": 1.0, "spacing": 1.0, "disc": 16, "penumbra": 64, "antialias": 4},
+    "reference": {"scale": 1.0, "spacing": 0.25, "disc": 64, "penumbra": 256, "antialias": 4},
 }
 MAX_LAYERS = 8           # documented limit: the web page draws up to 8 (issue 30)
 
@@ -217,7 +218,7 @@ class Scene:
         origins = self._origins[i, q["scale"]]
         return [resample_separable(
                     transmittance(origins, lt, front, p.shadows.steps, canvas=self.canvas,
-                                  spacing=q["spacing"], disc=q["disc"],
+                                  spacing=q["spacing"], disc=q["disc"], penumbra=q["penumbra"],
                                   maps=level != "reference",
                                   antialias=q["antialias"]).astype(np.float32), h, w)
                 for lt in lights]

@@ -446,7 +446,7 @@ def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre, exact):
 
 
 def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=None, disc=16,
-                  maps=True, antialias=1):
+                  penumbra=0, maps=True, antialias=1):
     """T (H, W) of §15: what `occluders` (the layers in front) let through along each ray.
 
     Parameters
@@ -470,6 +470,11 @@ def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=N
         sample per pixel of the crossing's length over `steps`, as a plain K-step march).
     disc : int
         Points of the light's disc sampled for a light with a size (light_points).
+    penumbra : int
+        Where the `disc` points of a ray disagree (it starts in a penumbra), its share of
+        the disc is sampled again at this many points instead: a share quantised to 1/16
+        moves where a penumbra crosses ½ by a good part of the penumbra's width, and the
+        rays that need the finer disc are the few in penumbrae. ≤ disc: none.
     maps : bool
         Decide rays that start below an occluder by its line map (line_map) rather than
         each by its own march: the same solid, sampled on the occluder's pixels.
@@ -492,11 +497,13 @@ def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=N
     canvas = canvas or shape
     gap = spacing if spacing is not None else 1e-9   # None: always `steps` samples
     points = light_points(light, canvas, disc)
+    finer = light_points(light, canvas, penumbra) if penumbra > len(points) > 1 else None
     _, centre = light_points(light, canvas, 1)[0]
 
-    def through(rays):
+    def over_disc(rays, points):
+        """T of rays (N, 3) averaged over `points`, and whether the points disagreed."""
         receivers = [_receiver(rays, k) for k in occluders]
-        total = np.zeros(len(rays))
+        total, low, high = np.zeros(len(rays)), np.ones(len(rays)), np.zeros(len(rays))
         for kind, vector in points:
             t = np.ones(len(rays))
             for k, r in zip(occluders, receivers):
@@ -504,7 +511,15 @@ def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=N
                                         exact=antialias > 1)
                 t *= 1.0 - np.clip(rho, 0.0, 1.0) * hit
             total += t
-        return total / len(points)
+            np.minimum(low, t, out=low)
+            np.maximum(high, t, out=high)
+        return total / len(points), low < high
+
+    def through(rays):
+        t, mixed = over_disc(rays, points)
+        if finer is not None and mixed.any():
+            t[mixed] = over_disc(rays[mixed], finer)[0]
+        return t
 
     t = through(o.reshape(-1, 3)).reshape(shape)
     edge = _edges(t) if antialias > 1 and min(shape) >= 2 else None

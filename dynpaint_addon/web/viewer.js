@@ -482,6 +482,7 @@
       const size = lt.size || 0;
       gl.uniform1f(loc("dp_light_size"), point ? size * DATA.width : Math.tan(size / 2));
       gl.uniform1i(loc("dp_disc"), size > 0 ? DATA.layer_quality.disc : 1);
+      gl.uniform1i(loc("dp_penumbra"), size > 0 && final ? DATA.layer_quality.penumbra : 0);
       gl.uniform1i(loc("dp_steps"), state.steps);
       gl.uniform1f(loc("dp_spacing"), DATA.layer_quality.spacing);
       gl.uniform1i(loc("dp_antialias"), DATA.layer_quality.antialias);

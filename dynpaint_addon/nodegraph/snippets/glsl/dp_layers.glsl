@@ -4,8 +4,8 @@
 // pixel's surface point toward the light, marched through each layer in front: the part of
 // its slab below its plane (its thickness: its two faces are enough for a card) and the part
 // above (its relief: a sample per `dp_spacing` of its pixels, ends included, at most
-// `dp_steps`). A light with a
-// size is sampled at `dp_disc` points of its disc (the core's sunflower spiral). A final pass
+// `dp_steps`). A light with a size is sampled at `dp_disc` points of its disc (the core's
+// sunflower spiral), and again at `dp_penumbra` where those disagree. A final pass
 // is drawn twice, as the core's transmittance antialiases: T at the pixels' centres alone
 // (dp_pass 1), then (dp_pass 2) T again as the mean over a dp_antialias² grid across each
 // pixel where it steps by more than dp_edge_step to a neighbour, times the own term. The
@@ -25,6 +25,7 @@ uniform vec2 dp_canvas;        // the canvas's size in pixels
 uniform vec4 dp_light;         // xyz: a sun's direction, or a point light's canvas position; w: 1 point
 uniform float dp_light_size;   // a sun's tan(β/2), a point light's radius (canvas px)
 uniform int dp_disc;           // points of the light's disc (1 without a size)
+uniform int dp_penumbra;       // points sampled again where dp_disc's disagree (≤ dp_disc: none)
 uniform int dp_steps;          // at most this many samples per part of a slab
 uniform float dp_spacing;      // samples this many pixels of the crossed layer apart
 uniform int dp_pass;           // 0: own × T at the centre; 1: T at the centre; 2: own × T, edges refined
@@ -79,19 +80,17 @@ void dp_basis(vec3 d, out vec3 u, out vec3 v)
     v = cross(d, u);
 }
 
-// T at a point of the layer (its own pixels), its rays starting `zs` above its plane: the
-// mean over the light's disc.
-float dp_T(vec2 px, float zs)
+// The mean of T over n points of the light's disc from o; mixed: whether they disagreed.
+float dp_over_disc(vec3 o, int n, out bool mixed)
 {
-    vec3 o = vec3(dp_recv.xy + dp_recv.z * px, dp_recv.w + zs);
     vec3 u, v;
     vec3 centre = dp_light.xyz;
     // a point light's disc faces the canvas's centre (core/layers.light_points)
     dp_basis(normalize(dp_light.w > 0.5 ? centre - vec3(0.5 * dp_canvas, 0.0) : centre), u, v);
-    float total = 0.0;
+    float total = 0.0, low = 1.0, high = 0.0;
     for (int j = 0; j < 256; j++) {
-        if (j >= dp_disc) break;
-        vec2 e = dp_disc_point(j, dp_disc);
+        if (j >= n) break;
+        vec2 e = dp_disc_point(j, n);
         vec3 d;
         float len;
         if (dp_light.w > 0.5) {
@@ -102,9 +101,25 @@ float dp_T(vec2 px, float zs)
             d = normalize(normalize(centre) + dp_light_size * (e.x * u + e.y * v));
             len = 1e30;
         }
-        total += dp_front(o, d, len);
+        float t = dp_front(o, d, len);
+        total += t;
+        low = min(low, t);
+        high = max(high, t);
     }
-    return total / float(max(dp_disc, 1));
+    mixed = low < high;
+    return total / float(max(n, 1));
+}
+
+// T at a point of the layer (its own pixels), its rays starting `zs` above its plane: the
+// mean over the light's disc, sampled again at dp_penumbra points where dp_disc's disagree
+// (core/transmittance's `penumbra`).
+float dp_T(vec2 px, float zs)
+{
+    vec3 o = vec3(dp_recv.xy + dp_recv.z * px, dp_recv.w + zs);
+    bool mixed;
+    float t = dp_over_disc(o, dp_disc, mixed);
+    if (mixed && dp_penumbra > dp_disc && dp_disc > 1) t = dp_over_disc(o, dp_penumbra, mixed);
+    return t;
 }
 
 // Whether pass 1's T steps by more than dp_edge_step from pixel c to a neighbour.
