@@ -270,24 +270,18 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
         # look along the object's +Y at the middle of its bounds (its front view)
         middle = obj.matrix_world @ Vector(((x0 + x1) / 2, 0.0, (z0 + z1) / 2))
         look = obj.matrix_world.to_3x3().normalized() @ Matrix.Rotation(math.pi / 2, 3, "X")
-        cam.matrix_world = Matrix.Translation(middle + look.col[2] * 10.0 * (x1 - x0)) @ \
-            look.to_4x4()
+        r = scene.render
+        drawing_settings(scene, samples or artist.grease_pencil_settings.aa_samples,
+                         artist.grease_pencil_settings.antialias_threshold_render)
+        # the camera moved by where Blender's anti-aliasing puts a drawing (drawn_offset)
+        dx, dy = drawn_offset(scene, folder)
+        pixel = (x1 - x0) / w
+        cam.matrix_world = Matrix.Translation(
+            middle + look.col[2] * 10.0 * (x1 - x0)
+            + (look.col[0] * dx + look.col[1] * dy) * pixel) @ look.to_4x4()
         cam.data.clip_end = 100.0 * (x1 - x0)
         scene.camera = cam
-        r = scene.render
-        r.engine = "BLENDER_WORKBENCH"
-        scene.grease_pencil_settings.aa_samples = samples or \
-            artist.grease_pencil_settings.aa_samples
-        scene.grease_pencil_settings.antialias_threshold_render = \
-            artist.grease_pencil_settings.antialias_threshold_render
         r.resolution_x, r.resolution_y, r.resolution_percentage = w, h, 100
-        r.film_transparent = True
-        r.image_settings.file_format = "PNG"
-        r.image_settings.color_mode = "RGBA"
-        r.image_settings.color_depth = "16"
-        r.image_settings.compression = 0       # (temporary files: no time spent deflating)
-        scene.view_settings.view_transform = "Standard"
-        scene.view_settings.look = "None"
         paths, darks = [], []
         for i, group in enumerate(layers):
             stem = os.path.join(folder, layer_stem(i, group))
@@ -312,6 +306,85 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
         bpy.data.objects.remove(cam)
         bpy.data.scenes.remove(scene)
     return paths, (x0, x1, z0, z1), notes, darks
+
+
+def drawing_settings(scene, samples, threshold):
+    """A scene of our own set to draw Grease Pencil as it is painted: Workbench, `samples`
+    anti-aliasing samples (and the artist's SMAA `threshold`), transparent film, the
+    Standard view transform, 16-bit RGBA PNG files."""
+    r = scene.render
+    r.engine = "BLENDER_WORKBENCH"
+    scene.grease_pencil_settings.aa_samples = samples
+    scene.grease_pencil_settings.antialias_threshold_render = threshold
+    r.film_transparent = True
+    r.image_settings.file_format = "PNG"
+    r.image_settings.color_mode = "RGBA"
+    r.image_settings.color_depth = "16"
+    r.image_settings.compression = 0       # (temporary files: no time spent deflating)
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+
+
+# Blender's Grease Pencil anti-aliasing does not spread its samples about each pixel's
+# centre: at its default 8 a drawing lands ~0.1 px left of and ~0.17 px below its strokes
+# (32: ~0.02, ~0.07), which moves the few-pixel shadows one layer casts on another as much
+# (cast-shadow IoU against the 3D cards, 512², sharp sun at 45°: benchmarks/
+# grease_pencil_truth.py). Measured once per sample count and undone by the camera.
+CALIBRATION_PX = 64
+_DRAWN_OFFSET = {}
+
+
+def drawn_offset(scene, folder):
+    """(dx, dy): how many pixels right and up of its strokes Blender draws a drawing in
+    `scene` (drawing_settings), at its anti-aliasing settings: a disc of radius 0.35 drawn
+    CALIBRATION_PX across, the centroid of its alpha less its centre (a disc's edge meets
+    the pixels at every phase, so no phase's rounding is counted)."""
+    gp_settings = scene.grease_pencil_settings
+    key = (gp_settings.aa_samples, round(gp_settings.antialias_threshold_render, 6))
+    if key in _DRAWN_OFFSET:
+        return _DRAWN_OFFSET[key]
+    probe = bpy.data.scenes.new("Dynamic Painting anti-aliasing probe")
+    gp = bpy.data.grease_pencils.new("DP probe")
+    obj = bpy.data.objects.new("DP probe", gp)
+    cam = bpy.data.objects.new("DP probe camera", bpy.data.cameras.new("DP probe camera"))
+    material = None
+    try:
+        drawing_settings(probe, *key)
+        probe.collection.objects.link(obj)
+        probe.collection.objects.link(cam)
+        n = 96
+        angles = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
+        add_fill(gp.layers.new("disc"), list(zip(0.35 * np.cos(angles), 0.35 * np.sin(angles))),
+                 fill_material(gp, "DP probe", (1.0, 1.0, 1.0)), frame=probe.frame_current,
+                 radius=1e-4)
+        material = gp.materials[0]
+        cam.data.type, cam.data.ortho_scale = "ORTHO", 1.0
+        cam.matrix_world = Matrix.Translation((0.0, -10.0, 0.0)) @ \
+            Matrix.Rotation(math.pi / 2, 4, "X")
+        probe.camera = cam
+        r = probe.render
+        r.resolution_x = r.resolution_y = CALIBRATION_PX
+        r.resolution_percentage = 100
+        r.filepath = os.path.join(folder, "anti-aliasing probe.png")
+        with bpy.context.temp_override(scene=probe), quiet_native(1):
+            bpy.ops.render.render(write_still=True, scene=probe.name)
+        alpha = read_image(r.filepath).pixels[..., 3].astype(np.float64)   # rows: y up
+        os.remove(r.filepath)
+        centres = np.arange(CALIBRATION_PX) + 0.5 - CALIBRATION_PX / 2
+        total = alpha.sum()
+        offset = (float((alpha.sum(axis=0) * centres).sum() / total),
+                  float((alpha.sum(axis=1) * centres).sum() / total)) if total > 0 else (0.0, 0.0)
+    finally:
+        bpy.data.objects.remove(obj)
+        camera = cam.data
+        bpy.data.objects.remove(cam)
+        bpy.data.cameras.remove(camera)
+        bpy.data.grease_pencils.remove(gp)
+        if material is not None:
+            bpy.data.materials.remove(material)
+        bpy.data.scenes.remove(probe)
+    _DRAWN_OFFSET[key] = offset
+    return offset
 
 
 def drawn_size(bounds, width_px):
