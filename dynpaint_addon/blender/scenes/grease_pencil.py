@@ -326,10 +326,12 @@ def drawing_settings(scene, samples, threshold):
 
 
 # Blender's Grease Pencil anti-aliasing does not spread its samples about each pixel's
-# centre: at its default 8 a drawing lands ~0.1 px left of and ~0.17 px below its strokes
-# (32: ~0.02, ~0.07), which moves the few-pixel shadows one layer casts on another as much
-# (cast-shadow IoU against the 3D cards, 512², sharp sun at 45°: benchmarks/
-# grease_pencil_truth.py). Measured once per sample count and undone by the camera.
+# centre: at its default 8 a drawing lands 0.12 px left of and 0.19 px below its strokes
+# (2: 0.49, 0.61; 32: 0.03, 0.08; blender-notes.md). The lit layers move together, so on
+# screen this is where the lit copy sits against its strokes and the 3D scene; what it
+# moves is the few-pixel shadows one layer casts on another against that scene (the
+# middle layer's at 512², sharp sun at 45°: IoU 0.92 → 0.94 against 3D cards,
+# benchmarks/grease_pencil_truth.py). Measured once per sample count, undone by the camera.
 CALIBRATION_PX = 64
 _DRAWN_OFFSET = {}
 
@@ -352,8 +354,7 @@ def drawn_offset(scene, folder):
         drawing_settings(probe, *key)
         probe.collection.objects.link(obj)
         probe.collection.objects.link(cam)
-        n = 96
-        angles = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
+        angles = np.linspace(0.0, 2 * math.pi, 96, endpoint=False)
         add_fill(gp.layers.new("disc"), list(zip(0.35 * np.cos(angles), 0.35 * np.sin(angles))),
                  fill_material(gp, "DP probe", (1.0, 1.0, 1.0)), frame=probe.frame_current,
                  radius=1e-4)
