@@ -64,7 +64,9 @@ def test_each_layer_is_drawn_by_blender_alone_with_its_colours_and_alpha(drawing
     r = 0.3 * w / (x1 - x0)
     y, x = np.mgrid[0:h, 0:w] + 0.5
     a = figure[..., 3]
-    assert abs((a * x).sum() / a.sum() - cx) < 0.5 and abs((a * y).sum() / a.sum() - cy) < 0.5
+    # where its strokes are, within 0.05 px: Blender's 8 anti-aliasing samples alone put it
+    # 0.12 px left and 0.19 px down (grease_pencil.drawn_offset, undone by the camera)
+    assert abs((a * x).sum() / a.sum() - cx) < 0.05 and abs((a * y).sum() / a.sum() - cy) < 0.05
     assert abs(np.sqrt(a.sum() / np.pi) / r - 1) < 0.01        # its area, antialiased edge
     # (Grease Pencil's own antialiasing: edges about 2 px either side, whatever Workbench's
     # samples, measured)
