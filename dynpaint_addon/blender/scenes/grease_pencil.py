@@ -252,10 +252,8 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
         for frame, key in zip(frames, keys):
             if key not in drawn:
                 scene.frame_set(frame)
-                r.filepath = f"{stem}.png" if len(frames) == 1 else f"{stem}_{frame:04d}.png"
-                with bpy.context.temp_override(scene=scene), quiet_native(1):
-                    bpy.ops.render.render(write_still=True, scene=scene.name)
-                drawn[key] = r.filepath
+                drawn[key] = draw_still(
+                    scene, f"{stem}.png" if len(frames) == 1 else f"{stem}_{frame:04d}.png")
             drawn_count[0] += 1
             if progress is not None:
                 progress(min(1.0, drawn_count[0] / (len(layers) * len(frames))))
@@ -325,6 +323,15 @@ def drawing_settings(scene, samples, threshold):
     scene.view_settings.look = "None"
 
 
+def draw_still(scene, path):
+    """Render `scene` (drawing_settings) into the file `path`, Blender's log kept quiet
+    → path."""
+    scene.render.filepath = path
+    with bpy.context.temp_override(scene=scene), quiet_native(1):
+        bpy.ops.render.render(write_still=True, scene=scene.name)
+    return path
+
+
 # Blender's Grease Pencil anti-aliasing does not spread its samples about each pixel's
 # centre: at its default 8 a drawing lands 0.12 px left of and 0.19 px below its strokes
 # (2: 0.49, 0.61; 32: 0.03, 0.08; blender-notes.md). The lit layers move together, so on
@@ -349,16 +356,14 @@ def drawn_offset(scene, folder):
     gp = bpy.data.grease_pencils.new("DP probe")
     obj = bpy.data.objects.new("DP probe", gp)
     cam = bpy.data.objects.new("DP probe camera", bpy.data.cameras.new("DP probe camera"))
-    material = None
+    white = fill_material(gp, "DP probe", (1.0, 1.0, 1.0))
     try:
         drawing_settings(probe, *key)
         probe.collection.objects.link(obj)
         probe.collection.objects.link(cam)
         angles = np.linspace(0.0, 2 * math.pi, 96, endpoint=False)
         add_fill(gp.layers.new("disc"), list(zip(0.35 * np.cos(angles), 0.35 * np.sin(angles))),
-                 fill_material(gp, "DP probe", (1.0, 1.0, 1.0)), frame=probe.frame_current,
-                 radius=1e-4)
-        material = gp.materials[0]
+                 white, frame=probe.frame_current, radius=1e-4)
         cam.data.type, cam.data.ortho_scale = "ORTHO", 1.0
         cam.matrix_world = Matrix.Translation((0.0, -10.0, 0.0)) @ \
             Matrix.Rotation(math.pi / 2, 4, "X")
@@ -366,11 +371,9 @@ def drawn_offset(scene, folder):
         r = probe.render
         r.resolution_x = r.resolution_y = CALIBRATION_PX
         r.resolution_percentage = 100
-        r.filepath = os.path.join(folder, "anti-aliasing probe.png")
-        with bpy.context.temp_override(scene=probe), quiet_native(1):
-            bpy.ops.render.render(write_still=True, scene=probe.name)
-        alpha = read_image(r.filepath).pixels[..., 3].astype(np.float64)   # rows: y up
-        os.remove(r.filepath)
+        path = draw_still(probe, os.path.join(folder, "anti-aliasing probe.png"))
+        alpha = read_image(path).pixels[..., 3].astype(np.float64)   # rows: y up
+        os.remove(path)
         centres = np.arange(CALIBRATION_PX) + 0.5 - CALIBRATION_PX / 2
         total = alpha.sum()
         offset = (float((alpha.sum(axis=0) * centres).sum() / total),
@@ -380,9 +383,9 @@ def drawn_offset(scene, folder):
         camera = cam.data
         bpy.data.objects.remove(cam)
         bpy.data.cameras.remove(camera)
+        material = gp.materials[white]
         bpy.data.grease_pencils.remove(gp)
-        if material is not None:
-            bpy.data.materials.remove(material)
+        bpy.data.materials.remove(material)
         bpy.data.scenes.remove(probe)
     _DRAWN_OFFSET[key] = offset
     return offset
