@@ -3,7 +3,7 @@
 stroke's redraw of its lit copy.
 
 - the drawing's layers drawn by Blender's Grease Pencil renderer (Workbench, each layer
-  alone: scenes/grease_pencil.render_layers) — what Blender itself takes, apart;
+  alone: scenes/grease_pencil/drawing.render_layers) — what Blender itself takes, apart;
 - the layers made paintings (a shaded dark copy, the alpha inflated by parts:
   layered_files.painting_of_frames);
 - the whole From Grease Pencil (the above, the planes and materials, the group's bake at
@@ -40,13 +40,11 @@ from report import best, command_line, met, publish, size_and_runs  # noqa: E402
 
 from dynpaint_addon.blender import register_once  # noqa: E402
 from dynpaint_addon.blender.bake.layers import settle  # noqa: E402
-from dynpaint_addon.blender.scenes import grease_pencil  # noqa: E402
-from dynpaint_addon.blender.scenes.grease_pencil import (GREASE_PENCIL_RELIEF,  # noqa: E402
-                                                         DRAFT_SAMPLES, DRAFT_WIDTH,
-                                                         draft_lit_drawing,
-                                                         finish_redraws,
-                                                         refresh_lit_drawing,
-                                                         render_layers)
+from dynpaint_addon.blender.scenes.grease_pencil import live  # noqa: E402
+from dynpaint_addon.blender.scenes.grease_pencil.drawing import render_layers  # noqa: E402
+from dynpaint_addon.blender.scenes.grease_pencil.lit_copy import GREASE_PENCIL_RELIEF  # noqa: E402
+from dynpaint_addon.blender.scenes.grease_pencil.live import (  # noqa: E402
+    DRAFT_SAMPLES, DRAFT_WIDTH, draft_lit_drawing, finish_redraws, refresh_lit_drawing)
 from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
 from dynpaint_addon.inputs.layered_files import painting_of_frames  # noqa: E402
 from testkit.grease_pencil import add_fill, disc, figure_on_a_hill  # noqa: E402
@@ -147,7 +145,7 @@ def beside_the_ui(name, dab, runs):
         start = time.perf_counter()
         refresh_lit_drawing(bpy.context, bpy.data.objects[name], beside=True)
         held.append(time.perf_counter() - start)
-        grease_pencil._REDRAWS[name].thread.join()
+        live._REDRAWS[name].thread.join()
         beside.append(time.perf_counter() - start - held[-1])
         start = time.perf_counter()
         finish_redraws()

@@ -4,7 +4,7 @@ Cut-out cards at known depths over a ground are drawn twice: as Grease Pencil fi
 moved toward the camera by their depths (a drawing an artist could make), and as 3D cards
 (ground_truth_layers: faces of a fine grid, each layer's thickness). The drawing goes the way
 *From Grease Pencil* takes it — each layer drawn by Blender's Grease Pencil renderer
-(scenes/grease_pencil.render_layers, no margin: the drawing is the ground's square, the truth
+(scenes/grease_pencil/drawing.render_layers, no margin: the drawing is the ground's square, the truth
 camera's frame), made a painting (layered_files.painting_of_frames: a shaded dark copy, the
 alpha inflated `--relief` high), at the depth of its layer (layer_depths) — and the core
 bakes the layers (core.layers.bake_scene); the comparison is ground_truth_layers.compare's:
@@ -32,8 +32,9 @@ from ground_truth_layers import (GOALS, GROUND, Card, Depth, compare,  # noqa: E
                                  core_layers, disc, square, star)
 from report import command_line, publish  # noqa: E402
 
-from dynpaint_addon.blender.scenes.grease_pencil import (GREASE_PENCIL_RELIEF,  # noqa: E402
-                                                         layer_depths, render_layers)
+from dynpaint_addon.blender.scenes.grease_pencil.drawing import render_layers  # noqa: E402
+from dynpaint_addon.blender.scenes.grease_pencil.lit_copy import GREASE_PENCIL_RELIEF  # noqa: E402
+from dynpaint_addon.blender.scenes.grease_pencil.reading import layer_depths  # noqa: E402
 from dynpaint_addon.core.layers import Layer  # noqa: E402
 from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
 from dynpaint_addon.inputs.layered_files import painting_of_frames  # noqa: E402

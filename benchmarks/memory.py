@@ -49,7 +49,11 @@ assert res == {"FINISHED"}, res
 DRAWING = """
 import sys, bpy
 from dynpaint_addon import blender
-from dynpaint_addon.blender.scenes import grease_pencil as gp
+from dynpaint_addon.blender.scenes.grease_pencil.building import build_drawing
+from dynpaint_addon.blender.scenes.grease_pencil.drawing import drawing_memory, drawn_size
+from dynpaint_addon.blender.scenes.grease_pencil.lit_copy import (drawing_frames, light_drawing,
+                                                                  lit_defaults)
+from dynpaint_addon.blender.scenes.grease_pencil.reading import drawn_layers, framing
 from dynpaint_addon.inputs.drawings import frame_range, load_drawing
 from dynpaint_addon.inputs.recipe import load_recipe
 from dynpaint_addon.inputs.samples import recipe_path
@@ -62,16 +66,16 @@ if which == "walk":
     recipe = load_recipe(recipe_path("walk"))
     drawing = load_drawing(recipe.drawing)
     scene.frame_start, scene.frame_end = frame_range(drawing)
-    obj, lights = gp.build_drawing(scene, drawing, (0, 0, 0)), recipe.lights
+    obj, lights = build_drawing(scene, drawing, (0, 0, 0)), recipe.lights
 else:
     obj, lights = figure_on_a_hill(scene), None
-settings = {**gp.lit_defaults(), "resolution": width}
+settings = {**lit_defaults(), "resolution": width}
 if sys.argv[3:] == ["estimate"]:
-    frames = gp.drawing_frames(scene, obj, settings) or [scene.frame_current]
-    print(gp.drawing_memory(obj, gp.drawn_layers(obj)[0], frames,
-                            *gp.drawn_size(gp.framing(obj), width))[0])
+    frames = drawing_frames(scene, obj, settings) or [scene.frame_current]
+    print(drawing_memory(obj, drawn_layers(obj)[0], frames,
+                         *drawn_size(framing(obj), width))[0])
 else:
-    gp.light_drawing(bpy.context, obj, settings, lights=lights)
+    light_drawing(bpy.context, obj, settings, lights=lights)
 """
 DRAWINGS = {"walk": "the walk sample (3 layers, 26 drawings)", "hill": "a still drawing (3 layers)"}
 DRAWN = "From Grease Pencil"

@@ -21,7 +21,8 @@ import bpy  # noqa: E402
 from make_docs import side_by_side  # noqa: E402
 
 from dynpaint_addon.blender import register_once  # noqa: E402
-from dynpaint_addon.blender.scenes.grease_pencil import GREASE_PENCIL_RELIEF, render_layers  # noqa: E402
+from dynpaint_addon.blender.scenes.grease_pencil.drawing import render_layers  # noqa: E402
+from dynpaint_addon.blender.scenes.grease_pencil.lit_copy import GREASE_PENCIL_RELIEF  # noqa: E402
 from dynpaint_addon.blender.scenes.layered_build import add_layered  # noqa: E402
 from dynpaint_addon.blender.scenes.painting_scene import output_settings  # noqa: E402
 from dynpaint_addon.core.colour import linear_to_srgb  # noqa: E402
@@ -62,7 +63,7 @@ def before_after(layers):
 
 def grease_pencil(folder):
     """From Grease Pencil (issue 42): a drawing of three layers drawn by Blender's Grease Pencil
-    renderer (scenes/grease_pencil.py), as it shows them (unlit), then its layers lit alone,
+    renderer (scenes/grease_pencil/drawing.py), as it shows them (unlit), then its layers lit alone,
     then with the shadows between them (the operator's relief and spacing)."""
     bpy.ops.wm.read_homefile(use_empty=True)
     drawing = figure_on_a_hill(bpy.context.scene)

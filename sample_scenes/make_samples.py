@@ -426,8 +426,8 @@ def drawing_layers(recipe, px):
     """A drawing's recipe as the core's layers at its middle frame, drawn `px` wide (as From
     Grease Pencil makes them)."""
     import bpy
-    from dynpaint_addon.blender.scenes.grease_pencil import (build_drawing, drawn_paintings,
-                                                             lit_defaults)
+    from dynpaint_addon.blender.scenes.grease_pencil.building import build_drawing
+    from dynpaint_addon.blender.scenes.grease_pencil.lit_copy import drawn_paintings, lit_defaults
     from dynpaint_addon.core.layers import Layer
     from dynpaint_addon.inputs.drawings import frame_range, load_drawing
     bpy.ops.wm.read_homefile(use_empty=True)

@@ -6,8 +6,8 @@ import numpy as np
 
 import bpy
 
-from dynpaint_addon.blender.scenes.grease_pencil import (add_fill, build_drawing,  # noqa: F401
-                                                         fill_material)
+from dynpaint_addon.blender.scenes.grease_pencil.building import (  # noqa: F401
+    add_fill, build_drawing, fill_material)
 from dynpaint_addon.inputs.drawings import Drawing, DrawingLayer, Fill
 
 

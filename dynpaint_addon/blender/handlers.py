@@ -33,9 +33,9 @@ from .bake.live_bake import DEBOUNCE_S, rendering
 from .bake.shadow_images import forget_cached_shapes
 from .material.sync import invalidate_generated, update
 from .material.tree import rebuild_tree, tree_is_stale
-from .scenes.grease_pencil import (draft_lit_drawing, drawing_of, forget_drafts,
-                                    redrawing, redrawing_now, refresh_lit_drawing,
-                                    stale_lit_copies)
+from .scenes.grease_pencil.lit_copy import drawing_of, stale_lit_copies
+from .scenes.grease_pencil.live import (draft_lit_drawing, forget_drafts, redrawing,
+                                         redrawing_now, refresh_lit_drawing)
 from .state.edits import note_edited
 from .state.frame_sampling import only_reading_lights
 from .state.frames import forget_frames, moves
@@ -90,7 +90,7 @@ def on_depsgraph_update(scene, depsgraph):
 
 def redraw_lit_drawings(scene, depsgraph):
     """A Grease Pencil drawing changed (a stroke, a keyframe, a material): redraw the lit
-    copies made from it (scenes/grease_pencil.refresh_lit_drawing: the layers that changed)
+    copies made from it (scenes/grease_pencil/live.refresh_lit_drawing: the layers that changed)
     — at once without a UI (the headless contract); with one, a draft at once
     (draft_lit_drawing: drawn small) and the full redraw once no stroke has come for
     STROKES_QUIET_S."""

@@ -15,7 +15,7 @@ from ..core.lights import default_sun
 from ..inputs.imageio import quiet_native, write_render
 from .bake.layers import group_layers, group_materials
 from .scenes import turntable
-from .scenes.grease_pencil import light_recipe_drawing
+from .scenes.grease_pencil.lit_copy import light_recipe_drawing
 from .scenes.layered_build import add_layered
 from .scenes.painting_scene import (NO_CAMERA, create_painting, exact_camera, exact_render_settings,
                     output_settings)

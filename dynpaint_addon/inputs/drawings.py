@@ -1,6 +1,6 @@
 """A Grease Pencil drawing as data (issue 42): filled shapes on layers, frame by frame — what a
 sample ships (its drawing.json, named by its recipe's `drawing`) and the add-on builds into a
-Grease Pencil object (blender/scenes/grease_pencil.build_drawing). No bpy here.
+Grease Pencil object (blender/scenes/grease_pencil/building.build_drawing). No bpy here.
 
     {"name": "Walk", "materials": {"sky": [0.35, 0.55, 0.85]},
      "layers": [{"name": "Sky", "translation": [0, 0, 0],

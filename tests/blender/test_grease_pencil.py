@@ -19,11 +19,14 @@ from dynpaint_addon.blender import handlers  # noqa: E402
 from dynpaint_addon.blender.bake import layers as group_bakes  # noqa: E402
 from dynpaint_addon.blender.bake.layers import (DRAFTED, forget_scenes,  # noqa: E402
                                                 group_materials)
-from dynpaint_addon.blender.scenes import grease_pencil  # noqa: E402
-from dynpaint_addon.blender.scenes.grease_pencil import (  # noqa: E402
-    DRAFT_WIDTH, LAYER, SOURCE, GreasePencilError, animated, draft_lit_drawing,
-    drawn_layers, forget_drafts, layer_digests, refresh_lit_drawing, render_layers,
-    stale_lit_copies)
+from dynpaint_addon.blender.scenes.grease_pencil import live  # noqa: E402
+from dynpaint_addon.blender.scenes.grease_pencil.drawing import render_layers  # noqa: E402
+from dynpaint_addon.blender.scenes.grease_pencil.lit_copy import (  # noqa: E402
+    LAYER, SOURCE, stale_lit_copies)
+from dynpaint_addon.blender.scenes.grease_pencil.live import (  # noqa: E402
+    DRAFT_WIDTH, draft_lit_drawing, forget_drafts, refresh_lit_drawing)
+from dynpaint_addon.blender.scenes.grease_pencil.reading import (  # noqa: E402
+    GreasePencilError, animated, drawn_layers, layer_digests)
 from dynpaint_addon.core.colour import linear_to_srgb, srgb_to_linear  # noqa: E402
 from dynpaint_addon.inputs.layered_files import DEFAULT_SHADE  # noqa: E402
 from dynpaint_addon.inputs.imageio import image_data_from_blender, read_image  # noqa: E402
@@ -65,7 +68,7 @@ def test_each_layer_is_drawn_by_blender_alone_with_its_colours_and_alpha(drawing
     y, x = np.mgrid[0:h, 0:w] + 0.5
     a = figure[..., 3]
     # where its strokes are, within 0.05 px: Blender's 8 anti-aliasing samples alone put it
-    # 0.12 px left and 0.19 px down (grease_pencil.drawn_offset, undone by the camera)
+    # 0.12 px left and 0.19 px down (scenes/grease_pencil/drawing.drawn_offset, undone by the camera)
     assert abs((a * x).sum() / a.sum() - cx) < 0.05 and abs((a * y).sum() / a.sum() - cy) < 0.05
     assert abs(np.sqrt(a.sum() / np.pi) / r - 1) < 0.01        # its area, antialiased edge
     # (Grease Pencil's own antialiasing: edges about 2 px either side, whatever Workbench's
@@ -491,11 +494,11 @@ def test_a_stroke_beyond_the_drawings_bounds_makes_the_lit_copy_anew_beside_the_
     assert shown[..., 3].sum() > alpha.sum() + 20 and json.loads(parent[SOURCE])["bounds"] == \
         bounds and shown[:, -6:, 3].sum() > alpha[:, -6:].sum() + 5     # up to its right edge
     assert refresh_lit_drawing(bpy.context, parent, beside=True) is parent
-    job = grease_pencil._REDRAWS[name]
+    job = live._REDRAWS[name]
     assert job.anew is not None and stale_lit_copies(scene, {drawing.name}) == [parent]
     assert np.array_equal(image_data_from_blender(front.image_bright).pixels, shown)
     job.thread.join()
-    assert grease_pencil.finish_redraws() is None
+    assert live.finish_redraws() is None
     (lit,) = [o for o in scene.objects if o.get(SOURCE)]
     assert lit.name == name and not stale_lit_copies(scene, {drawing.name})
     assert json.loads(lit[SOURCE])["bounds"][1] > bounds[1] + 0.1
@@ -524,12 +527,12 @@ def test_a_full_redraw_is_made_beside_the_ui_and_one_the_drawing_outran_is_dropp
     figure = drawing.data.layers["Figure"]
     add_fill(figure, disc(0.6, -0.4, 0.15), 1)
     assert refresh_lit_drawing(bpy.context, parent, beside=True) is parent
-    job = grease_pencil._REDRAWS[parent.name]
+    job = live._REDRAWS[parent.name]
     assert stale_lit_copies(scene, {drawing.name}) == [parent]          # not written yet
     back, front = (m.dynamic_painting for m in group_materials(parent))
     baked = back.lights[0].bake_key
     job.thread.join()
-    assert grease_pencil.finish_redraws() is None
+    assert live.finish_redraws() is None
     assert not stale_lit_copies(scene, {drawing.name})
     assert back.lights[0].bake_key == baked and parent.name in group_bakes._FINAL_DUE
     group_bakes.settle()                                # (the worker's final bake, joined)
@@ -537,11 +540,11 @@ def test_a_full_redraw_is_made_beside_the_ui_and_one_the_drawing_outran_is_dropp
     assert_what_a_fresh_lit_copy_makes(drawing, back, front)
     add_fill(figure, disc(-0.5, 0.3, 0.1), 1)
     refresh_lit_drawing(bpy.context, parent, beside=True)
-    job = grease_pencil._REDRAWS[parent.name]
+    job = live._REDRAWS[parent.name]
     add_fill(figure, disc(0.2, 0.5, 0.05), 1)                      # a stroke meanwhile
     shown = image_data_from_blender(front.image_bright).pixels.copy()
     job.thread.join()
-    assert grease_pencil.finish_redraws() is None
+    assert live.finish_redraws() is None
     assert np.array_equal(image_data_from_blender(front.image_bright).pixels, shown)
     assert parent in stale_lit_copies(scene, {drawing.name})             # dropped
     refresh_lit_drawing(bpy.context, parent)                            # (in place here)

@@ -14,7 +14,7 @@ from ...inputs.recipe import DEFAULT_SUN_NOTE, RecipeError, load_recipe
 from ...inputs.samples import list_samples
 from ...shapes.maker import looks_like_height, read_as_made
 from ...shapes.methods import make_shape
-from ..scenes.grease_pencil import light_recipe_drawing
+from ..scenes.grease_pencil.lit_copy import light_recipe_drawing
 from ..scenes.layered_build import add_camera, add_layered, animate_scene
 from ..scenes.painting_scene import create_painting, unchanged_images_on_failure
 from ..scenes.turntable import turn_first_sun

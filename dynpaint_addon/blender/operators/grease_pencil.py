@@ -2,7 +2,7 @@
 Pencil drawing as a scene of lit layers, in its place.
 
 Each layer that draws something is drawn by Blender's own Grease Pencil renderer into an
-image (scenes/grease_pencil.py: the current frame, or each of the scene's range for an
+image (scenes/grease_pencil/drawing.py: the current frame, or each of the scene's range for an
 animated drawing), and made a painting as a plain layer of a layered file is (a shaded dark
 copy, or the shadow colours the artist named; its silhouette inflated by parts; sprite
 sheets where it changes, §16); the layers are
@@ -10,7 +10,7 @@ built as Add › Layered… builds them (§15): a plane per layer at its depth �
 moved layers toward the camera, there, else Spacing apart — the layers in front casting
 shadows on those behind. The planes lie where the drawing is (its object's XZ plane,
 seen from −Y), the drawing is hidden (unhide it to go on drawing: the lit copy follows its
-changes, scenes/grease_pencil.refresh_lit_drawing). Its images are packed in the .blend.
+changes, scenes/grease_pencil/live.py). Its images are packed in the .blend.
 """
 import bpy
 from bpy.props import BoolProperty, FloatProperty, IntProperty
@@ -18,8 +18,8 @@ from bpy.props import BoolProperty, FloatProperty, IntProperty
 from ...core.layers import MAX_LAYERS
 from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING
 from ..bake.layers import group_materials
-from ..scenes.grease_pencil import (GREASE_PENCIL_RELIEF, GREASE_PENCIL_RESOLUTION,
-                                     LAYER_EFFECTS, LIT_SETTINGS, light_drawing)
+from ..scenes.grease_pencil.lit_copy import (GREASE_PENCIL_RELIEF, GREASE_PENCIL_RESOLUTION,
+                                              LAYER_EFFECTS, LIT_SETTINGS, light_drawing)
 from ..state.shape_options import option_property
 from .add import select_only
 from .common import run_and_report

@@ -1,0 +1,256 @@
+"""A lit copy following its drawing while the artist draws (issue 42: draft while drawing,
+final after): a stroke's draft (the changed layers drawn small, enlarged into their images,
+the shadows drafted), then once the strokes stop the full redraw (Blender draws the changed
+layers at full size, a worker thread makes them paintings, finish_redraws writes them), or
+the lit copy made anew where the drawing's layers, bounds or frames are no longer its own.
+"""
+import contextlib
+import json
+import threading
+
+import numpy as np
+
+import bpy
+
+from ...bake.layers import draft_group, final_bake_due, group_materials
+from ...bake.live_bake import rendering
+from ...material.sync import update
+from ...state.edits import note_edited
+from ...state.frames import forget_frames, moves
+from ...state.images import forget_enlarged, refill_enlarged, refill_packed_image
+from ...state.status import report
+from ..layered_build import remove_objects
+from .lit_copy import (LAYER, LIT_SETTINGS, SOURCE, drawn_images, drawn_paintings,
+                       light_drawing, lit_defaults, made_paintings)
+from .reading import drawn_layers, framing, layer_digests, layer_stem
+
+DRAFT_WIDTH = 128      # px: a stroke's draft drawing (Blender's draw costs its pixels here)
+DRAFT_SAMPLES = 1      # and its anti-aliasing samples (each a draw of every pixel; SMAA stays)
+_DRAFTED = {}          # lit copy's name → the layer digests its last draft drew
+
+
+def _layer_materials(obj, parent, source, settings, bounds=True):
+    """The lit copy's layer materials {stem: material}, or None where the drawing's layers or
+    (with `bounds`) its bounds are not those it was made from (it is made anew then)."""
+    mats = {m.get(LAYER): m for m in group_materials(parent)}
+    same = set(mats) == {layer_stem(i, group) for i, group
+                         in enumerate(drawn_layers(obj, settings["merge"])[0])} \
+        and (not bounds or np.allclose(framing(obj), source["bounds"], rtol=0, atol=1e-9))
+    return mats if same else None
+
+
+def _in_place(mats, made):
+    """The made paintings (drawn_paintings' entries) that can be written into the lit copy's
+    materials `mats` → [(stem, images)], or None where one of them moves and its material
+    does not, or the other way round (other frames: the lit copy is made anew)."""
+    if any((table is None) != (not moves(mats[name]))
+           for name, _, imgs, _, table in made if imgs is not None):
+        return None
+    return [(name, imgs) for name, _, imgs, _, _ in made if imgs is not None]
+
+
+def _source(parent):
+    """(the drawing, the lit copy's settings, its recorded source) of a lit copy, or None
+    where its drawing is gone."""
+    source = json.loads(parent[SOURCE])
+    obj = bpy.data.objects.get(source["object"])
+    if obj is None or obj.type != "GREASEPENCIL":
+        return None
+    return obj, {**lit_defaults(), **{k: source[k] for k in LIT_SETTINGS if k in source}}, \
+        source
+
+
+def _changed(obj, recorded):
+    """(the drawing's layer digests now, the names of the layers whose digest is not the one
+    `recorded`)."""
+    digests = layer_digests(obj)
+    return digests, {n for n, d in digests.items() if recorded.get(n) != d}
+
+
+def refresh_lit_drawing(context, parent, beside=None):
+    """Redraw the lit copy `parent` from its drawing as it is now: the layers that changed
+    (layer_digests) drawn again and their images written in place where the layers, the
+    drawing's bounds, sizes and frames are as before (their edits noted, so the group bakes
+    again), else the lit copy made anew → the parent (a new one then). beside (default:
+    with a UI, rendering() not): Blender draws the layers now (all of them where the lit
+    copy is made anew) and a worker thread makes them paintings; finish_redraws writes them
+    once made, or makes the lit copy anew from them, if the drawing is still as drawn."""
+    found = _source(parent)
+    if found is None:
+        return parent
+    obj, settings, source = found
+    _DRAFTED.pop(parent.name, None)                # (drafts are drawn over from here)
+    digests, changed = _changed(obj, source.get("layers", {}))
+    mats = _layer_materials(obj, parent, source, settings)
+    if not rendering() if beside is None else beside:
+        drawn, bounds, frames, notes = drawn_images(
+            context.scene, obj, settings, only=None if mats is None else changed)
+        _REDRAWS[parent.name] = _Redraw(digests, drawn, settings,
+                                        anew=None if mats is not None else (bounds, frames, notes))
+        if not bpy.app.timers.is_registered(finish_redraws):
+            bpy.app.timers.register(finish_redraws, first_interval=POLL_S)
+        return parent
+    made = None if mats is None else \
+        _in_place(mats, drawn_paintings(context.scene, obj, settings, only=changed)[0])
+    return _write_redraw(context, parent, mats, made, obj, settings, source, digests)
+
+
+def _made_anew(context, parent, obj, settings, painted=None, beside=False):
+    """The lit copy `parent` removed (its images too) and made again from its drawing (its
+    bounds, layers, sizes or frames are no longer those it was made from) → the new parent.
+    painted: light_drawing's; beside the UI, its shadows baked as a dragged light's: a
+    draft now, the final in a worker thread (bake_group_live)."""
+    hidden = obj.hide_get()
+    remove_objects(list(parent.children) + [parent], images=True)
+    obj.hide_set(False)
+    parent, _ = light_drawing(context, obj, settings, painted=painted,
+                              bake="live" if beside else "now")
+    obj.hide_set(hidden or obj.hide_get())
+    return parent
+
+
+def _write_redraw(context, parent, mats, made, obj, settings, source, digests, beside=False):
+    """The made paintings written into the lit copy's images in place (packed) and its
+    record updated, or the lit copy made anew where they cannot be (made None, or an image
+    of another size or kind) → the parent. The group is baked now, or `beside` the UI: at
+    its own quality in a worker thread (final_bake_due)."""
+    written = []
+    for name, imgs in made or ():
+        for channel, data in imgs.items():
+            img = getattr(mats[name].dynamic_painting, f"image_{channel}")
+            if img is None or not refill_packed_image(img, data):
+                made = None
+                break
+            written.append(img.name)
+        if made is None:
+            break
+    if made is None:                               # other layers, sizes or frames: anew
+        return _made_anew(context, parent, obj, settings)
+    forget_enlarged(written)
+    note_edited(written)
+    forget_frames()
+    parent[SOURCE] = json.dumps({**source, "layers": digests})
+    for mat in mats.values():       # (the first bakes the group, unless beside the UI)
+        update(mat, context.scene, bake="none" if beside else "now")
+    if beside:                      # the stroke's draft shows till then: no full-size draft
+        final_bake_due(parent)
+    return parent
+
+
+_REDRAWING = []        # a lit copy being redrawn: its own renders update the drawing too
+
+
+@contextlib.contextmanager
+def redrawing(name):
+    """While lit copy `name` is redrawn (its drawing's updates are its own: redrawing_now)."""
+    _REDRAWING.append(name)
+    try:
+        yield
+    finally:
+        _REDRAWING.pop()
+
+
+def redrawing_now():
+    return bool(_REDRAWING)
+
+
+_REDRAWS = {}          # lit copy's name → its _Redraw (the newest: an older one is dropped)
+POLL_S = 0.05          # how often finish_redraws looks for made paintings
+
+
+class _Redraw:
+    """A full redraw's layers, drawn by Blender, made paintings in a worker thread (the
+    inflation of a changed part at full size takes a second at 1024²) while the UI goes on.
+    anew: (bounds, frames, notes) of drawn_images where the lit copy is made anew from them
+    (a stroke beyond the drawing's bounds: every layer drawn again), else None."""
+
+    def __init__(self, digests, drawn, settings, anew=None):
+        self.digests, self.anew, self.made, self.error = digests, anew, None, None
+        self.thread = threading.Thread(target=self._run, args=(drawn, settings), daemon=True)
+        self.thread.start()
+
+    def _run(self, drawn, settings):
+        try:
+            self.made = made_paintings(drawn, settings)[0]
+        except Exception as exc:        # (said on the main thread: finish_redraws)
+            self.error = exc
+
+
+def finish_redraws():
+    """Timer: the full redraws whose paintings are made written into their lit copies
+    (_write_redraw) or made their lit copies anew (_made_anew, its shadows baked as a
+    dragged light's: a draft now, final in a worker), where the drawing is still as Blender
+    drew it — else dropped: the strokes since are drafted, and their own full redraw
+    follows. → seconds to the next call (None: none left)."""
+    for name, job in list(_REDRAWS.items()):
+        if job.thread.is_alive():
+            continue
+        del _REDRAWS[name]
+        parent = bpy.data.objects.get(name)
+        found = None if parent is None else _source(parent)
+        if found is None:
+            continue
+        if job.error is not None:
+            report(name, job.error)
+            continue
+        obj, settings, source = found
+        mats = None if job.anew else _layer_materials(obj, parent, source, settings)
+        if (mats is None and job.anew is None) or layer_digests(obj) != job.digests:
+            continue
+        try:
+            with redrawing(name):
+                if job.anew is not None:
+                    bounds, frames, notes = job.anew
+                    _made_anew(bpy.context, parent, obj, settings,
+                               (job.made, bounds, frames, notes), beside=True)
+                else:
+                    _write_redraw(bpy.context, parent, mats, _in_place(mats, job.made), obj,
+                                  settings, source, job.digests, beside=True)
+        except Exception as exc:        # never into Blender's timer loop
+            report(name, exc)
+    return POLL_S if _REDRAWS else None
+
+
+def forget_drafts():
+    """Another file is open, or undo: the drafts' digests and the redraws under way may be
+    of other drawings."""
+    _DRAFTED.clear()
+    _REDRAWS.clear()
+
+
+def draft_lit_drawing(context, parent):
+    """A stroke while the artist draws (issue 42: draft while drawing, final after): the
+    layers that changed since the last draft drawn at DRAFT_WIDTH px across (DRAFT_SAMPLES
+    a pixel) and made paintings there (their relief inflated at that size), enlarged into
+    their images (refill_enlarged) and the group's shadows drafted from its layers made as
+    small (draft_group), in the lit copy's framing (a stroke past the drawing's bounds shows
+    as far as they reach: the full redraw makes the lit copy anew). Nothing is packed and
+    the lit copy's record is left as it was: refresh_lit_drawing draws them at full size
+    once the strokes stop. → whether it drew (False: nothing new, or other layers or
+    frames, or a layer that moves: those wait for the full redraw)."""
+    found = _source(parent)
+    if found is None:
+        return False
+    obj, settings, source = found
+    digests, changed = _changed(obj, _DRAFTED.get(parent.name, source.get("layers", {})))
+    mats = _layer_materials(obj, parent, source, settings, bounds=False)
+    if not changed or mats is None:
+        return False
+    small = {**settings, "resolution": min(DRAFT_WIDTH, settings["resolution"]),
+             "animation": False}
+    made = _in_place(mats, drawn_paintings(context.scene, obj, small, only=changed,
+                                           samples=DRAFT_SAMPLES, bounds=source["bounds"])[0])
+    if made is None:
+        return False
+    written = []
+    for name, imgs in made:
+        for channel, data in imgs.items():
+            img = getattr(mats[name].dynamic_painting, f"image_{channel}")
+            if img is not None and refill_enlarged(img, data):
+                written.append(img.name)
+    _DRAFTED[parent.name] = digests
+    note_edited(written)
+    draft_group(parent, {mats[name].name: imgs for name, imgs in made})
+    for name, imgs in made:         # their derived images from the small ones; the shadows
+        update(mats[name], context.scene, bake="none", small=imgs)     # the draft's
+    return True
