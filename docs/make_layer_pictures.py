@@ -216,8 +216,8 @@ the ground have an IoU of 0.97–0.99; the small shadows cast on a middle layer 
 front reach 0.82–0.90 at 45° at 256², where the same cards given as exact masks reach
 0.87–0.96 — those shadows are a few pixels wide, and Grease Pencil's fills come out about
 0.05–0.1 px inside their outline; at 512² 0.94–0.97 (exact masks 0.96–0.99), and at 1024²,
-the operator's resolution, 0.99 under a sharp sun and a sun 5° wide alike, as exact masks
-(docs/limits.md). With the default *Relief* 0.1 the cards are low domes, which the 3D cards are
+the operator's resolution, 0.98–0.99 under a sharp sun and 0.96–0.99 under a sun 5° wide,
+within 0.01 of exact masks, on both scenes (docs/limits.md). With the default *Relief* 0.1 the cards are low domes, which the 3D cards are
 not: their own shading differs by 0.02–0.07. What it costs: [grease-pencil-cost.md](grease-pencil-cost.md).
 An animation plays without flicker: a still post in front of a walking figure keeps its
 shading from frame to frame, exactly, in numpy and in Cycles

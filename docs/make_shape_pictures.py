@@ -295,7 +295,8 @@ A disc becomes its hemisphere within 0.3 % of the radius (RMS) in under a second
 *soft* is gentler at the rim and pointed in the middle; *flat* has rounded rims and a plateau
 (a coin, a cushion). *tube* makes every cross-section a semicircle as wide as the figure there:
 round, which rounds the outline as a whole, makes a long part (an arm, a ring) about √2 too
-tall; tube gives a ring its torus and is no better for a head. `--detail` lifts light areas
+tall; tube gives a ring its torus and is no better for a head, which flat suits best (its
+face a plateau with steep walls: 0.68 of a true map's IoU, round 0.51). `--detail` lifts light areas
 of the painting and sinks dark ones (image widths per unit of luminance: 0.005–0.02), blurred
 by `--detail-blur` first. `--snap 0.01` moves a mask painted by hand onto the painting's own
 outline (its strongest edge within 0.01 image widths: a brush a little wide, a stroke a pixel

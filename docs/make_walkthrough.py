@@ -228,7 +228,9 @@ against 3D ([no-shape-numbers.md](no-shape-numbers.md)): a mask a hand paints, i
 a sphere's cast shadows at about 0.9 of a true height map's IoU, a torus's and a head's about
 half; the mask is what matters: snapped onto the painting's outline (`--snap 0.01`) and with
 round cross-sections as wide as the figure (`--profile tube`), a sphere's shadows reach 0.99
-of the true map's and a torus's 0.91; a head's stay about half. The embossed detail is a finish (it moves the IoU by
+of the true map's and a torus's 0.91; a head's stay about half (0.68 with `--profile flat`,
+and no profile, height or bevel takes them past 0.71: a face's depth is in its features, so
+paint its height). The embossed detail is a finish (it moves the IoU by
 0.02 or less). A figure standing on the ground needs its rim lifted: a bevel one pixel wide as
 tall as the rim (`--bevel-width 0.004 --bevel-height 0.15 --bevel-profile linear` at 256²) took a
 resting sphere from 0.4 to 0.9 of the true map's IoU.

@@ -102,7 +102,8 @@ O = Option
 PROFILE_HELP = {"round": "A disc becomes a hemisphere; other outlines are rounded as a whole "
                 "(a long part comes out taller than it is wide)",
                 "soft": "Gentle at the rim, pointed in the middle",
-                "flat": "Rounded rims and a plateau (a coin, a cushion)",
+                "flat": "Rounded rims and a plateau (a coin, a cushion, a face seen from the "
+                "front)",
                 "tube": "Every cross-section a semicircle as wide as the figure there (a ring "
                 "becomes a torus, an arm a tube)"}
 OPTIONS = (
