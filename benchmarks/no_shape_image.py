@@ -90,7 +90,6 @@ def shapes(z, index, painting):
     out[TUBE] = inflate(mask, "tube").height
     out[SNAPPED + ", tube"] = inflate(snapped, "tube").height
     out[TRUE_TUBE] = inflate(index > 0, "tube").height
-    out[FLAT] = inflate(mask, "flat").height
     return out
 
 
@@ -122,6 +121,7 @@ def measure(objects, size, offset_px, steps, folder):
     painting = gt.render_truth(scene, folder, 90, 0)        # front-lit: the painted picture
     made = shapes(z, index, painting)
     options = mask_options(hand_mask(index))
+    made[FLAT] = options["flat", 1.0, 0.0]       # (the grid's flat profile, no bevel)
     made.update(options)
     acc = {}
     for elevation, azimuth in gt.SUNS:
@@ -138,8 +138,8 @@ def measure(objects, size, offset_px, steps, folder):
             acc.setdefault(name, []).append((float(np.abs(t - truth).mean()), float(iou)))
     res = {k: (float(np.mean([e for e, _ in v])), float(np.mean([i for _, i in v])))
            for k, v in acc.items()}
-    best = max(options, key=lambda k: res[k][1])
-    res[f"{BEST}: {best[0]}, height {best[1]:g}, bevel {best[2]:g}"] = res[best]
+    top = max(options, key=lambda k: res[k][1])
+    res[f"{BEST}: {top[0]}, height {top[1]:g}, bevel {top[2]:g}"] = res[top]
     return {k: v for k, v in res.items() if k not in options}
 
 
