@@ -266,6 +266,10 @@ def bake_edited(normals, light, offset, quality, t_before, normals_box, heights_
     kept): bake the whole then (those are the cheap ones, or the reference)."""
     _, scale, dtype = quality_settings(quality, steps, scale)
     h, w = normals.shape[:2]
+    if normals_box is None and heights_box is None and t_before.shape == (h, w):
+        # an edit that changed nothing the bake reads (a dab clipped to what was there, an
+        # image reloaded unchanged): at any level its bake is the one before
+        return t_before.astype(dtype, copy=False)
     plan = _level_plan(light, quality, scale, occupancy, h, w, slopes is not None, offset)
     if plan is None or light.kind != "sun" or t_before.shape != (h, w):
         return None

@@ -152,7 +152,10 @@ def edit_start(mat, shape, light, p):
     still = _STILL.get(mat.name)
     if still is None or still.decoded is not shape:
         return None
-    return still.since.get(bake_slot(light, p))
+    slot = bake_slot(light, p)
+    if slot in still.bakes:     # baked from this very decode: an edit changed nothing it reads
+        return still.bakes[slot], None, None
+    return still.since.get(slot)
 
 
 def keep_bake(mat, shape, light, p, t):
