@@ -287,10 +287,11 @@ def write_exr(path, pixels, channel_names=None):
         f.write(os.fspath(path))
 
 
-def write_png(path, pixels, bits=8):
+def write_png(path, pixels, bits=8, level=6):
     """Write y-up values in 0..1 (already display-encoded) as an 8- or 16-bit PNG.
 
-    (H, W) or (H, W, C) with C = 1 grey, 2 grey+alpha, 3 RGB, 4 RGBA.
+    (H, W) or (H, W, C) with C = 1 grey, 2 grey+alpha, 3 RGB, 4 RGBA; level: zlib's (0, not
+    compressed, for a file read back at once; 6 for one kept).
     """
     px = np.asarray(pixels)
     if px.ndim == 2:
@@ -299,7 +300,7 @@ def write_png(path, pixels, bits=8):
     colour_type = {1: 0, 2: 4, 3: 2, 4: 6}[c]
     scale, dt = (255, ">u1") if bits == 8 else (65535, ">u2")
     flipped = px[::-1]                       # files store the top row first
-    z = zlib.compressobj(6)
+    z = zlib.compressobj(level)
     data = []
     rows = max(1, (1 << 20) // max(1, w))    # quantize and compress in bands of rows
     for r in range(0, h, rows):

@@ -82,6 +82,30 @@ def test_each_layer_is_drawn_by_blender_alone_with_its_colours_and_alpha(drawing
     assert all(not layer.hide and layer.use_lights for layer in drawing.data.layers)
 
 
+def test_a_small_drawing_is_drawn_twice_as_large_and_averaged_to_exact_coverage(drawing,
+                                                                               tmp_path):
+    """Below 1024 px a layer is drawn twice as large at a quarter of the samples (the same
+    draw cost) and averaged 2 × 2 (drawing.supersampling): the disc's edge comes out as exact
+    coverage's, where Blender's own anti-aliasing spreads it over ~2 px either side. Measured
+    at 200 px: mean |α − exact coverage| near the edge 0.032 drawn as it is, 0.014 so; pixels
+    partly covered 417 and 263 (exact: 202)."""
+    def edge_error(supersample):
+        folder = tmp_path / f"drawn {supersample}"
+        paths, (x0, x1, z0, z1), _, _ = render_layers(drawing, str(folder), 200,
+                                                      supersample=supersample)
+        a = read_image(paths[1][0]).pixels[..., 3].astype(np.float64)
+        h, w = a.shape
+        cx, cy, r = (-0.3 - x0) / (x1 - x0) * w, (0.2 - z0) / (z1 - z0) * h, 0.3 * w / (x1 - x0)
+        y, x = (np.mgrid[0:h * 16, 0:w * 16] + 0.5) / 16
+        exact = (np.hypot(x - cx, y - cy) < r).reshape(h, 16, w, 16).mean(axis=(1, 3))
+        y, x = np.mgrid[0:h, 0:w] + 0.5
+        edge = np.abs(np.hypot(x - cx, y - cy) - r) < 4
+        return np.abs(a - exact)[edge].mean(), ((a > 0.01) & (a < 0.99)).sum()
+    as_drawn, supersampled = edge_error(1), edge_error(None)
+    assert supersampled[0] < 0.6 * as_drawn[0] and supersampled[0] < 0.02
+    assert supersampled[1] < 0.7 * as_drawn[1]
+
+
 def test_from_grease_pencil_lights_the_drawing_in_its_place(drawing):
     """The operator: a scene of two lit layers where the drawing is (its XZ plane, facing −Y),
     the figure in front, its shadow falling on the card under a low sun; the drawing hidden."""

@@ -12,8 +12,9 @@ import numpy as np
 import bpy
 from mathutils import Matrix, Vector
 
+from ....core.sampling import box_reduced
 from ....inputs import memory
-from ....inputs.imageio import quiet_native, read_image
+from ....inputs.imageio import quiet_native, read_image, write_png
 from ....inputs.layered_files import DEFAULT_SHADE
 from .building import add_fill, fill_material
 from .reading import (MARGIN, drawn_layers, framing, layer_stem, materials_used,
@@ -21,7 +22,8 @@ from .reading import (MARGIN, drawn_layers, framing, layer_stem, materials_used,
 
 
 def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARGIN,
-                  only=None, shade=DEFAULT_SHADE, merge=False, samples=None, bounds=None):
+                  only=None, shade=DEFAULT_SHADE, merge=False, samples=None, bounds=None,
+                  supersample=None):
     """Draw each layer of the Grease Pencil object `obj` that draws something, alone (or
     with `merge`, the back ones together where more than a scene holds: drawn_layers), into
     `folder` (16-bit RGBA, sRGB as drawn) on each scene frame of `frames` (default: the
@@ -35,7 +37,8 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
     samples: Grease Pencil's anti-aliasing samples per pixel (default: the artist's scene's
     render setting, as F12 draws the drawing; each costs a draw of every pixel); bounds:
     the framing (x0, x1, z0, z1) drawn in (default: the drawing's, framing: a stroke's
-    draft keeps its lit copy's). A frame that shows what an earlier one showed
+    draft keeps its lit copy's); supersample: drawn that many times as large and averaged
+    (default: supersampling's choice). A frame that shows what an earlier one showed
     (shown_keyframes) is drawn once. The artist's scene, the object, its layers and
     materials are left as they were."""
     layers, notes = drawn_layers(obj, merge)
@@ -64,8 +67,8 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
         for frame, key in zip(frames, keys):
             if key not in drawn:
                 scene.frame_set(frame)
-                drawn[key] = draw_still(
-                    scene, f"{stem}.png" if len(frames) == 1 else f"{stem}_{frame:04d}.png")
+                drawn[key] = draw_reduced(
+                    scene, f"{stem}.png" if len(frames) == 1 else f"{stem}_{frame:04d}.png", k)
             drawn_count[0] += 1
             if progress is not None:
                 progress(min(1.0, drawn_count[0] / (len(layers) * len(frames))))
@@ -81,17 +84,19 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
         middle = obj.matrix_world @ Vector(((x0 + x1) / 2, 0.0, (z0 + z1) / 2))
         look = obj.matrix_world.to_3x3().normalized() @ Matrix.Rotation(math.pi / 2, 3, "X")
         r = scene.render
-        drawing_settings(scene, samples or artist.grease_pencil_settings.aa_samples,
+        k, drawn_samples = supersampling(w, samples or artist.grease_pencil_settings.aa_samples,
+                                         supersample)
+        drawing_settings(scene, drawn_samples,
                          artist.grease_pencil_settings.antialias_threshold_render)
         # the camera moved by where Blender's anti-aliasing puts a drawing (drawn_offset)
         dx, dy = drawn_offset(scene, folder)
-        pixel = (x1 - x0) / w
+        pixel = (x1 - x0) / (w * k)
         cam.matrix_world = Matrix.Translation(
             middle + look.col[2] * 10.0 * (x1 - x0)
             + (look.col[0] * dx + look.col[1] * dy) * pixel) @ look.to_4x4()
         cam.data.clip_end = 100.0 * (x1 - x0)
         scene.camera = cam
-        r.resolution_x, r.resolution_y, r.resolution_percentage = w, h, 100
+        r.resolution_x, r.resolution_y, r.resolution_percentage = w * k, h * k, 100
         paths, darks = [], []
         for i, group in enumerate(layers):
             stem = os.path.join(folder, layer_stem(i, group))
@@ -133,6 +138,36 @@ def drawing_settings(scene, samples, threshold):
     r.image_settings.compression = 0       # (temporary files: no time spent deflating)
     scene.view_settings.view_transform = "Standard"
     scene.view_settings.look = "None"
+
+
+# Blender's Grease Pencil anti-aliasing spreads an edge over ~2 px either side whatever its
+# samples (the small shadows one layer casts on another lose their width: the middle layer's
+# at 512², sharp sun at 45°, IoU 0.940 against exact coverage's 0.988). Drawn twice as large
+# at a quarter of the samples (the same cost: its draw costs pixels × samples) and averaged
+# 2 × 2 the edges are exact coverage's (0.988); from 1024 px on it changes nothing (0.989
+# either way) but the files' time, so larger drawings are drawn as they are.
+SUPERSAMPLE = 2
+SUPERSAMPLED_BELOW = 1024
+
+
+def supersampling(width_px, samples, supersample=None):
+    """(k, samples per drawn pixel): a drawing `width_px` across at `samples` anti-aliasing
+    samples per pixel is drawn k times as large at that many samples, then averaged
+    (draw_reduced) — SUPERSAMPLE below SUPERSAMPLED_BELOW px where the samples can be
+    shared out (≥ 4: a stroke's 1-sample draft is drawn as it is); `supersample`: k asked
+    for (the samples shared out as far as they go)."""
+    k = supersample or (SUPERSAMPLE if width_px < SUPERSAMPLED_BELOW
+                        and samples >= SUPERSAMPLE ** 2 else 1)
+    return k, max(1, samples // (k * k))
+
+
+def draw_reduced(scene, path, k):
+    """draw_still, the drawing then averaged k × k (sampling.box_reduced) into the same file
+    (16-bit) → path."""
+    draw_still(scene, path)
+    if k > 1:
+        write_png(path, box_reduced(read_image(path).pixels, k), bits=16, level=0)
+    return path
 
 
 def draw_still(scene, path):
