@@ -21,7 +21,10 @@ heights give) against Cycles' truth (N·L × visibility):
   silhouette with it (a bound: what the hand's slip costs);
 - the hand mask with the flat profile (`--profile flat`: steep rims, a plateau);
 - the best the hand mask gives with any profile, height and bevel at its rim (BOUND_GRID; a
-  bound, chosen on the truth itself): what no choice of these options can pass.
+  bound, chosen on the truth itself): what no choice of these options can pass;
+- the flat-profile mask with height painted on it as Paint Shape's height layer holds it:
+  the truth's difference from it, blurred as soft brushes paint (σ = PAINTED image widths) —
+  a bound (the painter knows the truth), what painted height must hold to meet the goal.
 
 Per object: mean |t − 3D| and the IoU of the cast shadows (each shape's own N·L decides what
 faces the sun). Goals (issue 41): mask + detail better than the mask alone on every object;
@@ -61,6 +64,8 @@ SNAPPED = f"hand mask snapped to the painting ({SNAP:g})"
 TRUE_TUBE = "true silhouette, tube (a bound)"
 FLAT = "hand mask, flat"
 BEST = "hand mask, best profile, height and bevel (a bound, chosen on the truth)"
+PAINTED = (0.005, 0.01, 0.02)   # image widths: the soft brushes' blur of the painted height
+PAINTED_ROW = "hand mask, flat, + painted height (a bound: the truth's difference blurred by σ)"
 # the options searched for BEST: profile × height × bevel height (image widths, 3 px wide)
 BOUND_GRID = {"profile": ("round", "soft", "flat", "tube"), "height": (0.7, 1.0, 1.4),
               "bevel": (0.0, 0.03, 0.07)}
@@ -105,9 +110,21 @@ def mask_options(mask):
     return out
 
 
+def painted(z, base, mask, sigma):
+    """`base` with height painted on it inside `mask` (Paint Shape's height layer): the
+    truth `z`'s difference from it, blurred by σ image widths — a bound, the painter knowing
+    the truth, its strokes as soft as σ."""
+    return base + np.where(mask, gaussian_blur(z - base, sigma * z.shape[1]), 0.0)
+
+
 def best(ratios):
     """The ratio of the best of the mask's options (its name carries the options)."""
     return next(r for shape, r in ratios.items() if shape.startswith(BEST))
+
+
+def painted_ratio(ratios, sigma):
+    """The ratio of the painted-height shape at σ."""
+    return ratios[f"{PAINTED_ROW}, σ {sigma:g}"]
 
 
 def lifted(ratios):
@@ -122,6 +139,8 @@ def measure(objects, size, offset_px, steps, folder):
     made = shapes(z, index, painting)
     options = mask_options(hand_mask(index))
     made[FLAT] = options["flat", 1.0, 0.0]       # (the grid's flat profile, no bevel)
+    for sigma in PAINTED:
+        made[f"{PAINTED_ROW}, σ {sigma:g}"] = painted(z, made[FLAT], hand_mask(index), sigma)
     made.update(options)
     acc = {}
     for elevation, azimuth in gt.SUNS:
@@ -198,7 +217,13 @@ def main(argv=None):
               f"(chosen on the truth itself) {best(head):.2f}. The rest of "
               "its depth is in features inside the outline (brow, eyes, nose) that a mask "
               "does not hold, so its goal is not "
-              "met by any shape made from a mask. The painting's luminance embossed as detail "
+              "met by any shape made from a mask. Painted on the flat shape (Paint Shape's "
+              "height layer; here the truth's difference from it, blurred as soft brushes "
+              "paint: a bound) the head gets " + ", ".join(
+                  f"{painted_ratio(head, sigma):.2f} at σ {sigma:g}" for sigma in PAINTED)
+              + " image widths: its shadows are cast by sharp features (and soft strokes "
+              f"across the rim cost a sphere: {painted_ratio(sphere, PAINTED[-1]):.2f} at "
+              f"σ {PAINTED[-1]:g}). The painting's luminance embossed as detail "
               "changes the shadows by little either way — a front-lit painting's light and "
               "dark follow the shape too smoothly to add a feature the inflation lacks; its "
               "edges are what it adds (snapped: better than the mask alone on every object "

@@ -211,13 +211,15 @@ dynpaint turntable drawing.blend --grease-pencil "Figure" --out turntable.mp4
 
 Measured against Cycles renders of the same cards in 3D (`benchmarks/grease_pencil_truth.py`,
 [grease-pencil-truth.md](grease-pencil-truth.md), scenes not chosen on): with *Relief* 0 (flat
-cards, as the 3D ones are) every layer's mean |t − 3D| is at most 0.008 and the shadows cast on
-the ground have an IoU of 0.97–0.99; the small shadows cast on a middle layer by the one in
-front reach 0.82–0.90 at 45° at 256², where the same cards given as exact masks reach
-0.87–0.96 — those shadows are a few pixels wide, and Grease Pencil's fills come out about
-0.05–0.1 px inside their outline; at 512² 0.94–0.97 (exact masks 0.96–0.99), and at 1024²,
-the operator's resolution, 0.98–0.99 under a sharp sun and 0.96–0.99 under a sun 5° wide,
-within 0.01 of exact masks, on both scenes (docs/limits.md). With the default *Relief* 0.1 the cards are low domes, which the 3D cards are
+cards, as the 3D ones are) every layer's mean |t − 3D| is at most 0.005 and the shadows cast on
+the ground have an IoU of 0.98–1.00; the small shadows cast on a middle layer by the one in
+front reach 0.82–0.92 at 45° at 256², where the same cards given as exact masks reach
+0.87–0.96 — those shadows are a few pixels wide; at 512² 0.95–0.99 (exact masks 0.96–0.99), and
+at 1024², the operator's resolution, 0.98–0.99 under a sharp sun and 0.96–0.99 under a sun 5°
+wide, within 0.01 of exact masks, on both scenes (docs/limits.md). Blender's anti-aliasing
+spreads a drawing's edges over about 2 px, so below 1024 px each layer is drawn twice as large
+at a quarter of the samples and averaged: its edges come out as exact coverage's (it takes
+1.4–1.6× as long to draw here). With the default *Relief* 0.1 the cards are low domes, which the 3D cards are
 not: their own shading differs by 0.02–0.07. What it costs: [grease-pencil-cost.md](grease-pencil-cost.md).
 An animation plays without flicker: a still post in front of a walking figure keeps its
 shading from frame to frame, exactly, in numpy and in Cycles
