@@ -84,8 +84,8 @@ def test_each_layer_is_drawn_by_blender_alone_with_its_colours_and_alpha(drawing
 
 def test_a_small_drawing_is_drawn_twice_as_large_and_averaged_to_exact_coverage(drawing,
                                                                                tmp_path):
-    """Below 1024 px a layer is drawn twice as large at a quarter of the samples (the same
-    draw cost) and averaged 2 × 2 (drawing.supersampling): the disc's edge comes out as exact
+    """Below 1024 px a layer is drawn twice as large at a quarter of the samples (as many
+    in all) and averaged 2 × 2 (drawing.supersampling): the disc's edge comes out as exact
     coverage's, where Blender's own anti-aliasing spreads it over ~2 px either side. Measured
     at 200 px: mean |α − exact coverage| near the edge 0.032 drawn as it is, 0.014 so; pixels
     partly covered 417 and 263 (exact: 202)."""
