@@ -357,8 +357,9 @@ def test_strokes_on_a_large_height_map_bake_incrementally_and_equal_a_whole_bake
     crossings at that size), each of 12 dabs decodes and re-traces only what it changed
     (shadow_images keeps the decode before the edit, with its bakes), and the painting's
     cos-θ image and derived heights after them equal a bake of the whole edited image
-    (≤ 1e-6; the derived image exactly). Two of them change no pixel (a dab clipped to what
-    was there): they keep the bake they had, never bake the whole."""
+    (≤ 1e-6; the derived image exactly). Two of them change no pixel (the same pixels written
+    again, as a dab clipped to what was there leaves them): they keep the bake they had,
+    never bake the whole."""
     mat = sun_painting(tmp_path, 512)
     img = mat.dynamic_painting.image_shape
     px = image_pixels(img)
