@@ -78,9 +78,8 @@ def hand_mask(index):
     return gaussian_blur(moved, SOFT) >= 0.5
 
 
-def shapes(z, index, painting):
-    """{name: heights (image widths)} of the shapes compared."""
-    mask = hand_mask(index)
+def shapes(z, index, painting, mask):
+    """{name: heights (image widths)} of the shapes compared; mask: hand_mask(index)."""
     size = z.shape[1]
     out = {"true height map": z, ALONE: inflate(mask).height}
     for d in DETAILS:
@@ -136,11 +135,12 @@ def measure(objects, size, offset_px, steps, folder):
     """{shape: (mean |t − 3D|, cast-shadow IoU)} over the suns."""
     scene, z, nworld, _, index = scene_maps(objects, size, folder)
     painting = gt.render_truth(scene, folder, 90, 0)        # front-lit: the painted picture
-    made = shapes(z, index, painting)
-    options = mask_options(hand_mask(index))
+    mask = hand_mask(index)
+    made = shapes(z, index, painting, mask)
+    options = mask_options(mask)
     made[FLAT] = options["flat", 1.0, 0.0]       # (the grid's flat profile, no bevel)
     for sigma in PAINTED:
-        made[f"{PAINTED_ROW}, σ {sigma:g}"] = painted(z, made[FLAT], hand_mask(index), sigma)
+        made[f"{PAINTED_ROW}, σ {sigma:g}"] = painted(z, made[FLAT], mask, sigma)
     made.update(options)
     acc = {}
     for elevation, azimuth in gt.SUNS:
