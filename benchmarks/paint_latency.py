@@ -220,7 +220,8 @@ def main(argv=None):
             inc, whole = m[level]
             name = f"final, figure mask (Snap {SNAP:g})" if level == "mask" else level
             floor = m.get(f"{level} transfers")
-            floor = f"{floor[0]:.0f} ms ({floor[1]} images written)" if floor else ""
+            floor = (f"{floor[0]:.0f} ms ({floor[1]} image{'s' * (floor[1] != 1)} written)"
+                     if floor else "")
             lines.append(f"| {size}² | {name} | {inc:.0f} ms | {whole:.0f} ms | "
                          f"{whole / inc:.1f}× | {goal(level, size, inc)} | {floor} |")
         errors.append(f"{size}²: {m['error']:.1e}")

@@ -78,15 +78,16 @@ def _preblur_px(shape, p):
     return float(default_preblur_px(shape.bits) if sigma == "auto" else sigma)
 
 
-def shape_normals_edited(shape, p, before, box):
+def shape_normals_edited(shape, p, before, box, in_place=False):
     """shape_normals of a shape image edited in `box`, from its decode `before` (issue 41):
     → (decoded, normals' changed box, heights' changed box), equal to decoding the whole
     edited image; None where the decode is not local (a normal map's: its strength, encoding
-    and relief are read off the whole image), so decode it whole."""
+    and relief are read off the whole image), so decode it whole. in_place: into before's
+    arrays (strokes.height_shape_edited), where nothing else reads them."""
     if p.shape.kind != "height" or before[1] is None:
         return None
     return height_shape_edited(shape, before, box, p.shape.height_scale, _preblur_px(shape, p),
-                               p.shape.z_min)
+                               p.shape.z_min, in_place)
 
 
 def normal_map_relief_px(n, shape, precise=False, floor=None):

@@ -212,7 +212,8 @@ def image_data_from_blender(img, path=None):
     c = img.channels
     if w == 0 or h == 0 or not img.has_data or c == 0:
         raise ImageReadError(f"{where}: not an image Blender can read (unknown or corrupt format)")
-    px = np.empty(w * h * c, dtype=np.float32)
+    keep = file_channels(img)
+    px = _read_buffer(w * h * c) if keep < c else np.empty(w * h * c, dtype=np.float32)
     img.pixels.foreach_get(px)
     if not img.is_float:
         bits = 8
@@ -221,11 +222,27 @@ def image_data_from_blender(img, path=None):
     else:
         bits = 32
     px = px.reshape(h, w, c)   # Blender buffers are bottom row first: already y-up
-    keep = file_channels(img)
     px = px[..., :1] if keep == 1 else px[..., :keep]
     name = os.path.basename(where)
-    return ImageData(np.ascontiguousarray(px), bits=bits, name=name,
+    return ImageData(px.copy() if keep < c else px, bits=bits, name=name,
                      notes=cut_short_notes(path or bpy_path(img), px, name))
+
+
+# The RGBA buffer a read copies its file's channels out of, kept for the next read: a live
+# stroke reads the shape image per dab, and a fresh 268 MB buffer (4096²) made the kernel find
+# huge pages each time — 50 ms a read, at times 400–600 ms (benchmarks/paint_latency.py).
+# Kept up to READ_BUFFER_PX pixels (the largest painting that keeps its decode for edits).
+READ_BUFFER_PX = 4096 * 4096
+_READ_BUFFER = [np.empty(0, np.float32)]
+
+
+def _read_buffer(n):
+    """n float32s to read a Blender image into and copy out of (not kept by the caller)."""
+    if n > READ_BUFFER_PX * 4:
+        return np.empty(n, np.float32)
+    if _READ_BUFFER[0].size < n:
+        _READ_BUFFER[0] = np.empty(n, np.float32)
+    return _READ_BUFFER[0][:n]
 
 
 def bpy_path(img):

@@ -3,7 +3,9 @@
 A node tree (material, compositor group, OSL shader, web page) samples a few images that are
 not the artist's own but made from them by numpy:
 
-  height             the §2 pre-blurred height map (grey; alpha: the shape image's)
+  height             the §2 pre-blurred height map (grey; alpha: the shape image's) — none
+                     where a one-channel 8/16-bit shape image is not pre-blurred: its red is
+                     that already (a still image, sampled itself)
   relief             a normal map's integrated relief in image widths (§6 "Relief"), for
                      the OSL march
   silhouette         the alpha of the silhouette channel (§11) as a float image
@@ -34,7 +36,7 @@ the material, the compositor group, the OSL shader and the web page share one pr
     >>> f.size, f.lights, [d.channel for d in plan]
     ((64, 48), ('sun',), ['height'])
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
@@ -42,11 +44,14 @@ import numpy as np
 from .. import params
 from ..core.colour import srgb_to_linear
 from ..core.inputs import mask_values
-from ..core.input_rules import MASKS, PER_PIXEL_CHANNELS, finite_image, mask_setting
+from ..core.input_rules import (MASKS, PER_PIXEL_CHANNELS, ImageData, finite_image,
+                               mask_setting)
 from ..core.pipeline import lookup_copy, shape_normals
+from ..core.sampling import gaussian_radius
 from ..core.shape import (default_preblur_px, fits_height_field, normal_vectors,
                           preblurred_height, resolve_encoding, resolve_strength,
                           slopes_from_normals)
+from ..core.strokes import changed_box, grow
 from .features import Features
 
 
@@ -59,6 +64,7 @@ class Source:
     alpha: bool = False      # it has an alpha channel
     frame: object = None     # a moving slot's painting frame (§16); None: a still image
     version: int = 0         # how many times its pixels were edited in place (Blender: issue 41)
+    grey: bool = False       # its file holds one grey channel (every reader: R = G = B = it)
 
 
 def prepare(p, sources, light_kinds):
@@ -85,11 +91,52 @@ class Derived:
     same_as: str = ""                    # equal to another derived image: share it
     grey: Callable = None                # a grey image's: ImageData → (grey (H, W), alpha or
     #                                      None); `make` is grey_rgba of it (make_derived's grey)
+    reach: int = None                    # a grey image each pixel of which reads its source
+    #                                      `reach` pixels around it, no farther: an edit of the
+    #                                      source is remade in its box grown so (None: whole)
+    recipe: str = ""                     # the key but for the source's edits: what else it
+    #                                      was made for (an edit's box holds only within one)
 
 
-def _grey_item(channel, source, key, grey):
+def _grey_item(channel, source, key, grey, reach=None, recipe=""):
     """A derived grey image: made from grey(ImageData) → (grey, alpha or None)."""
-    return Derived(channel, source, key, lambda d: grey_rgba(*grey(d)), grey=grey)
+    return Derived(channel, source, key, lambda d: grey_rgba(*grey(d)), grey=grey,
+                   reach=reach, recipe=recipe)
+
+
+@dataclass
+class GreyMade:
+    """A grey item as make_derived(grey=True) makes it: the grey (H, W) and alpha (or None) —
+    of the whole image, or where `box` is given, of that box alone (the rest as made before
+    from the same recipe); `source`: the pixels it was made from, for the next edit's box."""
+    grey: np.ndarray
+    alpha: object = None
+    box: tuple = None
+    source: np.ndarray = None
+    recipe: str = ""
+
+
+def grey_edited(item, data, box):
+    """A local grey item (`reach` set) remade after its source (ImageData, finite) changed in
+    `box` → GreyMade of the box grown by the reach: the same pixels as making the whole (each
+    reads only the window grown by the reach again; at the image's edges that window is cut as
+    the image is, so its own edge rule applies, as in the whole). box None: nothing changed —
+    an empty box (the writer keeps what it made)."""
+    if box is None:
+        return GreyMade(np.empty((0, 0), np.float32), box=(0, 0, 0, 0), recipe=item.recipe)
+    h, w = data.pixels.shape[:2]
+    out = grow(box, item.reach, h, w)
+    read = grow(out, item.reach, h, w)
+    grey, alpha = item.grey(ImageData(data.pixels[read[0]:read[1], read[2]:read[3]], data.bits,
+                                      data.name))
+    cut = (slice(out[0] - read[0], out[1] - read[0]), slice(out[2] - read[2], out[3] - read[2]))
+    return GreyMade(np.asarray(grey)[cut], None if alpha is None else np.asarray(alpha)[cut],
+                    out, recipe=item.recipe)
+
+
+def _recipe(channel, source, p, *extra):
+    """_key of the same source unedited: a grey image's edits are remade in place within it."""
+    return _key(channel, replace(source, version=0), p, *extra)
 
 
 def _key(channel, source, p, *extra):
@@ -141,8 +188,14 @@ def derived_inputs(features, p, sources):
         src = sources["shape"]
         sigma = p.shape.preblur
         sigma = float(default_preblur_px(src.bits) if sigma == "auto" else sigma)
-        out.append(_grey_item("height", "shape", _key("height", src, p, sigma),
-                              lambda d: (preblurred_height(d.grey(), sigma), _alpha(d))))
+        if sigma == 0 and src.grey and src.bits != 32 and src.frame is None:
+            # (8/16-bit: no NaN; the graph reads red) — a 4096² stroke writes one image less
+            out.append(Derived("height", "shape", _key("height", src, p, sigma), _as_it_is))
+        else:
+            out.append(_grey_item("height", "shape", _key("height", src, p, sigma),
+                                  lambda d: (preblurred_height(d.grey(), sigma), _alpha(d)),
+                                  gaussian_radius(sigma) if sigma > 0 else 0,
+                                  _recipe("height", src, p, sigma)))
     if "relief" in need:
         src = sources["shape"]
         out.append(_grey_item("relief", "shape", _key("relief", src, p),
@@ -152,7 +205,8 @@ def derived_inputs(features, p, sources):
         channel = features.silhouette
         out.append(_grey_item("silhouette", channel,
                               _key("silhouette", sources[channel], p, channel),
-                              lambda d: (np.clip(np.nan_to_num(d.alpha()), 0, 1),) * 2))
+                              lambda d: (np.clip(np.nan_to_num(d.alpha()), 0, 1),) * 2,
+                              0, _recipe("silhouette", sources[channel], p, channel)))
     for channel, sec in (("environment", p.reflection), ("background", p.refraction)):
         if channel in need:
             out.append(Derived(channel, channel, _key(channel, sources[channel], p),
@@ -237,14 +291,16 @@ def _alpha(data):
     return None if a is None else np.clip(a, 0, 1)
 
 
-def make_derived(items, read, role_of, grey=False):
+def make_derived(items, read, role_of, grey=False, made_from=None):
     """Make every item that needs pixels, reading each source once → ({channel: RGBA, or None
     where the source itself or the image of `same_as` will do}, warnings).
 
     read(channel) → ImageData; role_of(channel) → the role core/inputs.py replaces NaN/Inf by
     ('colour', 'normal' or 'height': core.input_rules.pixel_role); grey: a grey item's
-    (grey, alpha or None) instead of its RGBA (for a writer that keeps the RGBA it wrote and
-    fills only what changed: the add-on's grey_image)."""
+    GreyMade instead of its RGBA (for a writer that keeps the RGBA it wrote and fills only
+    what changed: the add-on's grey_image). made_from(item) → the source pixels the writer's
+    image of a local grey item was last made from by the same recipe, or None: where it has
+    them, only the box the source's edit changed is made again (grey_edited; issue 41)."""
     cache, made, warnings = {}, {}, []
     for item in items:
         if item.same_as:
@@ -252,12 +308,17 @@ def make_derived(items, read, role_of, grey=False):
             continue
         if item.source not in cache:
             data = read(item.source)
-            cache[item.source] = finite_image(data, role_of(item.source), data.name)
+            cache[item.source] = finite_image(data, role_of(item.source), data.name) + (data,)
             if cache[item.source][1]:
                 warnings.append(cache[item.source][1])
-        data, warning = cache[item.source]
+        data, warning, raw = cache[item.source]
         if grey and item.grey is not None:
-            made[item.channel] = item.grey(data)
+            before = None if made_from is None or item.reach is None else made_from(item)
+            if before is not None and before.shape == raw.pixels.shape:
+                made[item.channel] = grey_edited(item, data, changed_box(before, raw.pixels))
+            else:
+                made[item.channel] = GreyMade(*item.grey(data), recipe=item.recipe)
+            made[item.channel].source = raw.pixels
             continue
         rgba = item.make(data)
         if rgba is None and item.finite_copy and warning:

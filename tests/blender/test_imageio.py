@@ -102,3 +102,18 @@ def test_jpeg_and_tiff_through_blender(tmp_path, fmt, ext, depth):
     tol = 0.02 if fmt == "JPEG" else 1 / 255
     np.testing.assert_allclose(back.pixels[0, 0], [0, 0.5, 0], atol=tol)    # bottom-left
     np.testing.assert_allclose(back.pixels[5, 7], [1, 0, 0], atol=tol)      # top-right
+
+
+def test_reads_that_keep_fewer_channels_than_blender_holds_do_not_share_their_pixels(tmp_path,
+                                                                                     rng):
+    """image_data_from_blender reads a grey or RGB file's RGBA buffer into one buffer it
+    keeps for the next read (a stroke reads the shape each dab): what it returns is a copy,
+    so one read's pixels stay as they were after the next (even a 1 × 1 image's)."""
+    reads = []
+    for i, (h, w, c) in enumerate([(6, 9, 1), (4, 5, 3), (1, 1, 1), (7, 3, 1)]):
+        px = rng.uniform(0, 1, (h, w, c))
+        write_png(str(tmp_path / f"{i}.png"), px, 16)
+        reads.append((np.round(px * 65535) / 65535, read_image(str(tmp_path / f"{i}.png"))))
+    for want, got in reads:
+        assert got.pixels.flags.c_contiguous
+        np.testing.assert_allclose(got.pixels, want, atol=1e-6)

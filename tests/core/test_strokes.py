@@ -200,3 +200,45 @@ def test_an_edited_reduced_bake_upsamples_only_what_changed_and_equals_the_whole
         got = core_bake._upsampled(edited, 384, 320, np.float32, before=(t_s, t))
         assert np.array_equal(got, core_bake._upsampled(edited, 384, 320, np.float32))
         t_s, t = edited, got
+
+
+def test_a_decode_edited_in_place_equals_one_into_copies_and_copies_leave_the_old_alone():
+    """in_place (nothing else reads the decode before: shadow_images' _READING): 40 strokes
+    decoded into the arrays before equal those decoded into copies bit for bit, with the same
+    changed boxes; into copies, the decode before is left as it was (a live bake's worker
+    reads it)."""
+    rng = np.random.default_rng(5)
+    p = params.defaults()
+    p.shape.kind, p.shape.height_scale, p.shape.preblur = "height", 0.2, 1.5
+    img = ImageData(_dome(96), 16)
+    copied, patched = shape_normals(img, p), shape_normals(img, p)
+    for k in range(40):
+        pixels = _stroke(rng, img.pixels)
+        box = strokes.changed_box(img.pixels, pixels)
+        img = ImageData(pixels, 16)
+        if box is None:
+            continue
+        old = [a.copy() for a in copied[:2]]
+        a = shape_normals_edited(img, p, copied, box)
+        assert all(np.array_equal(x, y) for x, y in zip(old, copied[:2])), k
+        b = shape_normals_edited(img, p, patched, box, in_place=True)
+        assert b[0][0] is patched[0] and b[0][1] is patched[1], k
+        assert a[1:] == b[1:] and all(np.array_equal(x, y) for x, y in zip(a[0][:2], b[0][:2]))
+        copied, patched = a[0], b[0]
+
+
+def test_changed_box_reads_channels_and_strided_views_as_the_pixels_they_are():
+    """changed_box compares bit patterns in place: one channel of an RGBA buffer (a strided
+    view), every channel of an RGBA image, a NaN left as it was (unchanged)."""
+    rng = np.random.default_rng(2)
+    rgba = rng.random((30, 40, 4)).astype(np.float32)
+    rgba[3, 4, 1] = np.nan
+    grey = rgba[..., 0].copy()
+    grey[7:9, 20:25] += 1
+    assert strokes.changed_box(rgba[..., 0], grey) == (7, 9, 20, 25)
+    after = rgba.copy()
+    assert strokes.changed_box(rgba, after) is None
+    after[12, 33, 2] = 0.0
+    after[25, 1, 3] = 2.0
+    assert strokes.changed_box(rgba, after) == (12, 26, 1, 34)
+    assert strokes.changed_box(rgba[..., 2:3], after[..., 2:3]) == (12, 13, 33, 34)

@@ -25,8 +25,8 @@ import bpy
 from ...core.shadow import BakeCancelled
 from ..state.settings import settings_to_params
 from ..state.status import report
-from .shadow_images import (bake_light, bake_shape, edit_start, keep_bake, kept_bake,
-                            light_bakes, write_shadow)
+from .shadow_images import (bake_light, bake_shape, edit_start, held, keep_bake, kept_bake,
+                            light_bakes, released, write_shadow)
 
 DEBOUNCE_S = 0.3
 TIMER_S = 0.01          # polls a queue while a bake is due: cheap, and a small part of the budget
@@ -84,7 +84,7 @@ class LiveBake:
             for item, t, key in zip(items, kept, keys):
                 write_shadow(mat, item, t, key)
             return gen
-        shape = bake_shape(mat, p)
+        shape = held(bake_shape(mat, p))        # (released by the worker: _run)
         starts = [edit_start(mat, shape, light, p) for light in lights]
         budget = max((LIVE_BUDGET_MS[light.kind] for light in lights), default=0.0)
         job = (name, gen, quality, [i.object.name for i in items], lights, keys, shape,
@@ -163,6 +163,8 @@ class LiveBake:
         except Exception as exc:        # keep the last good image; the panel says why
             report(name, f"live bake failed, the last good shadows are kept: {exc}")
             return
+        finally:
+            released(shape)
         self.results.put((name, gen, quality, names, keys, [np.asarray(r) for r in results],
                           budget, t_request, (shape, lights, p)))
 

@@ -2,6 +2,7 @@
 each remembered with the key of what it was baked from, so a bake runs only when its light
 moved or a parameter with the `bake` role (params.py) changed."""
 import time
+from collections import Counter
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -122,7 +123,8 @@ def _decoded_after_edit(mat, data, p):
     box = changed_box(last.pixels, data.pixels)
     if box is None and last.pixels.shape == data.pixels.shape:
         return last.decoded                        # (an update that changed nothing)
-    edited = None if box is None else shape_normals_edited(data, p, last.decoded, box)
+    edited = None if box is None else shape_normals_edited(
+        data, p, last.decoded, box, in_place=not _READING[id(last.decoded[0])])
     if edited is None:
         return None
     decoded, nb, hb = edited
@@ -131,6 +133,24 @@ def _decoded_after_edit(mat, data, p):
     since.update((slot, (t, nb, hb)) for slot, t in last.bakes.items())
     _STILL[mat.name] = _Still(last.base, data.pixels, decoded, since=since)
     return decoded
+
+
+# id of a decode's normals → how many live bakes' workers read it (held, released): an edit
+# decodes into copies of a decode being read, into its own arrays otherwise (the edit drops it)
+_READING = Counter()
+
+
+def held(shape):
+    """A worker will read `shape` (a decode) until it calls released(shape): main thread."""
+    _READING[id(shape[0])] += 1
+    return shape
+
+
+def released(shape):
+    """The worker is done with `shape` (any thread: one dict entry, under the GIL)."""
+    _READING[id(shape[0])] -= 1
+    if _READING[id(shape[0])] <= 0:
+        del _READING[id(shape[0])]
 
 
 def _remember(mat, data, p, decoded):

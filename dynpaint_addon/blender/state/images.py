@@ -1,6 +1,7 @@
 """A painting's images in Blender: its inputs (colour management, loading) and the images numpy
 derives from them (nodegraph/derived_inputs.py), remade exactly when their keys change."""
 import os
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -14,7 +15,7 @@ from ...core.strokes import changed_box, union
 from ...inputs.imageio import file_channels, file_header
 from ...inputs.memory import check_read
 from ...inputs.painting_frames import BoundedCache, sequence_numbers
-from ...nodegraph.derived_inputs import grey_rgba, make_derived
+from ...nodegraph.derived_inputs import GreyMade, grey_rgba, make_derived
 from .edits import note_edited
 
 COLOUR_CHANNELS = {c for c, (_, kind) in params.CHANNELS.items() if kind == "colour"}
@@ -35,6 +36,11 @@ def is_float_file(img):
 
 def has_alpha(img):
     return file_channels(img) in (2, 4)
+
+
+def is_grey(img):
+    """Its file holds one grey channel (Blender's buffer: R = G = B = it, alpha 1)."""
+    return file_channels(img) == 1
 
 
 def prepare_channel_image(img, channel):
@@ -109,11 +115,21 @@ def float_image(name, rgba):
     return img
 
 
-# image name → (the float32 RGBA grey_image last wrote into it, whether it had an alpha): the
-# next write of that image fills the box that changed alone (a stroke's cos-θ and derived
-# images: grey_rgba of 4096² takes ~115 ms on 2 cores, a stroke's box next to nothing); the
-# image always receives the whole buffer, so it is right whatever else wrote it meanwhile
-KEPT_RGBA_MB = 512
+@dataclass
+class _Kept:
+    """What grey_image last wrote into an image: the next write fills the box that changed
+    alone (a stroke's cos-θ and derived images: grey_rgba of 4096² takes ~115 ms on 2 cores, a
+    stroke's box next to nothing); the image always receives the whole buffer, so it is right
+    whatever else wrote it meanwhile."""
+    rgba: np.ndarray            # float32 (H, W, 4): grey_rgba of the grey and alpha written
+    alpha: bool                 # it had an alpha
+    source: np.ndarray = None   # a derived image's: the source pixels it was made from (the
+    recipe: str = ""            # array read, not a copy) and by what recipe (GreyMade)
+
+
+# image name → _Kept, up to KEPT_RGBA_MB (a 4096² painting's derived height, its source and
+# one cos-θ image: 603 MB)
+KEPT_RGBA_MB = 640
 _KEPT_RGBA = BoundedCache(KEPT_RGBA_MB)
 
 
@@ -121,22 +137,40 @@ def grey_image(name, grey, alpha=None):
     """A float image holding a grey (H, W) in RGB and `alpha` (H, W; None: 1), written from
     the RGBA kept since its last write where there is one (only the pixels that changed are
     copied into it: the same RGBA as grey_rgba's)."""
-    grey = np.asarray(grey, np.float32)
-    alpha = None if alpha is None else np.asarray(alpha, np.float32)
+    return made_grey_image(name, GreyMade(grey, alpha))
+
+
+def made_grey_image(name, made):
+    """grey_image of a GreyMade (make_derived's): of the whole image, or of its box alone
+    (the source edited there; kept_source said what the rest was made from)."""
+    grey = np.asarray(made.grey, np.float32)
+    alpha = None if made.alpha is None else np.asarray(made.alpha, np.float32)
     hit = _KEPT_RGBA.get(name)
-    if hit is None or hit[0].shape[:2] != grey.shape or hit[1] != (alpha is not None):
-        rgba = grey_rgba(grey, alpha)
-        _KEPT_RGBA.put(name, (rgba, alpha is not None), rgba.nbytes)
+    if made.box is not None:               # (make_derived asked kept_source: it is kept)
+        rgba, box = hit.rgba, made.box
+        grey_box = (0, grey.shape[0], 0, grey.shape[1])
+    elif hit is None or hit.rgba.shape[:2] != grey.shape or hit.alpha != (alpha is not None):
+        rgba, box = grey_rgba(grey, alpha), None
+        hit = _Kept(rgba, alpha is not None)
     else:
-        rgba = hit[0]
-        box = union(changed_box(rgba[..., 0], grey),
-                    None if alpha is None else changed_box(rgba[..., 3], alpha))
-        if box is not None:
-            r0, r1, c0, c1 = box
-            rgba[r0:r1, c0:c1, :3] = grey[r0:r1, c0:c1, None]
-            if alpha is not None:
-                rgba[r0:r1, c0:c1, 3] = alpha[r0:r1, c0:c1]
+        rgba = hit.rgba
+        box = grey_box = union(changed_box(rgba[..., 0], grey),
+                               None if alpha is None else changed_box(rgba[..., 3], alpha))
+    if box is not None:
+        r0, r1, c0, c1 = box
+        g0, g1, h0, h1 = grey_box
+        rgba[r0:r1, c0:c1, :3] = grey[g0:g1, h0:h1, None]
+        if alpha is not None:
+            rgba[r0:r1, c0:c1, 3] = alpha[g0:g1, h0:h1]
+    hit.source, hit.recipe = made.source, made.recipe
+    _KEPT_RGBA.put(name, hit, rgba.nbytes + (0 if made.source is None else made.source.nbytes))
     return float_image(name, rgba)
+
+
+def kept_source(name, recipe):
+    """The source pixels the grey image `name` was last made from by `recipe`, or None."""
+    hit = _KEPT_RGBA.get(name)
+    return None if hit is None or hit.recipe != recipe or not recipe else hit.source
 
 
 # -- derived images -------------------------------------------------------------------------
@@ -162,7 +196,6 @@ def update_derived_images(mat, state, force=False, small=None):
     else:
         made, warnings = _make(mat, state, todo)
     images = {}
-    base = f"DP {mat.name}"
     for item in todo:
         rgba = made[item.channel]
         if item.same_as:
@@ -170,11 +203,11 @@ def update_derived_images(mat, state, force=False, small=None):
         elif rgba is None:               # checked: the input itself has no NaN/Inf
             image = imgs[item.source]
         else:
-            name = f"{base} {item.channel}{' finite' * item.finite_copy}"
+            name = derived_name(mat, item)
             if item.source in small:
                 image = enlarged_into(name, rgba, imgs[item.source].size)
-            elif isinstance(rgba, tuple):            # make_derived's grey: (grey, alpha)
-                image = grey_image(name, *rgba)
+            elif isinstance(rgba, GreyMade):
+                image = made_grey_image(name, rgba)
             else:
                 image = float_image(name, rgba)
         images[item.channel] = image
@@ -193,12 +226,19 @@ FRAME_DERIVED_MB = 512
 _MADE = {}       # material name → BoundedCache: derived key → RGBA (None: the source does)
 
 
+def derived_name(mat, item):
+    """The Blender image a derived item (derived_inputs.Derived) is written into."""
+    return f"DP {mat.name} {item.channel}{' finite' * item.finite_copy}"
+
+
 def _make(mat, state, todo):
     """make_derived for `todo`, from the cache where a moving painting made them before."""
     def role(channel):
         return pixel_role(channel, state.params)
-    if not state.frame:           # a still painting's grey images: written where they changed
-        return make_derived(todo, state.read, role, grey=True)
+    if not state.frame:           # a still painting's grey images: made and written where
+        return make_derived(      # their sources' edits changed them
+            todo, state.read, role, grey=True,
+            made_from=lambda item: kept_source(derived_name(mat, item), item.recipe))
     cache = _MADE.setdefault(mat.name, BoundedCache(FRAME_DERIVED_MB))
     found = {d.channel: cache.get(d.key) for d in todo}
     missing = [d for d in todo if found[d.channel] is None]

@@ -15,7 +15,7 @@ from ...nodegraph.derived_inputs import Source, prepare
 from ...nodegraph.features import Features
 from .edits import version
 from .frames import frame_data, slot_frame
-from .images import bits_of, has_alpha
+from .images import bits_of, has_alpha, is_grey
 from .lights import linked_lights
 from .settings import channel_images, settings_to_params
 
@@ -36,7 +36,8 @@ class PaintingState:
 def image_source(img):
     """A Blender image as the derived-image plan knows it (no pixel read), and how many times
     its pixels were edited in place (edits.py)."""
-    return Source(img.name, bits_of(img), tuple(img.size), has_alpha(img), version=version(img))
+    return Source(img.name, bits_of(img), tuple(img.size), has_alpha(img), version=version(img),
+                  grey=is_grey(img))
 
 
 def frame_source(img, data, frame):
