@@ -194,7 +194,7 @@ def update_derived_images(mat, state, force=False, small=None):
             todo, lambda c: small[c] if c in small else state.read(c),
             lambda c: pixel_role(c, state.params))
     else:
-        made, warnings = _make(mat, state, todo)
+        made, warnings = _make(mat, state, todo, edits=not force)
     images = {}
     for item in todo:
         rgba = made[item.channel]
@@ -231,14 +231,15 @@ def derived_name(mat, item):
     return f"DP {mat.name} {item.channel}{' finite' * item.finite_copy}"
 
 
-def _make(mat, state, todo):
-    """make_derived for `todo`, from the cache where a moving painting made them before."""
+def _make(mat, state, todo, edits=True):
+    """make_derived for `todo`, from the cache where a moving painting made them before;
+    `edits`: a still painting's local grey images made again where their sources' edits
+    changed them (not: whole, as Rebuild Material makes them)."""
     def role(channel):
         return pixel_role(channel, state.params)
-    if not state.frame:           # a still painting's grey images: made and written where
-        return make_derived(      # their sources' edits changed them
-            todo, state.read, role, grey=True,
-            made_from=lambda item: kept_source(derived_name(mat, item), item.recipe))
+    if not state.frame:           # a still painting's grey images: written where they changed
+        return make_derived(todo, state.read, role, grey=True, made_from=None if not edits else
+                            lambda item: kept_source(derived_name(mat, item), item.recipe))
     cache = _MADE.setdefault(mat.name, BoundedCache(FRAME_DERIVED_MB))
     found = {d.channel: cache.get(d.key) for d in todo}
     missing = [d for d in todo if found[d.channel] is None]
