@@ -19,8 +19,8 @@ bottom, §0).
 import numpy as np
 
 from .input_rules import ImageData
-from .sampling import gaussian_blur, gaussian_radius
-from .shape import normals_from_height_px
+from .sampling import gaussian_radius
+from .shape import normals_from_height_px, preblurred_height
 
 
 def changed_box(before, after):
@@ -101,14 +101,11 @@ def height_shape_edited(shape, before, box, height_scale, preblur_px, z_min, in_
     z_read = grow(n_box, 1, h, w)           # heights the gradient of n_box reads …
     g_read = grow(z_read, radius, h, w)     # … and the grey pixels their blur reads
     g = ImageData(_part(shape.pixels, g_read), shape.bits).grey().astype(dtype, copy=False)
-    g = np.where(np.isfinite(g), g, 0).astype(dtype, copy=False)
-    z = gaussian_blur(g, preblur_px, "extend") * dtype.type(height_scale * w)
+    z = preblurred_height(g, preblur_px) * dtype.type(height_scale * w)
     # z over z_read, cut out of the blurred window (its own edges are not the image's)
-    z = z[z_read[0] - g_read[0]:z_read[1] - g_read[0], z_read[2] - g_read[2]:z_read[3] - g_read[2]]
+    z = z[inner(z_read, g_read)]
     n = normals_from_height_px(z, z_min)
-    zr0, zc0 = z_read[0], z_read[2]
-    z = z[z_box[0] - zr0:z_box[1] - zr0, z_box[2] - zc0:z_box[3] - zc0]
-    n = n[n_box[0] - zr0:n_box[1] - zr0, n_box[2] - zc0:n_box[3] - zc0]
+    z, n = z[inner(z_box, z_read)], n[inner(n_box, z_read)]
     changed = (_offset(changed_box(_part(normals, n_box), n), n_box),
                _offset(changed_box(_part(heights, z_box), z), z_box))
     if not in_place:
@@ -116,6 +113,17 @@ def height_shape_edited(shape, before, box, height_scale, preblur_px, z_min, in_
     _part(heights, z_box)[...] = z
     _part(normals, n_box)[...] = n
     return ((normals, heights, None), *changed)
+
+
+def inner(box, window):
+    """The slices of `box` in an array that holds the part `window` of the image (box inside
+    window): _offset's inverse.
+
+    >>> inner((3, 5, 10, 12), (2, 8, 9, 20))
+    (slice(1, 3, None), slice(1, 3, None))
+    """
+    return (slice(box[0] - window[0], box[1] - window[0]),
+            slice(box[2] - window[2], box[3] - window[2]))
 
 
 def _offset(box, within):

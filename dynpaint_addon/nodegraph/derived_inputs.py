@@ -51,7 +51,7 @@ from ..core.sampling import gaussian_radius
 from ..core.shape import (default_preblur_px, fits_height_field, normal_vectors,
                           preblurred_height, resolve_encoding, resolve_strength,
                           slopes_from_normals)
-from ..core.strokes import changed_box, grow
+from ..core.strokes import changed_box, grow, inner
 from .features import Features
 
 
@@ -129,7 +129,7 @@ def grey_edited(item, data, box):
     read = grow(out, item.reach, h, w)
     grey, alpha = item.grey(ImageData(data.pixels[read[0]:read[1], read[2]:read[3]], data.bits,
                                       data.name))
-    cut = (slice(out[0] - read[0], out[1] - read[0]), slice(out[2] - read[2], out[3] - read[2]))
+    cut = inner(out, read)
     return GreyMade(np.asarray(grey)[cut], None if alpha is None else np.asarray(alpha)[cut],
                     out, recipe=item.recipe)
 
