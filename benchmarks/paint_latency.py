@@ -228,7 +228,8 @@ def main(argv=None):
     lines += ["", "Incremental = whole: the largest |Δt| between the cos-θ image after the "
               f"dabs and a bake of the whole edited image: {', '.join(errors)} (goal ≤ 1e-6).",
               "", "Image API alone: the shape image's pixels read once (`foreach_get`) and each "
-              "image the edit wrote (its derived images and cos-θ image, full size) written "
+              "image the edit wrote (its derived images and cos-θ image, at their sizes: a "
+              "draft's cos-θ image is the size it baked at) written "
               "once (`foreach_set`), best of 3 — what any update that goes through Blender's "
               "Python image API pays, the bake and the decode apart."]
     publish(lines, args.out)

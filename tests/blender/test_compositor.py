@@ -5,6 +5,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
+from dynpaint_addon import blender  # noqa: E402
 from dynpaint_addon.blender import headless  # noqa: E402
 from dynpaint_addon.blender.scenes import compositor  # noqa: E402
 from dynpaint_addon.blender.scenes.painting_scene import output_settings  # noqa: E402
@@ -12,7 +13,10 @@ from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
 from dynpaint_addon.inputs.recipe import load_images  # noqa: E402
 
+from testkit.sun_painting import sun_painting  # noqa: E402
+
 from parity_recipes import RECIPES, make_recipe, write_images  # noqa: E402
+from test_addon import core_of  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -53,7 +57,6 @@ def test_one_description_two_trees(paths, tmp_path):
 
 
 def test_operator_adds_a_wired_group_for_the_active_painting(tmp_path):
-    from dynpaint_addon import blender
     write_images(str(tmp_path))
     bpy.ops.wm.read_homefile(use_empty=True)
     blender.register_once()
@@ -79,7 +82,6 @@ def test_operator_adds_a_wired_group_for_the_active_painting(tmp_path):
     bpy.ops.render.render(write_still=True)
     got = read_image(str(tmp_path / "op.exr")).pixels
     mat = bpy.context.object.active_material
-    from test_addon import core_of
     want = core_of(mat, scene)
     assert np.abs(got - want)[1:-1, 1:-1].max() <= 1e-4
     # without a painting: a group chosen by its options
@@ -88,6 +90,25 @@ def test_operator_adds_a_wired_group_for_the_active_painting(tmp_path):
     group = tree.nodes.active.node_tree
     names = [s.name for s in group.interface.items_tree if s.in_out == "INPUT"]
     assert {"Light 3 Position", "Light 1 Shadow", "Environment"} <= set(names)
+
+
+def test_a_drafts_small_cos_theta_image_composites_like_the_core(tmp_path):
+    """A draft's cos-θ image is the size its bake ran at (shadow_images.write_shadow: 96² for
+    a 768² painting); the group's Map UV lookup enlarges it as the core upsamples (≤ 1e-4)."""
+    blender.register_once()
+    mat = sun_painting(tmp_path, 768)
+    mat.dynamic_painting.shadows.quality = "draft"
+    bpy.context.view_layer.update()
+    assert tuple(mat.dynamic_painting.lights[0].shadow.size) == (96, 96)
+    assert bpy.ops.dynpaint.add_compositor_group() == {"FINISHED"}
+    scene = bpy.context.scene
+    scene.render.engine = "BLENDER_WORKBENCH"
+    scene.render.resolution_x = scene.render.resolution_y = 768
+    scene.view_settings.view_transform = "Standard"
+    output_settings(scene, str(tmp_path / "draft.exr"))
+    bpy.ops.render.render(write_still=True)
+    got = read_image(str(tmp_path / "draft.exr")).pixels
+    assert np.abs(got - core_of(mat, scene))[1:-1, 1:-1].max() <= 1e-4
 
 
 def test_shipped_node_groups_regenerate_and_append(tmp_path):

@@ -412,6 +412,26 @@ def test_strokes_on_a_large_height_map_bake_incrementally_and_equal_a_whole_bake
                for a, d in zip(derived, mat.dynamic_painting.derived))
 
 
+def test_a_draft_is_written_at_the_size_it_baked_at_and_renders_like_the_core(tmp_path):
+    """A draft's cos-θ image is the size its bake ran at (768² bakes by crossings at 96²: 64×
+    fewer pixels through Blender's image API), resized in place — the nodes keep the same
+    image — and Cycles' bilinear lookup of it renders what the core renders from the upsampled
+    bake (≤ 1e-3); at final quality it is the painting's size again."""
+    mat = sun_painting(tmp_path, 768)
+    s, scene = mat.dynamic_painting, bpy.context.scene
+    image = s.lights[0].shadow
+    assert tuple(image.size) == (768, 768)
+    exact_render_settings(scene, "cycles")
+    s.shadows.quality = "draft"
+    bpy.context.view_layer.update()
+    assert s.lights[0].shadow == image and tuple(image.size) == (96, 96)
+    renders_like_the_core(mat, scene, tmp_path, "a draft")
+    s.shadows.quality = "final"
+    bpy.context.view_layer.update()
+    assert s.lights[0].shadow == image and tuple(image.size) == (768, 768)
+    renders_like_the_core(mat, scene, tmp_path, "the final bake after a draft")
+
+
 def test_the_paint_latency_benchmark_runs_and_checks_incremental_equals_whole():
     """benchmarks/paint_latency.py at a tiny size (numbers, not speed): both levels timed,
     incremental and whole (the figure mask's too), and the painting after the dabs equals a

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ... import params
+from ...core.bake import own_size_t
 from ...core.pipeline import (shadow_term, shadow_term_edited, shape_normals,
                               shape_normals_edited)
 from ...core.strokes import changed_box, union
@@ -300,8 +301,13 @@ def check_bake_memory(mat, p, lights):
 
 
 def write_shadow(mat, item, t, key):
-    """Write a finished bake into the light's image (a moving shape's also kept, _BAKES)."""
-    item.shadow = grey_image(shadow_image_name(mat, item.object.name), t)
+    """Write a finished bake into the light's image (a moving shape's also kept, _BAKES): a
+    draft's or preview's at the size it was baked at (own_size_t: every backend's bilinear
+    lookup shows it as the upsampled t; Blender's image API writes a 4096² image in ~65 ms,
+    the 512² of a draft in under 1 ms), the image resized in place (float_image)."""
+    small = own_size_t(t)
+    item.shadow = grey_image(shadow_image_name(mat, item.object.name),
+                             t if small is None else small)
     item.bake_key = key
     if slot_frame(mat, "shape") is not None:
         _BAKES.setdefault(mat.name, BoundedCache(KEPT_BAKES_MB)).put(key, t, t.nbytes)

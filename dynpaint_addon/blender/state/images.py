@@ -101,6 +101,11 @@ def float_image(name, rgba):
     """A float RGBA image holding `rgba` (y-up (H, W, 4)), reused when the name exists."""
     h, w = rgba.shape[:2]
     img = bpy.data.images.get(name)
+    if img is not None and tuple(img.size) != (w, h) and img.source == "GENERATED" and \
+            img.use_generated_float:
+        # resized in place: the nodes that show it keep it (a cos-θ image changes size between
+        # a live draft and the final bake, shadow_images.write_shadow)
+        img.generated_width, img.generated_height = w, h
     if img is None or tuple(img.size) != (w, h) or not img.is_float:
         if img is not None:
             bpy.data.images.remove(img)
