@@ -16,7 +16,7 @@ from dynpaint_addon.blender import headless  # noqa: E402
 from dynpaint_addon.blender.bake import shadow_images  # noqa: E402
 from dynpaint_addon.blender.material.sync import update  # noqa: E402
 from dynpaint_addon.blender.scenes.painting_scene import exact_render_settings, output_settings  # noqa: E402
-from dynpaint_addon.blender.state import status  # noqa: E402
+from dynpaint_addon.blender.state import images, status  # noqa: E402
 from dynpaint_addon.blender.state.images import grey_image, load_image  # noqa: E402
 from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
 from dynpaint_addon.blender.state.settings import channel_images, settings_to_params  # noqa: E402
@@ -441,17 +441,26 @@ def test_the_paint_latency_benchmark_runs_and_checks_incremental_equals_whole():
     assert m["error"] <= 1e-6
 
 
-def test_a_grey_image_rewritten_where_it_changed_holds_the_whole_write():
+def test_a_grey_image_rewritten_where_it_changed_holds_the_whole_write(monkeypatch):
     """grey_image keeps the RGBA it wrote and fills only the box that changed (a stroke's
     cos-θ and derived images): after greys edited in boxes — with NaN, with an alpha and
-    without, the image written over by something else meanwhile, its size changed — the
-    image holds grey_rgba of the newest, exactly."""
+    without, the image written over by something else meanwhile, its size changed and back
+    (a live draft's cos-θ image and the final's: the same image resized, and the RGBA of the
+    size it left kept to compare with, not made again) — the image holds grey_rgba of the
+    newest, exactly."""
+    made = []
+    monkeypatch.setattr(images, "grey_rgba", lambda *a: made.append(1) or grey_rgba(*a))
     rng = np.random.default_rng(7)
     grey = rng.random((40, 56)).astype(np.float32)
     alpha = rng.random(grey.shape).astype(np.float32)
     name = "DP test grey written where it changed"
-    for step in range(10):
+    first = other = None
+    for step in range(12):
         grey, alpha = grey.copy(), alpha.copy()
+        if step == 8:
+            grey, other = rng.random((24, 32)).astype(np.float32), grey
+        if step in (10, 11):                                 # the other size again
+            grey, other = other, grey
         r, c = rng.integers(0, grey.shape[0]), rng.integers(0, grey.shape[1])
         if step != 5:
             grey[r:r + 9, c:c + 13] = rng.random(grey[r:r + 9, c:c + 13].shape)
@@ -461,12 +470,16 @@ def test_a_grey_image_rewritten_where_it_changed_holds_the_whole_write():
             grey[5, 5] = np.nan
         if step == 6:
             bpy.data.images[name].pixels.foreach_set(np.zeros(40 * 56 * 4, np.float32))
-        if step == 8:
-            grey = rng.random((24, 32)).astype(np.float32)
-        img = grey_image(name, grey, alpha if 3 <= step <= 6 else None)
+        made.clear()
+        img = grey_image(name, grey, alpha if 3 <= step <= 7 else None)
+        first = first or img
+        assert img == first and tuple(img.size) == grey.shape[::-1], step
+        # made whole: new, an alpha added, a new size (and the alpha gone), back to a size
+        # last written with an alpha; not when a size comes back as it was left (11)
+        assert len(made) == (step in (0, 3, 8, 10)), step
         px = np.empty(len(img.pixels), np.float32)
         img.pixels.foreach_get(px)
-        want = grey_rgba(grey, alpha if 3 <= step <= 6 else None)
+        want = grey_rgba(grey, alpha if 3 <= step <= 7 else None)
         assert np.array_equal(px.reshape(grey.shape + (4,)), want, equal_nan=True), step
     bpy.data.images.remove(img)
 

@@ -130,6 +130,13 @@ class _Kept:
     alpha: bool                 # it had an alpha
     source: np.ndarray = None   # a derived image's: the source pixels it was made from (the
     recipe: str = ""            # array read, not a copy) and by what recipe (GreyMade)
+    spare: np.ndarray = None    # the RGBA it last wrote at another size: a cos-θ image goes
+    #                             between a live draft's size and its own (write_shadow), and
+    #                             the final after a stroke then writes the stroke's box alone
+
+    @property
+    def nbytes(self):
+        return sum(a.nbytes for a in (self.rgba, self.source, self.spare) if a is not None)
 
 
 # image name → _Kept, up to KEPT_RGBA_MB (a 4096² painting's derived height, its source and
@@ -151,12 +158,17 @@ def made_grey_image(name, made):
     grey = np.asarray(made.grey, np.float32)
     alpha = None if made.alpha is None else np.asarray(made.alpha, np.float32)
     hit = _KEPT_RGBA.get(name)
+    if hit is not None and hit.rgba.shape[:2] != grey.shape and hit.spare is not None and \
+            hit.spare.shape[:2] == grey.shape:
+        hit.rgba, hit.spare = hit.spare, hit.rgba
     if made.box is not None:               # (make_derived asked kept_source: it is kept)
         rgba, box = hit.rgba, made.box
         grey_box = (0, grey.shape[0], 0, grey.shape[1])
     elif hit is None or hit.rgba.shape[:2] != grey.shape or hit.alpha != (alpha is not None):
         rgba, box = grey_rgba(grey, alpha), None
-        hit = _Kept(rgba, alpha is not None)
+        other_size = hit is not None and hit.rgba.shape[:2] != grey.shape and \
+            hit.alpha == (alpha is not None)      # (a spare always has its _Kept's alpha)
+        hit = _Kept(rgba, alpha is not None, spare=hit.rgba if other_size else None)
     else:
         rgba = hit.rgba
         box = grey_box = union(changed_box(rgba[..., 0], grey),
@@ -168,7 +180,7 @@ def made_grey_image(name, made):
         if alpha is not None:
             rgba[r0:r1, c0:c1, 3] = alpha[g0:g1, h0:h1]
     hit.source, hit.recipe = made.source, made.recipe
-    _KEPT_RGBA.put(name, hit, rgba.nbytes + (0 if made.source is None else made.source.nbytes))
+    _KEPT_RGBA.put(name, hit, hit.nbytes)
     return float_image(name, rgba)
 
 
