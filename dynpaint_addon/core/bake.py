@@ -233,8 +233,8 @@ def _reduced_bake_of(t):
 def own_size_t(t):
     """The t a reduced bake by crossings (draft, preview: §13) made before it was upsampled
     into `t`, or None: what an image sampled bilinearly with its edges extended shows as `t`
-    (resample_separable's taps at (i + ½)·f − ½ are the texture's pixel centres), so a live
-    level's cos-θ image is written at this size — 64× fewer pixels at 4096² draft.
+    (resample_separable's taps at (i + ½)·f − ½ are the texture's pixel centres), so a draft's
+    or preview's cos-θ image is written at this size — 64× fewer pixels at 4096² draft.
 
     >>> own_size_t(np.zeros((4, 4))) is None
     True
