@@ -24,7 +24,11 @@ heights give) against Cycles' truth (N·L × visibility):
   bound, chosen on the truth itself): what no choice of these options can pass;
 - the flat-profile mask with height painted on it as Paint Shape's height layer holds it:
   the truth's difference from it, blurred as soft brushes paint (σ = PAINTED image widths) —
-  a bound (the painter knows the truth), what painted height must hold to meet the goal.
+  a bound (the painter knows the truth), what painted height must hold to meet the goal;
+- the figure painted as n = NESTED nested parts, each a mask painted over the last (Monster
+  Mash's layered parts): the truth's region above each of n evenly spaced heights, slipped
+  and softened as the hand's mask is, each inflated flat and raised one step (top / n) — a
+  bound (the parts follow the truth's contour lines), what masks alone can give at best.
 
 Per object: mean |t − 3D| and the IoU of the cast shadows (each shape's own N·L decides what
 faces the sun). Goals (issue 41): mask + detail better than the mask alone on every object;
@@ -66,20 +70,32 @@ FLAT = "hand mask, flat"
 BEST = "hand mask, best profile, height and bevel (a bound, chosen on the truth)"
 PAINTED = (0.005, 0.01, 0.02)   # image widths: the soft brushes' blur of the painted height
 PAINTED_ROW = "hand mask, flat, + painted height (a bound: the truth's difference blurred by σ)"
+NESTED = (2, 4, 6)      # nested parts painted (a part over the last, at the truth's contours)
+NESTED_ROW = "hand masks in nested parts at the truth's contours (a bound), flat steps"
 # the options searched for BEST: profile × height × bevel height (image widths, 3 px wide)
 BOUND_GRID = {"profile": ("round", "soft", "flat", "tube"), "height": (0.7, 1.0, 1.4),
               "bevel": (0.0, 0.03, 0.07)}
 
 
-def hand_mask(index):
-    """The figure as a hand paints it: the silhouette moved by SHIFT and softened → bool."""
-    fig = (index > 0).astype(np.float64)
-    moved = np.roll(np.roll(fig, SHIFT[0], axis=1), SHIFT[1], axis=0)
+def hand_mask(figure):
+    """A region (H, W) bool as a hand paints it: moved by SHIFT and softened → bool."""
+    moved = np.roll(np.roll(figure.astype(np.float64), SHIFT[0], axis=1), SHIFT[1], axis=0)
     return gaussian_blur(moved, SOFT) >= 0.5
 
 
+def nested_parts(z, index, n):
+    """The figure painted as n nested parts (NESTED_ROW; a bound): part k the truth's region
+    above k/n of its top, as a hand paints it, inflated flat to a plateau one step high."""
+    figure, top = index > 0, float(z.max())
+    heights = np.zeros_like(z)
+    for k in range(n):
+        part = inflate(hand_mask(figure & (z > top * k / n)), "flat").height
+        heights += part / max(float(part.max()), 1e-12) * (top / n)
+    return heights
+
+
 def shapes(z, index, painting, mask):
-    """{name: heights (image widths)} of the shapes compared; mask: hand_mask(index)."""
+    """{name: heights (image widths)} of the shapes compared; mask: hand_mask(index > 0)."""
     size = z.shape[1]
     out = {"true height map": z, ALONE: inflate(mask).height}
     for d in DETAILS:
@@ -126,6 +142,11 @@ def painted_ratio(ratios, sigma):
     return ratios[f"{PAINTED_ROW}, σ {sigma:g}"]
 
 
+def nested_ratio(ratios, n):
+    """The ratio of the figure painted as n nested parts."""
+    return ratios[f"{NESTED_ROW}, n = {n}"]
+
+
 def lifted(ratios):
     """The ratio of the shape whose rim was lifted (its name carries the lift)."""
     return next(r for shape, r in ratios.items() if "lifted" in shape)
@@ -135,12 +156,14 @@ def measure(objects, size, offset_px, steps, folder):
     """{shape: (mean |t − 3D|, cast-shadow IoU)} over the suns."""
     scene, z, nworld, _, index = scene_maps(objects, size, folder)
     painting = gt.render_truth(scene, folder, 90, 0)        # front-lit: the painted picture
-    mask = hand_mask(index)
+    mask = hand_mask(index > 0)
     made = shapes(z, index, painting, mask)
     options = mask_options(mask)
     made[FLAT] = options["flat", 1.0, 0.0]       # (the grid's flat profile, no bevel)
     for sigma in PAINTED:
         made[f"{PAINTED_ROW}, σ {sigma:g}"] = painted(z, made[FLAT], mask, sigma)
+    for n in NESTED:
+        made[f"{NESTED_ROW}, n = {n}"] = nested_parts(z, index, n)
     made.update(options)
     acc = {}
     for elevation, azimuth in gt.SUNS:
@@ -217,7 +240,10 @@ def main(argv=None):
               f"(chosen on the truth itself) {best(head):.2f}. The rest of "
               "its depth is in features inside the outline (brow, eyes, nose) that a mask "
               "does not hold, so its goal is not "
-              "met by any shape made from a mask. Painted on the flat shape (Paint Shape's "
+              "met by any shape made from a mask — not even by masks painted as nested "
+              "parts along the truth's own contour lines, each a plateau one step above the "
+              "last (" + ", ".join(f"{nested_ratio(head, n):.2f} with {n}" for n in NESTED)
+              + " parts: a bound). Painted on the flat shape (Paint Shape's "
               "height layer; here the truth's difference from it, blurred as soft brushes "
               "paint: a bound) the head gets " + ", ".join(
                   f"{painted_ratio(head, sigma):.2f} at σ {sigma:g}" for sigma in PAINTED)
