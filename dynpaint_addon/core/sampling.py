@@ -116,6 +116,31 @@ def resample(img, height, width, extension="extend"):
 RESAMPLE_BAND_PIXELS = 1 << 20
 
 
+def _rows_enlarged(a, f, lerp):
+    """resample_separable's pass along the rows of `a` (n ≥ 2 rows) to f·n rows, f a power of
+    two, bit for bit (its taps (i + ½)/f − ½ are exact in binary, so every period of f output
+    rows takes the same fractions): each output row between two input rows is
+    lo + (hi − lo)·frac written straight into the result, hi − lo made once per input row,
+    not gathered per output row — ~4× faster (a draft's t enlarged 8×, §13)."""
+    n, half = a.shape[0], f // 2
+    k = np.arange(f, dtype=np.float64)
+    # output row j·f + half + m lies between input rows j and j + 1 (m < f), at fraction
+    # (half + m + ½)/f − ½ for m < half and that less 1 beyond
+    frac = np.concatenate([(k[half:] + 0.5) / f - 0.5, (k[:half] + 0.5) / f + 0.5])
+    extra = (None,) * (a.ndim - 1)
+    out = np.empty((n * f,) + a.shape[1:], a.dtype)
+    lo = a[:-1]
+    body = out[half: n * f - half].reshape((n - 1, f) + a.shape[1:])
+    np.multiply((a[1:] - lo)[:, None], frac.astype(a.dtype)[(None, slice(None)) + extra],
+                out=body)
+    body += lo[:, None]
+    # the rows beyond the first and last centres read those (fraction 0), as the taps clip
+    zero = np.zeros((), a.dtype)
+    out[:half] = lerp(a[0].copy(), a[1].copy(), zero)
+    out[n * f - half:] = lerp(a[-1].copy(), a[-1].copy(), zero)
+    return out
+
+
 def resample_separable(img, height, width, box=None):
     """`resample` (bilinear at the new pixel centres, extended edges) of an (H, W) or
     (H, W, C) image, done as two 1-D passes with precomputed indices and weights: the same
@@ -145,6 +170,9 @@ def resample_separable(img, height, width, box=None):
         return hi
 
     def along_rows(a):          # whole rows copied: cheap even when they multiply
+        f = height // h
+        if box is None and h > 1 and f >= 2 and f * h == height and f & (f - 1) == 0:
+            return _rows_enlarged(a, f, lerp)
         return lerp(a[i0], a[i1], fy)
 
     def along_columns(a):

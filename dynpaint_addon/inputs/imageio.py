@@ -16,7 +16,7 @@ import numpy as np
 from ..core.colour import linear_to_srgb
 from ..core.input_rules import ImageData
 from ..errors import UserError
-from .memory import check_read
+from .memory import READ_BUFFER_PX, check_read
 
 EXR_MAGIC = b"\x76\x2f\x31\x01"
 
@@ -206,6 +206,9 @@ def image_data_from_blender(img, path=None):
     does when sampling). Float buffers hold what Blender made of the file: linear values for
     colour-managed images, raw ones for Non-Color: bits 32, except the 16-bit PNG/TIFF files
     `read_image` loads as data (bits 16, for the core's sRGB decode and pre-blur default).
+    path: the file `read_image` loaded `img` from, read once — its RGBA buffer is its own,
+    freed with the read; an image Blender holds (path None) is read through the buffer kept
+    for its next read (_read_buffer).
     """
     where = path or img.filepath or img.name
     w, h = img.size
@@ -213,7 +216,8 @@ def image_data_from_blender(img, path=None):
     if w == 0 or h == 0 or not img.has_data or c == 0:
         raise ImageReadError(f"{where}: not an image Blender can read (unknown or corrupt format)")
     keep = file_channels(img)
-    px = _read_buffer(w * h * c) if keep < c else np.empty(w * h * c, dtype=np.float32)
+    shared = keep < c and path is None
+    px = _read_buffer(w * h * c) if shared else np.empty(w * h * c, dtype=np.float32)
     img.pixels.foreach_get(px)
     if not img.is_float:
         bits = 8
@@ -231,8 +235,9 @@ def image_data_from_blender(img, path=None):
 # The RGBA buffer a read copies its file's channels out of, kept for the next read: a live
 # stroke reads the shape image per dab, and a fresh 268 MB buffer (4096²) made the kernel find
 # huge pages each time — 50 ms a read, at times 400–600 ms (benchmarks/paint_latency.py).
-# Kept up to READ_BUFFER_PX pixels (the largest painting that keeps its decode for edits).
-READ_BUFFER_PX = 4096 * 4096
+# Kept up to READ_BUFFER_PX pixels (the largest painting that keeps its decode for edits;
+# memory.add_bytes counts it); a file read once (read_image: the command line) does not keep
+# it — 256 MiB at 4096² (benchmarks/memory.py).
 _READ_BUFFER = [np.empty(0, np.float32)]
 
 

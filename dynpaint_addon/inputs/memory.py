@@ -40,6 +40,9 @@ HEADROOM = 0.9
 # glibc keeps a freed block below its mmap threshold (at most 32 MiB on 64-bit) for reuse
 # instead of giving it back: a phase's temporaries that small stay in the resident set
 STICKY_BYTES = 32 * MiB
+# A read of an image Blender holds keeps its RGBA float buffer for the next read (a stroke
+# reads the shape each dab: imageio._read_buffer), for images up to this many pixels
+READ_BUFFER_PX = 4096 * 4096
 
 
 class NotEnoughMemory(UserError):
@@ -217,4 +220,12 @@ def add_bytes(headers, p, lights, width=None):
     work of the first bake and the derived images (a render's phases), the painting worked
     at `width` (Add's Max Size; None: its shape image's)."""
     pt = painting(headers, p, width)
-    return render_bytes(pt, p, lights) + sum(blender_image_bytes(h) for h in headers.values())
+    return render_bytes(pt, p, lights) + sum(blender_image_bytes(h) for h in headers.values()) \
+        + read_buffer_bytes(headers)
+
+
+def read_buffer_bytes(headers):
+    """The read buffer Add's reads leave kept (READ_BUFFER_PX): the RGBA floats of its
+    largest image whose file has fewer channels than Blender holds (4), if not too large."""
+    return 16 * max((w * h for w, h, c, _, _ in headers.values()
+                     if c < 4 and w * h <= READ_BUFFER_PX), default=0)

@@ -1,4 +1,5 @@
 """Image files: EXR through OpenEXR, PNG through Blender's loader; row order handled once."""
+import bpy
 import numpy as np
 import pytest
 
@@ -6,7 +7,9 @@ from dynpaint_addon import params
 from dynpaint_addon.core.input_rules import ImageData
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.pipeline import render
-from dynpaint_addon.inputs.imageio import ImageReadError, read_image, write_exr, write_png
+from dynpaint_addon.inputs import imageio
+from dynpaint_addon.inputs.imageio import (ImageReadError, image_data_from_blender, read_image,
+                                           write_exr, write_png)
 
 
 def test_exr_round_trip_multichannel_float32(tmp_path, rng):
@@ -82,7 +85,6 @@ def test_bad_files_give_clear_errors(tmp_path):
 @pytest.mark.parametrize("fmt,ext,depth", [("JPEG", "jpg", "8"), ("TIFF", "tif", "8"), ("TIFF", "tif", "16")])
 def test_jpeg_and_tiff_through_blender(tmp_path, fmt, ext, depth):
     """JPEG and 8/16-bit TIFF written by Blender read back y-up with their bit depth."""
-    import bpy
     img = bpy.data.images.new("t", 8, 6, alpha=False, float_buffer=True)
     img.colorspace_settings.name = "Non-Color"
     px = np.zeros((6, 8, 4), np.float32)
@@ -105,15 +107,26 @@ def test_jpeg_and_tiff_through_blender(tmp_path, fmt, ext, depth):
 
 
 def test_reads_that_keep_fewer_channels_than_blender_holds_do_not_share_their_pixels(tmp_path,
-                                                                                     rng):
-    """image_data_from_blender reads a grey or RGB file's RGBA buffer into one buffer it
-    keeps for the next read (a stroke reads the shape each dab): what it returns is a copy,
-    so one read's pixels stay as they were after the next (even a 1 × 1 image's)."""
+                                                                                     rng,
+                                                                                     monkeypatch):
+    """image_data_from_blender reads an image Blender holds (a grey or RGB file's RGBA
+    buffer) into one buffer it keeps for the next read (a stroke reads the shape each dab):
+    what it returns is a copy, so one read's pixels stay as they were after the next (even a
+    1 × 1 image's). A file read_image reads once keeps no buffer (the command line: 256 MiB
+    at 4096²)."""
+    monkeypatch.setattr(imageio, "_READ_BUFFER", [np.empty(0, np.float32)])   # none kept yet
     reads = []
     for i, (h, w, c) in enumerate([(6, 9, 1), (4, 5, 3), (1, 1, 1), (7, 3, 1)]):
         px = rng.uniform(0, 1, (h, w, c))
         write_png(str(tmp_path / f"{i}.png"), px, 16)
-        reads.append((np.round(px * 65535) / 65535, read_image(str(tmp_path / f"{i}.png"))))
+        img = bpy.data.images.load(str(tmp_path / f"{i}.png"))
+        img.colorspace_settings.name = "Non-Color"
+        reads.append((np.round(px * 65535) / 65535, image_data_from_blender(img)))
+    assert imageio._READ_BUFFER[0].size == 9 * 6 * 4          # the largest read's RGBA
     for want, got in reads:
         assert got.pixels.flags.c_contiguous
         np.testing.assert_allclose(got.pixels, want, atol=1e-6)
+    write_png(str(tmp_path / "large.png"), rng.uniform(0, 1, (40, 30, 1)), 16)
+    once = read_image(str(tmp_path / "large.png"))
+    assert once.pixels.flags.c_contiguous and once.pixels.shape == (40, 30, 1)
+    assert imageio._READ_BUFFER[0].size == 9 * 6 * 4          # not grown by a file read once
