@@ -116,12 +116,13 @@ def resample(img, height, width, extension="extend"):
 RESAMPLE_BAND_PIXELS = 1 << 20
 
 
-def _rows_enlarged(a, f, lerp):
+def _rows_enlarged(a, f):
     """resample_separable's pass along the rows of `a` (n ≥ 2 rows) to f·n rows, f a power of
     two, bit for bit (its taps (i + ½)/f − ½ are exact in binary, so every period of f output
     rows takes the same fractions): each output row between two input rows is
     lo + (hi − lo)·frac written straight into the result, hi − lo made once per input row,
-    not gathered per output row — ~4× faster (a draft's t enlarged 8×, §13)."""
+    not gathered per output row: one full-size array made, not three (a draft's t enlarged
+    8×, §13: 128² → 1024² 11 → 5 ms; a sun dragged over a 4096² painting ~0.55 → ~0.33 s)."""
     n, half = a.shape[0], f // 2
     k = np.arange(f, dtype=np.float64)
     # output row j·f + half + m lies between input rows j and j + 1 (m < f), at fraction
@@ -134,10 +135,11 @@ def _rows_enlarged(a, f, lerp):
     np.multiply((a[1:] - lo)[:, None], frac.astype(a.dtype)[(None, slice(None)) + extra],
                 out=body)
     body += lo[:, None]
-    # the rows beyond the first and last centres read those (fraction 0), as the taps clip
-    zero = np.zeros((), a.dtype)
-    out[:half] = lerp(a[0].copy(), a[1].copy(), zero)
-    out[n * f - half:] = lerp(a[-1].copy(), a[-1].copy(), zero)
+    # the rows beyond the first and last centres read those at fraction 0, as the clipped
+    # taps do (the same arithmetic: a non-finite neighbour still makes NaN there)
+    zero = a.dtype.type(0)
+    out[:half] = (a[1] - a[0]) * zero + a[0]
+    out[n * f - half:] = (a[-1] - a[-1]) * zero + a[-1]
     return out
 
 
@@ -172,7 +174,7 @@ def resample_separable(img, height, width, box=None):
     def along_rows(a):          # whole rows copied: cheap even when they multiply
         f = height // h
         if box is None and h > 1 and f >= 2 and f * h == height and f & (f - 1) == 0:
-            return _rows_enlarged(a, f, lerp)
+            return _rows_enlarged(a, f)
         return lerp(a[i0], a[i1], fy)
 
     def along_columns(a):
