@@ -23,7 +23,9 @@ from ..errors import UserError
 
 MiB = 2 ** 20
 # Python, numpy and Blender's module loaded: what a command holds before its first image
+# (bpy 5.0.1; where Blender's module is loaded, what it measured: hold_base)
 BASE_BYTES = 260 * MiB
+_base = [BASE_BYTES]
 # Shading in bands of rows (core.pipeline.RENDER_BAND_PIXELS): its temporaries per pixel
 SHADE_BAND_PX = 1 << 20
 SHADE_BAND_BYTES = 114
@@ -76,6 +78,28 @@ def fits(needed):
     return have is None or needed <= HEADROOM * have
 
 
+def resident_bytes():
+    """This process's resident memory now (Linux: /proc/self/statm), or None where it cannot
+    tell."""
+    try:
+        with open("/proc/self/statm") as fh:
+            return int(fh.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError, AttributeError):
+        return None
+
+
+def hold_base(nbytes):
+    """Estimates made in this process start from `nbytes` (what it holds before its first
+    image, measured when Blender's module was loaded: 264 MiB with bpy 5.0.1, 404 MiB with
+    5.3.0), never less than BASE_BYTES; None keeps BASE_BYTES."""
+    _base[0] = max(BASE_BYTES, nbytes or 0)
+
+
+def base_bytes():
+    """What a command holds before its first image (BASE_BYTES, or hold_base's)."""
+    return _base[0]
+
+
 def check(needed, what, advice):
     """Raise NotEnoughMemory naming both numbers and `advice` when `needed` bytes are more than
     the machine has (less HEADROOM); return `needed`. advice: a line, or a function that
@@ -92,7 +116,7 @@ def check_read(header, name):
     """Refuse to read an image whose decoding would not fit (a decompression bomb, a poster
     scan): header as imageio.image_header gives it, with whether it is an EXR."""
     w, h, c, b, exr = header
-    return check(BASE_BYTES + read_bytes(w, h, c, b, exr)[0], f"reading {name} ({w}×{h})",
+    return check(base_bytes() + read_bytes(w, h, c, b, exr)[0], f"reading {name} ({w}×{h})",
                  "give a smaller image (scale it down in a painting program)")
 
 
@@ -155,7 +179,7 @@ def final_bake_bytes(w, h, shape, lights, offset):
     """The peak of a final bake of `lights` on a prepared shape (w, h) of PREPARE key `shape`:
     the lights bake one after the other, each at its own peak."""
     kept_px = PREPARE[shape][0]
-    return BASE_BYTES + max(bake_bytes(w, h, light, offset, kept_px) for light in lights)
+    return base_bytes() + max(bake_bytes(w, h, light, offset, kept_px) for light in lights)
 
 
 def bake_bytes(w, h, light, offset, kept_px):
@@ -180,14 +204,14 @@ def render_bytes(pt, p, lights):
     if p.shadows.enabled:
         later += [bake_bytes(pt.width, pt.height, light, p.shadows.offset, kept_px) + shadows
                   for light in lights]
-    return BASE_BYTES + pt.kept + max(pt.reading, pt.read_left + prep_px * px + prep_fixed,
+    return base_bytes() + pt.kept + max(pt.reading, pt.read_left + prep_px * px + prep_fixed,
                                       prepared + max(later))
 
 
 def bake_shadow_bytes(pt, p, light):
     """The peak of `bake-shadow`: the shape read and prepared, one light baked, written."""
     kept_px, prep_px, prep_fixed = PREPARE[pt.shape]
-    return BASE_BYTES + pt.kept + max(
+    return base_bytes() + pt.kept + max(
         pt.reading, pt.read_left + prep_px * pt.px + prep_fixed,
         pt.read_left + pt.left(prep_px) + bake_bytes(pt.width, pt.height, light,
                                                      p.shadows.offset, kept_px) + 4 * pt.px)
@@ -211,7 +235,7 @@ DRAWING_CELL, DRAWING_LAYER, DRAWING_FIXED = 176, 255, 150 * MiB
 def drawing_bytes(drawings, layers, width, height):
     """The peak of lighting a drawing: `drawings` distinct drawings over its `layers` lit
     layers, each drawn width × height."""
-    return BASE_BYTES + DRAWING_FIXED + width * height * (drawings * DRAWING_CELL +
+    return base_bytes() + DRAWING_FIXED + width * height * (drawings * DRAWING_CELL +
                                                           layers * DRAWING_LAYER)
 
 

@@ -63,11 +63,17 @@ def image_file(img, name):
     return path, srgb
 
 
+# Cycles' OSL texture() counted t down the image up to Blender 5.1, up it from 5.2 on
+# (blender-notes.md: the images came out upside down)
+TEXTURE_T_DOWN = bpy.app.version < (5, 2, 0)
+
+
 def build_osl_tree(mat, features, images, lights, march, p, tag=""):
     """Replace the material's tree by the OSL Script node (+ output), driven and compiled
     (p: the painting's parameters, for the march's bounds; tag: in the names of the image
     files, a moving painting's drawing)."""
-    src = osl_codegen.generate(describe(features), features, march=march)
+    src = osl_codegen.generate(describe(features), features, march=march,
+                               texture_t_down=TEXTURE_T_DOWN)
     text = bpy.data.texts.get(TEXT_PREFIX + mat.name) or bpy.data.texts.new(TEXT_PREFIX + mat.name)
     text.from_string(src)
     tree = mat.node_tree
@@ -88,6 +94,9 @@ def build_osl_tree(mat, features, images, lights, march, p, tag=""):
             path, srgb = image_file(images[channel], f"{mat.name} {channel}{tag}")
             sock.default_value = path
             script.inputs[channel + "_srgb"].default_value = srgb
+            width, height = images[channel].size
+            script.inputs[channel + "_width"].default_value = width
+            script.inputs[channel + "_height"].default_value = height
         elif name.startswith("light") and name.endswith("_world"):
             i = int(name[5:-6]) - 1
             obj = lights[i]

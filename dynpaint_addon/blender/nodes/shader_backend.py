@@ -119,7 +119,7 @@ class ShaderBackend:
         to_painting = tree.nodes.new("ShaderNodeVectorTransform")
         to_painting.vector_type = "VECTOR" if kind == "sun" else "POINT"
         to_painting.convert_from, to_painting.convert_to = "WORLD", "OBJECT"
-        tree.links.new(where.outputs[0], to_painting.inputs[0])
+        tree.links.new(where.outputs[0], to_painting.inputs["Vector"])
         colour = tree.nodes.new("ShaderNodeCombineXYZ")
         colour.label = f"{obj.name} colour"
         for i in range(3):

@@ -275,11 +275,15 @@ def exact_render_settings(scene, engine):
     scene.view_settings.exposure = 0.0
     scene.view_settings.gamma = 1.0
     r.dither_intensity = 0.0
-    # A user preference, but it decides EEVEE's texel values: under llvmpipe, anisotropic
-    # filtering (2× by default) blurs even 1:1 lookups (a checkerboard comes out 0.33/0.54).
-    # Only the command line and tests set it; the add-on never touches preferences.
+    # Anisotropic filtering (2× by default) decides EEVEE's texel values: under llvmpipe it
+    # blurs even 1:1 lookups (a checkerboard comes out 0.33/0.54). Blender 5.0 reads it from
+    # the user preferences, 5.3 from the scene (the preference is still there, unused by
+    # renders: blender-notes.md). Only the command line and tests set it; the add-on never
+    # touches preferences.
     if bpy.app.background:
         bpy.context.preferences.system.anisotropic_filter = "FILTER_0"
+    if hasattr(r, "anisotropic_filter"):
+        r.anisotropic_filter = "FILTER_0"
 
 
 def output_settings(scene, path):

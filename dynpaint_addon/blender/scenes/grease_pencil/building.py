@@ -2,12 +2,15 @@
 tests' and benchmarks' drawings): filled strokes of plain colours on layers."""
 import bpy
 
+from .reading import material_drawn
+
 
 def fill_material(gp, name, rgb):
     """A fill-only Grease Pencil material of linear colour `rgb` on `gp` → its index."""
     m = bpy.data.materials.new(name)
     bpy.data.materials.create_gpencil_data(m)
-    m.grease_pencil.show_fill, m.grease_pencil.show_stroke = True, False
+    if "show_fill" in material_drawn():      # Blender 5.0–5.2 (5.3: add_fill's attributes)
+        m.grease_pencil.show_fill, m.grease_pencil.show_stroke = True, False
     m.grease_pencil.fill_color = (*rgb, 1.0)
     gp.materials.append(m)
     return len(gp.materials) - 1
@@ -25,6 +28,12 @@ def add_fill(layer, points, material, frame=1, radius=0.005):
         p.radius = radius
     stroke.cyclic = True
     stroke.material_index = material
+    if hasattr(stroke, "fill_id"):
+        # Blender 5.3 fills a stroke and outlines it as the stroke says, not its material
+        # (blender-notes.md): a fill of its own, no outline — what 5.3 makes of a 5.0 file's
+        # stroke in a fill-only material
+        stroke.fill_id = len(drawing.strokes)
+        stroke.hide_stroke = True
 
 
 def build_drawing(scene, drawing, location=(0.0, 0.0, 0.0)):

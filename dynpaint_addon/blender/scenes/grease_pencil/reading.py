@@ -193,7 +193,20 @@ ATTRIBUTE_READS = {"FLOAT_VECTOR": ("vector", np.float32, 3), "FLOAT": ("value",
                    "FLOAT_COLOR": ("color", np.float32, 4)}
 
 
-MATERIAL_DRAWN = ("color", "fill_color", "show_fill", "show_stroke")   # what layer_digests reads
+def material_drawn():
+    """The fields of a Grease Pencil material that decide how its strokes are drawn (what
+    layer_digests reads): colours, and up to Blender 5.2 whether it fills and outlines them —
+    5.3 keeps that on each stroke (fill_id, hide_stroke: STROKE_DRAWN) and deprecates the
+    material's show_fill and show_stroke (blender-notes.md)."""
+    props = bpy.types.MaterialGPencilStyle.bl_rna.properties
+    return tuple(f for f in ("color", "fill_color", "show_fill", "show_stroke")
+                 if not getattr(props[f], "is_deprecated", False))
+
+
+# A drawing's attributes that decide what its strokes draw (those a Blender has: fill_id and
+# hide_stroke since 5.3)
+STROKE_DRAWN = ("position", "radius", "opacity", "material_index", "cyclic", "fill_id",
+                "hide_stroke", "fill_opacity", "fill_color", "vertex_color", "softness")
 
 
 def _plain(value):
@@ -212,7 +225,7 @@ def layer_digests(obj):
             curves = fcurves(m)
             moving = {fc.data_path for fc in curves}
             materials.update(repr((
-                [_plain(getattr(g, f)) for f in MATERIAL_DRAWN
+                [_plain(getattr(g, f)) for f in material_drawn()
                  if f"grease_pencil.{f}" not in moving],
                 [(fc.data_path, fc.array_index, [tuple(k.co) for k in fc.keyframe_points])
                  for fc in curves])).encode())
@@ -224,9 +237,9 @@ def layer_digests(obj):
         for frame in layer.frames:
             digest.update(str(frame.frame_number).encode())
             attributes = frame.drawing.attributes
-            for name in ("position", "radius", "opacity", "material_index", "cyclic"):
-                if name in attributes:
-                    attribute = attributes[name]
+            for name in STROKE_DRAWN:
+                attribute = attributes.get(name)
+                if attribute is not None and attribute.data_type in ATTRIBUTE_READS:
                     field, dtype, size = ATTRIBUTE_READS[attribute.data_type]
                     values = np.empty(len(attribute.data) * size, dtype)
                     attribute.data.foreach_get(field, values)
