@@ -1,10 +1,18 @@
 #!/usr/bin/env bash
-# Create .venv/ at the repo root (Python 3.11 + requirements-dev.txt, which installs this
-# project editable: the `dynpaint` command) unless it is already there and current, and make sure a Chromium is there for the web page's tests (installed
-# with apt-get where this runs as root, as CI does). Safe to run every time: a stamp file
-# records what was installed.
+# Create .venv/ at the repo root (Python 3.11, bpy 5.0.1: the oldest Blender
+# blender_manifest.toml claims) unless it is already there and current, and with --with-newest
+# also .venv-newest/ (Python 3.13, bpy 5.3.0: the newest; README.md, "Tested Blender versions").
+# Both install requirements-dev.txt, whose markers pick each Python's bpy and numpy, and this
+# project editable (the `dynpaint` command). Also make sure a Chromium is there for the web
+# page's tests (installed with apt-get where this runs as root, as CI does). Safe to run every
+# time: a stamp file in each environment records what was installed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+case "${1:-}" in
+  --with-newest) with_newest=1 ;;
+  "") with_newest=0 ;;
+  *) echo "bootstrap: unknown option $1 (use --with-newest, or nothing)" >&2; exit 2 ;;
+esac
 
 # The exported web page is tested in a real browser: Debian's `chromium`, headless, with its
 # software WebGL2. Without root, say what to do instead (README.md, "Tests").
@@ -21,24 +29,37 @@ if ! command -v chromium >/dev/null 2>&1 && ! command -v chromium-browser >/dev/
   fi
 fi
 # what was installed: the requirements and the project's own pyproject.toml (its command)
-stamp=.venv/.requirements-installed
 wanted=$(cat requirements-dev.txt pyproject.toml)
-if [ -x .venv/bin/python ] && [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$wanted" ]; then
-  exit 0
-fi
-py=""
-for cand in python3.11 python3; do
-  if command -v "$cand" >/dev/null 2>&1 && \
-     "$cand" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))' 2>/dev/null; then
-    py=$cand; break
+
+find_python() {   # python$1 on PATH, else pyenv's, else nothing
+  local cand
+  for cand in "python$1" "$(pyenv root 2>/dev/null)"/versions/"$1".*/bin/python"$1"; do
+    if command -v "$cand" >/dev/null 2>&1 && "$cand" -c "import sys; sys.exit(sys.version_info[:2] != tuple(map(int, '$1'.split('.'))))" 2>/dev/null; then
+      echo "$cand"; return
+    fi
+  done
+}
+
+make_env() {      # make_env DIR PYTHON_VERSION WHY
+  local dir=$1 version=$2 why=$3 stamp=$1/.requirements-installed py
+  if [ -x "$dir/bin/python" ] && [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$wanted" ]; then
+    return
   fi
-done
-if [ -z "$py" ]; then
-  echo "bootstrap: Python 3.11 is required (bpy 5.0.1 is built for it); none found on PATH" >&2
-  exit 1
+  py=$(find_python "$version")
+  if [ -z "$py" ]; then
+    echo "bootstrap: Python $version is required for $dir ($why); none found on PATH or in" \
+         "pyenv. Install it (pyenv install $version, uv python install $version, or your" \
+         "package manager) and run this again." >&2
+    exit 1
+  fi
+  echo "bootstrap: creating $dir with $($py --version) and installing requirements-dev.txt" >&2
+  rm -rf "$dir"
+  "$py" -m venv "$dir"
+  "$dir/bin/python" -m pip install --quiet --disable-pip-version-check -r requirements-dev.txt
+  printf '%s\n' "$wanted" > "$stamp"
+}
+
+make_env .venv 3.11 "bpy 5.0.1, the oldest Blender the extension claims"
+if [ "$with_newest" = 1 ]; then
+  make_env .venv-newest 3.13 "bpy 5.3.0, the newest Blender artists run"
 fi
-echo "bootstrap: creating .venv with $($py --version) and installing requirements-dev.txt" >&2
-rm -rf .venv
-"$py" -m venv .venv
-.venv/bin/python -m pip install --quiet --disable-pip-version-check -r requirements-dev.txt
-printf '%s\n' "$wanted" > "$stamp"

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
+pytestmark = pytest.mark.every_blender
 
 from dynpaint_addon import blender, params  # noqa: E402
 from dynpaint_addon.blender.scenes.painting_scene import FACE_CAMERA, exact_camera, exact_render_settings, output_settings  # noqa: E402

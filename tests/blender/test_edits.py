@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
+pytestmark = pytest.mark.every_blender
 
 from dynpaint_addon import params  # noqa: E402
 from dynpaint_addon.blender import headless  # noqa: E402

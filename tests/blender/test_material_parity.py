@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
+pytestmark = pytest.mark.every_blender
 
 from dynpaint_addon.blender import headless  # noqa: E402
 from dynpaint_addon.blender.nodes.build import count_nodes  # noqa: E402

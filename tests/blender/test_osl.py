@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
+pytestmark = pytest.mark.every_blender
 
 from dynpaint_addon.blender import headless  # noqa: E402
 from dynpaint_addon.blender.scenes.painting_scene import exact_render_settings, output_settings  # noqa: E402

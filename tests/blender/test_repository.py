@@ -16,6 +16,7 @@ BLENDER_EXT = os.path.join(bpy.utils.system_resource("SCRIPTS"), "addons_core", 
                            "blender_ext.py")
 
 
+@pytest.mark.every_blender
 def test_manifest_validates():
     res = subprocess.run([sys.executable, BLENDER_EXT, "validate", REPO], capture_output=True, text=True)
     assert res.returncode == 0 and "Success" in res.stdout, res.stdout + res.stderr
@@ -40,6 +41,7 @@ def test_built_zip_excludes_dev_files(tmp_path):
     assert "sample_scenes/make_samples.py" not in names
     assert not [n for n in names if n.endswith(".oso")]       # compiled where needed
     for dev in ("tests/", "testkit/", ".ci/", "scripts/", "benchmarks/", "docs/", ".venv/",
+                ".venv-newest/",
                 "requirements-dev.txt",
                 "pytest.ini", "__pycache__"):
         assert not any(n.startswith(dev) or f"/{dev}" in n for n in names), dev
@@ -71,6 +73,7 @@ print("BLINK", bpy.context.scene.frame_end)
 """
 
 
+@pytest.mark.every_blender
 def test_built_zip_installs_headless_and_adds_a_painting(tmp_path):
     """The extension as artists get it: install the zip, enable it, Add › Dynamic Painting."""
     from parity_recipes import write_images
@@ -124,6 +127,7 @@ print("ERRORS", [e for e in sys.modules[MOD + ".dynpaint_addon.blender.state.sta
 """
 
 
+@pytest.mark.every_blender
 def test_enabling_and_disabling_the_extension_leaves_nothing_behind(tmp_path):
     """Disable/enable the installed extension three times: no handler left while disabled,
     exactly one of each after, the painting's drivers neither lost nor duplicated."""
@@ -155,6 +159,9 @@ def test_ci_runs_the_readme_test_command_exactly():
     assert len(tests_cmd) == 1
     ci = open(os.path.join(REPO, ".ci", "run")).read()
     assert tests_cmd[0].strip() in [ln.strip() for ln in ci.splitlines()]
+    # both ends of the Blender versions the manifest claims (README.md, "Tested Blender versions")
+    assert ".venv/bin/python -m pytest -q tests" in tests_cmd[0]
+    assert ".venv-newest/bin/python -m pytest -q -m every_blender tests" in tests_cmd[0]
     assert any(".venv/bin/dynpaint turntable" in c for c in commands)      # the main job
 
 
@@ -168,4 +175,5 @@ def test_no_compiled_shader_is_committed():
 
 
 def test_venv_is_ignored():
-    assert ".venv/" in open(os.path.join(REPO, ".gitignore")).read().split()
+    ignored = open(os.path.join(REPO, ".gitignore")).read().split()
+    assert ".venv/" in ignored and ".venv-newest/" in ignored

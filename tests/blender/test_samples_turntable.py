@@ -101,19 +101,29 @@ def test_sample_generator_reproduces_the_committed_samples(tmp_path):
             assert a.shape == b.shape and float(np.abs(a - b).max()) <= 2 / 255, (sample.id, name)
 
 
-@pytest.mark.parametrize("sample", ["portrait", "glass", "impossible", "window"])
-def test_each_sample_renders_in_cycles_as_the_core_renders_it(sample, tmp_path):
+# Cycles is the core but for float32 UV error on steep cliffs (the head against its canvas, the
+# bottle's rim: a few pixels, docs/material-numbers.md); EEVEE works in half float (p99.9
+# 0.45–1.9e-3 on these samples, the same on Blender 5.0.1 and 5.3.0), within the material's
+# parity promise of 3e-3 (test_material_parity.py).
+SAMPLE_TOLERANCE = {"cycles": {"p99.9": 1e-3, "mean": 1e-4, "max": 1.0},
+                    "eevee": {"p99.9": 2e-3, "mean": 1e-3, "max": 3e-3}}
+
+
+@pytest.mark.every_blender
+@pytest.mark.parametrize("engine", list(SAMPLE_TOLERANCE))
+@pytest.mark.parametrize("sample", ["portrait", "glass", "impossible", "window", "blink"])
+def test_each_sample_renders_as_the_core_renders_it(sample, engine, tmp_path):
     recipe = recipe_path(sample)
-    for engine in ("numpy", "cycles"):
-        res = run_cli("render", recipe, "--engine", engine, "--out", tmp_path / f"{engine}.exr")
+    for name in ("numpy", engine):
+        res = run_cli("render", recipe, "--engine", name, "--out", tmp_path / f"{name}.exr")
         assert res.returncode == 0, res.stderr
     want = read_image(str(tmp_path / "numpy.exr")).pixels
-    got = read_image(str(tmp_path / "cycles.exr")).pixels
+    got = read_image(str(tmp_path / f"{engine}.exr")).pixels
     err = np.abs(got - want)[1:-1, 1:-1]
-    # Steep cliffs (the head against its canvas, the bottle's rim) move by float32 UV error in
-    # a few pixels (docs/material-numbers.md); everywhere else Cycles is the core.
-    assert float(np.percentile(err, 99.9)) <= 1e-3 and float(err.mean()) <= 1e-4, \
-        (sample, float(err.max()), float(np.percentile(err, 99.9)), float(err.mean()))
+    measured = {"p99.9": float(np.percentile(err, 99.9)), "mean": float(err.mean()),
+                "max": float(err.max())}
+    assert all(measured[k] <= bound for k, bound in SAMPLE_TOLERANCE[engine].items()), \
+        (sample, engine, measured)
 
 
 class MenuLayout:
