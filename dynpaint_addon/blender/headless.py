@@ -209,6 +209,20 @@ def turntable_light(lights, mat, scene, name=None):
         (r if chosen.kind == "point" else 1.0)
 
 
+VIDEO_MIN_PX = 16      # H.264 (the command line's --size asks for as much)
+
+
+def video_size(width, height, notes=None):
+    """The size a video of a width × height painting is rendered at: its own where H.264
+    encodes it (even, at least VIDEO_MIN_PX each way), else the nearest larger that is, the
+    painting letterboxed in it and said through `notes` (as for build_recipe_scene)."""
+    w, h = (max(VIDEO_MIN_PX, n + n % 2) for n in (width, height))
+    if (w, h) != (width, height) and notes is not None:
+        notes([f"the video is {w}×{h}: H.264 needs even sizes of at least {VIDEO_MIN_PX} px, "
+               f"and the painting is {width}×{height} (letterboxed, antialiased)"])
+    return w, h
+
+
 def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevation=None,
                      light_name=None, clockwise=False, samples=None, fps=24, progress=print,
                      notes=None, grease_pencil=None):
@@ -232,7 +246,7 @@ def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevati
         plane, mat = build_recipe_scene(recipe, notes=notes)
     scene = bpy.context.scene
     image_size = painting_size(mat)
-    w, h = size or image_size
+    w, h = size or video_size(*image_size, notes)
     fit_camera(scene, plane, w, h)
     samples = video_render_settings(scene, engine, samples, exact=(w, h) == image_size)
     # a layered file (.ora, a folder of layers) names no light: the default sun lights it;

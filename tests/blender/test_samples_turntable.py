@@ -296,6 +296,21 @@ def test_turntable_command_writes_a_video_with_progress(engine, sample, tmp_path
     assert clip.frame_duration == 3 and tuple(clip.size) == (64, 48)
 
 
+@pytest.mark.parametrize("size, video", [(75, (76, 76)), (1, (16, 16))])
+def test_a_painting_of_any_size_turns_into_a_video_and_says_its_size(size, video, tmp_path):
+    """H.264 encodes only even sizes (and Blender's writer none below 16 px): a painting of
+    another size is letterboxed into the nearest larger that encodes, with a note, never a
+    traceback after the lighting work (issue 59)."""
+    res = run_cli("make-test-painting", "--size", size, tmp_path / "p")
+    assert res.returncode == 0, res.stderr
+    out = tmp_path / "t.mp4"
+    res = run_cli("turntable", tmp_path / "p" / "painting.toml", "--frames", "2", "--out", out)
+    assert res.returncode == 0 and "Traceback" not in res.stderr, res.stderr[-2000:]
+    assert f"note: the video is {video[0]}×{video[1]}: H.264 needs even sizes" in res.stderr
+    clip = bpy.data.movieclips.load(str(out))
+    assert clip.frame_duration == 2 and tuple(clip.size) == video
+
+
 def test_a_turntable_framed_pixel_for_pixel_renders_the_exact_image_at_one_sample(empty_scene):
     """At the shape image's size one sample at each pixel centre is the exact image (the
     parity renders' settings, opaque); another size is antialiased."""
