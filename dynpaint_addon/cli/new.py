@@ -9,6 +9,7 @@ gets a [[layers]] recipe (layered_files' reading: depths from the stack, each pl
 shaded dark image and inflated shape written to `made/`).
 """
 import os
+import shlex
 
 from .. import params
 from ..core.input_rules import input_notes
@@ -57,7 +58,8 @@ def cmd_new(args):
         print(f"made {_shown(path)}")
     what = f"{len(recipe.layers)} layers" if recipe.layered else \
         ", ".join(recipe.images)
-    print(f"wrote {_shown(out)} ({what}): try `dynpaint render {_shown(out)} --out render.png`")
+    print(f"wrote {_shown(out)} ({what}): try `dynpaint render {shlex.quote(_shown(out))} "
+          f"--out render.png`")      # quoted: a path with a space pastes as one word
 
 
 def _shown(path):
@@ -67,7 +69,8 @@ def _shown(path):
 
 
 def _header(folder):
-    return [f"# Dynamic Painting recipe, started by `dynpaint new {os.path.basename(folder)}`:",
+    return [f"# Dynamic Painting recipe, started by `dynpaint new "
+            f"{shlex.quote(os.path.basename(folder))}`:",
             "# what it guessed is said beside each key. Change anything; every key is listed",
             "# by `dynpaint params` (docs/parameters.md shows each with pictures)."]
 

@@ -23,6 +23,7 @@ images, or the layers of a scene — one rule for the command line and the add-o
 """
 import os
 import re
+import shlex
 from dataclasses import dataclass, field
 
 from ..errors import UserError
@@ -151,7 +152,7 @@ def painting_recipe_data(path):
     if not reading.has_shape:
         raise FolderError(
             f"{path}: no shape image (a file named …normal… or …height…): let `dynpaint new "
-            f"{path}` make one from the painting's silhouette, or make it yourself: `dynpaint "
-            f"make-shape inflate {painted_image(path, reading)} --out "
-            f"{os.path.join(path, 'height.exr')}`")
+            f"{shlex.quote(path)}` make one from the painting's silhouette, or make it yourself: "
+            f"`dynpaint make-shape inflate {shlex.quote(painted_image(path, reading))} --out "
+            f"{shlex.quote(os.path.join(path, 'height.exr'))}`")
     return reading.data, reading.notes

@@ -3,6 +3,8 @@ meant, on the command line as a newcomer types it — `dynpaint` from any folder
 new`, folders read as the painting they hold, a default sun, notes that are right on real
 files (testkit/artist_folders.py makes them)."""
 import os
+import re
+import shlex
 import shutil
 import subprocess
 import sys
@@ -104,6 +106,23 @@ def test_new_makes_the_shape_of_a_painting_that_has_none(folders, tmp_path):
     heights = read_image(str(folder / "pear_height.exr")).pixels
     assert heights.max() > 0.1 and heights[0, 0, 0] == 0           # inflated inside only
     assert run_cli("render", folder, "--out", tmp_path / "y.png").returncode == 0
+
+
+def test_a_suggested_command_pastes_whole_where_a_path_has_a_space(folders, tmp_path):
+    """Issue 59: the commands the messages suggest quote their paths, so one pasted into a
+    shell runs as said (here: split as a shell would, then run)."""
+    folder = tmp_path / "my pear"
+    folder.mkdir()
+    shutil.copy(os.path.join(folders["cutout"], "pear.png"), folder / "pear_lit.png")
+    res = run_cli("render", folder, "--out", tmp_path / "x.png")
+    suggested = re.findall(r"`dynpaint (new [^`]*)`", res.stderr)
+    assert res.returncode == 1 and suggested, res.stderr
+    res = run_cli(*shlex.split(suggested[0]))
+    assert res.returncode == 0, res.stderr
+    suggested = re.findall(r"`dynpaint (render [^`]*)`", res.stdout)
+    assert suggested and "'" in suggested[0], res.stdout
+    res = run_cli(*shlex.split(suggested[0]), cwd=tmp_path)
+    assert res.returncode == 0 and (tmp_path / "render.png").exists(), res.stderr
 
 
 def test_a_full_frame_painting_takes_a_shape_made_from_a_painted_mask(folders, tmp_path):
