@@ -10,11 +10,12 @@ shaded dark image and inflated shape written to `made/`).
 """
 import os
 import shlex
+import tempfile
 
 from .. import params
 from ..core.input_rules import input_notes
 from ..core.lights import DEFAULT_SUN_DIRECTION
-from ..errors import CommandError
+from ..errors import CommandError, UserError
 from ..inputs.imageio import read_image, write_exr, write_png
 from ..inputs.layered_files import read_folder, scene_from_file_layers
 from ..inputs.painting_folder import (RECIPE_NAME, folder_kind, painted_image, read_painting_folder,
@@ -41,19 +42,35 @@ def cmd_new(args):
         raise CommandError(f"{folder} holds a recipe already ({recipe_in(folder)}): render it "
                            f"as it is")
     base = os.path.dirname(out)
-    if kind == "layers":
-        lines, made, notes = _layers_recipe(folder, base)
-    else:
-        lines, made, notes = _painting_recipe(folder, base)
-    with open(out, "w", encoding="utf-8") as fh:
-        fh.write("\n".join(lines) + "\n")
-    recipe = load_recipe(out)          # what every command will read: checked now
-    if not recipe.layered:
-        notes += input_notes(load_images(recipe), recipe.params)
+    made = []
+    # A failing `new` writes nothing (issue 59): the recipe is written beside its place,
+    # checked as every command will read it, and only then put there; images it made go.
+    fd, draft = tempfile.mkstemp(prefix=f".{os.path.basename(out)}.", suffix=".toml", dir=base)
+    try:
+        if kind == "layers":
+            lines, made, notes = _layers_recipe(folder, base)
+        else:
+            lines, made, notes = _painting_recipe(folder, base)
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fd = None
+            fh.write("\n".join(lines) + "\n")
+        recipe = load_recipe(draft)        # what every command will read: checked now
+        if not recipe.layered:
+            notes += input_notes(load_images(recipe), recipe.params)
+        if notes:                          # … and kept with the recipe, for later
+            with open(draft, "a", encoding="utf-8") as fh:
+                fh.write("\n# What new noticed:\n" + "".join(f"#   {n}\n" for n in notes))
+        os.replace(draft, out)
+    except BaseException as exc:
+        if fd is not None:
+            os.close(fd)
+        for path in [draft, *made]:
+            if os.path.isfile(path):
+                os.remove(path)
+        if isinstance(exc, UserError):     # said of the recipe it would have written
+            raise CommandError(str(exc).replace(draft, out)) from None
+        raise
     print_notes(notes)
-    if notes:                          # … and kept with the recipe, for later
-        with open(out, "a", encoding="utf-8") as fh:
-            fh.write("\n# What new noticed:\n" + "".join(f"#   {n}\n" for n in notes))
     for path in made:
         print(f"made {_shown(path)}")
     what = f"{len(recipe.layers)} layers" if recipe.layered else \

@@ -108,6 +108,20 @@ def test_new_makes_the_shape_of_a_painting_that_has_none(folders, tmp_path):
     assert run_cli("render", folder, "--out", tmp_path / "y.png").returncode == 0
 
 
+def test_a_failing_new_writes_nothing(tmp_path):
+    """Issue 59: `new` on a folder it cannot make a painting of (a normal map and nothing
+    painted) says why of the recipe it would have written, and leaves the folder as it was:
+    no half recipe that the next `new` refuses to replace without --force."""
+    folder = tmp_path / "pear"
+    folder.mkdir()
+    write_png(folder / "pear_normal.png", np.full((32, 32, 3), 0.5) + [0, 0, 0.5])
+    for _ in range(2):
+        res = run_cli("new", folder)
+        assert res.returncode == 1 and "Traceback" not in res.stderr, res.stderr
+        assert f"{folder / 'painting.toml'}: images.dark: missing" in res.stderr, res.stderr
+        assert sorted(os.listdir(folder)) == ["pear_normal.png"]
+
+
 def test_a_suggested_command_pastes_whole_where_a_path_has_a_space(folders, tmp_path):
     """Issue 59: the commands the messages suggest quote their paths, so one pasted into a
     shell runs as said (here: split as a shell would, then run)."""
