@@ -46,13 +46,13 @@ def cmd_new(args):
     # A failing `new` writes nothing (issue 59): the recipe is written beside its place,
     # checked as every command will read it, and only then put there; images it made go.
     fd, draft = tempfile.mkstemp(prefix=f".{os.path.basename(out)}.", suffix=".toml", dir=base)
+    os.close(fd)
     try:
         if kind == "layers":
             lines, made, notes = _layers_recipe(folder, base)
         else:
             lines, made, notes = _painting_recipe(folder, base)
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fd = None
+        with open(draft, "w", encoding="utf-8") as fh:
             fh.write("\n".join(lines) + "\n")
         recipe = load_recipe(draft)        # what every command will read: checked now
         if not recipe.layered:
@@ -62,8 +62,6 @@ def cmd_new(args):
                 fh.write("\n# What new noticed:\n" + "".join(f"#   {n}\n" for n in notes))
         os.replace(draft, out)
     except BaseException as exc:
-        if fd is not None:
-            os.close(fd)
         for path in [draft, *made]:
             if os.path.isfile(path):
                 os.remove(path)

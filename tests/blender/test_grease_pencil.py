@@ -344,8 +344,9 @@ def test_the_command_line_renders_a_blend_files_drawing_lit(tmp_path):
     """`render FILE.blend --grease-pencil OBJECT --frame N`: the drawing lit as the add-on
     lights it, the frame's drawing (the disc where frame 2 puts it), numpy, Cycles and EEVEE
     alike (within 2e-3; EEVEE within its parity promise, 3e-3: on Blender 5.3 one edge
-    pixel's alpha is 2.2e-3 off, 4.9e-4 on 5.0, its colours the same); a wrong object name is one clear line naming the file's drawings, a
-    width whose drawings would not fit in memory one line with both numbers."""
+    pixel's alpha is 2.2e-3 off, 4.9e-4 on 5.0, its colours the same); a wrong object name
+    is one clear line naming the file's drawings, a width whose drawings would not fit in
+    memory one line with both numbers."""
     blend = saved_drawing(tmp_path, rolling_disc)
     outs = {}
     for engine in ("numpy", "cycles", "eevee"):

@@ -109,16 +109,30 @@ SAMPLE_TOLERANCE = {"cycles": {"p99.9": 1e-3, "mean": 1e-4, "max": 1.0},
                     "eevee": {"p99.9": 2e-3, "mean": 1e-3, "max": 3e-3}}
 
 
+@pytest.fixture(scope="module")
+def core_renders(tmp_path_factory):
+    """{sample: the numpy core's render}, each rendered once for both engines' tests."""
+    folder, renders = tmp_path_factory.mktemp("core"), {}
+
+    def render(sample):
+        if sample not in renders:
+            out = folder / f"{sample}.exr"
+            res = run_cli("render", recipe_path(sample), "--engine", "numpy", "--out", out)
+            assert res.returncode == 0, res.stderr
+            renders[sample] = read_image(str(out)).pixels
+        return renders[sample]
+    return render
+
+
 @pytest.mark.every_blender
 @pytest.mark.parametrize("engine", list(SAMPLE_TOLERANCE))
 @pytest.mark.parametrize("sample", ["portrait", "glass", "impossible", "window", "blink"])
-def test_each_sample_renders_as_the_core_renders_it(sample, engine, tmp_path):
-    recipe = recipe_path(sample)
-    for name in ("numpy", engine):
-        res = run_cli("render", recipe, "--engine", name, "--out", tmp_path / f"{name}.exr")
-        assert res.returncode == 0, res.stderr
-    want = read_image(str(tmp_path / "numpy.exr")).pixels
-    got = read_image(str(tmp_path / f"{engine}.exr")).pixels
+def test_each_sample_renders_as_the_core_renders_it(sample, engine, core_renders, tmp_path):
+    out = tmp_path / f"{engine}.exr"
+    res = run_cli("render", recipe_path(sample), "--engine", engine, "--out", out)
+    assert res.returncode == 0, res.stderr
+    want = core_renders(sample)
+    got = read_image(str(out)).pixels
     err = np.abs(got - want)[1:-1, 1:-1]
     measured = {"p99.9": float(np.percentile(err, 99.9)), "mean": float(err.mean()),
                 "max": float(err.max())}
