@@ -1,6 +1,6 @@
-"""Generate docs/your-painting.md: the first hour on the command line (issues 27, 38) — a folder
-of a painting's images to a render, a turntable and a web page with `dynpaint new` and the
-README alone. The commands run here as a user types them (`.venv/bin/dynpaint` from the
+"""Generate docs/your-painting.md: the first hour on the command line (issues 27, 38, 59) — a
+sprite and its normal map, then a folder of a painting's images, to a render, a turntable and
+a web page with `dynpaint new` and the README alone. The commands run here as a user types them (`.venv/bin/dynpaint` from the
 painting's own folder, no PYTHONPATH), and the pictures show what each one wrote.
 
     .venv/bin/python docs/make_walkthrough.py        # ≈ 20 s (needs Chromium for the page)
@@ -18,7 +18,11 @@ REPO = os.path.dirname(DOCS)
 sys.path.insert(0, REPO)
 
 from dynpaint_addon.inputs.imageio import read_image, write_png        # noqa: E402
+from dynpaint_addon.core.lights import Light          # noqa: E402
+from dynpaint_addon.core.pipeline import render as core_render        # noqa: E402
+from dynpaint_addon.inputs.recipe import load_images, load_recipe        # noqa: E402
 from testkit.chromium import find_chromium           # noqa: E402
+from testkit.sprite_sets import sprite_illuminator   # noqa: E402
 
 PX = 256
 DYNPAINT = os.path.join(os.path.dirname(sys.executable), "dynpaint")
@@ -84,10 +88,36 @@ def screenshot(page, path):
     return read_image(path).pixels
 
 
+# Where the light comes from in the sprite's pictures (toward the light, §0)
+SPRITE_LIGHTS = {"left": (-0.8, 0.1, 0.6), "above": (0.0, 0.75, 0.66), "right": (0.8, -0.1, 0.6)}
+
+
+def sprite_section(work):
+    """A SpriteIlluminator sprite and its map (testkit.sprite_sets) through `new` and `render`,
+    and the recipe lit from three sides → (what the commands said, {picture: pixels})."""
+    made = sprite_illuminator(work, 192)
+    folder = os.path.basename(made.folder)
+    said = run(work, "new", folder) + "\n" + run(work, "render", folder, "--out", "knight.png")
+    colour = read_image(os.path.join(made.folder, "knight.png")).pixels
+    normal = read_image(os.path.join(made.folder, "knight_n.png")).pixels
+    tiles = {"sprite.png": over_white(colour), "sprite_n.png": over_white(normal),
+             "sprite_render.png": over_white(read_image(os.path.join(work, "knight.png"))
+                                             .pixels)}
+    recipe = load_recipe(os.path.join(made.folder, "painting.toml"))
+    images = load_images(recipe)
+    for side, vector in SPRITE_LIGHTS.items():
+        rgba = core_render(images, [Light("sun", vector)], recipe.params).rgba
+        straight = rgba[..., :3] / np.maximum(rgba[..., 3:], 1e-6)
+        lit = np.dstack([np.clip(straight, 0, 1) ** (1 / 2.2), rgba[..., 3]])
+        tiles[f"sprite_{side}.png"] = over_white(lit)
+    return folder, said, tiles
+
+
 def main(out=DOCS):
     pictures = os.path.join(out, "img", "walkthrough")
     os.makedirs(pictures, exist_ok=True)
     with tempfile.TemporaryDirectory() as work:
+        sprite_folder, said_sprite, sprite_tiles = sprite_section(work)
         folder = os.path.join(work, "pear")       # the artist's folder, as it arrives
         os.makedirs(folder)
         bright, dark = pear()
@@ -120,10 +150,50 @@ def main(out=DOCS):
              "render.png": over_white(render), "page.png": shot,
              "still.png": np.dstack([full, np.ones(mask.shape)]),
              "figure.png": np.dstack([mask, mask, mask, np.ones(mask.shape)]),
-             "still_height.png": _grey(still_height), "still_render.png": over_white(still_render)}
+             "still_height.png": _grey(still_height), "still_render.png": over_white(still_render),
+             **sprite_tiles}
     for name, px in tiles.items():
         write_png(os.path.join(pictures, name), np.clip(px, 0, 1), bits=8)
-    page = f"""# Your own painting, from a folder of files to a web page (command line)
+    page = f"""# You have a sprite and its normal map
+
+Every 2D-lighting tool and engine keeps a sprite as **one colour image and its normal map**.
+Put the two in a folder as your tool wrote them and start a recipe from it: the colour image
+is lit as an albedo — colour × (ambient + light) — its alpha is the figure, the map's green
+is read the way its slopes fit, and shadows are on.
+
+| the sprite (`{sprite_folder}/knight.png`) | its normal map (`knight_n.png`) | `dynpaint render` | lit from the left | from above | from the right |
+|---|---|---|---|---|---|
+| ![](img/walkthrough/sprite.png) | ![](img/walkthrough/sprite_n.png) | ![](img/walkthrough/sprite_render.png) | ![](img/walkthrough/sprite_left.png) | ![](img/walkthrough/sprite_above.png) | ![](img/walkthrough/sprite_right.png) |
+
+```sh
+dynpaint new {sprite_folder}
+dynpaint render {sprite_folder} --out knight.png
+```
+```
+{said_sprite}
+```
+
+What each tool writes, and what is read of it (the files of each were tried: `testkit/sprite_sets.py`
+makes them, `benchmarks/artists_files.py` measures public ones):
+
+| tool | its files | green | what Dynamic Painting reads |
+|---|---|---|---|
+| SpriteIlluminator | `knight.png` + `knight_n.png`; its sheets with TexturePacker | up | the pair by their names; the sprite's alpha is the figure |
+| Sprite Lamp | `knight.png` + `knight_Normal.png` (opaque), `_Depth`, `_AO`, … | up | the normal map (a depth map only without one); the other maps are said not used |
+| Laigter | `knight.png` + `knight_n.png`, `_s`, `_o`, `_p` | up | the `_n` map; `_s` (specular), `_o` (occlusion), `_p` (parallax) said not used |
+| Godot | `logo.png` + `logo_normal.png` (or `_n`) | its 2D lights demo's map: **down** | read down: its slopes fit a height field that way (circulation 0.41 per image width, 10.28 the other way) |
+| Unity | `Knight_Albedo.png` + `Knight_Normal.png`, or a sprite's secondary texture `_n` | up | the names' words; a two-channel map (blue 0) as x, y |
+| Phaser | `brick.jpg` + `brick_n.png`, `skull-n.png`; Phaser 3 multiatlases | up | the pair; JPEG colour; the atlas's frames |
+| TexturePacker | `sheet.json` + `sheet.png` + `sheet_n.png` (hash, array, Phaser 3 multiatlas) | — | each frame it lists at its source size (trimmed borders put back, rotated frames turned back), written to `made/` as numbered frames: a painting that moves |
+| Blender bake | `head.png` + `head_normal.png`: (0, 0, 0, 0) outside, the rim blended with black | up | uncovered pixels flat, the rim divided by its alpha: no wall of shadow round the figure |
+| any, animated | `01.png` + `01_n.png` … `08_n.png` | — | a painting that moves (`##.png`, `##_n.png`) |
+
+A map read the other way from what your tool meant: set `shape.flip_green` in the recipe (a
+`note:` says when the map fits the other way better). A flat look (the light changing
+nothing): `diffuse.ambient = 1`. Two hand-painted images, dark and lit (the paper's way), are
+mixed by the light instead ([the next section](#your-own-painting-from-a-folder-of-files-to-a-web-page-command-line)).
+
+# Your own painting, from a folder of files to a web page (command line)
 
 Made by `docs/make_walkthrough.py`, which runs these commands as you would type them, from
 the folder that holds your painting's folder (the output shown is theirs, timings left out).

@@ -176,6 +176,11 @@ PARAMS = (
       "mixes the colours as painted (display sRGB values, as the paper and the painter's screen "
       "do), linear mixes linear light (mid-tones come out lighter than painted)",
       choices=MIX_SPACES, spec="§5", label="Mix Colours", structural=True),
+    P("diffuse", "ambient", float, 0.2, "A painting of one colour image (a sprite beside its "
+      "normal map) is lit as an albedo, colour × (ambient + (1 − ambient) × light): how much "
+      "of its colour shows where no light falls; 1 = flat, the light changes nothing. A "
+      "painting with a dark and a bright image mixes them instead", min=0.0, max=1.0,
+      spec="§1, §5"),
     P("falloff", "mode", "enum", "none", "How point lights fade with distance: none (the "
       "paper's lights: as strong everywhere) or inverse square with a radius, "
       "k / (1 + (distance/radius)²); suns never fade", choices=FALLOFFS, spec="§5",

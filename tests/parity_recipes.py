@@ -78,6 +78,7 @@ def write_images(folder):
     save("dark.png", dark)
     save("bright.png", bright)
     save("dark_alpha.png", np.concatenate([dark, alpha[..., None]], -1))
+    save("bright_alpha.png", np.concatenate([bright, alpha[..., None]], -1))
     save("spec.png", np.stack([1 - 0.3 * x, 0.9 + 0.1 * y, 0.7 + 0.3 * x], -1))
     save("gloss.png", 0.4 + 0.6 * np.clip(np.sin(np.pi * x) * np.sin(np.pi * y) * 1.2, 0, 1))
     k = np.clip(1.4 * np.exp(-((x - 0.5) ** 2 + (y - 0.5) ** 2) / 0.08), 0, 1)
@@ -173,6 +174,9 @@ RECIPES = {
                                     {"silhouette.source": "dark"}, [SUN]),
     "flip_green_zmin": (BASE, {"shape.flip_green": True, "shape.z_min": 0.6}, [SUN]),
     "one_image_no_light": ({"shape": "normal", "dark": "dark"}, {}, []),
+    # a sprite and its normal map (§1): the colour image an albedo, its alpha the figure
+    "sprite_colour_alpha": ({"shape": "normal", "bright": "bright_alpha"},
+                            {"diffuse.ambient": 0.3, "shadows.enabled": True}, [SUN]),
     "normal_two_channel": ({**BASE, "shape": "normal_rg"}, {}, [SUN]),       # encoding auto
     "view_weight": (BASE, {"view.show": "W"},
                     [_sun((-0.7, 0.2, 0.5), (1.0, 0.5, 0.3), 0.8, "Key"),
@@ -217,11 +221,11 @@ RECIPES = {
 
 
 # §12: a pruned tree against the full tree fed the documented neutral defaults (core/pipeline.py):
-# bright := dark, white specular colour and gloss, a transparency map of 1 under the slider,
+# bright := dark (one colour image at ambient 1, §1), white specular colour and gloss, a transparency map of 1 under the slider,
 # an opaque silhouette, and the background standing in for the environment (C_M := C_T, exact
 # here because the warp distances are 0, so both lookups read the same texel).
 PRUNED = ({"shape": "normal", "dark": "dark", "background": "env"},
-          {"specular.enabled": True, "transparency.amount": 0.6, "refraction.distance": 0.0,
+          {"specular.enabled": True, "transparency.amount": 0.6, "diffuse.ambient": 1.0, "refraction.distance": 0.0,
            "reflection.distance": 0.0, "reflection.extension": "extend"}, [SUN])
 FULL_WITH_DEFAULTS = ({"shape": "normal_opaque_alpha", "dark": "dark", "bright": "dark",
                        "specular_color": "white", "gloss": "white", "transparency": "white",

@@ -9,8 +9,10 @@ gets a [[layers]] recipe (layered_files' reading: depths from the stack, each pl
 shaded dark image and inflated shape written to `made/`).
 """
 import os
+import re
 import shlex
 import tempfile
+from collections import Counter
 
 from .. import params
 from ..core.input_rules import input_notes
@@ -18,8 +20,10 @@ from ..core.lights import DEFAULT_SUN_DIRECTION
 from ..errors import CommandError, UserError
 from ..inputs.imageio import read_image, write_exr, write_png
 from ..inputs.layered_files import read_folder, scene_from_file_layers
-from ..inputs.painting_folder import (RECIPE_NAME, folder_kind, painted_image, read_painting_folder,
-                               recipe_in)
+from ..core.map_convention import green_reading
+from ..inputs.atlas import atlas_in, cut_frame
+from ..inputs.painting_folder import (RECIPE_NAME, FolderReading, folder_kind, images_in,
+                                      painted_image, read_painting_folder, recipe_in)
 from ..inputs.recipe import load_images, load_recipe, toml_value
 from ..shapes.maker import SHAPE_READS
 from ..shapes.methods import make_shape
@@ -41,6 +45,8 @@ def cmd_new(args):
     if kind == "recipe" and os.path.abspath(recipe_in(folder)) != out:
         raise CommandError(f"{folder} holds a recipe already ({recipe_in(folder)}): render it "
                            f"as it is")
+    if kind == "recipe":                 # --force: what the folder is, its recipe aside
+        kind = folder_kind(folder, recipes=False)
     base = os.path.dirname(out)
     made = []
     # A failing `new` writes nothing (issue 59): the recipe is written beside its place,
@@ -50,6 +56,8 @@ def cmd_new(args):
     try:
         if kind == "layers":
             lines, made, notes = _layers_recipe(folder, base)
+        elif kind == "atlas":
+            lines, made, notes = _atlas_recipe(folder, base)
         else:
             lines, made, notes = _painting_recipe(folder, base)
         with open(draft, "w", encoding="utf-8") as fh:
@@ -96,7 +104,7 @@ def _section(title, values, reasons, prefix=""):
     for key, value in values.items():
         line = f"{key} = {toml_value(value)}"
         why = reasons.get(f"{prefix}{key}")
-        lines.append(f"{line:<34}# {why}" if why else line)
+        lines.append(f"{line:<33} # {why}" if why else line)
     return lines
 
 
@@ -107,11 +115,69 @@ def _light_lines():
             "strength = 1.0", 'name = "Key"']
 
 
-def _painting_recipe(folder, base):
-    """A folder of one painting → (recipe lines, files made)."""
-    reading = read_painting_folder(folder)
+def _atlas_recipe(folder, base):
+    """A folder of a texture atlas → (recipe lines, files made): each frame it lists cut from
+    its sheets at its source size and written to made/; the frames of one size are the
+    painting (numbered frames that move, §16), a sprite of another size gets a folder of its
+    own in made/ that `new` starts."""
+    path, frames = atlas_in(folder, images_in(folder))
+    stem = os.path.splitext(os.path.basename(path))[0].replace(" ", "_")
+    sizes = Counter(f.source for f in frames)
+    size = max(sizes, key=lambda wh: (sizes[wh], wh[0] * wh[1]))
+    shown = [f for f in frames if f.source == size]
+    if not shown[0].normal_map:
+        raise CommandError(f"{path}: its sheet {shown[0].image} has no normal-map sheet beside "
+                           f"it (named like {os.path.splitext(shown[0].image)[0]}_n.png)")
+    sheets = {}
+
+    def write(frame, out_stem):
+        written = []
+        for sheet, suffix in ((frame.image, ""), (frame.normal_map, "_n")):
+            if sheet not in sheets:
+                sheets[sheet] = read_image(os.path.join(folder, sheet))
+            written.append(f"{out_stem}{suffix}.png")
+            write_png(written[-1], cut_frame(sheets[sheet].pixels, frame),
+                      min(sheets[sheet].bits, 16))
+        return written
+
+    made, notes = [], []
+    numbered = len(shown) > 1
+    for number, frame in enumerate(shown, 1):
+        made += write(frame, os.path.join(base, MADE, f"{stem}_{number:04d}" if numbered
+                                          else stem))
+    for frame in (f for f in frames if f.source != size):
+        own = re.sub(r"[^\w.-]+", "_", os.path.splitext(frame.name)[0])
+        made += write(frame, os.path.join(base, MADE, own, own))
+        notes.append(f"{frame.name} ({frame.source[0]}×{frame.source[1]}), another sprite of "
+                     f"the atlas: written to {MADE}/{own}/; `dynpaint new "
+                     f"{shlex.quote(os.path.join(_shown(base), MADE, own))}` starts it")
+    pattern = f"{stem}_####" if numbered else stem
+    names = {"bright": f"{MADE}/{pattern}.png", "shape": f"{MADE}/{pattern}_n.png"}
+    first = shown[0]
+    told = (f"{os.path.basename(path)}: a texture atlas; {len(shown)} frame(s) of "
+            f"{size[0]}×{size[1]}, each at its source size, written to {MADE}/")
+    reading = FolderReading(
+        {"name": stem, "images": dict(names), "shadows": {"enabled": True},
+         "shape": {"kind": "normal"}}, [told] + notes,
+        {f"images.{c}": f"{told}: {first.name} … {shown[-1].name}" for c in names})
+    reading.reasons["shape.kind"] = f"{first.normal_map}: the atlas's normal-map sheet"
+    green = green_reading(sheets[first.normal_map].rgb(), sheets[first.normal_map].alpha(),
+                          "auto", "auto")
+    if green.flip:
+        reading.data["shape"]["flip_green"] = True
+    reading.reasons["shape.flip_green"] = green.describe(first.normal_map)
+    reading.notes.append(green.describe(first.normal_map))
+    lines, more, notes = _painting_recipe(folder, base, reading,
+                                          {c: os.path.join(base, n) for c, n in names.items()})
+    return lines, made + more, notes
+
+
+def _painting_recipe(folder, base, reading=None, images=None):
+    """A folder of one painting → (recipe lines, files made); `reading` and `images` (paths)
+    when the caller read the folder already (an atlas)."""
+    reading = reading or read_painting_folder(folder)
     data, reasons, made = reading.data, dict(reading.reasons), []
-    images = {c: os.path.join(folder, f) for c, f in data["images"].items()}
+    images = images or {c: os.path.join(folder, f) for c, f in data["images"].items()}
     if not reading.has_shape:
         painted = painted_image(folder, reading)
         p = params.defaults()

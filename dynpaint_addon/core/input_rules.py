@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .map_convention import green_reading
 from .inputs import (finite_pixels, mask_channel, mask_note, non_finite_message,
                      normal_map_notes, normal_map_problem, size_message)
 from .sampling import resample
@@ -115,6 +116,7 @@ def input_notes(images, p):
         if problem:
             raise ValueError(problem)
         notes += normal_map_notes(shape.pixels, name, p.shape.encoding, p.shape.strength)
+        notes += green_notes(shape, p, name)
     notes += mask_notes(mask_channels(images, p), p)
     notes += [size_message(c, images[c].size, shape.size) for c in PER_PIXEL_CHANNELS
               if c in images and images[c].size != shape.size]
@@ -127,7 +129,37 @@ def input_notes(images, p):
     if p.shape.kind == "normal" and p.shadows.enabled and \
             relief_of(p.shadows.relief, shape.has_alpha) == "along_ray":
         notes.append(reach_note(shape, p, name))
-    return notes + silhouette_notes(images, p) + see_through_notes(images, p)
+    return notes + albedo_notes(images, p) + silhouette_notes(images, p) + \
+        see_through_notes(images, p)
+
+
+def albedo_notes(images, p):
+    """What §1 made of a painting of one colour image: lit as an albedo (its dark image
+    derived), or flat where the artist set the ambient to 1."""
+    albedo = albedo_channel(images)
+    if not albedo:
+        return []
+    a, name = p.diffuse.ambient, images[albedo].name or f"{albedo} image"
+    if a >= 1:
+        return [f"{name}: the one colour image, drawn flat (diffuse.ambient = 1: the light "
+                f"changes nothing)"]
+    return [f"{name}: the one colour image, lit as an albedo: colour × ({a:g} + {1 - a:g} × "
+            f"light) (diffuse.ambient = {a:g}; a dark image beside it is mixed with it instead)"]
+
+
+def green_of(shape, p):
+    """Both readings of a normal-map shape image (map_convention), from the one `p` gives."""
+    return green_reading(shape.rgb(), shape.alpha(), p.shape.encoding, p.shape.strength,
+                         p.shape.flip_green)
+
+
+def green_notes(shape, p, name):
+    """A normal map read the way it does not fit (§2): say which way it fits, with numbers."""
+    reading = green_of(shape, p)
+    if reading.flip == p.shape.flip_green:
+        return []
+    return [f"{reading.describe(name)}: set shape.flip_green = "
+            f"{str(reading.flip).lower()} (read as it is, it is lit from below)"]
 
 
 def normal_map_normals(shape, p, dtype=np.float32):
@@ -174,17 +206,16 @@ def see_through_notes(images, p):
 
 def silhouette_notes(images, p):
     """A painting that shows glass or a background needs a silhouette (§11): without an alpha
-    in the shape or dark image (a JPEG has none) the whole canvas is the figure."""
+    in the colour, shape or dark image (a JPEG has none) the whole canvas is the figure."""
     if p.silhouette.source == "none" or \
-            silhouette_channel(p.silhouette.source, lambda c: c in images and
-                               images[c].has_alpha):
+            silhouette_channel(p.silhouette.source, *image_channels(images)):
         return []
     glass = transparency_branch(p.transparency.amount, "transparency" in images) != "none"
     if not glass and "background" not in images:
         return []
     shows = "is glass" if glass else "hides the background"
-    return [f"no alpha in the shape or dark image (a JPEG has none): the whole canvas {shows}; "
-            f"give the shape image the figure's alpha (PNG), or set silhouette.source = "
+    return [f"no alpha in the colour, shape or dark image (a JPEG has none): the whole canvas "
+            f"{shows}; give the colour image the figure's alpha (PNG), or set silhouette.source = "
             f"\"none\" to keep the canvas whole"]
 
 
@@ -212,14 +243,42 @@ def transparency_branch(amount, has_map):
     return "param" if amount > 0 or has_map else "none"
 
 
-# §1 silhouette.source → the channels whose alpha may cut the painting out, in order
-SILHOUETTE_ORDER = {"auto": ("shape", "dark"), "shape": ("shape",), "dark": ("dark",), "none": ()}
+def albedo_channel(channels):
+    """§1 (amended 2026-11-29): the painting's one colour image A, lit as an albedo
+    (C_d = A·(a + (1 − a)·W)) — 'bright' or 'dark', whichever is the only one of the two given
+    — or '' for a painting with both (the paper's barycentric mix of C0 and C1).
+
+    >>> albedo_channel({"shape", "bright"}), albedo_channel({"shape", "dark", "bright"})
+    ('bright', '')
+    """
+    given = [c for c in ("dark", "bright") if c in channels]
+    return given[0] if len(given) == 1 else ""
 
 
-def silhouette_channel(source, has_alpha):
-    """The channel whose alpha is the silhouette ('' for none); has_alpha(channel) says whether
-    that channel has an image with alpha. One rule for the core, the graphs and the add-on."""
-    return next((c for c in SILHOUETTE_ORDER[source] if has_alpha(c)), "")
+# §1 silhouette.source → the channels whose alpha may cut the painting out, in order; "colour"
+# is the one colour image A (albedo_channel): a sprite's alpha is its figure
+SILHOUETTE_ORDER = {"auto": ("colour", "shape", "dark"), "shape": ("shape",), "dark": ("dark",),
+                    "none": ()}
+
+
+def silhouette_channel(source, channels, alpha_channels):
+    """The channel whose alpha is the silhouette ('' for none), of the channels that have an
+    image and those of them with an alpha. One rule for the core, the graphs and the add-on.
+
+    >>> silhouette_channel("auto", {"shape", "bright"}, {"shape", "bright"})
+    'bright'
+    >>> silhouette_channel("auto", {"shape", "dark", "bright"}, {"shape", "bright"})
+    'shape'
+    """
+    albedo = albedo_channel(channels)
+    order = [albedo if c == "colour" else c for c in SILHOUETTE_ORDER[source]]
+    return next((c for c in order if c and c in alpha_channels), "")
+
+
+def image_channels(images):
+    """(channels with an image, channels whose image has an alpha) of {channel: ImageData}:
+    what silhouette_channel reads."""
+    return set(images), {c for c, img in images.items() if img.has_alpha}
 
 
 def resample_painting(images, width):

@@ -13,7 +13,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .bake import QUALITY, quality_settings
-from .input_rules import input_notes, silhouette_channel
+from .input_rules import image_channels, input_notes, silhouette_channel
 from .pipeline import (normal_map_relief_px, prepare, render, shadow_term,
                        silhouette_alpha, transparency_k)
 from .sampling import pixel_centres, resample_separable, sample_bilinear
@@ -289,8 +289,7 @@ def scene_notes(layers, canvas=None):
 
 
 def _silhouette_of(layer):
-    return silhouette_channel(layer.p.silhouette.source,
-                              lambda c: c in layer.images and layer.images[c].has_alpha) or None
+    return silhouette_channel(layer.p.silhouette.source, *image_channels(layer.images)) or None
 
 
 def _with_shadows(p):

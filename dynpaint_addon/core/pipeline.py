@@ -6,7 +6,8 @@ is input_rules.py's. Output is premultiplied linear RGBA plus the intermediate p
 
 Neutral defaults of missing channels (§12). A pruned graph must give the pixels of the full
 graph fed these values:
-  dark / bright   one may stand in for the other (§1); at least one is required
+  dark / bright   at least one is required; one alone is the colour image A, lit as an
+                  albedo (§1: C0 = a·A, C1 = A)
   specular_colour white (1, 1, 1)
   gloss           1 everywhere
   transparency    1 everywhere (the slider alone sets k; its 'auto' default is then 0)
@@ -25,7 +26,8 @@ from . import shading, warps
 from .colour import srgb_to_linear
 from .input_rules import (PER_PIXEL_CHANNELS, ImageData, finite_image, input_notes,
                           mask_channels, normal_map_normals, pixel_role, relief_of,
-                          silhouette_channel, transparency_branch)
+                          silhouette_channel, transparency_branch, albedo_channel,
+                          image_channels)
 from .inputs import mask_values
 from .integrate import integrate
 from .lights import falloff, light_vectors
@@ -342,6 +344,11 @@ class Band:
         """A colour input's rows, linear RGB (§0)."""
         return _linear(self.image(channel), self.dtype)
 
+    def finite_colour(self, channel):
+        """`colour`, its non-finite values 0."""
+        c = self.colour(channel)
+        return np.where(np.isfinite(c), c, 0)
+
     def mask(self, channel):
         """A mask input's rows as one value per pixel, read from the channel decided on the
         whole image (core/inputs.py mask_values), or 1 everywhere without the image."""
@@ -371,12 +378,9 @@ def _shade(ctx, r0, r1):
 
 @term
 def diffuse(b):
-    """§4–§5: the light terms, the weight W = clip(Σ k·c·t) and C_d = C0(1 − W) + C1·W."""
+    """§4–§5: the light terms, the weight W = clip(Σ k·c·t) and C_d = C0(1 − W) + C1·W, or
+    for one colour image A (§1) C_d = A·(a + (1 − a)·W), a the ambient."""
     p, dtype, lights = b.p, b.dtype, b.lights
-    c0 = b.colour("dark" if b.has("dark") else "bright")
-    c1 = b.colour("bright" if b.has("bright") else "dark")
-    c0 = np.where(np.isfinite(c0), c0, 0)
-    c1 = np.where(np.isfinite(c1), c1, 0)
     ctx = b.ctx
     raw, spec, b.strengths = light_terms(ctx.n, ctx.z_px, ctx.slopes, lights, p, dtype,
                                          (b.r0, b.r1), ctx.shadows, ctx.through)
@@ -385,7 +389,12 @@ def diffuse(b):
         w_mix = shading.light_weight(terms, [lt.colour for lt in lights], b.strengths)
     else:
         w_mix = np.zeros(b.shape + (3,), dtype)
-    c_d = shading.barycentric_mix(c0, c1, w_mix, p.diffuse.mix_space)
+    albedo = albedo_channel(ctx.imgs)
+    if albedo:
+        c_d = shading.albedo_lit(b.finite_colour(albedo), w_mix, p.diffuse.ambient)
+    else:
+        c_d = shading.barycentric_mix(b.finite_colour("dark"), b.finite_colour("bright"),
+                                      w_mix, p.diffuse.mix_space)
     b.passes.update({"normal": b.n, "t": raw, "W": w_mix})
     b.diffuse_terms, b.specular_terms = terms, spec
     b.rgba = np.concatenate([c_d, np.ones(b.shape + (1,), dtype)], axis=2)
@@ -516,6 +525,7 @@ def view(b):
 
 
 def _silhouette(imgs, source):
-    """§1: alpha of the shape (or dark) image, by the recipe's silhouette.source."""
-    name = silhouette_channel(source, lambda c: c in imgs and imgs[c].has_alpha)
+    """§1: alpha of the colour image A (or the shape, or the dark image), by the recipe's
+    silhouette.source."""
+    name = silhouette_channel(source, *image_channels(imgs))
     return imgs[name].alpha() if name else None

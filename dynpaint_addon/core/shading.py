@@ -65,6 +65,17 @@ def barycentric_mix(c0, c1, w, space):
     raise ValueError(f"unknown mix space {space!r} (expected one of {', '.join(MIX_SPACES)})")
 
 
+def albedo_lit(a, w, ambient):
+    """§1, §5: one colour image A (linear RGB) lit as an albedo, C_d = A·(a + (1 − a)·W) —
+    §5's mix of C0 = a·A and C1 = A in linear light, as every 2D-lighting tool lights a sprite.
+    ambient a = 1 is the flat look (the light changes nothing).
+
+    >>> albedo_lit(0.5, w=0.5, ambient=0.25)       # half lit: 0.5 × (0.25 + 0.75 × 0.5)
+    0.3125
+    """
+    return a * (ambient + (1 - ambient) * w)
+
+
 def opaque_highlight(c_d, c_spec, gs):
     """§7 (paper eq. SpecShade): C_s = C_d·(1 − g·s) + C_spec·g·s, gs = g·s per channel."""
     return c_d * (1 - gs) + c_spec * gs

@@ -7,6 +7,8 @@ import weakref
 
 import numpy as np
 
+from .cut_out import cut_out_pixels
+
 from .integrate import edge_means
 from .sampling import gaussian_blur
 
@@ -182,13 +184,20 @@ def resolve_strength(rgb, strength="auto", encoding="auto", alpha=None):
 def normal_vectors(rgb, encoding="rgb", strength=1.0, alpha=None):
     """§2 normal map → the vectors 2C − 1 (not yet unit, no fallbacks): `encoding` 'rg' takes
     z = √(1 − x² − y²) (blue ignored), 'auto' detects it; `strength` scales each tilt, 'auto'
-    as resolve_strength decides (on the opaque pixels: `alpha`)."""
+    as resolve_strength decides (on the opaque pixels: `alpha`). With an alpha, uncovered
+    pixels are flat and a rim blended with black is divided by alpha (core/cut_out.py)."""
     rgb = np.asarray(rgb)
+    two_channel = resolve_encoding(rgb, encoding) == "rg"
+    strength = resolve_strength(rgb, strength, encoding, alpha)
+    rgb, empty = cut_out_pixels(rgb, alpha, rim=not two_channel)   # no rim becomes a cliff
     n = 2 * rgb[..., :3] - 1
-    if resolve_encoding(rgb, encoding) == "rg":
+    if two_channel:
         z = np.sqrt(np.maximum(1 - n[..., 0] ** 2 - n[..., 1] ** 2, 0))
         n = np.concatenate([n[..., :2], z[..., None].astype(n.dtype)], axis=-1)
-    return scale_tilt(n, resolve_strength(rgb, strength, encoding, alpha))
+    n = scale_tilt(n, strength)
+    if empty is not None and empty.any():
+        n = np.where(empty[..., None], np.array([0, 0, 1], n.dtype), n)
+    return n
 
 
 def decode_normal_map(rgb, flip_green=False, z_min=Z_MIN_DEFAULT, encoding="rgb", strength=1.0,

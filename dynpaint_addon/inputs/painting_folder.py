@@ -2,6 +2,11 @@
 images, or the layers of a scene — one rule for the command line and the add-on.
 
 - a folder with a `painting.toml` (or one `.toml` file) is that recipe;
+- a folder of a texture atlas (TexturePacker's JSON beside its sheets: atlas) is the frames it
+  lists, a painting that moves;
+- a folder of a colour sprite beside its map, named as 2D-lighting tools name them
+  (`hero.png` + `hero_n.png`, numbered frames `01.png` + `01_n.png` …: sprite_files), is one
+  painting whatever the words in its names;
 - a folder of one painting's channels, matched by their names as *From Images* matches the
   files an artist picks (`channel_names.guess_channels`: `…normal…`, `…dark…`, `…lit…`, …),
   is one painting: it names a shape image, or two channels or more, or a dark or bright image
@@ -26,10 +31,13 @@ import re
 import shlex
 from dataclasses import dataclass, field
 
+from ..core.map_convention import green_reading
 from ..errors import UserError
 from ..shapes.maker import looks_like_height
 from .channel_names import CHANNEL_WORDS, IMAGE_EXTENSIONS, common_name, guess_channels, words
+from .atlas import atlas_in
 from .imageio import read_image
+from .sprite_files import sprite_pairs
 
 RECIPE_NAME = "painting.toml"
 PHOTOSHOP = re.compile(r"^_(\d{4})_")     # Export Layers to Files: _0000_ the top layer
@@ -59,6 +67,8 @@ def kind_of_names(names, groups=()):
     # Photoshop's Export Layers numbers every file: that is a stack, whatever the names say
     if groups or (names and all(PHOTOSHOP.match(n) for n in names)):
         return "layers"
+    if sprite_pairs(names).frames:          # a sprite and its map, or numbered frames of them
+        return "painting"
     channels, rest = guess_channels(names)
     basics = [c for c in channels if c in PAINTING_BASICS]
     if "shape" in channels or (basics and (len(channels) >= 2 or len(rest) <= 1)):
@@ -66,12 +76,14 @@ def kind_of_names(names, groups=()):
     return "layers"
 
 
-def folder_kind(path):
-    """'recipe', 'painting' or 'layers' (see the module's rule); FolderError for a folder with
-    nothing in it to paint."""
-    if recipe_in(path):
+def folder_kind(path, recipes=True):
+    """'recipe', 'atlas', 'painting' or 'layers' (see the module's rule; `recipes` False: what
+    the folder is without its recipe); FolderError for a folder with nothing in it to paint."""
+    if recipes and recipe_in(path):
         return "recipe"
     names = images_in(path)
+    if atlas_in(path, names):        # a texture atlas and its JSON: a painting that moves
+        return "atlas"
     groups = [e for e in sorted(os.listdir(path)) if os.path.isdir(os.path.join(path, e))
               and images_in(os.path.join(path, e))]
     if not names and not groups:
@@ -94,18 +106,43 @@ class FolderReading:
         return "shape" in self.data["images"]
 
 
+def painting_channels(names):
+    """One painting's image files → ({channel: file}, [not used], {"images.<channel>": why}):
+    a sprite and its map by their names' relation (sprite_files: `##` for numbered frames),
+    the other channels by the words in their names, and one image named for no channel
+    beside no bright image is the painting itself (its bright image). One rule for
+    `dynpaint new`, `render FOLDER` and Add › From Images.
+
+    >>> painting_channels(["foreground_01.png", "foreground_01_n.png"])[0]
+    {'shape': 'foreground_01_n.png', 'bright': 'foreground_01.png'}
+    >>> painting_channels(["pear.png", "pear_normal.png", "pear_dark.png"])[0]
+    {'shape': 'pear_normal.png', 'bright': 'pear.png', 'dark': 'pear_dark.png'}
+    """
+    sprites = sprite_pairs(names)
+    channels, rest = guess_channels(sprites.rest if sprites.frames else names)
+    reasons = {f"images.{c}": f"its name says '{_channel_word(c, f)}'"
+               for c, f in channels.items()}
+    if sprites.frames:      # the names' relation is the verdict; their words only hints
+        channels = {"shape": sprites.shape, "bright": sprites.colour,
+                    **{c: f for c, f in channels.items() if c not in ("shape", "bright")}}
+        told = (f"{sprites.frames} numbered frames: " if sprites.frames > 1 else "") + \
+            f"{os.path.basename(sprites.shape)} is named as " \
+            f"{os.path.basename(sprites.colour)}'s map"
+        reasons["images.shape"] = told
+        reasons["images.bright"] = f"the colour image (a sprite): {told}"
+    elif "bright" not in channels and len(rest) == 1:   # the painting, named for no channel
+        channels["bright"] = rest.pop()
+        reasons["images.bright"] = "the one image named for no channel: the painting"
+    return channels, rest, reasons
+
+
 def read_painting_folder(path):
     """A folder of one painting's images → FolderReading: the channels by name, the shape
     image's kind by its colour (a float height map's values in image widths, as make-shape
     writes them), shadows on (a painting with a shape image casts them)."""
     names = images_in(path)
-    channels, rest = guess_channels(names)
-    reasons = {f"images.{c}": f"its name says '{_channel_word(c, f)}'"
-               for c, f in channels.items()}
-    # the painting itself, named for no channel, beside its shaded copy or its shape alone
-    if "bright" not in channels and len(rest) == 1 and not {"shape", "dark"} <= set(channels):
-        channels["bright"] = rest.pop()
-        reasons["images.bright"] = "the one image named for no channel: the painting"
+    channels, rest, reasons = painting_channels(names)
+    sprites = sprite_pairs(names)
     notes = [f"{os.path.basename(os.path.normpath(path))}/: read as one painting: " +
              ", ".join(f"{c} = {f}" for c, f in channels.items())]
     if rest:
@@ -117,18 +154,25 @@ def read_painting_folder(path):
     reasons["shadows.enabled"] = ("cast shadows and the subsurface look (§6); false draws "
                                   "faster")
     if "shape" in channels:
-        shape = read_image(os.path.join(path, channels["shape"]))
+        first = sprites.first_shape if sprites.frames > 1 else channels["shape"]
+        shape = read_image(os.path.join(path, first))
         kind = "height" if looks_like_height(shape) else "normal"
         colour = "grey" if kind == "height" else "coloured"
         data["shape"] = {"kind": kind}
-        reasons["shape.kind"] = f"{channels['shape']} is {colour}: a {kind} map"
+        reasons["shape.kind"] = f"{first} is {colour}: a {kind} map"
         widths = kind == "height" and shape.bits == 32
         if widths:          # make-shape's EXRs (and its docs') hold heights in image widths
             data["shape"]["height_scale"] = 1.0
-            reasons["shape.height_scale"] = (f"{channels['shape']} holds floats: heights in "
+            reasons["shape.height_scale"] = (f"{first} holds floats: heights in "
                                              f"image widths, as make-shape writes them")
-        notes.append(f"{channels['shape']}: read as a {kind} map ({colour}"
+        notes.append(f"{first}: read as a {kind} map ({colour}"
                      + ("; floats: heights in image widths)" if widths else ")"))
+        if kind == "normal":        # which way its green points, read from the map (§2)
+            green = green_reading(shape.rgb(), shape.alpha(), "auto", "auto")
+            if green.flip:
+                data["shape"]["flip_green"] = True
+            reasons["shape.flip_green"] = green.describe(first)
+            notes.append(green.describe(first))
     return FolderReading(data, notes, reasons)
 
 

@@ -23,6 +23,7 @@ import copy
 import difflib
 import math
 import os
+import shlex
 import tomllib
 from dataclasses import dataclass, field
 
@@ -395,6 +396,9 @@ def _folder_recipe(path):
     kind = folder_kind(path)
     if kind == "recipe":
         return load_recipe(recipe_in(path))
+    if kind == "atlas":
+        raise RecipeError(f"{path}: a texture atlas (its JSON lists the frames): let "
+                          f"`dynpaint new {shlex.quote(path)}` read its frames into a recipe")
     if kind == "layers":
         raise RecipeError(f"{path}: a folder of layers (no file named for a painting's "
                           f"channels: shape, normal, height, dark, bright, …): a scene (§15) "

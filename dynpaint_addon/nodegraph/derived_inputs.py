@@ -48,6 +48,7 @@ from ..core.input_rules import (MASKS, PER_PIXEL_CHANNELS, ImageData, finite_ima
                                mask_setting)
 from ..core.pipeline import lookup_copy, shape_normals
 from ..core.sampling import gaussian_radius
+from ..core.cut_out import needs_cleaning
 from ..core.shape import (default_preblur_px, fits_height_field, normal_vectors,
                           preblurred_height, resolve_encoding, resolve_strength,
                           slopes_from_normals)
@@ -266,9 +267,9 @@ def _standard_normal_map(p):
         rgb, a = data.rgb(), data.alpha()
         encoding = resolve_encoding(rgb, p.shape.encoding)
         strength = resolve_strength(rgb, p.shape.strength, encoding, a)
-        if encoding == "rgb" and strength == 1:
+        if encoding == "rgb" and strength == 1 and not needs_cleaning(rgb, a):
             return None
-        n = normal_vectors(rgb, encoding, strength)
+        n = normal_vectors(rgb, encoding, strength, a)
         return _rgba(np.concatenate([(n + 1) / 2] + ([a[..., None]] if a is not None else []),
                                     -1))
     return make

@@ -13,7 +13,7 @@ structural parameter needs no code here.
 import dataclasses
 
 from .. import params
-from ..core.input_rules import relief_of, silhouette_channel, transparency_branch
+from ..core.input_rules import albedo_channel, relief_of, silhouette_channel, transparency_branch
 
 # The structural parameters whose Features value depends on the images as well: the value the
 # graph needs is resolved from the setting, the channels that have an image and those with alpha.
@@ -26,7 +26,7 @@ def _transparency(amount, channels, alpha_channels):
 
 def _silhouette(source, channels, alpha_channels):
     """The channel whose alpha cuts the painting out (§11), '' for none."""
-    return silhouette_channel(source, lambda c: c in channels and c in alpha_channels)
+    return silhouette_channel(source, channels, alpha_channels)
 
 
 def _relief(relief, channels, alpha_channels):
@@ -71,6 +71,11 @@ class _FeaturesMethods:
         """A stable text form (repr of a frozenset changes order between processes)."""
         fields = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
         return repr({k: (sorted(v) if isinstance(v, frozenset) else v) for k, v in fields.items()})
+
+    @property
+    def albedo(self):
+        """The one colour image lit as an albedo (§1), '' for a dark and a bright image."""
+        return albedo_channel(self.channels)
 
     @property
     def has_lookups(self):

@@ -160,9 +160,16 @@ def diffuse(b):
                                                     "Weight": weight})["Sum"]
     b.acc_s = acc_s
     with g.section("Barycentric mix (§5)"):
-        c0 = g.sample("dark" if "dark" in f.channels else "bright", None, "EXTEND")[0]
-        c1 = g.sample("bright" if "bright" in f.channels else "dark", None, "EXTEND")[0]
         w = subgraphs.clip01(g, acc_t, label="W = clip(Σ k·c·t)") if f.lights else (0.0, 0.0, 0.0)
+        b.passes["W"] = w
+        if f.albedo:        # §1: one colour image A, lit as an albedo
+            a = g.param("diffuse.ambient")
+            lit = g.mix_vector(w, g.combine(a, a, a), (1.0, 1.0, 1.0), label="a + (1 − a)·W")
+            b.colour = g.vmath("MULTIPLY", g.sample(f.albedo, None, "EXTEND")[0], lit,
+                               label="C_d = A·(a + (1 − a)·W)")
+            return
+        c0 = g.sample("dark", None, "EXTEND")[0]
+        c1 = g.sample("bright", None, "EXTEND")[0]
         if f.diffuse_mix_space == "painted":    # the display values mix, the result is linear
             mixed = g.mix_vector(w, g.group(subgraphs.to_display(), {"Color": c0})["Color"],
                                  g.group(subgraphs.to_display(), {"Color": c1})["Color"],
@@ -170,7 +177,6 @@ def diffuse(b):
             b.colour = g.group(subgraphs.to_linear(), {"Color": mixed})["Color"]
         else:
             b.colour = g.mix_vector(w, c0, c1, label="C_d = C0(1 − W) + C1·W")
-        b.passes["W"] = w
 
 
 @term

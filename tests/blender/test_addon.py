@@ -10,7 +10,7 @@ bpy = pytest.importorskip("bpy")
 pytestmark = pytest.mark.every_blender
 
 from dynpaint_addon import blender, params  # noqa: E402
-from dynpaint_addon.blender.scenes.painting_scene import FACE_CAMERA, exact_camera, exact_render_settings, output_settings  # noqa: E402
+from dynpaint_addon.blender.scenes.painting_scene import FACE_CAMERA  # noqa: E402
 from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
 from dynpaint_addon.blender.state.settings import channel_images, settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
@@ -18,6 +18,7 @@ from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
 from dynpaint_addon.inputs.recipe import load_images, load_recipe  # noqa: E402
 
 from parity_recipes import write_images  # noqa: E402
+from testkit.scene_picture import render_cycles  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -29,16 +30,6 @@ def folder(tmp_path_factory):
 
 def add(folder, *names, **kw):
     return bpy.ops.dynpaint.add(directory=folder, files=[{"name": n} for n in names], **kw)
-
-
-def render_cycles(scene, plane, path):
-    if scene.camera is None or scene.camera.data.type != "ORTHO":
-        exact_camera(scene, plane)
-    exact_render_settings(scene, "cycles")
-    output_settings(scene, path)
-    bpy.context.view_layer.update()
-    bpy.ops.render.render(write_still=True)
-    return read_image(path).pixels
 
 
 def core_of(mat, scene):
@@ -149,6 +140,8 @@ def test_looks_and_bake(empty_scene, folder):
     s = mat.dynamic_painting
     assert bpy.ops.dynpaint.apply_look(look="CARTOON") == {"FINISHED"}
     assert s.diffuse.t0 == s.diffuse.t1 and s.specular.enabled
+    assert s.shadows.enabled           # a painting added with a shape casts shadows (issue 59)
+    s.shadows.enabled = False
     assert bpy.ops.dynpaint.bake_shadows() == {"CANCELLED"}     # shadows are off
     s.shadows.enabled = True
     shadow = s.lights[0].shadow

@@ -93,7 +93,7 @@ def _glass_recipe(tmp_path, shape_name):
 
 def test_a_glass_painting_without_alpha_gets_a_note_in_every_command(tmp_path):
     recipe = _glass_recipe(tmp_path, "normal.jpg")
-    said = "no alpha in the shape or dark image (a JPEG has none): the whole canvas is glass"
+    said = "no alpha in the colour, shape or dark image (a JPEG has none): the whole canvas is glass"
     for args in (("render", recipe, "--out", tmp_path / "a.png"),
                  ("export-web", recipe, "--out", tmp_path / "a.html"),
                  ("turntable", recipe, "--frames", "2", "--out", tmp_path / "a.mp4"),

@@ -3,6 +3,7 @@ import numpy as np
 import pytest
 
 from dynpaint_addon import params
+from dynpaint_addon.core.colour import srgb_to_linear
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.input_rules import ImageData, input_notes, relief_of
 from dynpaint_addon.core.pipeline import render, shape_normals
@@ -90,8 +91,21 @@ def test_pruned_graph_equals_full_graph_fed_the_neutral_defaults():
     same(base, {**base, "specular_color": const(size, size, 1.0)})          # white highlights
     same(base, {**base, "gloss": const(size, size, 1.0)})                   # gloss 1
     same(base, {**base, "transparency": const(size, size, 1.0)})            # k = slider
-    # one control image serves both
-    same({k: v for k, v in base.items() if k != "bright"}, {**base, "bright": base["dark"]})
+    # one colour image A is an albedo (§1): C0 = a·A and C1 = A mixed in linear light …
+    only = {k: v for k, v in base.items() if k != "dark"}
+    a_lin = srgb_to_linear(base["bright"].pixels)
+    pair = {**base, "dark": ImageData(p.diffuse.ambient * a_lin, 32),
+            "bright": ImageData(a_lin, 32)}
+    p_linear = glass_params()
+    p_linear.diffuse.mix_space = "linear"
+    np.testing.assert_allclose(render(only, LIGHTS, p).rgba, render(pair, LIGHTS, p_linear).rgba,
+                               atol=2e-6)
+    # … and with ambient 1 it serves as both (flat: the light changes nothing)
+    p.diffuse.ambient = 1.0
+    np.testing.assert_allclose(
+        render({k: v for k, v in base.items() if k != "bright"}, LIGHTS, p).rgba,
+        render({**base, "bright": base["dark"]}, LIGHTS, p).rgba, atol=1e-6)
+    p.diffuse.ambient = 0.2
     # no silhouette = alpha 1 everywhere
     opaque = ImageData(np.concatenate([base["shape"].pixels, np.ones((size, size, 1), np.float32)], -1), 16)
     same({**base, "background": bg}, {**base, "background": bg, "shape": opaque})

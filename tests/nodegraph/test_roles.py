@@ -79,6 +79,7 @@ def test_every_parameter_has_a_consumer():
                                     fresnel_mode=fresnel, falloff_mode=falloff,
                                     lights=("sun", "point"))
             used |= describe(f).params()
+            used |= describe(dataclasses.replace(f, channels=f.channels - {"dark"})).params()
     idle = [prm.path for prm in params.PARAMS if not (prm.structural or prm.derives or prm.bake
                                                        or prm.path in used)]
     assert idle == []

@@ -8,7 +8,10 @@ from bpy.utils import previews
 from bpy_extras.io_utils import ImportHelper
 
 from ... import params
+from ...core.input_rules import green_of
+from ...core.frames import is_pattern
 from ...inputs.channel_names import IMAGE_EXTENSIONS, common_name, guess_channels
+from ...inputs.painting_folder import painting_channels
 from ...inputs.imageio import image_data_from_blender
 from ...inputs.recipe import DEFAULT_SUN_NOTE, RecipeError, load_recipe
 from ...inputs.samples import list_samples
@@ -121,7 +124,9 @@ class DYNPAINT_OT_add(bpy.types.Operator, ImportHelper):
 
 def proposed_channels(paths):
     """The channels Add proposes for picked image files → ({channel: path}, [not used])."""
-    channels, rest = guess_channels(paths)
+    channels, rest, _ = painting_channels(paths)
+    if any(is_pattern(path) for path in channels.values()):     # frames: From Recipe's
+        channels, rest = guess_channels(paths)
     if not channels:        # no file named after a channel: they are the basics, in order;
         # the painting alone is the bright image (its silhouette is inflated into a shape)
         channels = dict(zip(("shape", "dark", "bright") if len(rest) > 1 else ("bright",),
@@ -151,14 +156,20 @@ def painting_from_images(context, channels, rest, shape_kind, size, location, ro
                          "'…normal…' or '…height…', unless the painting has a transparent "
                          "background to inflate)")
     p = params.defaults()
+    p.shadows.enabled = True        # a painting with a shape casts shadows, as `new` starts it
     name = common_name(channels.values()) or \
         os.path.splitext(os.path.basename(channels.get("dark") or channels["bright"]))[0]
     notes = []
     if "shape" in channels:
         shape = load_image(channels["shape"], "shape")
+        pixels = image_data_from_blender(shape)
         p.shape.kind = shape_kind.lower() if shape_kind != "AUTO" else \
-            ("height" if looks_like_height(image_data_from_blender(shape)) else "normal")
+            ("height" if looks_like_height(pixels) else "normal")
         notes.append(f"shape image read as a {p.shape.kind} map")
+        if p.shape.kind == "normal":        # which way its green points, read from it (§2)
+            green = green_of(pixels, p)
+            p.shape.flip_green = green.flip
+            notes.append(green.describe(os.path.basename(channels["shape"])))
     else:
         shape, note = inflated_shape(channels, name, p)
         notes.append(note)
