@@ -20,7 +20,7 @@ from ..core.lights import DEFAULT_SUN_DIRECTION
 from ..errors import CommandError, UserError
 from ..inputs.imageio import read_image, write_exr, write_png
 from ..inputs.layered_files import read_folder, scene_from_file_layers
-from ..core.map_convention import green_reading
+from ..core.map_convention import green_of_frames, green_reading
 from ..inputs.atlas import atlas_in, cut_frame
 from ..inputs.painting_folder import (RECIPE_NAME, FolderReading, folder_kind, images_in,
                                       painted_image, read_painting_folder, recipe_in)
@@ -130,14 +130,18 @@ def _atlas_recipe(folder, base):
                            f"it (named like {os.path.splitext(shown[0].image)[0]}_n.png)")
     sheets = {}
 
+    readings = []                      # of the frames' maps, as they stand (§2)
+
     def write(frame, out_stem):
         written = []
         for sheet, suffix in ((frame.image, ""), (frame.normal_map, "_n")):
             if sheet not in sheets:
                 sheets[sheet] = read_image(os.path.join(folder, sheet))
             written.append(f"{out_stem}{suffix}.png")
-            write_png(written[-1], cut_frame(sheets[sheet].pixels, frame),
-                      min(sheets[sheet].bits, 16))
+            cut = cut_frame(sheets[sheet].pixels, frame)
+            write_png(written[-1], cut, min(sheets[sheet].bits, 16))
+            if suffix and frame.source == size:
+                readings.append(green_reading(cut[..., :3], cut[..., 3], "auto", "auto"))
         return written
 
     made, notes = [], []
@@ -161,12 +165,11 @@ def _atlas_recipe(folder, base):
          "shape": {"kind": "normal"}}, [told] + notes,
         {f"images.{c}": f"{told}: {first.name} … {shown[-1].name}" for c in names})
     reading.reasons["shape.kind"] = f"{first.normal_map}: the atlas's normal-map sheet"
-    green = green_reading(sheets[first.normal_map].rgb(), sheets[first.normal_map].alpha(),
-                          "auto", "auto")
+    green = green_of_frames(readings)
     if green.flip:
         reading.data["shape"]["flip_green"] = True
-    reading.reasons["shape.flip_green"] = green.describe(first.normal_map)
-    reading.notes.append(green.describe(first.normal_map))
+    reading.reasons["shape.flip_green"] = green.describe(f"{first.normal_map}'s frames")
+    reading.notes.append(green.describe(f"{first.normal_map}'s frames"))
     lines, more, notes = _painting_recipe(folder, base, reading,
                                           {c: os.path.join(base, n) for c, n in names.items()})
     return lines, made + more, notes

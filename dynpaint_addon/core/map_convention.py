@@ -65,6 +65,13 @@ class GreenReading:
         return f"{name}: read {way}: its slopes fit a height field that way ({numbers})"
 
 
+def green_of_frames(readings):
+    """One reading of a sprite's frames (an atlas's, cut back to their source: a sheet's
+    frames packed turned are no height field as they lie): their circulations summed."""
+    return GreenReading({flip: sum(r.curl[flip] for r in readings) for flip in (False, True)},
+                        readings[0].given)
+
+
 def green_reading(rgb, alpha=None, encoding="auto", strength=1.0, given=False):
     """Measure both readings of a normal map's pixels (H, W, ≥3, 0..1) → GreenReading.
     alpha: the map's (only the figure's pixels are measured)."""

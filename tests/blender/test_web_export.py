@@ -85,6 +85,7 @@ def test_addon_exports_current_settings_lights_and_animation(empty_scene, tmp_pa
     mat = add_test_painting(tmp_path)
     s = mat.dynamic_painting
     s.diffuse.t0, s.specular.enabled = -0.3, True
+    s.shadows.enabled = False      # Add turns them on: the page's own march is tested elsewhere
     scene = bpy.context.scene
     assert bpy.ops.dynpaint.add_light_turntable(light="NEW_POINT", frame_start=1, frame_end=12,
                                                 radius=0.8, elevation=0.6, start_angle=0.0,
