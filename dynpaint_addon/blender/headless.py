@@ -5,6 +5,8 @@ orthographic camera pixel for pixel, so the result can be compared with the nump
 """
 import math
 import os
+import signal
+import sys
 import time
 
 import bpy
@@ -13,6 +15,7 @@ from . import register_once
 from ..core.layers import render_scene
 from ..core.lights import default_sun
 from ..inputs.imageio import quiet_native, write_render
+from ..inputs.whole_files import abandon_writing, written_whole
 from .bake.layers import group_layers, group_materials
 from .scenes import turntable
 from .scenes.grease_pencil.lit_copy import light_recipe_drawing
@@ -60,12 +63,12 @@ def render_recipe(recipe, engine, out, frame=None, notes=None):
     plane, mat = build_recipe_scene(recipe, notes=notes)
     scene = bpy.context.scene
     exact_render_settings(scene, engine)
-    output_settings(scene, out)
     if frame is not None:
         scene.frame_set(frame)
-    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
     t = time.perf_counter()
-    bpy.ops.render.render(write_still=True)
+    with written_whole(out) as part:        # whole or not at all (issue 60)
+        output_settings(scene, part)
+        bpy.ops.render.render(write_still=True)
     return time.perf_counter() - t
 
 
@@ -76,8 +79,12 @@ def build_grease_pencil_scene(path, object_name, width=None, frame=None):
     wrong (no such file or object, not a drawing)."""
     if not os.path.isfile(path) or not path.lower().endswith(".blend"):
         raise ValueError(f"{path}: not a .blend file")
-    with quiet_native():
-        bpy.ops.wm.open_mainfile(filepath=os.path.abspath(path))
+    try:
+        with quiet_native():
+            bpy.ops.wm.open_mainfile(filepath=os.path.abspath(path))
+    except RuntimeError as exc:     # a damaged file, or another file named .blend
+        raise ValueError(f"{path}: Blender cannot open it "
+                         f"({str(exc).removeprefix('Error: ').strip()})") from None
     register_once()
     context = bpy.context
     obj = bpy.data.objects.get(object_name)
@@ -129,8 +136,9 @@ def render_grease_pencil(path, object_name, engine, out, frame=None, width=None)
         write_render(out, render_scene(group_layers(mats), lights).rgba)
     else:
         exact_render_settings(scene, engine)
-        output_settings(scene, out)
-        bpy.ops.render.render(write_still=True)
+        with written_whole(out) as part:
+            output_settings(scene, part)
+            bpy.ops.render.render(write_still=True)
     return time.perf_counter() - t
 
 
@@ -261,8 +269,6 @@ def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevati
     turntable.add_light_turntable(bpy.context, mat, light, kind, 1, frames, elev, radius, azimuth,
                           clockwise)
     scene.render.fps = fps
-    turntable.video_output(scene, out)
-    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
     start = time.perf_counter()
 
     def report(scene, *_):
@@ -270,9 +276,23 @@ def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevati
         progress(f"frame {done}/{frames}  {time.perf_counter() - start:6.1f} s")
 
     bpy.app.handlers.render_post.append(report)
+    previous = signal.signal(signal.SIGINT, _stop_rendering)
     try:
-        with quiet_native(1):          # "Video append frame N" between our progress lines
+        # the video appears whole when the last frame is in (issue 60): an interrupted or a
+        # second turntable never leaves a cut or interleaved file at `out`
+        with written_whole(out) as part, quiet_native(1):   # "Video append frame N" lines
+            turntable.video_output(scene, part)
             bpy.ops.render.render(animation=True)
     finally:
+        signal.signal(signal.SIGINT, previous)
         bpy.app.handlers.render_post.remove(report)
     return time.perf_counter() - start, samples
+
+
+def _stop_rendering(*_):
+    """Ctrl-C during a turntable: Blender's render loop swallows the KeyboardInterrupt its
+    handlers raise, so the process ends here, at the frame being finished, the video being
+    written removed (`--out` stays as it was) — said, exit status 130 as the shell's."""
+    abandon_writing()
+    print("\ninterrupted: the video at --out was left as it was", file=sys.stderr, flush=True)
+    os._exit(130)

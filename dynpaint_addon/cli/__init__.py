@@ -5,7 +5,8 @@ One module per command, each with its `add_parser(sub)`: new, render, bake_shado
 demo, make_test_painting, parameters (`params`), make_shape, export_web; notes.py is how they
 all say what they guessed. User mistakes (missing files, unreadable images, bad recipes or
 options: errors.UserError) end with one line `error: …` on stderr and exit status 1 (2 for
-malformed command lines); never a traceback.
+malformed command lines; 130 for Ctrl-C); never a traceback. Before any work an output is
+checked (cli/outputs.py: writable, none of the inputs), and every file is written whole.
 """
 import argparse
 import difflib
@@ -15,6 +16,7 @@ import sys
 from ..errors import UserError
 from . import (bake_shadow, demo, export_web, make_shape, make_test_painting, new, parameters,
                render, turntable)
+from .outputs import guard_outputs
 
 COMMANDS = (new, render, turntable, export_web, bake_shadow, make_shape, demo, make_test_painting,
             parameters)
@@ -42,10 +44,15 @@ def main(argv=None):
         return 2
     args = parser.parse_args(argv)
     try:
+        guard_outputs(args)         # before any work: --out writable, none of the inputs
         args.func(args)
     except UserError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
+    except KeyboardInterrupt:
+        # Ctrl-C: outputs are written whole (inputs/whole_files.py), so none is left half done
+        print("interrupted: the output being written was left as it was", file=sys.stderr)
+        return 130
     except BrokenPipeError:
         # `params | head`: the reader has gone; say nothing more (Python's own advice)
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())

@@ -41,6 +41,12 @@ def cmd_export_web(args):
     if args.grease_pencil:
         return _export_grease_pencil(args, start, args.recipe, args.grease_pencil)
     recipe = None if is_layered_file(args.recipe) else load_recipe(args.recipe)
+    outside = recipe.images_outside() if recipe is not None else {}
+    if outside and not args.allow_outside_images:     # a page publishes what it embeds
+        raise ExportError(
+            f"{recipe.path or args.recipe} names images outside its folder "
+            f"({recipe.folder}): {', '.join(f'{c} = {p}' for p, c in outside.items())}; a "
+            f"page embeds every image it shows: pass --allow-outside-images to publish them")
     if recipe is not None and recipe.drawing:
         return _export_grease_pencil(args, start, recipe)
     if args.width is not None:
@@ -140,6 +146,10 @@ def add_parser(sub):
                    f"(default {TURNTABLE_SECONDS:g})")
     w.add_argument("--fps", type=float, default=FPS, help=f"a painting that moves (§16): scene "
                    f"frames per second the page plays its frames at (default {FPS:g})")
+    w.add_argument("--allow-outside-images", action="store_true",
+                   help="embed images the recipe names outside its own folder (refused by "
+                   "default: a recipe from someone else could put any file of yours into "
+                   "the page you publish)")
     w.add_argument("--grease-pencil", metavar="OBJECT",
                    help="RECIPE is a .blend file: light its Grease Pencil drawing OBJECT as "
                    "Add › From Grease Pencil does and export it, its frames played")

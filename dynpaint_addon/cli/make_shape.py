@@ -18,6 +18,7 @@ from ..core.photometric import SIDES, normals_from_profiles, normals_from_rg_pho
 from ..core.pipeline import normal_map_relief_px, shape_normals
 from ..inputs.channel_names import sprite_lamp_side
 from ..inputs.imageio import read_image, write_exr, write_png
+from ..inputs.whole_files import write_text_whole
 from ..inputs.painting_frames import FrameInputs, PaintingFrames, grid_of, painting_slots
 from ..inputs.recipe import DEFAULT_SUN_NOTE, load_recipe, no_drawing
 from ..inputs.samples import recipe_help
@@ -323,10 +324,10 @@ def _export_sheets(args, recipe, painting, p):
     spec = None if frames[0]["specular"] is None else \
         fill_sheet([m["specular"] for m in frames], grid, size, 0.0)
     _write_maps(args, n, z, spec, top=float(max(hh.max() for hh in heights)))
-    with open(os.path.join(args.out, "sheet.json"), "w", encoding="utf-8") as fh:
-        json.dump({"columns": grid.columns, "rows": grid.rows, "frames": len(frames),
-                   "cell": [w, h], "margin": grid.margin, "spacing": grid.spacing,
-                   "order": "row by row from the top left"}, fh, indent=1)
+    write_text_whole(os.path.join(args.out, "sheet.json"), json.dumps(
+        {"columns": grid.columns, "rows": grid.rows, "frames": len(frames), "cell": [w, h],
+         "margin": grid.margin, "spacing": grid.spacing,
+         "order": "row by row from the top left"}, indent=1))
     print(f"wrote {len(frames)} frames as sheets of {grid.columns} × {grid.rows} cells of "
           f"{w}×{h} (sheet.json says so)")
 

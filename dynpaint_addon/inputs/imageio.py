@@ -17,6 +17,7 @@ from ..core.colour import linear_to_srgb
 from ..core.input_rules import ImageData
 from ..errors import UserError
 from .memory import READ_BUFFER_PX, check_read
+from .whole_files import written_whole
 
 EXR_MAGIC = b"\x76\x2f\x31\x01"
 
@@ -36,6 +37,9 @@ def read_image(path):
         raise ImageReadError(f"{path}: file not found")
     if os.path.isdir(path):
         raise ImageReadError(f"{path}: is a folder, not an image")
+    if not os.path.isfile(path):        # a pipe (FIFO), a device: reading would wait forever
+        raise ImageReadError(f"{path}: is not a regular file (a pipe or a device), not an "
+                             f"image")
     with open(path, "rb") as fh:
         head = fh.read(4)
     if not head:
@@ -58,16 +62,37 @@ def file_header(path):
         return (*header, fh.read(4) == EXR_MAGIC)
 
 
+def png_header(head):
+    """(width, height, channels, bytes per channel) from a PNG's first 26 bytes, or None."""
+    if head[:8] != b"\x89PNG\r\n\x1a\n" or head[12:16] != b"IHDR" or len(head) < 26:
+        return None
+    w, h, depth, colour = struct.unpack(">IIBB", head[16:26])
+    return w, h, {0: 1, 2: 3, 3: 3, 4: 2, 6: 4}.get(colour, 4), max(1, depth // 8)
+
+
+# A PNG file's size can exceed its raw pixels by zlib's stored blocks (5 bytes each 16 KiB)
+# and its chunks; anything larger is not a PNG of that size (a zip bomb's member)
+PNG_SLACK = 1.01
+
+
+def png_bound(width, height, channels, bytes_per_channel):
+    """The most bytes a PNG of that size and kind can hold (its filter bytes, zlib's worst
+    case, its chunks)."""
+    raw = height * (1 + width * channels * bytes_per_channel)
+    return int(raw * PNG_SLACK) + (1 << 16)
+
+
 def image_header(path):
     """(width, height, channels, bytes per channel) from a file's header, without decoding its
     pixels (PNG, JPEG, OpenEXR, BMP); None for a format or file it cannot tell. What memory is
     checked against before an image is read (memory.py)."""
+    if not os.path.isfile(path):        # a pipe would block the open: read_image says so
+        return None
     try:
         with open(path, "rb") as fh:
             head = fh.read(64)
-            if head[:8] == b"\x89PNG\r\n\x1a\n" and head[12:16] == b"IHDR":
-                w, h, depth, colour = struct.unpack(">IIBB", head[16:26])
-                return w, h, {0: 1, 2: 3, 3: 3, 4: 2, 6: 4}.get(colour, 4), max(1, depth // 8)
+            if png_header(head):
+                return png_header(head)
             if head[:2] == b"\xff\xd8":
                 return _jpeg_header(fh)
             if head[:4] == EXR_MAGIC:
@@ -304,9 +329,8 @@ def write_exr(path, pixels, channel_names=None):
     top_first = px[::-1]
     channels = {name: np.ascontiguousarray(top_first[..., i]) for i, name in enumerate(names)}
     header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
-    _ensure_parent(path)
-    with OpenEXR.File(header, channels) as f:
-        f.write(os.fspath(path))
+    with written_whole(path) as part, OpenEXR.File(header, channels) as f:
+        f.write(part)
 
 
 def write_png(path, pixels, bits=8, level=6):
@@ -334,8 +358,7 @@ def write_png(path, pixels, bits=8, level=6):
     def chunk(tag, data):
         return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data))
     ihdr = struct.pack(">IIBBBBB", w, h, bits, colour_type, 0, 0, 0)
-    _ensure_parent(path)
-    with open(path, "wb") as fh:
+    with written_whole(path) as part, open(part, "wb") as fh:
         fh.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", b"".join(data))
                  + chunk(b"IEND", b""))
 
@@ -358,7 +381,3 @@ def write_render(path, rgba):
     else:
         raise ImageWriteError(f"{path}: unsupported output format '{ext}' (use .png or .exr)")
 
-
-def _ensure_parent(path):
-    parent = os.path.dirname(os.path.abspath(path))
-    os.makedirs(parent, exist_ok=True)

@@ -20,6 +20,7 @@ blend modes other than normal read as normal, layer opacity as 1 — each said i
     ['01_sky.png', '02_hills.png']
 """
 import os
+import shutil
 import tempfile
 import xml.etree.ElementTree as ElementTree
 import zipfile
@@ -38,7 +39,8 @@ from ..shapes.frames import fill_sheet
 from ..shapes.maker import ShapeError, looks_like_height, read_as_made
 from ..shapes.methods import make_shape
 from .channel_names import IMAGE_EXTENSIONS, guess_channels
-from .imageio import read_image
+from .imageio import png_bound, png_header, read_image
+from .memory import base_bytes, check, check_read
 from .painting_folder import PHOTOSHOP, folder_kind
 from .recipe import DEFAULT_SUN_NOTE, hidden_notes, load_layers, load_recipe
 
@@ -80,11 +82,10 @@ def read_ora(path):
         raise LayeredFileError(f"{path}: not an OpenRaster file (.ora is a zip archive: "
                                f"{exc})") from None
     with archive, tempfile.TemporaryDirectory() as folder:
+        members = {m.filename: m for m in archive.infolist()}
+        check_archive(path, members, folder)
         try:
             stack = ElementTree.fromstring(archive.read("stack.xml"))
-        except KeyError:
-            raise LayeredFileError(f"{path}: not an OpenRaster file: it has no stack.xml "
-                                   f"(the list of its layers)") from None
         except ElementTree.ParseError as exc:
             raise LayeredFileError(f"{path}: its stack.xml is not valid XML ({exc})") from None
         top = stack.find("stack")
@@ -92,22 +93,60 @@ def read_ora(path):
             raise LayeredFileError(f"{path}: its stack.xml has no <image><stack> (not "
                                    f"OpenRaster)")
         canvas = (_int(stack, "w", path), _int(stack, "h", path))
+        if min(canvas) < 1 or max(canvas) > MAX_CANVAS:
+            raise LayeredFileError(f"{path}: stack.xml: its canvas {canvas[0]}×{canvas[1]} is "
+                                   f"not a picture's size (1 … {MAX_CANVAS} pixels a side)")
+        check(base_bytes() + 16 * canvas[0] * canvas[1], f"{path}'s canvas "
+              f"({canvas[0]}×{canvas[1]})", "export it smaller from the painting program")
 
         def image(layer):
             src = layer.get("src", "")
             if not src.lower().endswith(".png"):
                 raise LayeredFileError(f"{path}: layer '{layer.get('name', src)}' is "
                                        f"{src or 'missing its src'}: OpenRaster layers are PNG")
-            try:
-                target = archive.extract(src, folder)
-            except KeyError:
+            member = members.get(src)
+            if member is None:
                 raise LayeredFileError(f"{path}: layer '{layer.get('name', src)}': {src} is "
-                                       f"not in the file") from None
-            return read_image(target)
+                                       f"not in the file")
+            with archive.open(member) as fh:      # its size, before a byte is unpacked
+                header = png_header(fh.read(26))
+            if header is None:
+                raise LayeredFileError(f"{path}: {src} is not a PNG")
+            check_read((*header, False), f"{os.path.basename(path)}: {src}")
+            if member.file_size > png_bound(*header):
+                raise LayeredFileError(
+                    f"{path}: {src} unpacks to {member.file_size / 2**20:.0f} MiB, more than "
+                    f"a {header[0]}×{header[1]} PNG can hold ({png_bound(*header) / 2**20:.1f} "
+                    f"MiB): a damaged or hostile file, not read")
+            return read_image(archive.extract(member, folder))
         layers = []
         for element in reversed(list(top)):          # stack.xml lists the top layer first
             layers.append(_ora_layer(element, image, path))
         return canvas, layers
+
+
+MAX_STACK_XML = 4 << 20     # an OpenRaster stack.xml lists layers: a few kB
+MAX_CANVAS = 1 << 16        # pixels a side: OpenRaster's and PNG's own practical limit
+
+
+def check_archive(path, members, folder):
+    """Refuse an .ora whose members say, before anything is unpacked, that it cannot be read:
+    no stack.xml, a stack.xml larger than any list of layers, or members that would not fit
+    in the temporary folder (sizes as the archive declares them; zipfile stops reading a
+    member at its declared size)."""
+    xml = members.get("stack.xml")
+    if xml is None:
+        raise LayeredFileError(f"{path}: not an OpenRaster file: it has no stack.xml (the list "
+                               f"of its layers)")
+    if xml.file_size > MAX_STACK_XML:
+        raise LayeredFileError(f"{path}: its stack.xml unpacks to {xml.file_size / 2**20:.0f} "
+                               f"MiB (a list of layers is a few kB): a damaged or hostile file, "
+                               f"not read")
+    total = sum(m.file_size for m in members.values())
+    free = shutil.disk_usage(folder).free
+    if total > free:
+        raise LayeredFileError(f"{path}: its layers unpack to {total / 2**30:.1f} GiB; the "
+                               f"temporary folder ({folder}) has {free / 2**30:.1f} GiB free")
 
 
 def _int(element, key, path):

@@ -16,6 +16,11 @@ and 2048² paintings; `benchmarks/memory.py` checks the whole estimate against m
 import os
 from dataclasses import dataclass
 
+try:
+    import resource
+except ImportError:         # Windows: no address-space limits to read
+    resource = None
+
 from ..core import crossings
 from ..core.input_rules import PER_PIXEL_CHANNELS, relief_of
 from ..core.shadow import BAND_PIXELS
@@ -52,8 +57,17 @@ class NotEnoughMemory(UserError):
 
 
 def available_bytes():
-    """The memory the machine can give now (Linux: MemAvailable; elsewhere the free physical
-    pages), or None where it cannot tell (then nothing is refused)."""
+    """The memory this process can be given now, or None where it cannot tell (then nothing is
+    refused): the machine's (Linux: MemAvailable; elsewhere the free physical pages), less
+    where a limit on the process is lower (issue 60): its cgroup's (a container, a systemd
+    slice: memory.max − memory.current) or its address-space limit (`ulimit -v`, less what
+    it maps already)."""
+    limits = [machine_bytes(), cgroup_bytes(), rlimit_bytes()]
+    known = [n for n in limits if n is not None]
+    return min(known) if known else None
+
+
+def machine_bytes():
     try:
         with open("/proc/meminfo") as fh:
             for line in fh:
@@ -65,6 +79,38 @@ def available_bytes():
         return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
     except (ValueError, OSError, AttributeError):
         return None
+
+
+def cgroup_bytes(root="/sys/fs/cgroup"):
+    """What the process's cgroup (v2) lets it add: memory.max − memory.current, or None
+    without a limit."""
+    try:
+        with open("/proc/self/cgroup") as fh:
+            path = next(line.split(":", 2)[2].strip() for line in fh if line.startswith("0::"))
+        folder = os.path.join(root, path.lstrip("/"))
+        with open(os.path.join(folder, "memory.max")) as fh:
+            limit = fh.read().strip()
+        if limit == "max":
+            return None
+        with open(os.path.join(folder, "memory.current")) as fh:
+            return max(0, int(limit) - int(fh.read()))
+    except (OSError, ValueError, StopIteration):
+        return None
+
+
+def rlimit_bytes():
+    """What `ulimit -v` (RLIMIT_AS) leaves the process to map, or None without a limit."""
+    if resource is None:
+        return None
+    soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+    if soft == resource.RLIM_INFINITY:
+        return None
+    try:
+        with open("/proc/self/statm") as fh:
+            mapped = int(fh.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError, AttributeError):
+        mapped = 0
+    return max(0, soft - mapped)
 
 
 def gib(n):

@@ -74,6 +74,17 @@ class Recipe:
     notes: list = field(default_factory=list)
     default_lights: bool = False    # no [[lights]]: lit by core.lights.default_sun()
     drawing: str = ""       # a Grease Pencil drawing (inputs/drawings.py) lit as its layers
+    folder: str = ""        # where its image paths resolve from: the recipe's folder
+
+    def images_outside(self):
+        """{path: channel} of the images (its layers' too) that lie outside the recipe's
+        folder: a recipe from someone else may name any file (issue 60)."""
+        found = {}
+        for part in [layer.recipe for layer in self.layers] or [self]:
+            for channel, path in part.images.items():
+                if self.folder and not inside(path, self.folder):
+                    found[path] = channel
+        return found
 
     @property
     def layered(self):
@@ -195,6 +206,12 @@ def _parse_layer(i, table, base_dir, source, check_files, shared):
         _number(table.get("scale", 1.0), f"{where}.scale", 1e-6), visible)
 
 
+def inside(path, folder):
+    """Whether `path` lies in `folder` or below it (links followed)."""
+    path, folder = os.path.realpath(path), os.path.realpath(folder)
+    return os.path.commonpath([path, folder]) == folder
+
+
 def parse_recipe(data, base_dir=".", source="recipe", check_files=True, base=None):
     """Validate a recipe dict (as read from TOML) → Recipe. Image paths resolve from base_dir.
     base: the parameters to start from (a layer's: the scene's top-level sections), else
@@ -275,7 +292,7 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True, base=Non
         notes += [n for lay in layers for n in lay.recipe.notes]
         return Recipe(values, lights, {}, text["name"], description=text["description"],
                       credits=text["credits"], layers=layers, notes=notes,
-                      default_lights=default_lights)
+                      default_lights=default_lights, folder=os.path.abspath(base_dir))
     if drawing:         # a Grease Pencil drawing: its layers are drawn, not given (issue 42)
         if images or "layers" in data or frames or written:
             raise RecipeError(f"{where}drawing: a drawing's recipe names the drawing, its "
@@ -290,9 +307,13 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True, base=Non
     if "dark" not in images and "bright" not in images:
         raise RecipeError(f"{where}images.dark: missing (a painting needs a dark or a bright image)")
     notes += no_effect_notes(values, written, images, where)
+    folder = os.path.abspath(base_dir)
+    notes += [f"{where}images.{ch}: {path} lies outside the recipe's folder ({folder}): "
+              f"export-web embeds it only with --allow-outside-images"
+              for ch, path in images.items() if not inside(path, folder)]
     recipe = Recipe(values, lights, images, text["name"], description=text["description"],
                     credits=text["credits"], frames=frames, notes=notes,
-                    default_lights=default_lights)
+                    default_lights=default_lights, folder=folder)
     if check_files:
         try:
             recipe.slots()           # a grid that cannot hold its count, a slot both ways

@@ -12,6 +12,7 @@ from ..core.input_rules import ImageData
 from ..core.lights import Light
 from .imageio import write_png
 from .recipe import Recipe, RecipeLayer, recipe_to_toml
+from .whole_files import write_text_whole
 
 
 def _strokes(x, y, seed):
@@ -59,6 +60,11 @@ def builtin_recipe():
     return Recipe(p, lights, {}, "Built-in test painting")
 
 
+def builtin_painting_files():
+    """The names write_test_painting writes into its folder: its recipe and its images."""
+    return ("painting.toml", *(img.name for img in builtin_images(2).values()))
+
+
 def write_test_painting(folder, size=256):
     """Write the test painting's images and painting.toml into folder → the recipe's path."""
     os.makedirs(folder, exist_ok=True)
@@ -68,8 +74,7 @@ def write_test_painting(folder, size=256):
         write_png(path, img.pixels, bits=img.bits)
         recipe.images[channel] = os.path.abspath(path)
     path = os.path.join(folder, "painting.toml")
-    with open(path, "w") as fh:
-        fh.write(recipe_to_toml(recipe, folder))
+    write_text_whole(path, recipe_to_toml(recipe, folder))
     return path
 
 
@@ -132,6 +137,5 @@ def write_test_scene(folder, size=128):
     recipe = Recipe(params.defaults(), [Light("sun", (0.55, 0.35, 0.76), name="Key")], {},
                     "Built-in layered test scene", layers=layers)
     path = os.path.join(folder, "scene.toml")
-    with open(path, "w") as fh:
-        fh.write(recipe_to_toml(recipe, folder))
+    write_text_whole(path, recipe_to_toml(recipe, folder))
     return path

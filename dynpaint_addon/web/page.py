@@ -31,6 +31,7 @@ from ..core.layers import LAYER_QUALITY, Scene
 from ..core.pipeline import shape_normals
 from ..core.sampling import resample
 from ..core.transmittance import EDGE_STEP
+from ..inputs.whole_files import write_text_whole
 from ..looks import LOOKS, with_look
 from ..nodegraph import glsl_codegen
 from ..nodegraph.derived_inputs import Source, make_derived, march_bounds, prepare
@@ -426,9 +427,27 @@ def _asset(name):
         return fh.read()
 
 
+# Characters the HTML parser reads inside a <script> data block (`</script`, `<!--`, and a
+# `<script` after it, which make the parser swallow the viewer's own script: issue 60),
+# written as JSON escapes that JSON.parse turns back into them
+HTML_SAFE = {"<": "\\u003c", ">": "\\u003e", "&": "\\u0026"}
+
+
+def json_for_html(data):
+    """`data` as JSON that no string in it can end or hide the <script> block it sits in.
+
+    >>> json_for_html({"name": "<!--<script>"})
+    '{"name":"\\\\u003c!--\\\\u003cscript\\\\u003e"}'
+    """
+    text = json.dumps(data, separators=(",", ":"))
+    for char, escape in HTML_SAFE.items():
+        text = text.replace(char, escape)
+    return text
+
+
 def render_html(data):
     """The page's text: viewer.html with its style, script and data inlined."""
-    payload = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
+    payload = json_for_html(data)
     title = html.escape(data["title"] or "Dynamic painting")
     return (_asset("viewer.html").replace("{{title}}", title)
             .replace("{{style}}", _asset("viewer.css"))
@@ -439,7 +458,5 @@ def render_html(data):
 def write_page(path, data):
     """Write the page → its size in bytes."""
     text = render_html(data)
-    os.makedirs(os.path.dirname(os.path.abspath(path)) or ".", exist_ok=True)
-    with open(path, "w", encoding="utf-8") as fh:
-        fh.write(text)
+    write_text_whole(path, text)            # whole or not at all (issue 60)
     return len(text.encode("utf-8"))

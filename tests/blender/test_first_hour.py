@@ -196,7 +196,8 @@ def test_a_recipe_without_lights_is_lit_by_a_default_sun_and_says_so(tmp_path):
     lit, dark = (read_image(str(tmp_path / f"{n}.png")).pixels for n in ("lit", "dark"))
     assert lit[..., :3].mean() > dark[..., :3].mean() + 0.05        # lit, not the dark image
     # the page lists the sun (it said "Lights none" and told the viewer to drag a light)
-    res = run_cli("export-web", tmp_path / "lit.toml", "--out", tmp_path / "lit.html")
+    res = run_cli("export-web", tmp_path / "lit.toml", "--out", tmp_path / "lit.html",
+                  "--allow-outside-images")     # the sample's images, beside the repo
     assert res.returncode == 0 and "1 light(s)" in res.stdout
 
 

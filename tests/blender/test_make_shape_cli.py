@@ -151,9 +151,9 @@ def test_export_maps_height_of_a_normal_map_does_not_follow_the_shadows_relief(t
     (["integrate", "{d}/n.png", "--mask", "alpha", "--out", "h.exr"], "no alpha channel"),
     (["integrate", "{d}/n.png", "--mask", "{d}/small.png", "--out", "h.exr"], "must match"),
     (["inflate", "{d}/black.png", "--out", "h.exr"], "no figure to inflate"),
-    (["profiles", "{d}/n.png", "--out", "n.png"], "does not say a side"),
-    (["profiles", "--left", "{d}/n.png", "--out", "n.png"], "at least two"),
-    (["profiles", "--left", "{d}/n.png", "--right", "{d}/small.png", "--out", "n.png"],
+    (["profiles", "{d}/n.png", "--out", "made_n.png"], "does not say a side"),
+    (["profiles", "--left", "{d}/n.png", "--out", "made_n.png"], "at least two"),
+    (["profiles", "--left", "{d}/n.png", "--right", "{d}/small.png", "--out", "made_n.png"],
      "same size"),
 ])
 def test_bad_input_is_one_line(tmp_path, args, message):
