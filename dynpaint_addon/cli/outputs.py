@@ -19,12 +19,12 @@ OUTPUT_OPTIONS = ("out", "residual")
 def guard_outputs(args):
     """OutputError (a UserError) when an output option of `args` (argparse's namespace) can
     not be written or names a file the command reads."""
-    inputs = read_files(args)
-    for option in OUTPUT_OPTIONS:
-        out = getattr(args, option, None)
-        if not isinstance(out, str) or not out or os.path.isdir(out) and \
-                not os.path.splitext(out)[1]:
-            continue            # a folder output (export-maps, bake-shadow --layers)
+    # a folder output (make-shape export-maps, bake-shadow --layers) is its command's to check
+    outputs = {option: getattr(args, option, None) for option in OUTPUT_OPTIONS}
+    outputs = {option: out for option, out in outputs.items() if isinstance(out, str) and out
+               and not (os.path.isdir(out) and not os.path.splitext(out)[1])}
+    inputs = read_files(args) if outputs else {}
+    for option, out in outputs.items():
         flag = f"--{option}"
         writable_here(out, flag)
         if getattr(args, "force", False):     # asked for: said (`new --force` rewrites a recipe)
