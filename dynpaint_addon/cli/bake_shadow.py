@@ -12,6 +12,7 @@ from .. import params
 from ..core.bake import QUALITY, bake, quality_level, quality_settings
 from ..core.layers import bake_scene
 from ..core.lights import Light
+from ..core.input_rules import finite_image, pixel_role
 from ..core.pipeline import shape_normals
 from ..core.shadow import ShadowStats
 from ..core.shape import reach_of
@@ -165,7 +166,11 @@ def cmd_bake_shadow(args):
                      f"baking {painting.width}×{painting.height}",
                      "give a smaller shape image (scale it down in a painting program)")
     shape = read_image(args.shape)
+    if not np.any(np.isfinite(shape.pixels)):     # as render refuses it (core.pipeline.prepare)
+        raise CommandError(f"{args.shape}: the shape image has no finite pixel (all NaN or Inf)")
     check_and_print({"shape": shape}, p)
+    shape, warning = finite_image(shape, pixel_role("shape", p), "shape image")
+    print_notes([warning] if warning else [])
     n, z, slopes = shape_normals(shape, p, dtype)
     stats = ShadowStats()
     t0 = time.perf_counter()

@@ -206,6 +206,10 @@ def _parse_layer(i, table, base_dir, source, check_files, shared):
         _number(table.get("scale", 1.0), f"{where}.scale", 1e-6), visible)
 
 
+MAX_LIGHTS = 64     # a recipe's lights (issue 60: 20000 of them ran for minutes)
+MAX_TEXT = 10_000   # characters of a name, description or credits (a 50 MB name made a page)
+
+
 def inside(path, folder):
     """Whether `path` lies in `folder` or below it (links followed)."""
     path, folder = os.path.realpath(path), os.path.realpath(folder)
@@ -224,6 +228,9 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True, base=Non
         if key in text:
             if not isinstance(value, str):
                 raise RecipeError(f"{where}{key}: expected a string, got {value!r}")
+            if len(value) > MAX_TEXT:           # it is shown in menus and on the page
+                raise RecipeError(f"{where}{key}: {len(value)} characters; at most "
+                                  f"{MAX_TEXT}")
             text[key] = value
         elif key == "images":
             if not isinstance(value, dict):
@@ -263,6 +270,9 @@ def parse_recipe(data, base_dir=".", source="recipe", check_files=True, base=Non
         elif key == "lights":
             if not isinstance(value, list):
                 raise RecipeError(f"{where}lights: expected an array of tables [[lights]]")
+            if len(value) > MAX_LIGHTS:         # each one a branch of every shader, a bake
+                raise RecipeError(f"{where}lights: {len(value)} lights; a painting takes at "
+                                  f"most {MAX_LIGHTS}")
             lights = [_parse_light(i, t, where) for i, t in enumerate(value)]
         elif key in params.SECTIONS:
             if not isinstance(value, dict):
@@ -405,6 +415,9 @@ def load_recipe(path):
             data = tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
         raise RecipeError(f"{path}: not valid TOML ({exc})") from None
+    except RecursionError:
+        raise RecipeError(f"{path}: its tables or arrays nest deeper than Python reads (a "
+                          f"recipe nests two or three levels)") from None
     except UnicodeDecodeError:
         raise RecipeError(f"{path}: not a text file: a recipe (painting.toml) was "
                           f"expected") from None

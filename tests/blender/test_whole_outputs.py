@@ -7,12 +7,13 @@ import subprocess
 import sys
 import time
 
+import numpy as np
 import pytest
 
 pytest.importorskip("bpy")
 
 from conftest import REPO, open_page, run_cli  # noqa: E402
-from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image, write_exr  # noqa: E402
 
 
 @pytest.fixture
@@ -151,3 +152,13 @@ def test_a_pipe_named_as_an_image_is_said_not_waited_for(painting, tmp_path):
     r = run_cli("render", painting, "--out", tmp_path / "x.png")
     assert r.returncode == 1 and "Traceback" not in r.stderr
     assert "dark.png" in r.stderr
+
+
+def test_an_all_nan_height_is_refused_by_bake_shadow(tmp_path):
+    """It gave rc 0 and a constant 0.8137 with no word (issue 60): refused as render refuses
+    it."""
+    write_exr(str(tmp_path / "nan.exr"), np.full((16, 16), np.nan, np.float32))
+    r = run_cli("bake-shadow", tmp_path / "nan.exr", "--kind", "height", "--light", "0", "0.5",
+                "0.8", "--out", tmp_path / "t.exr")
+    assert r.returncode == 1 and "no finite pixel" in r.stderr
+    assert not (tmp_path / "t.exr").exists()

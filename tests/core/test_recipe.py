@@ -44,6 +44,9 @@ def parse(extra, folder):
     ({"images": {"shape": "missing.png", "dark": "dark.png"}}, "r.toml: images.shape: file not found"),
     ({"images": {"dark": "dark.png"}}, "r.toml: images.shape: missing"),
     ({"images": {"shape": "height.png"}}, "r.toml: images.dark: missing"),
+    # issue 60: what would run for minutes or make a page of 100 MB
+    ({"lights": [{"direction": [0, 0, 1]}] * 65}, "r.toml: lights: 65 lights; a painting takes at most 64"),
+    ({"credits": "x" * 10001}, "r.toml: credits: 10001 characters; at most 10000"),
 ])
 def test_bad_recipes_name_the_key(painting, extra, message):
     with pytest.raises(RecipeError) as err:
@@ -162,3 +165,11 @@ def test_a_layered_recipe_round_trips_and_its_layers_start_from_the_scene_sectio
         assert (a.name, a.depth, a.thickness, a.offset, a.scale, a.visible, a.recipe.images) == \
             (b.name, b.depth, b.thickness, b.offset, b.scale, b.visible, b.recipe.images)
     assert [lay.name for lay in load_layers(back)] == ["back"]       # hidden layers skipped
+
+
+def test_a_recipe_nested_past_reading_is_one_line(tmp_path):
+    """A TOML array nested 5000 deep (Python's reader recurses): one line, no traceback."""
+    path = tmp_path / "deep.toml"
+    path.write_text("a = " + "[" * 5000 + "]" * 5000 + "\n")
+    with pytest.raises(RecipeError, match="nest deeper than Python reads"):
+        load_recipe(str(path))
