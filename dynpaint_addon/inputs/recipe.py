@@ -158,6 +158,8 @@ def _parse_light(i, table, where):
     name = table.get("name", "")
     if not isinstance(name, str):
         raise RecipeError(f"{where}.name: expected a string, got {name!r}")
+    if len(name) > MAX_TEXT:
+        raise RecipeError(f"{where}.name: {len(name)} characters; at most {MAX_TEXT}")
     size_key = LIGHT_SIZE_KEYS[kind]
     wrong = LIGHT_SIZE_KEYS["point" if kind == "sun" else "sun"]
     if wrong in table:
