@@ -150,6 +150,9 @@ def _parse_light(i, table, where):
     vec = _vector(table[vec_key], f"{where}.{vec_key}")
     if kind == "sun" and vec == (0.0, 0.0, 0.0):
         raise RecipeError(f"{where}.direction: must not be [0, 0, 0]")
+    if kind == "point" and max(map(abs, vec)) > MAX_DISTANCE:   # its squares overflow: black
+        raise RecipeError(f"{where}.position: {max(map(abs, vec)):g} image widths away; at most "
+                          f"{MAX_DISTANCE:g} (a light that far is a sun: type = \"sun\")")
     colour = _vector(table.get("color", [1.0, 1.0, 1.0]), f"{where}.color", minimum=0)
     strength = table.get("strength", 1.0)
     if isinstance(strength, bool) or not isinstance(strength, (int, float)) \
@@ -210,6 +213,7 @@ def _parse_layer(i, table, base_dir, source, check_files, shared):
 
 MAX_LIGHTS = 64     # a recipe's lights (issue 60: 20000 of them ran for minutes)
 MAX_TEXT = 10_000   # characters of a name, description or credits (a 50 MB name made a page)
+MAX_DISTANCE = 1e6  # image widths to a point light (at 1e160 the picture went black)
 
 
 def inside(path, folder):

@@ -47,6 +47,8 @@ def parse(extra, folder):
     # issue 60: what would run for minutes or make a page of 100 MB
     ({"lights": [{"direction": [0, 0, 1]}] * 65}, "r.toml: lights: 65 lights; a painting takes at most 64"),
     ({"credits": "x" * 10001}, "r.toml: credits: 10001 characters; at most 10000"),
+    ({"lights": [{"type": "point", "position": [0, 0, 1e160]}]},
+     "r.toml: lights[0].position: 1e+160 image widths away; at most 1e+06"),
     ({"lights": [{"direction": [0, 0, 1], "name": "x" * 10001}]},
      "r.toml: lights[0].name: 10001 characters; at most 10000"),
 ])
