@@ -9,6 +9,12 @@ from ..inputs.samples import recipe_help
 from .notes import print_notes
 
 
+def video_size_fits(width, height):
+    """Whether FFmpeg takes a frame of this size (its av_image_check_size: (w + 128)·(h + 128)
+    under INT_MAX / 8); a larger --size ended in a traceback after the set-up (issue 60)."""
+    return (width + 128) * (height + 128) < (2**31 - 1) // 8
+
+
 def cmd_turntable(args):
     out_ext = os.path.splitext(args.out)[1].lower()
     if out_ext not in (".mp4", ".mkv", ".mov"):
@@ -19,6 +25,10 @@ def cmd_turntable(args):
         raise CommandError(f"--size must be at least 16 × 16 pixels, got {args.size}")
     if args.size is not None and any(s % 2 for s in args.size):
         raise CommandError(f"--size must be even in both directions (H.264), got {args.size}")
+    if args.size is not None and not video_size_fits(*args.size):
+        raise CommandError(f"--size {args.size[0]} {args.size[1]}: larger than a video's frame "
+                           f"can be (FFmpeg takes (w + 128)(h + 128) < 2²⁸ pixels: 16254 × "
+                           f"16254 at most)")
     if args.samples is not None and args.samples < 1:
         raise CommandError(f"--samples must be at least 1, got {args.samples}")
     if args.elevation is not None and not -90 <= args.elevation <= 90:

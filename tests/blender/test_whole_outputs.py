@@ -162,3 +162,10 @@ def test_an_all_nan_height_is_refused_by_bake_shadow(tmp_path):
                 "0.8", "--out", tmp_path / "t.exr")
     assert r.returncode == 1 and "no finite pixel" in r.stderr
     assert not (tmp_path / "t.exr").exists()
+
+
+def test_a_video_larger_than_ffmpeg_takes_is_refused_before_the_work(tmp_path):
+    """`turntable --size 16384 16384` ended in `RuntimeError: Picture size … is invalid` after
+    building the scene (issue 60): one line, at once."""
+    r = run_cli("turntable", "portrait", "--size", "16384", "16384", "--out", tmp_path / "x.mp4")
+    assert r.returncode == 1 and "16254 × 16254 at most" in r.stderr and "Traceback" not in r.stderr
