@@ -17,11 +17,11 @@ from collections import Counter
 from .. import params
 from ..core.input_rules import input_notes
 from ..core.lights import DEFAULT_SUN_DIRECTION
+from ..core.map_convention import green_of_frames, green_reading
 from ..errors import CommandError, UserError
 from ..inputs.imageio import read_image, write_exr, write_png
-from ..inputs.layered_files import read_folder, scene_from_file_layers
-from ..core.map_convention import green_of_frames, green_reading
 from ..inputs.atlas import atlas_in, cut_frame
+from ..inputs.layered_files import read_folder, scene_from_file_layers
 from ..inputs.painting_folder import (RECIPE_NAME, FolderReading, folder_kind, images_in,
                                       painted_image, read_painting_folder, recipe_in)
 from ..inputs.recipe import load_images, load_recipe, toml_value
@@ -129,7 +129,6 @@ def _atlas_recipe(folder, base):
         raise CommandError(f"{path}: its sheet {shown[0].image} has no normal-map sheet beside "
                            f"it (named like {os.path.splitext(shown[0].image)[0]}_n.png)")
     sheets = {}
-
     readings = []                      # of the frames' maps, as they stand (§2)
 
     def write(frame, out_stem):

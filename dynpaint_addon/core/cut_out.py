@@ -42,24 +42,25 @@ def cut_out_pixels(rgb, alpha, rim=True):
     """A normal map's RGB (H, W, 3, 0..1) with its blended rim divided by alpha (where it was
     blended; `rim` False for a two-channel map, whose lengths say nothing) → (rgb, empty):
     `empty` marks the pixels with no coverage (the caller makes them flat), None without an
-    alpha."""
+    alpha. `rgb` itself comes back when no rim was divided."""
     if alpha is None:
         return rgb, None
     alpha = np.nan_to_num(np.asarray(alpha, np.float32))
     empty = alpha <= NO_COVERAGE
     if rim and premultiplied_rim(rgb[..., :3], alpha):
-        rim = ~empty & (alpha < 1)
+        partial = ~empty & (alpha < 1)
         rgb = np.array(rgb[..., :3], copy=True)
-        rgb[rim] = np.clip(rgb[rim] / alpha[rim][:, None], 0, 1)
+        rgb[partial] = np.clip(rgb[partial] / alpha[partial][:, None], 0, 1)
     return rgb, empty
 
 
 def needs_cleaning(rgb, alpha, rim=True):
     """Whether cut_out_pixels changes anything the graph would read of an RGB map as stored:
     a blended rim, or an uncovered pixel that is not stored flat."""
-    if alpha is None:
+    fixed, empty = cut_out_pixels(rgb, alpha, rim)
+    if empty is None:
         return False
-    alpha = np.nan_to_num(np.asarray(alpha, np.float32))
-    empty = alpha <= NO_COVERAGE
-    flat = np.all(np.abs(np.asarray(rgb)[..., :3][empty] - (0.5, 0.5, 1.0)) < 1 / 255, axis=-1)
-    return bool(not flat.all() or rim and premultiplied_rim(np.asarray(rgb)[..., :3], alpha))
+    if fixed is not rgb:                # its rim was divided
+        return True
+    stored = np.asarray(rgb)[..., :3][empty]
+    return not bool(np.all(np.abs(stored - (0.5, 0.5, 1.0)) < 1 / 255))

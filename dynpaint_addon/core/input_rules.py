@@ -11,9 +11,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .map_convention import green_reading
 from .inputs import (finite_pixels, mask_channel, mask_note, non_finite_message,
                      normal_map_notes, normal_map_problem, size_message)
+from .map_convention import green_reading
 from .sampling import resample
 from .shape import CURL_LIMIT, circulation, decode_normal_map, slopes_from_normals
 

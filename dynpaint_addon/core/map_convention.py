@@ -27,8 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .shape import (CURL_LIMIT, Z_MIN_DEFAULT, circulation, decode_normal_map,
-                    slopes_from_normals)
+from .shape import Z_MIN_DEFAULT, circulation, decode_normal_map, slopes_from_normals
 
 CLEAR_WIN = 1.25     # the other reading is taken when its circulation is this many times smaller
 
@@ -49,11 +48,6 @@ class GreenReading:
         """Whether one reading fits clearly better (CLEAR_WIN) than the other."""
         low, high = sorted(self.curl.values())
         return low * CLEAR_WIN < high
-
-    @property
-    def fits(self):
-        """Whether the chosen reading fits a height field (§6 Reach)."""
-        return self.curl[self.flip] < CURL_LIMIT
 
     def describe(self, name):
         """One line: the reading chosen and why, in the artist's words."""

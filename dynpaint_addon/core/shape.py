@@ -8,7 +8,6 @@ import weakref
 import numpy as np
 
 from .cut_out import cut_out_pixels
-
 from .integrate import edge_means
 from .sampling import gaussian_blur
 

@@ -21,7 +21,7 @@ appears whole or not at all, and no command writes over an input of the painting
     ('whole', ['a.png'])
 """
 import os
-import tempfile
+import secrets
 from contextlib import contextmanager
 
 from ..errors import UserError
@@ -49,18 +49,13 @@ def written_whole(path):
     """Yield the hidden path to write `path`'s content to; renamed onto `path` when the block
     ends, removed if it raises (see the module)."""
     path = os.path.abspath(os.fspath(path))
-    folder, name = os.path.split(path)
-    os.makedirs(folder, exist_ok=True)
-    fd, part = tempfile.mkstemp(prefix=f".{name}.", suffix=os.path.splitext(name)[1],
-                                dir=folder)
-    os.close(fd)
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    part = _new_hidden_file(path)
     _WRITING.add(part)
     try:
         yield part
         if os.path.exists(path):            # keep the old file's permissions, as an editor does
             os.chmod(part, os.stat(path).st_mode & 0o7777)
-        else:
-            os.chmod(part, 0o666 & ~_umask())
         os.replace(part, path)
     except BaseException:
         if os.path.exists(part):
@@ -77,10 +72,18 @@ def write_text_whole(path, text):
             fh.write(text)
 
 
-def _umask():
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
+def _new_hidden_file(path):
+    """A new empty file beside `path`, hidden, of its extension, created with the permissions
+    a new `path` would get (0o666 less the umask: mkstemp's are 0o600)."""
+    folder, name = os.path.split(path)
+    for _ in range(100):
+        part = os.path.join(folder, f".{name}.{secrets.token_hex(4)}{os.path.splitext(name)[1]}")
+        try:
+            os.close(os.open(part, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o666))
+            return part
+        except FileExistsError:
+            continue
+    raise FileExistsError(f"{folder}: no free name for a hidden file beside {name}")
 
 
 def same_file(a, b):

@@ -46,9 +46,9 @@ from ..core.colour import srgb_to_linear
 from ..core.inputs import mask_values
 from ..core.input_rules import (MASKS, PER_PIXEL_CHANNELS, ImageData, finite_image,
                                mask_setting)
+from ..core.cut_out import needs_cleaning
 from ..core.pipeline import lookup_copy, shape_normals
 from ..core.sampling import gaussian_radius
-from ..core.cut_out import needs_cleaning
 from ..core.shape import (default_preblur_px, fits_height_field, normal_vectors,
                           preblurred_height, resolve_encoding, resolve_strength,
                           slopes_from_normals)
