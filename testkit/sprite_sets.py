@@ -8,7 +8,9 @@ the tool, and per frame the true unit normals (y-up, OpenGL convention) and the 
 coverage. Their conventions (docs/your-painting.md has the table):
 
 - `sprite_illuminator`: `knight.png` (RGBA) + `knight_n.png`, green up, the sprite's alpha;
-- `sprite_lamp`: `knight.png` + `knight_Normal.png` (opaque, flat outside) + `knight_Depth.png`;
+- `sprite_lamp`: `knight_Diffuse.png` (its diffuse lighting profile's name) +
+  `knight_Normal.png` (opaque, flat outside) + `knight_Depth.png` +
+  `knight_AmbientOcclusion.png`, the maps Sprite Lamp saves;
 - `laigter`: `knight.png` + `knight_n.png` beside its `_s`, `_o` and `_p` maps;
 - `godot_demo`: `logo.png` + `logo_normal.png`, **green down** (as Godot's 2D lights demo's
   map is), no alpha in the map;
@@ -16,6 +18,7 @@ coverage. Their conventions (docs/your-painting.md has the table):
 - `blender_bake`: `head.png` + `head_normal.png` baked onto a transparent image: (0,0,0,0)
   outside and the rim blended with black;
 - `jpeg_wall`: `wall.jpg` + `wall_normal.jpg`, a full-frame texture, both JPEG;
+- `rgba_wall`: `tiles.png` + `tiles_n.png`, a full-frame map saved as RGBA, alpha 255;
 - `numbered_walk`: `01.png` + `01_n.png` … `08_n.png`, a figure that moves;
 - `scene_layer`: `foreground_01.png` + `foreground_01_n.png`, a scene's front layer.
 """
@@ -110,10 +113,10 @@ def sprite_illuminator(root, size=128):
 def sprite_lamp(root, size=160):
     d = _folder(root, "sprite_lamp")
     n, cov = figure(size, KNIGHT, (0.04, -0.02))
-    _write(os.path.join(d, "knight.png"), colours(size, cov, 2))
+    _write(os.path.join(d, "knight_Diffuse.png"), colours(size, cov, 2))
     _write(os.path.join(d, "knight_Normal.png"), encode(n))          # opaque: flat outside
-    y, x = (np.mgrid[0:size, 0:size] + 0.5) / size
     _write(os.path.join(d, "knight_Depth.png"), np.clip(1 - n[..., 2], 0, 1))
+    _write(os.path.join(d, "knight_AmbientOcclusion.png"), 0.6 + 0.4 * n[..., 2])
     return SpriteSet(d, "Sprite Lamp", [n], [cov])
 
 
@@ -157,9 +160,26 @@ def blender_bake(root, size=160):
 def jpeg_wall(root, size=192):
     """A full-frame texture: bricks of rounded relief, colour and map both JPEG."""
     d = _folder(root, "jpeg_wall")
+    n, rgb = _bricks(size, 6)
+    write_jpeg(os.path.join(d, "wall.jpg"), rgb.astype(np.float32), 88)
+    write_jpeg(os.path.join(d, "wall_normal.jpg"), encode(n).astype(np.float32), 88)
+    return SpriteSet(d, "JPEG texture (full frame)", [n], [None])
+
+
+def rgba_wall(root, size=160):
+    """A full-frame texture whose map is saved as RGBA with its alpha 255 everywhere, as paint
+    programs export a layer: the alpha cuts nothing out."""
+    d = _folder(root, "rgba_wall")
+    n, rgb = _bricks(size, 4)
+    _write(os.path.join(d, "tiles.png"), rgb)
+    _write(os.path.join(d, "tiles_n.png"), np.dstack([encode(n), np.ones((size, size))]))
+    return SpriteSet(d, "paint program (full-frame map saved as RGBA)", [n], [None])
+
+
+def _bricks(size, rows):
+    """Rows of bricks of rounded relief → (true normals, colour RGB)."""
     fine = size * SUPERSAMPLE
     y, x = (np.mgrid[0:fine, 0:fine] + 0.5) / fine
-    rows = 6
     row = np.floor(y * rows)
     u = (x * 3 + 0.5 * (row % 2)) % 1
     v = (y * rows) % 1
@@ -168,10 +188,7 @@ def jpeg_wall(root, size=192):
     gy, gx = np.gradient(zc * size, axis=(0, 1))
     n = np.dstack([-gx, -gy, np.ones_like(zc)])
     n /= np.linalg.norm(n, axis=-1, keepdims=True)
-    rgb = colours(size, np.ones((size, size)), 7)[..., :3]
-    write_jpeg(os.path.join(d, "wall.jpg"), rgb.astype(np.float32), 88)
-    write_jpeg(os.path.join(d, "wall_normal.jpg"), encode(n).astype(np.float32), 88)
-    return SpriteSet(d, "JPEG texture (full frame)", [n], [None])
+    return n, colours(size, np.ones((size, size)), 7)[..., :3]
 
 
 def numbered_walk(root, size=96, frames=8):
@@ -199,7 +216,7 @@ def scene_layer(root, size=128):
 
 
 WRITERS = (sprite_illuminator, sprite_lamp, laigter, godot_demo, unity, blender_bake, jpeg_wall,
-           numbered_walk, scene_layer)
+           rgba_wall, numbered_walk, scene_layer)
 
 
 def write_all(root):

@@ -15,7 +15,7 @@ import tempfile
 from collections import Counter
 
 from .. import params
-from ..core.input_rules import input_notes
+from ..core.input_rules import ImageData, input_notes, relief_guess
 from ..core.lights import DEFAULT_SUN_DIRECTION
 from ..core.map_convention import green_of_frames, green_reading
 from ..errors import CommandError, UserError
@@ -129,7 +129,7 @@ def _atlas_recipe(folder, base):
         raise CommandError(f"{path}: its sheet {shown[0].image} has no normal-map sheet beside "
                            f"it (named like {os.path.splitext(shown[0].image)[0]}_n.png)")
     sheets = {}
-    readings = []                      # of the frames' maps, as they stand (§2)
+    readings, reliefs = [], []         # of the frames' maps, as they stand (§2, §6)
 
     def write(frame, out_stem):
         written = []
@@ -141,6 +141,7 @@ def _atlas_recipe(folder, base):
             write_png(written[-1], cut, min(sheets[sheet].bits, 16))
             if suffix and frame.source == size:
                 readings.append(green_reading(cut[..., :3], cut[..., 3], "auto", "auto"))
+                reliefs.append(relief_guess(ImageData(cut), f"{frame.normal_map}'s frames"))
         return written
 
     made, notes = [], []
@@ -169,6 +170,10 @@ def _atlas_recipe(folder, base):
         reading.data["shape"]["flip_green"] = True
     reading.reasons["shape.flip_green"] = green.describe(f"{first.normal_map}'s frames")
     reading.notes.append(green.describe(f"{first.normal_map}'s frames"))
+    if all(relief for relief, _ in reliefs):    # every shown frame's map opaque (§6)
+        reading.data["shadows"]["relief"], why = reliefs[0]
+        reading.reasons["shadows.relief"] = why
+        reading.notes.append(why)
     lines, more, notes = _painting_recipe(folder, base, reading,
                                           {c: os.path.join(base, n) for c, n in names.items()})
     return lines, made + more, notes

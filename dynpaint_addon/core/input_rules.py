@@ -79,6 +79,31 @@ def relief_of(relief, shape_has_alpha):
     return "integrated" if shape_has_alpha else "along_ray"
 
 
+# An alpha at least this everywhere cuts nothing out: many tools save every image as RGBA (the
+# last 8-bit step, 254/255, is a rounding's, not a figure's edge)
+OPAQUE = 254 / 255
+
+
+def opaque_alpha(image):
+    """Does an image's alpha cover every pixel (ImageData; False without an alpha)?"""
+    alpha = image.alpha()
+    return alpha is not None and float(np.min(alpha)) >= OPAQUE
+
+
+def relief_guess(shape, name):
+    """shadows.relief as `new` and Add start a normal map's painting (§6 "Relief"): where its
+    alpha covers every pixel it cuts no figure out, so its shadows fall along the ray as a
+    full-frame map's, said → (value, why); (None, '') for 'auto' to decide.
+
+    >>> relief_guess(ImageData(np.ones((2, 2, 4))), "wall_n.png")[0]
+    'along_ray'
+    """
+    if not opaque_alpha(shape):
+        return None, ""
+    return "along_ray", (f"{name}: its alpha covers every pixel and cuts no figure out, so "
+                         f"its shadows fall along each ray, as a full-frame map's")
+
+
 MASKS = {"transparency": ("transparency", "channel"), "gloss": ("specular", "gloss_channel")}
 
 
@@ -126,6 +151,11 @@ def input_notes(images, p):
                      f"slopes along each ray (shadows.relief auto); give it the figure's alpha "
                      f"to cut the figure out, or set shadows.relief = \"integrated\" "
                      f"(docs/relief-choice.md)")
+    if p.shape.kind == "normal" and p.shadows.enabled and p.shadows.relief == "auto" and \
+            opaque_alpha(shape):
+        notes.append(f"{name}: its alpha covers every pixel, yet shadows.relief auto integrates "
+                     f"it as a cut-out figure: set shadows.relief = \"along_ray\" for a "
+                     f"full-frame map (docs/relief-choice.md)")
     if p.shape.kind == "normal" and p.shadows.enabled and \
             relief_of(p.shadows.relief, shape.has_alpha) == "along_ray":
         notes.append(reach_note(shape, p, name))

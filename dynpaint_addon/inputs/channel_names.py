@@ -46,13 +46,22 @@ def words(path):
     return {w for w in re.split(r"[^a-z0-9]+", stem) if w} | set(re.findall(r"[a-z]+", stem))
 
 
+# Maps 2D-lighting tools make that no channel reads (Sprite Lamp's `_AmbientOcclusion` and
+# `_Emissive`, Laigter's `_o`): their names' other words ("ambient") must not place them
+OTHER_MAP_WORDS = ("occlusion", "ao", "emissive", "emission", "anisotropy", "preview")
+
+
 def guess_channels(paths):
-    """Assign image files to channels by their names → ({channel: path}, [unassigned])."""
+    """Assign image files to channels by their names → ({channel: path}, [unassigned]).
+
+    >>> guess_channels(["hero_AmbientOcclusion.png", "hero_dark.png"])
+    ({'dark': 'hero_dark.png'}, ['hero_AmbientOcclusion.png'])
+    """
     found, rest = {}, []
     for path in paths:
         ws = words(path)
-        channel = next((c for c, names in CHANNEL_WORDS if c not in found
-                        and ws & set(names)), None)
+        channel = None if ws & set(OTHER_MAP_WORDS) else next(
+            (c for c, names in CHANNEL_WORDS if c not in found and ws & set(names)), None)
         if channel is None:
             rest.append(path)
         else:

@@ -31,10 +31,12 @@ import re
 import shlex
 from dataclasses import dataclass, field
 
+from ..core.input_rules import relief_guess
 from ..core.map_convention import green_reading
 from ..errors import UserError
 from ..shapes.maker import looks_like_height
-from .channel_names import CHANNEL_WORDS, IMAGE_EXTENSIONS, common_name, guess_channels, words
+from .channel_names import (CHANNEL_WORDS, IMAGE_EXTENSIONS, OTHER_MAP_WORDS, common_name,
+                            guess_channels, words)
 from .atlas import atlas_in
 from .imageio import read_image
 from .sprite_files import sprite_pairs
@@ -123,6 +125,7 @@ def painting_channels(names):
     reasons = {f"images.{c}": f"its name says '{_channel_word(c, f)}'"
                for c, f in channels.items()}
     if sprites.frames:      # the names' relation is the verdict; their words only hints
+        rest += [f for c, f in channels.items() if c in ("shape", "bright")]   # (a 2nd map)
         channels = {"shape": sprites.shape, "bright": sprites.colour,
                     **{c: f for c, f in channels.items() if c not in ("shape", "bright")}}
         told = (f"{sprites.frames} numbered frames: " if sprites.frames > 1 else "") + \
@@ -146,8 +149,7 @@ def read_painting_folder(path):
     notes = [f"{os.path.basename(os.path.normpath(path))}/: read as one painting: " +
              ", ".join(f"{c} = {f}" for c, f in channels.items())]
     if rest:
-        notes.append(f"not used: {', '.join(rest)} (no channel word in the name: shape, "
-                     f"normal, height, dark, bright, lit, …)")
+        notes.append(not_used_note(rest))
     data = {"name": common_name(list(channels.values())) or os.path.basename(
         os.path.normpath(path)), "images": dict(channels),
         "shadows": {"enabled": True}}
@@ -173,7 +175,26 @@ def read_painting_folder(path):
                 data["shape"]["flip_green"] = True
             reasons["shape.flip_green"] = green.describe(first)
             notes.append(green.describe(first))
+            relief, why = relief_guess(shape, first)
+            if relief:
+                data["shadows"]["relief"], reasons["shadows.relief"] = relief, why
+                notes.append(why)
     return FolderReading(data, notes, reasons)
+
+
+def not_used_note(rest):
+    """The note naming a folder's images no channel takes, each with why.
+
+    >>> not_used_note(["hero_AO.png", "hero_Depth.png"])
+    'not used: hero_AO.png (a map no channel reads: occlusion, emissive, …); hero_Depth.png (a second shape image)'
+    """
+    def why(name):
+        if words(name) & set(OTHER_MAP_WORDS):
+            return "a map no channel reads: occlusion, emissive, …"
+        channel = next(iter(guess_channels([name])[0]), "")
+        return f"a second {channel} image" if channel else \
+            "no channel word in the name: shape, normal, height, dark, bright, lit, …"
+    return "not used: " + "; ".join(f"{name} ({why(name)})" for name in rest)
 
 
 def _channel_word(channel, name):

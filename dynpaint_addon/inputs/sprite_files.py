@@ -23,7 +23,12 @@ from dataclasses import dataclass, field
 NORMAL_SUFFIXES = ("n", "nm", "nrm", "nor", "norm", "normal", "normals", "normalmap",
                    "normal_map")
 HEIGHT_SUFFIXES = ("depth", "height", "heightmap", "h", "disp", "bump")
+# The words a colour image's name may end in when its maps share its stem instead (Sprite
+# Lamp's `hero_Diffuse.png` + `hero_Normal.png`, an engine's `hero_d` + `hero_n`)
+COLOUR_SUFFIXES = ("diffuse", "diff", "d", "albedo", "color", "colour", "col", "basecolor",
+                   "base_color", "c")
 _SEPARATED = re.compile(r"^[ _.\-](.+)$")
+_COLOUR_WORD = re.compile(r"(?i)[ _.\-](" + "|".join(COLOUR_SUFFIXES) + r")$")
 _DIGITS = re.compile(r"\d+(?=\D*$)")          # a name's last run of digits: its frame number
 
 
@@ -34,8 +39,18 @@ def map_suffix(colour, other):
     ('normal', 'normal')
     >>> map_suffix("hero.png", "heron.png"), map_suffix("hero.png", "hero_Depth.png")
     ('', 'height')
+    >>> map_suffix("hero_Diffuse.png", "hero_Normal.png")      # siblings of one stem
+    'normal'
     """
     stem, other_stem = os.path.splitext(colour)[0], os.path.splitext(other)[0]
+    sibling = _COLOUR_WORD.search(stem)
+    if sibling and (kind := _map_word(stem[:sibling.start()], other_stem)):
+        return kind
+    return _map_word(stem, other_stem)
+
+
+def _map_word(stem, other_stem):
+    """'normal' or 'height' when `other_stem` is `stem` plus a map word, else ''."""
     if len(other_stem) <= len(stem) or other_stem[:len(stem)].lower() != stem.lower():
         return ""
     rest = other_stem[len(stem):]

@@ -11,6 +11,7 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
+from dynpaint_addon.blender.state.settings import settings_to_params  # noqa: E402
 from dynpaint_addon.cli import main  # noqa: E402
 from dynpaint_addon.core.frames import expand_pattern  # noqa: E402
 from dynpaint_addon.core.lights import DEFAULT_SUN_DIRECTION  # noqa: E402
@@ -44,6 +45,8 @@ def colour_of(folder, frame=1):
 def test_each_tools_files_are_lit_at_the_first_try(sets, tool, tmp_path):
     found = next(s for s in sets.values() if os.path.basename(s.folder) == tool)
     assert main(["new", found.folder, "--force"]) == 0
+    relief = load_recipe(os.path.join(found.folder, "painting.toml")).params.shadows.relief
+    assert relief == ("along_ray" if tool == "rgba_wall" else "auto")   # an opaque alpha
     for frame in ([1, 5] if found.frames > 1 else [None]):
         index = (frame or 1) - 1
         got = rendered(found.folder, str(tmp_path / f"{tool}_{frame}.exr"), frame)
@@ -141,3 +144,13 @@ def test_a_sprite_of_any_size_renders_turns_and_exports(size, tmp_path):
         extra = ["--frames", "2"] if command == "turntable" else []
         assert main([command, str(folder), "--out", str(tmp_path / out), *extra]) == 0
         assert (tmp_path / out).stat().st_size > 0
+
+
+def test_add_reads_an_alpha_opaque_everywhere_as_a_full_frame_map(sets, empty_scene):
+    """Add with a full-frame map saved as RGBA (alpha 255): its shadows fall along each ray,
+    as `new` writes it, and the report says why."""
+    wall = sets["paint program (full-frame map saved as RGBA)"]
+    assert bpy.ops.dynpaint.add(directory=wall.folder, files=[
+        {"name": "tiles.png"}, {"name": "tiles_n.png"}]) == {"FINISHED"}
+    s = bpy.context.object.active_material.dynamic_painting
+    assert settings_to_params(s).shadows.relief == "along_ray"

@@ -361,7 +361,9 @@ def test_auto_relief_integrates_cut_out_figures_and_marches_full_frame_maps_and_
     p = params.defaults()
     p.shape.kind, p.shadows.enabled = "normal", True
     full = ImageData(rgb, 8, "n.png")
-    cut = ImageData(np.dstack([rgb, np.ones((16, 16), np.float32)]), 8, "n.png")
+    alpha = np.zeros((16, 16), np.float32)
+    alpha[2:-2, 2:-2] = 1                                # a figure cut out
+    cut = ImageData(np.dstack([rgb, alpha]), 8, "n.png")
     assert shape_normals(full, p)[1] is None and shape_normals(cut, p)[1] is not None
     notes = input_notes({"shape": full}, p)
     assert len(notes) == 2 and "along each ray" in notes[0] and "integrated" in notes[0]

@@ -10,7 +10,7 @@ import pytest
 from dynpaint_addon import params
 from dynpaint_addon.core.colour import srgb_to_linear
 from dynpaint_addon.core.cut_out import cut_out_pixels, needs_cleaning
-from dynpaint_addon.core.input_rules import ImageData, input_notes
+from dynpaint_addon.core.input_rules import ImageData, input_notes, relief_guess
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.map_convention import green_reading
 from dynpaint_addon.core.pipeline import render, shape_normals
@@ -31,6 +31,9 @@ SUN = Light("sun", (-0.45, 0.5, 0.74), (1.0, 1.0, 1.0), 1.0, "Key")
     ("knight.png", "knight_Depth.png", "height"),       # Sprite Lamp's depth map
     ("knight.png", "knightn.png", ""),                  # a word, not a suffix
     ("knight.png", "knight_s.png", ""),                 # Laigter's specular map
+    ("knight_Diffuse.png", "knight_Normal.png", "normal"),  # Sprite Lamp: siblings of a stem
+    ("hero_d.png", "hero_n.png", "normal"),             # an engine's _d / _n
+    ("hero_d.png", "hero_dn.png", ""),
 ])
 def test_a_map_is_known_by_its_name_beside_its_sprite(colour, normal, kind):
     assert map_suffix(colour, normal) == kind
@@ -50,6 +53,33 @@ def test_a_sprite_and_its_map_are_one_painting_whatever_their_words_say():
     assert channels == {"shape": "pear_normal.png", "bright": "pear.png", "dark": "pear_dark.png"}
     channels, _, _ = painting_channels(["face.png", "face_shape.png", "face_dark.png"])
     assert channels["bright"] == "face.png"
+
+
+def test_sprite_lamps_maps_share_the_sprites_stem():
+    # Sprite Lamp names the colour image by its profile (_Diffuse) and saves its maps beside it
+    channels, rest, _ = painting_channels(["knight_AmbientOcclusion.png", "knight_Depth.png",
+                                           "knight_Diffuse.png", "knight_Normal.png"])
+    assert channels == {"shape": "knight_Normal.png", "bright": "knight_Diffuse.png"}
+    assert sorted(rest) == ["knight_AmbientOcclusion.png", "knight_Depth.png"]   # said unused
+
+
+def test_an_alpha_opaque_everywhere_cuts_no_figure_out():
+    """Many tools save every map as RGBA: an alpha that covers every pixel is a full-frame map,
+    whose shadows fall along the ray (integrated, its one cut would be the frame's edge)."""
+    n, cov, _ = sprite(32)
+    opaque = ImageData(np.dstack([encode(n), np.ones_like(cov)]).astype(np.float32), 8, "w.png")
+    cut = ImageData(np.dstack([encode(n), cov]).astype(np.float32), 8, "k.png")
+    relief, why = relief_guess(opaque, "w.png")
+    assert relief == "along_ray" and "covers every pixel" in why
+    assert relief_guess(cut, "k.png") == (None, "")
+    assert relief_guess(ImageData(encode(n).astype(np.float32)), "n.png") == (None, "")
+    p = params.defaults()
+    p.shadows.enabled = True
+    colour = ImageData(np.ones((32, 32, 3), np.float32))
+    notes = input_notes({"shape": opaque, "bright": colour}, p)
+    assert any('set shadows.relief = "along_ray"' in x for x in notes), notes
+    assert not any("covers every pixel" in x for x in input_notes({"shape": cut,
+                                                                   "bright": colour}, p))
 
 
 def test_numbered_pairs_are_frames():

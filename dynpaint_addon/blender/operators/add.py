@@ -8,7 +8,7 @@ from bpy.utils import previews
 from bpy_extras.io_utils import ImportHelper
 
 from ... import params
-from ...core.input_rules import green_of
+from ...core.input_rules import green_of, relief_guess
 from ...core.frames import is_pattern
 from ...inputs.channel_names import IMAGE_EXTENSIONS, common_name, guess_channels
 from ...inputs.painting_folder import painting_channels
@@ -170,6 +170,10 @@ def painting_from_images(context, channels, rest, shape_kind, size, location, ro
             green = green_of(pixels, p)
             p.shape.flip_green = green.flip
             notes.append(green.describe(os.path.basename(channels["shape"])))
+            relief, why = relief_guess(pixels, os.path.basename(channels["shape"]))
+            if relief:
+                p.shadows.relief = relief
+                notes.append(why)
     else:
         shape, note = inflated_shape(channels, name, p)
         notes.append(note)
