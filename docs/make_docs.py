@@ -159,7 +159,9 @@ def parameters_page(pictures):
     for prm in params.FRAME_PARAMS:
         lines += _entry(prm)
     lines += ["", "## Lights", "",
-              "Every Sun and Point light in the scene (or in the painting's light collection). "
+              "Every Sun and Point light in the scene, or in the painting's Lights collection "
+              "(a painting added from a recipe is lit by the recipe's lights, put in a "
+              "collection of their own; empty the field to light it with every light). "
               "A Sun's *Strength* is k (§5) and only its direction counts; a Point light's "
               "*Power* / 1000 W is k (Blender's default point light gives k = 1) and its "
               "position counts, in image widths from the painting's centre. Light colour tints "

@@ -40,6 +40,7 @@ from .state.edits import note_edited
 from .state.frame_sampling import only_reading_lights
 from .state.frames import forget_frames, moves
 from .state.images import forget_enlarged, forget_frames_made
+from .state.lights import concerns, touched_by
 from .state.painted import forget_painted, painted_layers, watched_images
 from .state.settings import channel_images
 from .state.status import problems, report
@@ -80,7 +81,10 @@ def on_depsgraph_update(scene, depsgraph):
     if not edited and not watched:
         return
     note_edited(edited)
+    touched = touched_by(depsgraph) if watched else set()
     for mat, its_edits in mine.items():
+        if not its_edits and not concerns(mat, scene, touched):
+            continue            # (another painting's lights or plane)
         when = ("now" if its_edits else "missing") if rendering() else "live"
         try:
             update(mat, scene, depsgraph, bake=when)

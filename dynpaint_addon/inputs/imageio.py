@@ -224,6 +224,19 @@ def _read_with_blender(path):
             bpy.data.images.remove(img)
 
 
+def missing_file(img):
+    """The file a Blender image is loaded from when that file is gone (moved, deleted since
+    the .blend was saved), else ''."""
+    path = bpy_path(img)
+    return path if path and not os.path.isfile(path) else ""
+
+
+def missing_file_message(what, path):
+    """One line for an image whose file is gone, the same wherever it is found."""
+    return (f"{what}: its file is missing: {path} (File › External Data › Find Missing "
+            f"Files, or open it again)")
+
+
 def image_data_from_blender(img, path=None):
     """A Blender image's pixels → ImageData, exactly what an Image Texture node samples.
 
@@ -238,6 +251,9 @@ def image_data_from_blender(img, path=None):
     where = path or img.filepath or img.name
     w, h = img.size
     c = img.channels
+    gone = missing_file(img) if path is None else ""
+    if gone:
+        raise ImageReadError(missing_file_message(img.name, gone))
     if w == 0 or h == 0 or not img.has_data or c == 0:
         raise ImageReadError(f"{where}: not an image Blender can read (unknown or corrupt format)")
     keep = file_channels(img)
@@ -280,7 +296,7 @@ def bpy_path(img):
     if img.source != "FILE" or img.packed_file is not None:
         return ""
     import bpy
-    return bpy.path.abspath(img.filepath)
+    return bpy.path.abspath(img.filepath, library=img.library)
 
 
 def cut_short_notes(path, px, name):

@@ -10,12 +10,14 @@ bpy = pytest.importorskip("bpy")
 pytestmark = pytest.mark.every_blender
 
 from dynpaint_addon import blender, params  # noqa: E402
+from dynpaint_addon.blender import handlers  # noqa: E402
 from dynpaint_addon.blender.scenes.painting_scene import FACE_CAMERA  # noqa: E402
 from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
 from dynpaint_addon.blender.state.settings import channel_images, settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
 from dynpaint_addon.inputs.recipe import load_images, load_recipe  # noqa: E402
+from dynpaint_addon.inputs.testpainting import write_test_painting  # noqa: E402
 
 from parity_recipes import write_images  # noqa: E402
 from testkit.scene_picture import render_cycles  # noqa: E402
@@ -132,6 +134,40 @@ def test_lights_added_deleted_and_collections(empty_scene, folder):
     assert list(s.lights) == []
     drivers = mat.node_tree.animation_data.drivers if mat.node_tree.animation_data else []
     assert all(d.driver.is_valid for d in drivers)
+
+
+def test_many_paintings_cost_each_add_alike(empty_scene, tmp_path, monkeypatch):
+    """Paintings added from one recipe (issue 60): each is lit by its recipe's own lights (a
+    collection of their own), and adding one more brings no other painting up to date — the
+    n-th Add re-lit all n with every light before (benchmarks/many_paintings.py times it)."""
+    recipe = write_test_painting(str(tmp_path / "small"), 32)
+    for _ in range(3):
+        assert bpy.ops.dynpaint.add(filepath=recipe) == {"FINISHED"}
+    mats = [m for m in bpy.data.materials if m.dynamic_painting.is_painting]
+    assert len(mats) == 3 and len(bpy.data.lights) == 6
+    for mat in mats:
+        own = mat.dynamic_painting.light_collection
+        assert own is not None and {o.name for o in linked_lights(mat, empty_scene)} == \
+            {o.name for o in own.objects} and len(own.objects) == 2
+    updated = []
+    real = handlers.update
+    monkeypatch.setattr(handlers, "update", lambda mat, *a, **k: (updated.append(mat.name),
+                                                                   real(mat, *a, **k))[1])
+    assert bpy.ops.dynpaint.add(filepath=recipe) == {"FINISHED"}
+    new = bpy.context.object.active_material.name
+    assert set(updated) <= {new}, updated           # the three others: untouched
+    updated.clear()
+    mats[0].dynamic_painting.light_collection.objects[0].location.x += 0.5
+    bpy.context.view_layer.update()                 # one painting's light moved: that one
+    assert set(updated) == {mats[0].name}, updated
+    # a light added to the scene lights a painting lit by every light, not the recipes'
+    mats[1].dynamic_painting.light_collection = None
+    updated.clear()
+    lamp = bpy.data.objects.new("Lamp", bpy.data.lights.new("Lamp", "POINT"))
+    empty_scene.collection.objects.link(lamp)
+    bpy.context.view_layer.update()
+    assert set(updated) == {mats[1].name}, updated
+    assert "Lamp" in [o.name for o in linked_lights(mats[1], empty_scene)]
 
 
 def test_looks_and_bake(empty_scene, folder):

@@ -302,8 +302,32 @@ def test_image_file_gone_from_disk_is_reported(files, tmp_path, empty_scene):
                                 {"name": "dark.png"}]) == {"FINISHED"}
     mat = bpy.context.object.active_material
     (folder / "dark.png").unlink()
-    assert problems(mat) == [f"the dark image's file is missing: {folder / 'dark.png'} "
-                               "(File › External Data › Find Missing Files, or open it again)"]
+    assert problems(mat) == [f"dark.png: its file is missing: {folder / 'dark.png'} "
+                             "(File › External Data › Find Missing Files, or open it again)"]
+
+
+def test_a_shape_file_gone_when_the_blend_opens_is_said_once(files, tmp_path, empty_scene):
+    """A saved painting whose height map was deleted: opening the file, changing the frame
+    and the render's check each meet it; it is said once, as missing (it was said five times,
+    as `not an image Blender can read`)."""
+    folder = tmp_path / "imgs"
+    folder.mkdir()
+    for f in ("height.png", "dark.png"):
+        (folder / f).write_bytes((files / f).read_bytes())
+    assert bpy.ops.dynpaint.add(directory=str(folder), files=[{"name": "height.png"},
+                                {"name": "dark.png"}]) == {"FINISHED"}
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "kept.blend"))
+    (folder / "height.png").unlink()
+    bpy.ops.wm.open_mainfile(filepath=str(tmp_path / "kept.blend"))
+    scene = bpy.context.scene
+    scene.frame_set(2)
+    for handler in bpy.app.handlers.render_pre:
+        if handler.__name__ == "on_render_pre":
+            handler(scene)
+    said = [message for _, message in status.LAST_ERRORS]
+    assert said == [f"height.png: its file is missing: {folder / 'height.png'} "
+                    "(File › External Data › Find Missing Files, or open it again)"], said
+    status.LAST_ERRORS.clear()
 
 
 @pytest.mark.parametrize("toml, message", [

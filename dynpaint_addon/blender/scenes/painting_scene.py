@@ -195,9 +195,19 @@ def _create_painting(context, images, p, lights, name, size, location, rotation,
         messages += face_scene_camera(obj, scene, "the painting faces the view; add a camera "
                                                   "and use 'Face Camera' to keep it facing it")
         context.view_layer.update()
-        if lights:
+        if lights:          # a recipe's lights light its painting, as the recipe shows it
+            own = bpy.data.collections.new(f"{name} Lights")
+            created.append(own)
+            context.collection.children.link(own)
             for light in lights:
-                created.append(add_light(scene, light, obj.matrix_world, context.collection))
+                created.append(add_light(scene, light, obj.matrix_world, own))
+            others = [o for o in scene.objects if o.type == "LIGHT" and o.name not in
+                      own.all_objects]
+            s.light_collection = own
+            if others:          # said only where it changes what lights the painting
+                messages.append(f"lit by its recipe's lights only (collection '{own.name}', "
+                                f"its Lights field), not by the scene's {len(others)} other "
+                                f"light(s): empty the field to light it with every light")
         elif default_sun and not linked_lights(mat, scene):
             created.append(add_light(scene, new_default_sun(), obj.matrix_world, context.collection))
             messages.append("the scene had no light: added a Sun")
@@ -213,7 +223,8 @@ def _create_painting(context, images, p, lights, name, size, location, rotation,
 
 def _remove(blocks):
     for block in reversed(blocks):
-        for coll in (bpy.data.objects, bpy.data.meshes, bpy.data.materials, bpy.data.lights):
+        for coll in (bpy.data.objects, bpy.data.meshes, bpy.data.materials, bpy.data.lights,
+                     bpy.data.collections):
             if isinstance(block, bpy.types.ID) and block.name in coll and coll[block.name] == block:
                 coll.remove(block)
                 break

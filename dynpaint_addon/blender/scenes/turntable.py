@@ -83,7 +83,8 @@ def add_light_turntable(context, mat, light=None, kind="SUN", frame_start=1, fra
         else:
             data.energy = 1000.0 * 0.5          # k = ½ (a point light's Power / 1000 W, §5)
         light = bpy.data.objects.new(data.name, data)
-        collection.objects.link(light)
+        # in the painting's own lights where it has them, or it would light nothing
+        (mat.dynamic_painting.light_collection or collection).objects.link(light)
         messages.append(f"added a {kind.title()} light '{light.name}'")
     elif light.type != "LIGHT":
         raise ValueError(f"{light.name} is not a light")

@@ -46,12 +46,15 @@ def is_grey(img):
 def prepare_channel_image(img, channel):
     """Colour images are sRGB-decoded by Blender (8/16-bit) or linear (float); data images
     are never colour-managed (§0). Alpha is kept apart from colour (channel packed)."""
-    if channel in COLOUR_CHANNELS and not is_float_file(img):
-        img.colorspace_settings.name = "sRGB"     # 8- and 16-bit files hold sRGB codes (§0)
-    else:
-        img.colorspace_settings.name = "Non-Color"
-    img.alpha_mode = "CHANNEL_PACKED"
-    img.use_half_precision = False   # 16-bit GPU textures cost EEVEE ~1e-2 on steep slopes
+    # (each set only where it differs: setting one reloads the image's pixels and tells every
+    # painting that shows it that they were edited)
+    space = "sRGB" if channel in COLOUR_CHANNELS and not is_float_file(img) else "Non-Color"
+    if img.colorspace_settings.name != space:   # 8- and 16-bit files hold sRGB codes (§0)
+        img.colorspace_settings.name = space
+    if img.alpha_mode != "CHANNEL_PACKED":
+        img.alpha_mode = "CHANNEL_PACKED"
+    if img.use_half_precision:       # 16-bit GPU textures cost EEVEE ~1e-2 on steep slopes
+        img.use_half_precision = False
 
 
 def downsampled(img, max_size):

@@ -16,6 +16,33 @@ def linked_lights(mat, scene):
                   key=lambda o: o.name)
 
 
+def touched_by(depsgraph):
+    """The original IDs a depsgraph update touched: objects moved or remade (a parent's move
+    flags its children too; adding an object flags every other object's shading only, which
+    no painting reads from them), lights' data, collections, scenes."""
+    return {getattr(u.id, "original", u.id) for u in depsgraph.updates
+            if not isinstance(u.id, bpy.types.Object) or u.is_updated_transform or
+            u.is_updated_geometry}
+
+
+def concerns(mat, scene, touched):
+    """Could what `touched` holds change this painting's lights or plane? Its plane, its lights
+    (their data, their parents: a turntable's pivot), its Lights collection; a painting lit by
+    every light also by any light, collection or scene touched (a light added anywhere).
+    Asked so that adding the 50th painting does not bring the other 49 up to date."""
+    s = mat.dynamic_painting
+    if s.light_collection is None and any(
+            isinstance(t, (bpy.types.Collection, bpy.types.Scene, bpy.types.Light)) or
+            (isinstance(t, bpy.types.Object) and t.type == "LIGHT") for t in touched):
+        return True
+    its = {mat, s.light_collection}
+    for obj in (s.plane, *linked_lights(mat, scene)):
+        while obj is not None:
+            its |= {obj, obj.data}
+            obj = obj.parent
+    return not its.isdisjoint(touched)
+
+
 def painting_frame_light(obj, plane_matrix, depsgraph=None):
     """A Blender light → core Light in the painting frame (the plane's object space, §0).
 

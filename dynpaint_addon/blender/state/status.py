@@ -4,20 +4,19 @@ Handlers, timers and bakes never raise into Blender: they report here (printed, 
 shown in the painting's panel); `problems` lists what keeps a painting from rendering as set
 up (deleted plane or images, image files gone from disk).
 """
-import os
-
-import bpy
-
+from ...inputs.imageio import missing_file, missing_file_message
 from .settings import channel_images
 
 LAST_ERRORS = []      # (material name, message), newest last: the panel shows them
 
 
 def report(mat, exc):
-    """Print a painting's problem and keep it for the panel (the newest 20)."""
+    """Print a painting's problem and keep it for the panel (the newest 20), once until the
+    painting is up to date again (clear_errors)."""
     name = mat if isinstance(mat, str) else mat.name
-    message = f"Dynamic Painting: {name}: {exc}"
-    print(message)
+    if (name, str(exc)) in LAST_ERRORS:     # said already (each handler meets it again)
+        return
+    print(f"Dynamic Painting: {name}: {exc}")
     LAST_ERRORS.append((name, str(exc)))
     del LAST_ERRORS[:-20]
 
@@ -43,9 +42,6 @@ def problems(mat):
     if s.image_dark is None and s.image_bright is None:
         found.append("it has no dark or bright image (deleted?): open one under Images")
     for channel, img in channel_images(s).items():
-        if img.source == "FILE" and img.packed_file is None:
-            path = bpy.path.abspath(img.filepath, library=img.library)
-            if not os.path.isfile(path):
-                found.append(f"the {channel.replace('_', ' ')} image's file is missing: {path} "
-                             "(File › External Data › Find Missing Files, or open it again)")
+        if path := missing_file(img):
+            found.append(missing_file_message(img.name, path))
     return found
