@@ -14,6 +14,7 @@ import bpy
 from . import register_once
 from ..core.layers import render_scene
 from ..core.lights import default_sun
+from ..inputs import memory
 from ..inputs.imageio import quiet_native, write_render
 from ..inputs.whole_files import abandon_writing, written_whole
 from .bake.layers import group_layers, group_materials
@@ -255,6 +256,7 @@ def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevati
     scene = bpy.context.scene
     image_size = painting_size(mat)
     w, h = size or video_size(*image_size, notes)
+    memory.check_video(w, h)            # (the painting is built: its memory is taken)
     fit_camera(scene, plane, w, h)
     samples = video_render_settings(scene, engine, samples, exact=(w, h) == image_size)
     # a layered file (.ora, a folder of layers) names no light: the default sun lights it;

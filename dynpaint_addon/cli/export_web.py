@@ -8,6 +8,8 @@ import time
 
 from .. import params
 from ..errors import UserError
+from ..inputs import memory
+from ..inputs.imageio import painting_headers
 from ..inputs.layered_files import is_layered_file, load_layered
 from ..inputs.painting_frames import PaintingFrames
 from ..inputs.recipe import image_bytes, load_recipe
@@ -55,6 +57,11 @@ def cmd_export_web(args):
     if recipe is None or recipe.layered:
         return _export_layers(args, start, recipe)
     print_notes(recipe.notes)
+    headers = painting_headers({c: s.files()[0] for c, s in recipe.slots().items()})
+    if headers is not None:            # before any image is read (a 12000² one took 6.9 GB)
+        pt = memory.painting(headers, recipe.params)
+        memory.check(memory.page_bytes(pt), f"a page of the {pt.width}×{pt.height} painting",
+                     "give smaller images (the page reads them whole before --max-size)")
     painting = PaintingFrames(recipe.slots())
     images = painting.images(painting.start)
     check_and_print(images, recipe.params)

@@ -3,6 +3,7 @@ painting once, rendered by Cycles or EEVEE in background Blender, each frame's s
 import os
 
 from ..errors import CommandError
+from ..inputs import memory
 from ..inputs.layered_files import is_layered_file
 from ..inputs.recipe import load_recipe
 from ..inputs.samples import recipe_help
@@ -29,6 +30,8 @@ def cmd_turntable(args):
         raise CommandError(f"--size {args.size[0]} {args.size[1]}: larger than a video's frame "
                            f"can be (FFmpeg takes (w + 128)(h + 128) < 2²⁸ pixels: 16254 × "
                            f"16254 at most)")
+    if args.size is not None:              # before Blender starts: its frames must fit
+        memory.check_video(*args.size, held=memory.base_bytes())
     if args.samples is not None and args.samples < 1:
         raise CommandError(f"--samples must be at least 1, got {args.samples}")
     if args.elevation is not None and not -90 <= args.elevation <= 90:

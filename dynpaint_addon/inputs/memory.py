@@ -13,6 +13,7 @@ and 2048² paintings; `benchmarks/memory.py` checks the whole estimate against m
     >>> round(read_bytes(*shape)[0] / 2**20)        # Blender's float buffer, ours, the copy
     576
 """
+import math
 import os
 from dataclasses import dataclass
 
@@ -114,7 +115,13 @@ def rlimit_bytes():
 
 
 def gib(n):
-    return f"{n / 2**30:.1f} GiB"
+    """Bytes as GiB, one decimal (a size past any machine's memory in powers of ten).
+
+    >>> gib(3 * 2**29), gib(2**60)
+    ('1.5 GiB', '1.1e+09 GiB')
+    """
+    g = n / 2**30
+    return f"{g:.1f} GiB" if g < 1e6 else f"{g:.2g} GiB"
 
 
 def fits(needed):
@@ -156,6 +163,36 @@ def check(needed, what, advice):
         raise NotEnoughMemory(f"{what} would need about {gib(needed)} of memory; this machine "
                               f"has {gib(have)} free: {advice}")
     return needed
+
+
+# One video frame's share of a turntable: Cycles' render buffers, the render result, its
+# display copy and FFmpeg's frame buffers. Measured with `turntable --frames 2 --samples 1`
+# (bpy 5.0.1): 431 MB peak at 1024², 1879 MB at 4096²: 92 bytes a pixel beyond the painting
+VIDEO_FRAME_PX_BYTES = 92
+
+
+def video_frame_bytes(width, height):
+    """The memory a turntable's frames of width × height take (VIDEO_FRAME_PX_BYTES)."""
+    return VIDEO_FRAME_PX_BYTES * width * height
+
+
+def largest_video_side(held=0):
+    """The largest even square frame whose video fits the memory free now, beside `held`
+    bytes still to come (None where the machine cannot tell)."""
+    have = available_bytes()
+    if have is None:
+        return None
+    side = int(math.sqrt(max(HEADROOM * have - held, 0) / VIDEO_FRAME_PX_BYTES))
+    return max(16, side - side % 2)
+
+
+def check_video(width, height, held=0):
+    """Refuse a turntable whose frames (and `held` bytes more: the command's own, before
+    Blender starts) do not fit, before the work."""
+    side = largest_video_side(held)
+    return check(held + video_frame_bytes(width, height), f"a {width}×{height} turntable",
+                 f"choose a smaller --size (at most {side} {side} here)" if side else
+                 "choose a smaller --size")
 
 
 def check_read(header, name):
@@ -221,11 +258,29 @@ def shape_work(p, shape_has_alpha):
                                                                shape_has_alpha)
 
 
+# What export-web holds beside the images it reads: the page's textures and their PNG and
+# base64 text. Measured (the test painting, bpy 5.0.1): 81 MB above base + kept + reading at
+# 1024², 66 MB at 2048² (reading's transient overlaps: the model is high by ~25 % there)
+PAGE_FIXED = 96 * 2**20
+
+
+def page_bytes(pt):
+    """The peak of `export-web` of Painting `pt`: its images read whole (the page may be
+    drawn smaller, --max-size), and the page made from them."""
+    return base_bytes() + pt.kept + pt.reading + PAGE_FIXED
+
+
 def final_bake_bytes(w, h, shape, lights, offset):
     """The peak of a final bake of `lights` on a prepared shape (w, h) of PREPARE key `shape`:
     the lights bake one after the other, each at its own peak."""
     kept_px = PREPARE[shape][0]
     return base_bytes() + max(bake_bytes(w, h, light, offset, kept_px) for light in lights)
+
+
+# Past this many pixels a side the crossings' grid is not built to count its tables (building
+# it for --width 4e7 took 73 s and 10 GB before refusing): at 16384² every light's largest
+# block is already 3.8–11.7 GiB, past MAX_TABLE_BYTES, so a bake that size marches (§6)
+LARGEST_COUNTED_SIDE = 65536
 
 
 def bake_bytes(w, h, light, offset, kept_px):
@@ -234,7 +289,8 @@ def bake_bytes(w, h, light, offset, kept_px):
     traced at once, the terms."""
     px = w * h
     fixed = (BAKE_PX + kept_px) * px + BAKE_FIXED
-    if crossings.table_bytes(light, h, w, offset)[1] > crossings.MAX_TABLE_BYTES:
+    if max(w, h) > LARGEST_COUNTED_SIDE or \
+            crossings.table_bytes(light, h, w, offset)[1] > crossings.MAX_TABLE_BYTES:
         return MARCH_BAND_BYTES * min(px, BAND_PIXELS) + fixed       # the march (§6)
     traced = min(px, crossings.TRACE_PIXELS)
     return crossings.table_peak(light, h, w, offset) + BAKE_TRACED * traced + fixed

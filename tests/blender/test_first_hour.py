@@ -304,6 +304,35 @@ def test_a_render_too_large_for_the_machine_says_what_fits(tmp_path):
     assert width >= 512 and memory.available_bytes() * memory.HEADROOM > 260 * 2**20
 
 
+def _under_3_gib(*args, cwd):
+    """What `dynpaint ARGS` says on stderr with 3 GiB of address space (as on a small
+    machine, whatever this one has)."""
+    probe = ("import resource, subprocess, sys; r = subprocess.run(sys.argv[1:], "
+             "capture_output=True, text=True, preexec_fn=lambda: resource.setrlimit("
+             "resource.RLIMIT_AS, (3 << 30, 3 << 30))); sys.stdout.write(r.stderr)")
+    return subprocess.run([sys.executable, "-c", probe, DYNPAINT, *map(str, args)], cwd=cwd,
+                          capture_output=True, text=True, timeout=300).stdout
+
+
+def test_no_estimate_spends_what_it_counts(bomb, tmp_path):
+    """Issue 60: the render estimate at --width 4e7 built the crossings' grid (73 s, 10 GB
+    before refusing); export-web of a 30000² painting read its images before any estimate;
+    a turntable's frames were never counted. Each now refuses with its numbers, at once."""
+    said, mb = _peak_mb("render", "portrait", "--width", 40000000, "--out", "x.png",
+                        cwd=tmp_path)
+    assert said.startswith("error: rendering 40000000×40000000 would need about") and \
+        "e+" in said.split("about ")[1].split(" GiB")[0] and mb < 1024, (said, mb)
+    recipe = tmp_path / "poster.toml"
+    recipe.write_text(f'[images]\nshape = "{bomb}"\ndark = "{bomb}"\n')
+    said = _under_3_gib("export-web", recipe, "--out", "x.html", "--allow-outside-images",
+                        cwd=tmp_path)
+    assert "error: a page of the 30000×30000 painting would need about" in said, said
+    said = _under_3_gib("turntable", "portrait", "--size", 8192, 8192, "--out", "x.mp4",
+                        cwd=tmp_path)
+    assert said.startswith("error: a 8192×8192 turntable would need about 6."), said
+    assert "choose a smaller --size (at most " in said and not (tmp_path / "x.mp4").exists()
+
+
 def test_the_estimates_meet_measured_peaks_at_1024(tmp_path):
     """benchmarks/memory.py's check at one size (its report covers 1024², 4096² and 8192²)."""
     sys.path.insert(0, os.path.join(REPO, "benchmarks"))
