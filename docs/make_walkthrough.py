@@ -179,12 +179,13 @@ makes them, `benchmarks/artists_files.py` measures public ones):
 | tool | its files | green | what Dynamic Painting reads |
 |---|---|---|---|
 | SpriteIlluminator | `knight.png` + `knight_n.png`; its sheets with TexturePacker | up | the pair by their names; the sprite's alpha is the figure |
-| Sprite Lamp | `knight.png` + `knight_Normal.png` (opaque), `_Depth`, `_AO`, … | up | the normal map (a depth map only without one); the other maps are said not used |
+| Sprite Lamp | `knight_Diffuse.png` (or `knight.png`) + `knight_Normal.png` (opaque), `_Depth`, `_AmbientOcclusion`, … | up | the normal map beside the colour image of its stem (a depth map only without one); the other maps are said not used, each with why |
 | Laigter | `knight.png` + `knight_n.png`, `_s`, `_o`, `_p` | up | the `_n` map; `_s` (specular), `_o` (occlusion), `_p` (parallax) said not used |
 | Godot | `logo.png` + `logo_normal.png` (or `_n`) | its 2D lights demo's map: **down** | read down: its slopes fit a height field that way (circulation 0.41 per image width, 10.28 the other way) |
 | Unity | `Knight_Albedo.png` + `Knight_Normal.png`, or a sprite's secondary texture `_n` | up | the names' words; a two-channel map (blue 0) as x, y |
 | Phaser | `brick.jpg` + `brick_n.png`, `skull-n.png`; Phaser 3 multiatlases | up | the pair; JPEG colour; the atlas's frames |
 | TexturePacker | `sheet.json` + `sheet.png` + `sheet_n.png` (hash, array, Phaser 3 multiatlas) | — | each frame it lists at its source size (trimmed borders put back, rotated frames turned back), written to `made/` as numbered frames: a painting that moves |
+| any, full frame | `wall.png` + `wall_n.png` saved as RGBA, the alpha 255 everywhere | — | an alpha that covers every pixel cuts nothing out: its shadows fall along each ray (`shadows.relief = "along_ray"`, said) |
 | Blender bake | `head.png` + `head_normal.png`: (0, 0, 0, 0) outside, the rim blended with black | up | uncovered pixels flat, the rim divided by its alpha: no wall of shadow round the figure |
 | any, animated | `01.png` + `01_n.png` … `08_n.png` | — | a painting that moves (`##.png`, `##_n.png`) |
 
