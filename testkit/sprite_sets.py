@@ -11,6 +11,7 @@ coverage. Their conventions (docs/your-painting.md has the table):
 - `sprite_lamp`: `knight_Diffuse.png` (its diffuse lighting profile's name) +
   `knight_Normal.png` (opaque, flat outside) + `knight_Depth.png` +
   `knight_AmbientOcclusion.png`, the maps Sprite Lamp saves;
+- `sprite_lamp_wall`: `wall_Diffuse.png` + `wall_NormalDepth.png`, the depth in the map's alpha;
 - `laigter`: `knight.png` + `knight_n.png` beside its `_s`, `_o` and `_p` maps;
 - `godot_demo`: `logo.png` + `logo_normal.png`, **green down** (as Godot's 2D lights demo's
   map is), no alpha in the map;
@@ -160,7 +161,7 @@ def blender_bake(root, size=160):
 def jpeg_wall(root, size=192):
     """A full-frame texture: bricks of rounded relief, colour and map both JPEG."""
     d = _folder(root, "jpeg_wall")
-    n, rgb = _bricks(size, 6)
+    n, rgb, _ = _bricks(size, 6)
     write_jpeg(os.path.join(d, "wall.jpg"), rgb.astype(np.float32), 88)
     write_jpeg(os.path.join(d, "wall_normal.jpg"), encode(n).astype(np.float32), 88)
     return SpriteSet(d, "JPEG texture (full frame)", [n], [None])
@@ -170,14 +171,25 @@ def rgba_wall(root, size=160):
     """A full-frame texture whose map is saved as RGBA with its alpha 255 everywhere, as paint
     programs export a layer: the alpha cuts nothing out."""
     d = _folder(root, "rgba_wall")
-    n, rgb = _bricks(size, 4)
+    n, rgb, _ = _bricks(size, 4)
     _write(os.path.join(d, "tiles.png"), rgb)
     _write(os.path.join(d, "tiles_n.png"), np.dstack([encode(n), np.ones((size, size))]))
     return SpriteSet(d, "paint program (full-frame map saved as RGBA)", [n], [None])
 
 
+def sprite_lamp_wall(root, size=160):
+    """A full-frame texture as Sprite Lamp saves it for its shaders: `wall_Diffuse.png` and
+    `wall_NormalDepth.png`, the normal map whose alpha is the depth (low between the bricks:
+    read as a figure's alpha, it would cut the mortar out)."""
+    d = _folder(root, "sprite_lamp_wall")
+    n, rgb, z = _bricks(size, 5)
+    _write(os.path.join(d, "wall_Diffuse.png"), rgb)
+    _write(os.path.join(d, "wall_NormalDepth.png"), np.dstack([encode(n), z / z.max()]))
+    return SpriteSet(d, "Sprite Lamp (NormalDepth: the depth in the map's alpha)", [n], [None])
+
+
 def _bricks(size, rows):
-    """Rows of bricks of rounded relief → (true normals, colour RGB)."""
+    """Rows of bricks of rounded relief → (true normals, colour RGB, heights)."""
     fine = size * SUPERSAMPLE
     y, x = (np.mgrid[0:fine, 0:fine] + 0.5) / fine
     row = np.floor(y * rows)
@@ -188,7 +200,7 @@ def _bricks(size, rows):
     gy, gx = np.gradient(zc * size, axis=(0, 1))
     n = np.dstack([-gx, -gy, np.ones_like(zc)])
     n /= np.linalg.norm(n, axis=-1, keepdims=True)
-    return n, colours(size, np.ones((size, size)), 7)[..., :3]
+    return n, colours(size, np.ones((size, size)), 7)[..., :3], zc
 
 
 def numbered_walk(root, size=96, frames=8):
@@ -215,8 +227,8 @@ def scene_layer(root, size=128):
     return SpriteSet(d, "a scene's layer (name says 'foreground')", [n], [cov])
 
 
-WRITERS = (sprite_illuminator, sprite_lamp, laigter, godot_demo, unity, blender_bake, jpeg_wall,
-           rgba_wall, numbered_walk, scene_layer)
+WRITERS = (sprite_illuminator, sprite_lamp, sprite_lamp_wall, laigter, godot_demo, unity,
+           blender_bake, jpeg_wall, rgba_wall, numbered_walk, scene_layer)
 
 
 def write_all(root):

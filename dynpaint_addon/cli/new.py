@@ -185,6 +185,14 @@ def _painting_recipe(folder, base, reading=None, images=None):
     reading = reading or read_painting_folder(folder)
     data, reasons, made = reading.data, dict(reading.reasons), []
     images = images or {c: os.path.join(folder, f) for c, f in data["images"].items()}
+    if reading.depth_in_alpha:          # Sprite Lamp's NormalDepth: the map is its RGB
+        source = read_image(images["shape"])
+        stem = os.path.splitext(reading.depth_in_alpha)[0]
+        images["shape"] = os.path.join(base, MADE, f"{stem}_rgb.png")
+        write_png(images["shape"], source.rgb(), min(source.bits, 16))
+        made.append(images["shape"])
+        reasons["images.shape"] = (f"{reading.depth_in_alpha}'s colour, written by new: its "
+                                   f"alpha is the depth, not the figure")
     if not reading.has_shape:
         painted = painted_image(folder, reading)
         p = params.defaults()

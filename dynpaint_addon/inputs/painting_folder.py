@@ -31,7 +31,7 @@ import re
 import shlex
 from dataclasses import dataclass, field
 
-from ..core.input_rules import relief_guess
+from ..core.input_rules import ImageData, relief_guess
 from ..core.map_convention import green_reading
 from ..errors import UserError
 from ..shapes.maker import looks_like_height
@@ -39,7 +39,7 @@ from .channel_names import (CHANNEL_WORDS, IMAGE_EXTENSIONS, OTHER_MAP_WORDS, co
                             guess_channels, words)
 from .atlas import atlas_in
 from .imageio import read_image
-from .sprite_files import sprite_pairs
+from .sprite_files import depth_in_alpha, sprite_pairs
 
 RECIPE_NAME = "painting.toml"
 PHOTOSHOP = re.compile(r"^_(\d{4})_")     # Export Layers to Files: _0000_ the top layer
@@ -102,6 +102,7 @@ class FolderReading:
     data: dict
     notes: list
     reasons: dict = field(default_factory=dict)     # "images.shape", "shape.kind", … → why
+    depth_in_alpha: str = ""    # the shape file whose alpha is its depth (its RGB is the map)
 
     @property
     def has_shape(self):
@@ -155,9 +156,16 @@ def read_painting_folder(path):
         "shadows": {"enabled": True}}
     reasons["shadows.enabled"] = ("cast shadows and the subsurface look (§6); false draws "
                                   "faster")
+    depth_map = ""
     if "shape" in channels:
         first = sprites.first_shape if sprites.frames > 1 else channels["shape"]
         shape = read_image(os.path.join(path, first))
+        if shape.has_alpha and depth_in_alpha(first):   # the map is its RGB alone
+            shape = ImageData(shape.rgb(), shape.bits, shape.name)
+            depth_map = first
+            notes.append(f"{first}: its alpha is the depth (Sprite Lamp's NormalDepth), not "
+                         f"the figure: the normal map is its colour alone; the figure is the "
+                         f"colour image's alpha")
         kind = "height" if looks_like_height(shape) else "normal"
         colour = "grey" if kind == "height" else "coloured"
         data["shape"] = {"kind": kind}
@@ -179,7 +187,7 @@ def read_painting_folder(path):
             if relief:
                 data["shadows"]["relief"], reasons["shadows.relief"] = relief, why
                 notes.append(why)
-    return FolderReading(data, notes, reasons)
+    return FolderReading(data, notes, reasons, depth_map if sprites.frames <= 1 else "")
 
 
 def not_used_note(rest):
@@ -214,6 +222,11 @@ def painting_recipe_data(path):
     """A folder of one painting's images → (recipe data, notes), as read_painting_folder reads
     it; FolderError when it has no shape image (`dynpaint new` makes one)."""
     reading = read_painting_folder(path)
+    if reading.depth_in_alpha:
+        raise FolderError(
+            f"{path}: {reading.depth_in_alpha} holds the depth in its alpha (Sprite Lamp's "
+            f"NormalDepth): let `dynpaint new {shlex.quote(path)}` write its normal map "
+            f"without it (made/), then render the recipe it writes")
     if not reading.has_shape:
         raise FolderError(
             f"{path}: no shape image (a file named …normal… or …height…): let `dynpaint new "

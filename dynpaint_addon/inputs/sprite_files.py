@@ -22,6 +22,9 @@ from dataclasses import dataclass, field
 # and joined, camelCase), most telling first: normal maps, then height maps.
 NORMAL_SUFFIXES = ("n", "nm", "nrm", "nor", "norm", "normal", "normals", "normalmap",
                    "normal_map")
+# A normal map whose alpha holds the depth, not the figure: Sprite Lamp's `_NormalDepth`, the
+# Daemon engine's `_nh`
+NORMAL_DEPTH_SUFFIXES = ("normaldepth", "normal_depth", "normalheight", "normal_height", "nh")
 HEIGHT_SUFFIXES = ("depth", "height", "heightmap", "h", "disp", "bump")
 # The words a colour image's name may end in when its maps share its stem instead (Sprite
 # Lamp's `hero_Diffuse.png` + `hero_Normal.png`, an engine's `hero_d` + `hero_n`)
@@ -61,9 +64,21 @@ def _map_word(stem, other_stem):
         word = rest.lower()
     else:
         return ""
-    if word in NORMAL_SUFFIXES:
+    if word in NORMAL_SUFFIXES or word in NORMAL_DEPTH_SUFFIXES:
         return "normal"
     return "height" if word in HEIGHT_SUFFIXES else ""
+
+
+def depth_in_alpha(name):
+    """Does a map's name say its alpha holds the depth (Sprite Lamp's NormalDepth)?
+
+    >>> depth_in_alpha("StoneWall_NormalDepth.png"), depth_in_alpha("wall_nh.tga")
+    (True, True)
+    >>> depth_in_alpha("wall_normal.png"), depth_in_alpha("hero_n.png")
+    (False, False)
+    """
+    stem = re.sub(r"(?<=[a-z])(?=[A-Z])", "_", os.path.splitext(os.path.basename(name))[0])
+    return re.search(r"(?i)(?:^|[ _.\-])(?:normal[ _\-]?(?:depth|height)|nh)$", stem) is not None
 
 
 @dataclass

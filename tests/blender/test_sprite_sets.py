@@ -47,6 +47,10 @@ def test_each_tools_files_are_lit_at_the_first_try(sets, tool, tmp_path):
     assert main(["new", found.folder, "--force"]) == 0
     relief = load_recipe(os.path.join(found.folder, "painting.toml")).params.shadows.relief
     assert relief == ("along_ray" if tool == "rgba_wall" else "auto")   # an opaque alpha
+    if tool == "sprite_lamp_wall":      # its map's alpha is the depth: the map is its RGB
+        shape = load_recipe(os.path.join(found.folder, "painting.toml")).images["shape"]
+        assert shape.endswith("made/wall_NormalDepth_rgb.png") and \
+            read_image(shape).pixels.shape[2] == 3
     for frame in ([1, 5] if found.frames > 1 else [None]):
         index = (frame or 1) - 1
         got = rendered(found.folder, str(tmp_path / f"{tool}_{frame}.exr"), frame)
@@ -154,3 +158,29 @@ def test_add_reads_an_alpha_opaque_everywhere_as_a_full_frame_map(sets, empty_sc
         {"name": "tiles.png"}, {"name": "tiles_n.png"}]) == {"FINISHED"}
     s = bpy.context.object.active_material.dynamic_painting
     assert settings_to_params(s).shadows.relief == "along_ray"
+
+
+def test_sprite_lamps_normal_depth_is_read_as_its_colour_everywhere(sets, empty_scene,
+                                                                   tmp_path):
+    """Sprite Lamp's NormalDepth holds the depth in its alpha: `render FOLDER` asks for `new`
+    (which writes the map's colour to made/), and Add packs the colour as the normal map, so
+    the mortar (depth 0) is not cut out."""
+    wall = sets["Sprite Lamp (NormalDepth: the depth in the map's alpha)"]
+    folder = tmp_path / "wall"
+    folder.mkdir()
+    for name in ("wall_Diffuse.png", "wall_NormalDepth.png"):
+        (folder / name).write_bytes(open(os.path.join(wall.folder, name), "rb").read())
+    assert main(["render", str(folder), "--out", str(tmp_path / "x.png")]) == 1
+    assert bpy.ops.dynpaint.add(directory=str(folder), files=[
+        {"name": "wall_Diffuse.png"}, {"name": "wall_NormalDepth.png"}]) == {"FINISHED"}
+    plane = bpy.context.object
+    s = plane.active_material.dynamic_painting
+    assert s.image_shape.name.endswith("normal map") and s.image_shape.packed_file is not None
+    got = render_cycles(empty_scene, plane, str(tmp_path / "add.exr"))
+    assert got[..., 3].min() > 0.99                      # nothing cut out
+    sun = linked_lights(plane.active_material, empty_scene)[0]
+    light = painting_frame_light(sun, s.plane.matrix_world).vector
+    colour = read_image(str(folder / "wall_Diffuse.png")).pixels
+    verdict = sprite_sets.judge(got, np.dstack([colour[..., :3], np.ones(colour.shape[:2])]),
+                                wall.normals[0], None, light)
+    assert verdict.passes(), verdict

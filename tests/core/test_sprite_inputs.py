@@ -33,6 +33,8 @@ SUN = Light("sun", (-0.45, 0.5, 0.74), (1.0, 1.0, 1.0), 1.0, "Key")
     ("knight.png", "knight_s.png", ""),                 # Laigter's specular map
     ("knight_Diffuse.png", "knight_Normal.png", "normal"),  # Sprite Lamp: siblings of a stem
     ("hero_d.png", "hero_n.png", "normal"),             # an engine's _d / _n
+    ("StoneWall_Diffuse.png", "StoneWall_NormalDepth.png", "normal"),   # its depth in alpha
+    ("wall_d.png", "wall_nh.png", "normal"),            # the Daemon engine's normal + height
     ("hero_d.png", "hero_dn.png", ""),
 ])
 def test_a_map_is_known_by_its_name_beside_its_sprite(colour, normal, kind):

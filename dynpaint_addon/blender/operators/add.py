@@ -1,6 +1,8 @@
 """Add › Dynamic Painting: from images or a recipe, a sample, a recipe import; the Add menu."""
 import os
 
+import numpy as np
+
 import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty,
                        IntProperty, StringProperty)
@@ -12,6 +14,7 @@ from ...core.input_rules import green_of, relief_guess
 from ...core.frames import is_pattern
 from ...inputs.channel_names import IMAGE_EXTENSIONS, common_name, guess_channels
 from ...inputs.painting_folder import painting_channels
+from ...inputs.sprite_files import depth_in_alpha
 from ...inputs.imageio import image_data_from_blender
 from ...inputs.recipe import DEFAULT_SUN_NOTE, RecipeError, load_recipe
 from ...inputs.samples import list_samples
@@ -163,6 +166,14 @@ def painting_from_images(context, channels, rest, shape_kind, size, location, ro
     if "shape" in channels:
         shape = load_image(channels["shape"], "shape")
         pixels = image_data_from_blender(shape)
+        if pixels.has_alpha and depth_in_alpha(channels["shape"]):     # its RGB is the map
+            rgb = pixels.rgb()
+            shape = made_shape_image(f"{name} normal map", np.dstack(
+                [rgb, np.ones(rgb.shape[:2], np.float32)]))
+            pixels = image_data_from_blender(shape)
+            notes.append(f"{os.path.basename(channels['shape'])}: its alpha is the depth "
+                         f"(Sprite Lamp's NormalDepth), not the figure: its colour alone is "
+                         f"the normal map (packed)")
         p.shape.kind = shape_kind.lower() if shape_kind != "AUTO" else \
             ("height" if looks_like_height(pixels) else "normal")
         notes.append(f"shape image read as a {p.shape.kind} map")
