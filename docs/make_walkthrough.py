@@ -179,7 +179,7 @@ makes them, `benchmarks/artists_files.py` measures public ones):
 | tool | its files | green | what Dynamic Painting reads |
 |---|---|---|---|
 | SpriteIlluminator | `knight.png` + `knight_n.png`; its sheets with TexturePacker | up | the pair by their names; the sprite's alpha is the figure |
-| Sprite Lamp | `knight_Diffuse.png` (or `knight.png`) + `knight_Normal.png` (opaque), `_Depth`, `_AmbientOcclusion`, … | up | the normal map beside the colour image of its stem (a depth map only without one); the other maps are said not used, each with why |
+| Sprite Lamp | `knight_Diffuse.png` (or `knight.png`) + `knight_Normal.png` (opaque), or `_NormalDepth` (the depth in its alpha); `_Depth`, `_AmbientOcclusion`, `_SpecGloss` | up | the normal map beside the colour image of its stem (a depth map only without one); a NormalDepth's colour alone is the map (`new` writes it to `made/`: its alpha is no figure); the other maps are said not used, each with why |
 | Laigter | `knight.png` + `knight_n.png`, `_s`, `_o`, `_p` | up | the `_n` map; `_s` (specular), `_o` (occlusion), `_p` (parallax) said not used |
 | Godot | `logo.png` + `logo_normal.png` (or `_n`) | its 2D lights demo's map: **down** | read down: its slopes fit a height field that way (circulation 0.41 per image width, 10.28 the other way) |
 | Unity | `Knight_Albedo.png` + `Knight_Normal.png`, or a sprite's secondary texture `_n` | up | the names' words; a two-channel map (blue 0) as x, y |
