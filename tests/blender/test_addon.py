@@ -170,6 +170,21 @@ def test_many_paintings_cost_each_add_alike(empty_scene, tmp_path, monkeypatch):
     assert "Lamp" in [o.name for o in linked_lights(mats[1], empty_scene)]
 
 
+def test_the_sun_add_makes_turns_as_scripts_turn_it(empty_scene, folder):
+    """Issue 61: the Sun was turned by quaternion, so setting rotation_euler (what scripts,
+    drivers and Blender's new objects use) changed nothing. It is aimed in Euler XYZ now."""
+    add(folder, "normal.png", "dark.png", "bright.png")
+    mat = bpy.context.object.active_material
+    sun = linked_lights(mat, empty_scene)[0]
+    assert sun.rotation_mode == "XYZ"
+    before = painting_frame_light(sun, mat.dynamic_painting.plane.matrix_world).vector
+    sun.rotation_euler = (0.0, 0.0, 0.0)            # straight down the painting's normal
+    bpy.context.view_layer.update()
+    after = painting_frame_light(sun, mat.dynamic_painting.plane.matrix_world).vector
+    assert np.abs(np.subtract(after, before)).max() > 0.1
+    assert abs(abs(after[2]) - 1) < 1e-6, after
+
+
 def test_looks_and_bake(empty_scene, folder):
     add(folder, "height16.png", "dark.png", "bright.png")
     mat = bpy.context.object.active_material

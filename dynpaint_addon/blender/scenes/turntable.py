@@ -16,7 +16,7 @@ from mathutils import Vector
 
 from ..material.sync import update
 from ..state.animation import fcurves
-from ..state.lights import linked_lights, painting_frame_light
+from ..state.lights import aim, linked_lights, painting_frame_light
 
 PIVOT_NAME = "Turntable"
 
@@ -94,8 +94,7 @@ def add_light_turntable(context, mat, light=None, kind="SUN", frame_start=1, fra
     light.matrix_parent_inverse.identity()
     pos = Vector(orbit_position(elevation, start_angle, radius))
     light.location = pos
-    light.rotation_mode = "QUATERNION"
-    light.rotation_quaternion = pos.normalized().to_track_quat("Z", "Y")   # +Z toward the light
+    aim(light, pos.normalized().to_track_quat("Z", "Y"))    # +Z toward the light, in its mode
     sign = -1.0 if clockwise else 1.0
     for frame, angle in ((frame_start, 0.0), (frame_end + 1, sign * 2 * math.pi)):
         pivot.rotation_euler.z = angle

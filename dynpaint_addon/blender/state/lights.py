@@ -77,6 +77,19 @@ def painting_lights(mat, scene, depsgraph=None):
     return [painting_frame_light(o, m, depsgraph) for o in linked_lights(mat, scene)]
 
 
+def aim(obj, rotation):
+    """Turn `obj` to the quaternion `rotation` in its own rotation mode (a new object's is
+    Euler XYZ, which scripts and drivers set: a Sun turned by quaternion ignored them)."""
+    mode = obj.rotation_mode
+    if mode == "QUATERNION":
+        obj.rotation_quaternion = rotation
+    elif mode == "AXIS_ANGLE":
+        axis, angle = rotation.to_axis_angle()
+        obj.rotation_axis_angle = (angle, *axis)
+    else:
+        obj.rotation_euler = rotation.to_euler(mode)
+
+
 def add_light(scene, light, plane_matrix, collection):
     """Create a Blender light for a core Light given in the painting frame → the object."""
     kind = "SUN" if light.kind == "sun" else "POINT"
@@ -92,8 +105,7 @@ def add_light(scene, light, plane_matrix, collection):
     collection.objects.link(obj)
     if kind == "SUN":
         world_dir = (m.to_3x3() @ Vector(light.vector)).normalized()
-        obj.rotation_mode = "QUATERNION"
-        obj.rotation_quaternion = world_dir.to_track_quat("Z", "Y")
+        aim(obj, world_dir.to_track_quat("Z", "Y"))
         obj.location = m @ (Vector(light.vector).normalized() * 2.0)
     else:
         obj.location = m @ Vector(light.vector)
