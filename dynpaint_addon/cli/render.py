@@ -25,12 +25,18 @@ def cmd_render(args):
     for flag, value in (("--width", args.width), ("--max-size", args.max_size)):
         if value is not None and value < 1:
             raise CommandError(f"{flag} must be at least 1 pixel, got {value}")
+    chosen, args.engine = args.engine, args.engine or "numpy"
     if args.grease_pencil:
         return _render_grease_pencil(args)
     if is_layered_file(args.recipe):
         return _render_blender(args, args.recipe) if args.engine != "numpy" else \
             _render_layers(args)
     recipe = load_recipe(args.recipe)
+    if recipe.drawing and chosen is None:       # (the numpy engine does not read drawings)
+        args.engine = "cycles"
+        print_notes([f"{recipe.name or args.recipe}: its painting is a Grease Pencil drawing: "
+                     f"rendered with Cycles in background Blender (--engine eevee is "
+                     f"faster with a GPU)"])
     if args.engine != "numpy":
         print_notes(recipe.notes)
         return _render_blender(args, recipe)
@@ -146,9 +152,10 @@ def add_parser(sub):
     r.add_argument("recipe", help=recipe_help() + "; or a layered painting: an .ora file or a "
                                                   "folder of layer images (§15)")
     r.add_argument("--out", required=True, help="output image (.png or .exr)")
-    r.add_argument("--engine", default="numpy", choices=ENGINES,
-                   help="numpy (the reference core, default), or cycles / eevee (the add-on's "
-                        "material in background Blender, framed pixel for pixel)")
+    r.add_argument("--engine", choices=ENGINES,
+                   help="numpy (the reference core, default; cycles for a Grease Pencil "
+                        "drawing's recipe, which it does not read), or cycles / eevee (the "
+                        "add-on's material in background Blender, framed pixel for pixel)")
     r.add_argument("--frame", type=int, help="scene frame to render (they count from 1, as "
                    "Blender's do): a painting that moves "
                    "shows that frame's drawing (§16); with eevee/cycles keyframed lights and "

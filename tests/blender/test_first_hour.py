@@ -424,3 +424,17 @@ def test_max_size_downsamples_what_add_reads(empty_scene, tmp_path):
     bpy.ops.wm.save_as_mainfile(filepath=path)
     bpy.ops.wm.open_mainfile(filepath=path)
     assert tuple(painting_size(bpy.data.materials[name])) == (128, 128)
+
+
+def test_a_drawings_recipe_renders_with_cycles_unless_told(monkeypatch, capsys, tmp_path):
+    """Issue 61: `dynpaint render walk --out x.png` failed at once with the default engine
+    (the numpy core reads no Grease Pencil drawing): Cycles renders it, said. (The render
+    itself is test_the_command_line_renders_a_blend_files_drawing_lit's.)"""
+    from dynpaint_addon.cli import main, render as render_cmd
+    engines = []
+    monkeypatch.setattr(render_cmd, "_render_blender",
+                        lambda args, recipe: engines.append(args.engine))
+    assert main(["render", "walk", "--out", str(tmp_path / "x.png")]) == 0
+    assert engines == ["cycles"] and "rendered with Cycles" in capsys.readouterr().err
+    assert main(["render", "walk", "--out", str(tmp_path / "x.png"), "--engine", "eevee"]) == 0
+    assert engines == ["cycles", "eevee"]

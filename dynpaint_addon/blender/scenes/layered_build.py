@@ -105,7 +105,9 @@ def build_layered(context, stem, layers, lights, messages, size=1.0, parallax=Tr
             back = planes[0].matrix_world
             for light in lights:
                 add_light(scene, light, back, context.collection)
-            messages.append(f"the scene had no light: added {len(lights)}")
+            named = ", ".join(light.name or light.kind for light in lights)
+            messages.append(f"added its lights: {named}" if add_lights == "all"
+                            else f"the scene had no light: added its lights ({named})")
             context.view_layer.update()
         with batch():        # shadows on, all at once: a partial group would bake
             for plane, on in zip(planes, shadows):
