@@ -25,7 +25,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 from report import publish  # noqa: E402
 
 from dynpaint_addon.core.bake import bake  # noqa: E402
-from dynpaint_addon.core.crossings import MAX_TABLE_BYTES  # noqa: E402
+from dynpaint_addon.core.crossing_blocks import MAX_TABLE_BYTES  # noqa: E402
 from dynpaint_addon.core.integrate import integrate  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.shadow import ShadowStats, cos_theta_shadow  # noqa: E402

@@ -11,7 +11,7 @@ import weakref
 
 import numpy as np
 
-from . import crossings
+from . import crossing_blocks, crossings
 from .sampling import enlarged_box, resample_separable
 from .strokes import changed_box
 from .shadow import BakeCancelled, cos_theta_shadow
@@ -80,7 +80,7 @@ def _crossings_plan(light, quality, fast_level, h, w, normal_map, offset):
         functools.partial(crossings.point_cos_theta, step=step)
     # blocks are built in groups that fit in memory: one block must
     _, largest = crossings.table_bytes(light, sh, sw, offset, step)
-    return ((sh, sw), fn) if largest <= crossings.MAX_TABLE_BYTES else None
+    return ((sh, sw), fn) if largest <= crossing_blocks.MAX_TABLE_BYTES else None
 
 
 _REDUCED = {}   # id(normals) → (weak refs to the arrays, (hs, ws), reduced inputs)

@@ -12,7 +12,8 @@ out of the relief are searched along its row:
 
 The search along a row (crossing_search.py) is the same for both: sparse tables of G find
 each ray's next crossing of c by a binary descent, and the inside length is the sum of the
-intervals between crossings. Here: the grids, the rays' starts (Rays) and their tails. The
+intervals between crossings. Here: the two grids and the rays' tails; the blocks they are
+stored in and the rays' starts (Rays) are crossing_blocks.py's. The
 start is the reference's: δ0 from the exact bilinear relief at P0 (height maps) or the tangent
 plane of P_S (normal maps, whose rebuilt height along a row is the running integral of the
 row's slope). Where a ray is still inside when it leaves the box of pixel centres, the tail
@@ -20,28 +21,22 @@ of shadow.py (tangent plane of P_S) finishes it, as in the reference; a flat pla
 cos θ exactly, up to the border.
 
 Both grids are stored in blocks of rows, each as wide as its rows' rays can read, and
-built in groups of blocks that fit MAX_TABLE_BYTES (_BlockGrid). Measured
+built in groups of blocks that fit MAX_TABLE_BYTES (crossing_blocks.BlockGrid). Measured
 (benchmarks/shadow_quality.py, 1024², relief 0.5 image widths, d = 0.01): mean |Δt|
 1.4e-4–5e-4 against the K = 1024 float64 reference for suns and point lights (the K = 64
 march: 1e-3–2e-2).
 Everything is in pixels; the result is t = d / max(r, d) like shadow.cos_theta_shadow.
 """
-import os
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
 
 import numpy as np
 
+from . import crossing_blocks
+from .crossing_blocks import BlockGrid, Rays, lookup, start_points, table_groups
 from .crossing_search import inside_length, row_value, search_tables, table_levels
-from .sampling import pixel_centres, sample_bilinear, sample_bilinear_extend
-from .shadow import (BakeCancelled, cos_theta_shadow, exit_distance, inside_box,
-                     vertical_cos_theta)
+from .shadow import cos_theta_shadow, exit_distance, inside_box, vertical_cos_theta
 from .strokes import grow, inside, union
 
-MAX_TABLE_BYTES = 1.5 * 2**30   # tables built at once (larger grids: in groups of blocks)
-THREADS = max(1, min(4, os.cpu_count() or 1))
-RAY_BAND_PIXELS = 1 << 17       # rays searched together (see _bake)
-TRACE_PIXELS = 1 << 21          # rays whose starts are held at once (_BlockGrid.trace)
 SUN_BLOCKS, SUN_BLOCK_ROWS = 8, 160   # _SunGrid's blocks of rows: at most 8, ≥ 160 rows
 POINT_RHO_MIN = 1e-3   # ρ (px) below which G = (H − z_L)/ρ divides by this: only a column at F
 POINT_ARC = 2.0   # row spacing (px) at ρ_max of full-circle grids (most rays are nearer F)
@@ -114,187 +109,11 @@ _POOL = []
 
 def _pool():
     if not _POOL:
-        _POOL.append(ThreadPoolExecutor(THREADS, thread_name_prefix="dynpaint-crossings"))
+        _POOL.append(ThreadPoolExecutor(crossing_blocks.THREADS, thread_name_prefix="dynpaint-crossings"))
     return _POOL[0]
 
 
-def _by_bands(pool, h, w, fn):
-    """[fn(r0, r1)] for bands of pixel rows, side by side: the per-ray arrays stay small
-    (whole-image temporaries are slower, and page-fault on every allocation)."""
-    rows = max(1, min(RAY_BAND_PIXELS // w, -(-h // THREADS)))
-    return list(pool.map(lambda r0: fn(r0, min(h, r0 + rows)), range(0, h, rows)))
-
-
-def _pixels(normals, heights_px, where):
-    """N, the pixel centres x, y and the relief z (0 for normal maps) of pixel rows
-    where = (r0, r1) (2D), or of the flat pixel indices `where` (1D: an edit's rays), float32:
-    the same numbers either way."""
-    f32 = np.float32
-    h, w = normals.shape[:2]
-    if isinstance(where, tuple):
-        r0, r1 = where
-        x, y = pixel_centres(h, w, f32)
-        zs = heights_px[r0:r1] if heights_px is not None else None
-        n, x, y = normals[r0:r1], x[r0:r1], y[r0:r1]
-    else:
-        rows, cols = np.divmod(where, w)
-        x, y = cols.astype(f32) + f32(0.5), rows.astype(f32) + f32(0.5)
-        n = normals.reshape(-1, 3)[where]
-        zs = heights_px.reshape(-1)[where] if heights_px is not None else None
-    zs = zs.astype(f32, copy=False) if zs is not None else f32(0)
-    return n.astype(f32, copy=False), x, y, zs
-
-
-def _start_points(normals, d, heights_px, where):
-    """Both grids' ray starts for pixel rows where = (r0, r1), or pixels `where` (_pixels)
-    (float32): N, P0 = P_S − d·N (§6) and its depth δ0 under the relief, the reference's: the
-    exact bilinear relief above P0 for height maps; on the tangent plane of P_S for normal
-    maps, which also need H(P0) there, h0 = d|N.xy|²/N.z (δ0 = d/N.z); h0 is None for height
-    maps."""
-    f32 = np.float32
-    n, x, y, zs = _pixels(normals, heights_px, where)
-    nx, ny, nz = n[..., 0], n[..., 1], n[..., 2]
-    x0, y0, z0 = x - f32(d) * nx, y - f32(d) * ny, zs - f32(d) * nz
-    if heights_px is not None:
-        delta0, h0 = _lookup(heights_px.astype(f32, copy=False), x0, y0) - z0, None
-    else:
-        delta0, h0 = f32(d) / nz, f32(d) * (nx * nx + ny * ny) / nz
-    return nx, ny, nz, x0, y0, z0, delta0, h0
-
-
-@dataclass
-class Rays:
-    """The rays of some pixel rows in a grid's coordinates: flat arrays, one entry per ray
-    (§6's ray from P0; a grid's `starts` makes them, its `_search_block` and `finish` read
-    them). Fields a grid does not use are None."""
-    row0: np.ndarray            # the grid row below the ray's path …
-    wv: np.ndarray              # … blended with the next by this weight (0: row0 alone)
-    fu: np.ndarray              # the start's column u (fractional)
-    u_end: np.ndarray           # where the search stops: the box's edge, the light, the reach
-    c: np.ndarray               # the ray's level: inside the relief where G > c
-    delta0: np.ndarray          # δ0, the start's depth under the relief (px)
-    h0: np.ndarray | None       # normal maps: H(P0) on the tangent plane of P_S
-    searched: np.ndarray        # P0 inside the box (the others: `alone`)
-    alone: np.ndarray           # the inside length from δ0 alone (the tangent-plane tail)
-    by_reach: np.ndarray        # stopped by the reach before the box's edge
-    fall: np.ndarray = None     # suns: δ's fall per px of u on the tangent plane of P_S
-    fall_d: np.ndarray = None   # point lights: δ's fall per px of ρ on that plane
-    g_start: np.ndarray = None  # point lights: G at the start
-    reach_h: np.ndarray = None  # point lights: the reach in px of ρ
-    to_light: np.ndarray = None     # point lights: the box's edge is at or past the light
-    rho0: np.ndarray = None     # point lights: ρ of the start (px from the light's foot)
-    ndl: np.ndarray = None      # point lights: N·L at the start
-    slant: np.ndarray = None    # point lights: 3D length per px of ρ
-
-
-class _BlockGrid:
-    """What both grids share: rows of rays' paths stored in blocks of rows (one row shared
-    between neighbours, so a ray's two rows are in one block), each only as wide as the
-    columns its rows' rays can read; a block's profile and tables are built on their own,
-    and each ray is searched in its block.
-
-    A subclass sets rows and width, calls _split with each row's column range, and writes
-    _profile (G of a block), starts (the rays of some pixel rows), _search_block (their
-    inside lengths) and finish (t from them).
-    """
-
-    def _split(self, lo, hi, blocks):
-        """`blocks` blocks (a, n, c0, c1) of rows a … a + n − 1 and columns c0 … c1 − 1,
-        covering each row's columns lo … hi (empty rows: lo > hi)."""
-        blocks = max(1, min(blocks, self.rows // 2))
-        self.block_rows = max(1, -(-(self.rows - 1) // blocks))
-        self.blocks = []
-        for a in range(0, self.rows - 1, self.block_rows):
-            n = min(self.block_rows + 1, self.rows - a)
-            lo_a, hi_a = lo[a:a + n], hi[a:a + n]
-            full = lo_a <= hi_a
-            first = lo_a[full].min() if full.any() else self.width - 2
-            last = hi_a[full].max() if full.any() else 0
-            c0 = int(np.clip(np.floor(first), 0, self.width - 2))
-            c1 = int(np.clip(np.ceil(last) + 1, c0 + 2, self.width))
-            self.blocks.append((a, n, c0, c1))
-
-    def block_bytes(self):
-        """The memory each block's profile and tables take."""
-        return [(2 * table_levels(c1 - c0) + 2) * n * (c1 - c0 + 1) * 4
-                for _, n, c0, c1 in self.blocks]
-
-    def groups(self):
-        """The blocks in runs whose tables fit MAX_TABLE_BYTES together (one run up to about
-        3000² px), each built, searched and freed in turn (_groups)."""
-        return _groups(self.block_bytes())
-
-    def trace(self, pool, normals, offset, heights_px, slopes, cancel=None, progress=None):
-        """t: per group of blocks (groups), their profiles and tables side by side, then the
-        rays in chunks of up to TRACE_PIXELS (bounded memory on huge images): the rays'
-        starts in bands of pixel rows, then the search in each block of the group for the
-        rays whose rows are in it, side by side. The starts are recomputed per group (cheaper
-        than holding a huge image's); the last group's pass finishes t. cancel is asked
-        before each chunk (BakeCancelled), progress told after it."""
-        h, w = normals.shape[:2]
-        inputs = self._inputs(heights_px, slopes)
-        groups = self.groups()
-        r_h = np.empty(h * w, np.float32)
-        t = np.empty((h, w), normals.dtype)
-        rows = max(1, TRACE_PIXELS // w)
-        chunks = range(0, h, rows)
-        for g, group in enumerate(groups):
-            searches = None                    # (the last group's tables freed first)
-            searches = dict(zip(group, pool.map(
-                lambda b: self._profile(self.blocks[b], *inputs), group)))
-            for i, r0 in enumerate(chunks):
-                if cancel is not None and cancel():
-                    raise BakeCancelled()
-                r1 = min(h, r0 + rows)
-                self._trace_rows(pool, searches, normals, offset, heights_px, r0, r1,
-                                 r_h[r0 * w:r1 * w], t[r0:r1] if g == len(groups) - 1 else None,
-                                 first=g == 0)
-                if progress is not None:
-                    progress((g * len(chunks) + i + 1) / (len(groups) * len(chunks)))
-        return t
-
-    def _trace_rows(self, pool, searches, normals, offset, heights_px, r0, r1, r_h, t, first):
-        """The rays of pixel rows r0 … r1 − 1 in the blocks of `searches`: their inside
-        lengths into r_h (set first to the tail from δ0 alone, for the rays no block
-        searches), and t from them where t is given."""
-        w = normals.shape[1]
-        arrays = {}
-
-        def start(a, b):
-            # each band writes its part of the chunk's arrays (no serial concatenation after;
-            # setdefault is atomic, the first band to finish allocates)
-            part_rays = self.starts(normals, offset, heights_px, (r0 + a, r0 + b))
-            for key, part in vars(part_rays).items():
-                chunk = arrays.setdefault(key, None if part is None else
-                                          np.empty((r1 - r0) * w, part.dtype))
-                if part is not None:
-                    chunk[a * w:b * w] = part
-        _by_bands(pool, r1 - r0, w, start)
-        ray = Rays(**arrays)
-        if first:
-            r_h[:] = ray.alone
-        block = np.minimum(ray.row0 // self.block_rows, len(self.blocks) - 1)
-        block = block.astype(np.int16)
-        block[~ray.searched] = -1
-
-        def search_block(b):
-            sel = np.flatnonzero(block == b)
-            if sel.size:
-                r_h[sel] = self._search_block(self.blocks[b], searches[b], ray, sel)
-        list(pool.map(search_block, searches))
-        if t is not None:
-            done = self.finish(ray, r_h, float(offset) * w)
-            t[:] = np.clip(np.where(np.isfinite(done), done, 0), 0, 1).reshape(r1 - r0, w)
-
-    def _block_rays(self, spec, ray, sel):
-        """Rays `sel` in the coordinates of block `spec` (a, n, c0, c1): (rows from its
-        first, u from its first column, u_end there)."""
-        a, _, c0, _ = spec
-        return (ray.row0[sel] - a, np.clip(ray.fu[sel] - c0, 0, None),
-                ray.u_end[sel] - c0)
-
-
-class _SunGrid(_BlockGrid):
+class _SunGrid(BlockGrid):
     """The light-aligned grid covering the box of pixel centres: column u runs toward the
     light (horizontally), row v across; one grid step is one pixel.
 
@@ -359,9 +178,9 @@ class _SunGrid(_BlockGrid):
         gx = (self.cx + gu * self.ex).astype(f32)[None, :] - (v * self.ey).astype(f32)
         gy = (self.cy + gu * self.ey).astype(f32)[None, :] + (v * self.ex).astype(f32)
         if hz is not None:
-            return search_tables(_lookup(hz, gx, gy) - (self.m * gu).astype(f32)), None
+            return search_tables(lookup(hz, gx, gy) - (self.m * gu).astype(f32)), None
         # the running integral (trapezoids) of the slope is the height along the row
-        su = _lookup(sz, gx, gy).astype(np.float64)
+        su = lookup(sz, gx, gy).astype(np.float64)
         z = np.zeros(su.shape)
         np.cumsum((su[:, 1:] + su[:, :-1]) / 2, axis=1, out=z[:, 1:])
         return search_tables((z - self.m * gu[None, :]).astype(f32)), z
@@ -373,7 +192,7 @@ class _SunGrid(_BlockGrid):
         d = float(offset) * w
         # float32 (positions < 2·10³ px keep 1e-4 px); the level c of each ray in float64
         f32 = np.float32
-        nx, ny, nz, x0, y0, z0, delta0, h0 = _start_points(normals, d, heights_px, where)
+        nx, ny, nz, x0, y0, z0, delta0, h0 = start_points(normals, d, heights_px, where)
         ndl = (nx * f32(ex) + ny * f32(ey)) * f32(lxy) + nz * f32(m * lxy)
         # ray starts in grid coordinates
         xc, yc = x0 - f32(self.cx), y0 - f32(self.cy)
@@ -498,7 +317,7 @@ class _SunGrid(_BlockGrid):
             _, _, c0, c1 = self.blocks[b]
             parts[int(b)] = (sel, (first, last - first + 2, c0, c1))
         if sum((2 * table_levels(c1 - c0) + 2) * n * (c1 - c0 + 1) * 4
-               for _, (_, n, c0, c1) in parts.values()) > MAX_TABLE_BYTES:
+               for _, (_, n, c0, c1) in parts.values()) > crossing_blocks.MAX_TABLE_BYTES:
             return None
         inputs = self._inputs(heights_px, slopes)
         r_h = ray.alone.copy()
@@ -531,7 +350,7 @@ def point_cos_theta(normals, light, offset, *, heights_px=None, slopes=None, rea
 def table_bytes(light, h, w, offset, step=POINT_STEP):
     """(all blocks, the largest block): the memory the profiles and tables of a crossing bake
     of this light take at (h, w); its blocks are built in groups within MAX_TABLE_BYTES
-    (_BlockGrid.groups), so a bake needs the largest block to fit."""
+    (BlockGrid.groups), so a bake needs the largest block to fit."""
     sizes = _grid(light, h, w, offset, step)
     return (0, 0) if sizes is None else (sum(sizes), max(sizes))
 
@@ -549,26 +368,14 @@ def _grid(light, h, w, offset, step):
     return grid.block_bytes()
 
 
-def _groups(sizes):
-    """Block indices in runs whose table bytes `sizes` fit MAX_TABLE_BYTES together; a block
-    too big alone is a run of its own (the bake's plan marches rather than build it)."""
-    groups, total = [[]], 0
-    for b, size in enumerate(sizes):
-        if groups[-1] and total + size > MAX_TABLE_BYTES:
-            groups, total = groups + [[]], 0
-        groups[-1].append(b)
-        total += size
-    return groups
-
-
 def table_peak(light, h, w, offset, step=POINT_STEP):
     """The most memory the tables of a crossing bake of this light hold at once at (h, w):
     its largest group of blocks; 0 where it has no grid (memory.py's estimate)."""
     sizes = _grid(light, h, w, offset, step) or []
-    return max((sum(sizes[b] for b in g) for g in _groups(sizes)), default=0)
+    return max((sum(sizes[b] for b in g) for g in table_groups(sizes)), default=0)
 
 
-class _PointGrid(_BlockGrid):
+class _PointGrid(BlockGrid):
     """A polar grid around the foot F of a point light: row v = angle φ about F, column u =
     (ρ_max − ρ) / col_step (toward the light); rows POINT_ARC px apart at ρ_max.
 
@@ -614,7 +421,7 @@ class _PointGrid(_BlockGrid):
         self.width = int(np.ceil((self.rho_max - max(near - 2, 0)) / step)) + 2
         far = self._farthest(self.phi0 + self.dphi * np.arange(self.rows), xs, ys)
         self._split((self.rho_max - far - 3) / step, np.full(self.rows, self.width - 1.0),
-                    max(THREADS, min(POINT_BLOCKS, self.rows * self.width // POINT_BLOCK_CELLS)))
+                    max(crossing_blocks.THREADS, min(POINT_BLOCKS, self.rows * self.width // POINT_BLOCK_CELLS)))
 
     def _farthest(self, phi, xs, ys):
         """ρ where a line from F at angle φ leaves the box xs × ys (−∞ where it misses it):
@@ -647,10 +454,10 @@ class _PointGrid(_BlockGrid):
         inv = (1 / np.maximum(rho, POINT_RHO_MIN)).astype(f32)
         rho_cols = self.rho_max / self.col_step - c0
         if hz is not None:
-            return search_tables((_lookup(hz, gx, gy) - f32(self.zl)) * inv[None, :], rho_cols), None
+            return search_tables((lookup(hz, gx, gy) - f32(self.zl)) * inv[None, :], rho_cols), None
         # toward F the slope along the row is −(s·(cos φ, sin φ)); its running integral
         # (trapezoids, col_step px a column) is the height along the row
-        su = -(_lookup(sxy[0], gx, gy) * cos + _lookup(sxy[1], gx, gy) * sin)
+        su = -(lookup(sxy[0], gx, gy) * cos + lookup(sxy[1], gx, gy) * sin)
         z = np.zeros(su.shape)
         np.cumsum((su[:, 1:] + su[:, :-1]) * (self.col_step / 2), axis=1, out=z[:, 1:])
         return search_tables(((z - self.zl) * inv[None, :]).astype(f32), rho_cols,
@@ -662,7 +469,7 @@ class _PointGrid(_BlockGrid):
         h, w = self.h, self.w
         d = float(offset) * w
         f32 = np.float32
-        nx, ny, nz, x0, y0, z0, delta0, h0 = _start_points(normals, d, heights_px, where)
+        nx, ny, nz, x0, y0, z0, delta0, h0 = start_points(normals, d, heights_px, where)
         dx, dy, dz = f32(self.fx) - x0, f32(self.fy) - y0, f32(self.zl) - z0
         rho0 = np.hypot(dx, dy)
         dist = np.sqrt(rho0 * rho0 + dz * dz)                    # P0 → P_L
@@ -722,12 +529,4 @@ class _PointGrid(_BlockGrid):
         # under the light itself: N·L (the limit d → 0 of a flat neighbourhood)
         return np.where(np.isfinite(t), t,
                         np.where(ray.rho0 < 1e-6, np.maximum(ray.ndl, 0), 0))
-
-
-def _lookup(img, x, y):
-    """Bilinear "extend" lookups (the flat-gather version where the image allows)."""
-    if min(img.shape[:2]) >= 2 and img.ndim == 2:
-        return sample_bilinear_extend(img, x, y)
-    return sample_bilinear(img, np.asarray(x, img.dtype), np.asarray(y, img.dtype), "extend")
-
 

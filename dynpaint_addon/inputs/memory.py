@@ -22,7 +22,7 @@ try:
 except ImportError:         # Windows: no address-space limits to read
     resource = None
 
-from ..core import crossings
+from ..core import crossing_blocks, crossings
 from ..core.input_rules import PER_PIXEL_CHANNELS, relief_of
 from ..core.shadow import BAND_PIXELS
 from ..errors import UserError
@@ -290,9 +290,9 @@ def bake_bytes(w, h, light, offset, kept_px):
     px = w * h
     fixed = (BAKE_PX + kept_px) * px + BAKE_FIXED
     if max(w, h) > LARGEST_COUNTED_SIDE or \
-            crossings.table_bytes(light, h, w, offset)[1] > crossings.MAX_TABLE_BYTES:
+            crossings.table_bytes(light, h, w, offset)[1] > crossing_blocks.MAX_TABLE_BYTES:
         return MARCH_BAND_BYTES * min(px, BAND_PIXELS) + fixed       # the march (§6)
-    traced = min(px, crossings.TRACE_PIXELS)
+    traced = min(px, crossing_blocks.TRACE_PIXELS)
     return crossings.table_peak(light, h, w, offset) + BAKE_TRACED * traced + fixed
 
 

@@ -231,7 +231,7 @@ def test_a_bake_can_be_superseded():
 
 
 # -- the fast sun bake (crossings.py) ------------------------------------------------------
-from dynpaint_addon.core import crossing_search, crossings  # noqa: E402
+from dynpaint_addon.core import crossing_blocks, crossing_search, crossings  # noqa: E402
 
 
 @pytest.mark.parametrize("kind", ["height", "normal"])
@@ -271,7 +271,7 @@ def test_large_images_fall_back_to_the_march(monkeypatch):
     z = np.zeros((16, 16))
     z[5:9, 5:9] = 4.0
     light = Light("sun", (0.5, 0.2, 0.4))
-    monkeypatch.setattr(crossings, "MAX_TABLE_BYTES", 0)
+    monkeypatch.setattr(crossing_blocks, "MAX_TABLE_BYTES", 0)
     marched = bake(n, light, 0.01, "final", heights_px=z)
     assert np.array_equal(marched, cos_theta_shadow(n, light, 0.01, 64, heights_px=z))
 
@@ -449,12 +449,12 @@ def test_a_final_too_big_for_memory_at_once_bakes_by_crossings_in_groups(kind, m
     n, z, light = _tall_box(kind)
     whole, largest = crossings.table_bytes(light, 512, 512, 0.01)
     one = bake(n, light, 0.01, "final", heights_px=z)
-    monkeypatch.setattr(crossings, "MAX_TABLE_BYTES", (whole + largest) / 3)
-    assert whole > crossings.MAX_TABLE_BYTES >= largest        # not at once, a block at least
+    monkeypatch.setattr(crossing_blocks, "MAX_TABLE_BYTES", (whole + largest) / 3)
+    assert whole > crossing_blocks.MAX_TABLE_BYTES >= largest        # not at once, a block at least
     stats = ShadowStats()
     t = bake(n, light, 0.01, "final", heights_px=z, stats=stats)
     assert stats.method.endswith("crossings") and np.array_equal(t, one)
-    monkeypatch.setattr(crossings, "MAX_TABLE_BYTES", largest * 0.99)
+    monkeypatch.setattr(crossing_blocks, "MAX_TABLE_BYTES", largest * 0.99)
     stats = ShadowStats()
     bake(n, light, 0.01, "final", heights_px=z, stats=stats)
     assert stats.method == "march"
@@ -467,8 +467,8 @@ def test_a_long_crossing_bake_reports_progress_and_can_be_superseded(kind, monke
     each, as the march does per band of rows."""
     n, z, light = _tall_box(kind)
     whole, largest = crossings.table_bytes(light, 512, 512, 0.01)
-    monkeypatch.setattr(crossings, "MAX_TABLE_BYTES", (whole + largest) / 3)   # ≥ 2 groups
-    monkeypatch.setattr(crossings, "TRACE_PIXELS", 512 * 128)                 # 4 chunks
+    monkeypatch.setattr(crossing_blocks, "MAX_TABLE_BYTES", (whole + largest) / 3)   # ≥ 2 groups
+    monkeypatch.setattr(crossing_blocks, "TRACE_PIXELS", 512 * 128)                 # 4 chunks
     seen = []
     bake(n, light, 0.01, "final", heights_px=z, progress=seen.append)
     assert len(seen) >= 2 * 4 and seen == sorted(seen) and seen[-1] == 1.0 and seen[0] <= 0.125
@@ -503,11 +503,11 @@ def test_groups_of_blocks_only_split_the_work(kind, monkeypatch):
     n, kw, light, fn = _relief_case(kind)
     monkeypatch.setattr(crossings, "SUN_BLOCK_ROWS", 16)
     monkeypatch.setattr(crossings, "POINT_BLOCK_CELLS", 1000)
-    monkeypatch.setattr(crossings, "TRACE_PIXELS", 9000)       # several chunks per group
+    monkeypatch.setattr(crossing_blocks, "TRACE_PIXELS", 9000)       # several chunks per group
     grid = crossings._SunGrid(np.array(unit(light.vector)), 160, 160) if light.kind == "sun" \
         else crossings._PointGrid(light, 160, 160, 0.01)
     one = fn(n, light, 0.01, **kw)
-    monkeypatch.setattr(crossings, "MAX_TABLE_BYTES", 2.5 * max(grid.block_bytes()))
+    monkeypatch.setattr(crossing_blocks, "MAX_TABLE_BYTES", 2.5 * max(grid.block_bytes()))
     groups = grid.groups()
     assert len(groups) >= 3 and sum(groups, []) == list(range(len(grid.blocks)))
     assert np.array_equal(fn(n, light, 0.01, **kw), one)
@@ -518,7 +518,7 @@ def test_point_crossings_fall_back_to_the_march_when_the_grid_is_too_big(monkeyp
     z = np.zeros((64, 64), np.float32)
     z[20:30, 20:30] = 8.0
     light = Light("point", (0.3, 0.1, 0.4))
-    monkeypatch.setattr(crossings, "MAX_TABLE_BYTES", 0)
+    monkeypatch.setattr(crossing_blocks, "MAX_TABLE_BYTES", 0)
     stats = ShadowStats()
     t = bake(n, light, 0.01, "preview", heights_px=z, stats=stats)
     assert stats.method == "march" and np.all(np.isfinite(t))
@@ -535,9 +535,9 @@ def test_crossings_do_not_depend_on_blocks_chunks_or_threads(kind, monkeypatch):
     assert len(crossings._SunGrid(np.array(unit((0.5, -0.7, 0.5))), 160, 160).blocks) == 1
     monkeypatch.setattr(crossings, "SUN_BLOCK_ROWS", 16)
     monkeypatch.setattr(crossings, "POINT_BLOCK_CELLS", 1000)
-    monkeypatch.setattr(crossings, "TRACE_PIXELS", 3000)
-    monkeypatch.setattr(crossings, "RAY_BAND_PIXELS", 500)
-    monkeypatch.setattr(crossings, "THREADS", 3)
+    monkeypatch.setattr(crossing_blocks, "TRACE_PIXELS", 3000)
+    monkeypatch.setattr(crossing_blocks, "RAY_BAND_PIXELS", 500)
+    monkeypatch.setattr(crossing_blocks, "THREADS", 3)
     monkeypatch.setattr(crossing_search, "TABLE_LEVELS", 3)
     assert len(crossings._SunGrid(np.array(unit((0.5, -0.7, 0.5))), 160, 160).blocks) == 8
     assert len(crossings._PointGrid(Light("point", (0.3, -0.2, 0.6)), 160, 160, 0.01).blocks) \
