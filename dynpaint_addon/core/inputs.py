@@ -210,3 +210,14 @@ def mask_note(name, channel, resolved):
 def size_message(channel, size, shape_size):
     return (f"{channel} image is {size[0]}×{size[1]}, resampled to the shape image's "
             f"{shape_size[0]}×{shape_size[1]}")
+
+
+def about(name, notes):
+    """Notes of a layer or painting `name`, each led by its name once (a note of its images
+    may name it already: `01_Ground: 01_Ground: …` was printed).
+
+    >>> about("sky", ["sky: flat", "no light"])
+    ['sky: flat', 'sky: no light']
+    """
+    return [n if n.startswith(f"{name}:") or n.startswith(f"{name} ") else f"{name}: {n}"
+            for n in notes]

@@ -14,6 +14,7 @@ import numpy as np
 
 from .bake import QUALITY, quality_settings
 from .input_rules import image_channels, input_notes, silhouette_channel
+from .inputs import about
 from .pipeline import (normal_map_relief_px, prepare, render, shadow_term,
                        silhouette_alpha, transparency_k)
 from .sampling import pixel_centres, resample_separable, sample_bilinear
@@ -273,7 +274,7 @@ def scene_notes(layers, canvas=None):
     for position, i in enumerate(order):
         layer = layers[i]
         name = layer.name or f"layer {i}"
-        notes += [f"{name}: {note}" for note in input_notes(layer.images, layer.p)]
+        notes += about(name, input_notes(layer.images, layer.p))
         size = layer.images["shape"].pixels.shape[:2]
         place = placement(layer, size, canvas)
         if abs(place.px - 1.0) > 1e-9:

@@ -27,6 +27,7 @@ import numpy as np
 
 from .. import params
 from ..core.input_rules import ImageData, pixel_role
+from ..core.inputs import about
 from ..core.layers import LAYER_QUALITY, Scene
 from ..core.pipeline import shape_normals
 from ..core.sampling import resample
@@ -336,7 +337,7 @@ def scene_data(layers, lights, title="", credits="", steps=None, max_size=None,
             "sequence": [drawing_of[s] for s in frames["sequence"]]}
         data, warns = page_data(layer.images, lights, layer.p, steps=steps, looks=False,
                                 frames=moving)
-        warnings += [f"{layer.name}: {w}" for w in warns]
+        warnings += about(layer.name, warns)
         data.update(name=layer.name, place=[place.corner[0], place.corner[1], place.px, place.z])
         # each other drawing of this layer in the first scene, the others as prepared there
         # (what the pass reads of a layer is its own: one drawing prepared at a time)

@@ -7,6 +7,7 @@ import os
 import bpy
 from mathutils import Matrix, Vector
 
+from ...core.inputs import about
 from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING, is_layered_file, load_scene
 from ...inputs.recipe import DEFAULT_SUN_NOTE, hidden_notes, load_recipe
 from ..bake.layers import LAYERED, bake_group_live, forget_group, group_materials
@@ -82,7 +83,7 @@ def build_layered(context, stem, layers, lights, messages, size=1.0, parallax=Tr
                                                 size, default_sun=False,
                                                 frames=(frames or {}).get(name))
             planes.append(plane)
-            messages += [f"{name}: {n}" for n in notes if "no camera" not in n]
+            messages += about(name, [n for n in notes if "no camera" not in n])
             if FACE_CAMERA in plane.constraints:      # the parent faces the camera instead
                 plane.constraints.remove(plane.constraints[FACE_CAMERA])
             plane.parent = parent

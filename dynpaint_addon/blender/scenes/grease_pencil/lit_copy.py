@@ -11,6 +11,7 @@ import tempfile
 import bpy
 from mathutils import Matrix
 
+from ....core.inputs import about
 from ....core.lights import default_sun
 from ....inputs.drawings import frame_range, load_drawing
 from ....inputs.imageio import read_image
@@ -83,7 +84,7 @@ def made_paintings(drawn, settings, progress=None):
             continue
         images, p, lines, table = painting_of_frames(name, cells, settings["shade"],
                                                      settings["relief"], dark, effects(settings))
-        notes += [f"{name}: {n}" for n in lines]
+        notes += about(name, lines)
         made.append((name, depth, images, p, table))
         if progress is not None:
             progress((i + 1) / len(drawn))
