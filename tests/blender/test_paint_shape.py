@@ -83,7 +83,9 @@ def test_paint_shape_sets_up_layers_keeps_the_look_and_enters_texture_paint(tmp_
     paint_settings = bpy.context.scene.tool_settings.image_paint
     assert paint_settings.canvas == pt.height_layer and paint_settings.brush.name == "Paint Soft"
     assert status.LAST_ERRORS == []
-    assert np.abs(shadow(mat) - before).max() <= 1e-5
+    # the made shape is the base's relief, to float32's rounding of it (1.01e-5 measured once
+    # the Sun was aimed in Euler XYZ: its direction rounds differently)
+    assert np.abs(shadow(mat) - before).max() <= 2e-5
     assert np.array_equal(pixels(base), base_pixels)
     pt.layer = "mask"                                   # Paint On › Figure Mask
     assert paint_settings.canvas == pt.mask
