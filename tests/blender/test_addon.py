@@ -168,6 +168,18 @@ def test_many_paintings_cost_each_add_alike(empty_scene, tmp_path, monkeypatch):
     bpy.context.view_layer.update()
     assert set(updated) == {mats[1].name}, updated
     assert "Lamp" in [o.name for o in linked_lights(mats[1], empty_scene)]
+    # a light taken out of a collection inside a painting's Lights: that painting
+    inner = bpy.data.collections.new("Inner")
+    mats[2].dynamic_painting.light_collection.children.link(inner)
+    rim = bpy.data.objects.new("Rim", bpy.data.lights.new("Rim", "SUN"))
+    inner.objects.link(rim)
+    bpy.context.view_layer.update()
+    assert "Rim" in [o.name for o in linked_lights(mats[2], empty_scene)]
+    updated.clear()
+    inner.objects.unlink(rim)
+    bpy.context.view_layer.update()
+    assert mats[2].name in updated, updated
+    assert "Rim" not in [i.object.name for i in mats[2].dynamic_painting.lights if i.object]
 
 
 def test_the_sun_add_makes_turns_as_scripts_turn_it(empty_scene, folder):

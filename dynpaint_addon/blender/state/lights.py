@@ -35,7 +35,8 @@ def concerns(mat, scene, touched):
             isinstance(t, (bpy.types.Collection, bpy.types.Scene, bpy.types.Light)) or
             (isinstance(t, bpy.types.Object) and t.type == "LIGHT") for t in touched):
         return True
-    its = {mat, s.light_collection}
+    own = s.light_collection
+    its = {mat} if own is None else {mat, own, *own.children_recursive}
     for obj in (s.plane, *linked_lights(mat, scene)):
         while obj is not None:
             its |= {obj, obj.data}
