@@ -14,7 +14,7 @@ from .shadow import BakeCancelled
 
 MAX_TABLE_BYTES = 1.5 * 2**30   # tables built at once (larger grids: in groups of blocks)
 THREADS = max(1, min(4, os.cpu_count() or 1))
-RAY_BAND_PIXELS = 1 << 17       # rays searched together (see _bake)
+RAY_BAND_PIXELS = 1 << 17       # rays searched together (see crossings._bake)
 TRACE_PIXELS = 1 << 21          # rays whose starts are held at once (BlockGrid.trace)
 
 

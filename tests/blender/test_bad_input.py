@@ -293,14 +293,20 @@ def test_deleted_images_and_plane_are_mended_or_reported(files, tmp_path, empty_
     assert problems(mat)[0].startswith("its plane was deleted")
 
 
-def test_image_file_gone_from_disk_is_reported(files, tmp_path, empty_scene):
+def added_from_copies(files, tmp_path):
+    """A painting added from copies of height.png and dark.png (they may then be deleted) →
+    (their folder, its material)."""
     folder = tmp_path / "imgs"
     folder.mkdir()
     for f in ("height.png", "dark.png"):
         (folder / f).write_bytes((files / f).read_bytes())
     assert bpy.ops.dynpaint.add(directory=str(folder), files=[{"name": "height.png"},
                                 {"name": "dark.png"}]) == {"FINISHED"}
-    mat = bpy.context.object.active_material
+    return folder, bpy.context.object.active_material
+
+
+def test_image_file_gone_from_disk_is_reported(files, tmp_path, empty_scene):
+    folder, mat = added_from_copies(files, tmp_path)
     (folder / "dark.png").unlink()
     assert problems(mat) == [f"dark.png: its file is missing: {folder / 'dark.png'} "
                              "(File › External Data › Find Missing Files, or open it again)"]
@@ -310,12 +316,7 @@ def test_a_shape_file_gone_when_the_blend_opens_is_said_once(files, tmp_path, em
     """A saved painting whose height map was deleted: opening the file, changing the frame
     and the render's check each meet it; it is said once, as missing (it was said five times,
     as `not an image Blender can read`)."""
-    folder = tmp_path / "imgs"
-    folder.mkdir()
-    for f in ("height.png", "dark.png"):
-        (folder / f).write_bytes((files / f).read_bytes())
-    assert bpy.ops.dynpaint.add(directory=str(folder), files=[{"name": "height.png"},
-                                {"name": "dark.png"}]) == {"FINISHED"}
+    folder, _ = added_from_copies(files, tmp_path)
     bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "kept.blend"))
     (folder / "height.png").unlink()
     bpy.ops.wm.open_mainfile(filepath=str(tmp_path / "kept.blend"))

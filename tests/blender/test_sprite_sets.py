@@ -176,6 +176,7 @@ def test_sprite_lamps_normal_depth_is_read_as_its_colour_everywhere(sets, empty_
     plane = bpy.context.object
     s = plane.active_material.dynamic_painting
     assert s.image_shape.name.endswith("normal map") and s.image_shape.packed_file is not None
+    assert "wall_NormalDepth.png" not in bpy.data.images        # the file's copy left behind
     got = render_cycles(empty_scene, plane, str(tmp_path / "add.exr"))
     assert got[..., 3].min() > 0.99                      # nothing cut out
     sun = linked_lights(plane.active_material, empty_scene)[0]

@@ -10,7 +10,7 @@ from bpy.utils import previews
 from bpy_extras.io_utils import ImportHelper
 
 from ... import params
-from ...core.input_rules import green_of, relief_guess
+from ...core.input_rules import ImageData, green_of, relief_guess
 from ...core.frames import is_pattern
 from ...inputs.channel_names import IMAGE_EXTENSIONS, common_name, guess_channels
 from ...inputs.painting_folder import painting_channels
@@ -167,10 +167,12 @@ def painting_from_images(context, channels, rest, shape_kind, size, location, ro
         shape = load_image(channels["shape"], "shape")
         pixels = image_data_from_blender(shape)
         if pixels.has_alpha and depth_in_alpha(channels["shape"]):     # its RGB is the map
-            rgb = pixels.rgb()
-            shape = made_shape_image(f"{name} normal map", np.dstack(
-                [rgb, np.ones(rgb.shape[:2], np.float32)]))
-            pixels = image_data_from_blender(shape)
+            loaded, rgb = shape, pixels.rgb()
+            rgba = np.dstack([rgb, np.ones(rgb.shape[:2], np.float32)])
+            shape = made_shape_image(f"{name} normal map", rgba)
+            pixels = ImageData(rgba, 32, shape.name)      # (what the packed float image holds)
+            if not loaded.users:                          # the file's image: shown by nothing
+                bpy.data.images.remove(loaded)
             notes.append(f"{os.path.basename(channels['shape'])}: its alpha is the depth "
                          f"(Sprite Lamp's NormalDepth), not the figure: its colour alone is "
                          f"the normal map (packed)")
