@@ -1,7 +1,7 @@
-"""The built-in test painting built in Blender as Add builds it, lit by its sun alone, and its
-shape image's pixels to paint into: what the stroke benchmark (benchmarks/paint_latency.py)
-and the tests of edits, live bakes and Paint Shape start from. A point light bakes whole
-(core.bake.bake_edited), so the sun alone shows what a stroke costs."""
+"""The built-in test painting built in Blender as Add builds it, lit by its sun alone (or its
+sun and its point light), and its shape image's pixels to paint into: what the stroke
+benchmark (benchmarks/paint_latency.py) and the tests of edits, live bakes and Paint Shape
+start from."""
 import numpy as np
 
 import bpy
@@ -11,10 +11,14 @@ from dynpaint_addon.inputs.recipe import load_recipe
 from dynpaint_addon.inputs.testpainting import write_test_painting
 
 
-def sun_painting(folder, size):
-    """The test painting at size² in `folder`, built, its plane active → the material."""
+def sun_painting(folder, size, kinds=("sun",), quality=None):
+    """The test painting at size² in `folder`, built, its plane active → the material.
+    kinds: which of its lights it keeps (its sun; ("sun", "point"): its point light too);
+    quality: its shadows' level (default: the recipe's)."""
     recipe = load_recipe(write_test_painting(str(folder), size))
-    recipe.lights = [light for light in recipe.lights if light.kind == "sun"]
+    recipe.lights = [light for light in recipe.lights if light.kind in kinds]
+    if quality is not None:
+        recipe.params.shadows.quality = quality
     _, mat = headless.build_recipe_scene(recipe)
     bpy.context.view_layer.objects.active = mat.dynamic_painting.plane
     return mat

@@ -58,10 +58,11 @@ def build_recipe_scene(recipe, size=1.0, notes=None, drawing_width=None):
     return plane, mat
 
 
-def render_recipe(recipe, engine, out, frame=None, notes=None):
+def render_recipe(recipe, engine, out, frame=None, notes=None, drawing_width=None):
     """Render the recipe's painting to `out` (.exr linear float or .png) → seconds rendering.
-    notes: as for build_recipe_scene."""
-    plane, mat = build_recipe_scene(recipe, notes=notes)
+    notes, drawing_width (a drawing's recipe: its layers drawn that many pixels across): as
+    for build_recipe_scene."""
+    plane, mat = build_recipe_scene(recipe, notes=notes, drawing_width=drawing_width)
     scene = bpy.context.scene
     exact_render_settings(scene, engine)
     if frame is not None:

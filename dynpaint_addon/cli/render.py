@@ -116,12 +116,14 @@ def _render_layers(args):
 
 def _render_blender(args, recipe):
     """EEVEE or Cycles in background Blender, the scene built as the add-on builds it."""
-    if args.width or args.max_size or args.float64:
-        raise CommandError("--width, --max-size and --float64 apply to the numpy engine only")
+    if (args.width and not getattr(recipe, "drawing", None)) or args.max_size or args.float64:
+        raise CommandError("--width, --max-size and --float64 apply to the numpy engine only "
+                           "(and --width to a drawing's recipe: its layers' width in pixels)")
     if os.path.splitext(args.out)[1].lower() not in (".png", ".exr"):
         raise CommandError(f"{args.out}: unsupported output format (use .png or .exr)")
     from ..blender.headless import render_recipe     # Blender only when asked for
-    seconds = render_recipe(recipe, args.engine, args.out, args.frame, notes=print_notes)
+    seconds = render_recipe(recipe, args.engine, args.out, args.frame, notes=print_notes,
+                            drawing_width=args.width)
     print(f"rendered with {args.engine} in {seconds * 1000:.0f} ms → {args.out}")
 
 
@@ -161,7 +163,8 @@ def add_parser(sub):
                    "shows that frame's drawing (§16); with eevee/cycles keyframed lights and "
                    "parameters move with it too")
     r.add_argument("--width", type=int, help="output width in pixels (default: the shape image's); "
-                                             "every per-pixel image is resampled to it")
+                                             "every per-pixel image is resampled to it (a "
+                                             "drawing's recipe: each layer drawn that wide)")
     r.add_argument("--max-size", type=int, metavar="PX",
                    help="longest side of the render at most PX pixels: larger inputs are "
                         "downsampled on reading (less memory and time)")

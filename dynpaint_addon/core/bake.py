@@ -113,6 +113,30 @@ def reduced_inputs(normals, heights_px, slopes, hs, ws):
     return n_s, z_s, sl_s
 
 
+def reductions_edited(normals, normals_box, heights_box):
+    """The shape whose normals are `normals` was edited in place in these boxes
+    (strokes.height_shape_edited): its kept reduction (reduced_inputs) is patched where the
+    edit reaches it (_reduced_edited: equal to reducing the whole again), or dropped where
+    the size is no whole multiple — else a later bake of the same arrays would read the
+    shape before the edit (a draft that never followed the brush, issue 61)."""
+    hit = _REDUCED.pop(id(normals), None)
+    if hit is None or (normals_box is None and heights_box is None):
+        if hit is not None:
+            _REDUCED[id(normals)] = hit
+        return
+    refs, (hs, ws), (n_s, z_s, sl_s) = hit
+    arrays = [None if ref is None else ref() for ref in refs]
+    h, w = normals.shape[:2]
+    f = h // hs
+    if arrays[0] is not normals or hs * f != h or ws * f != w:
+        return
+    nb, hb = reduced_box(normals_box, f, hs, ws), reduced_box(heights_box, f, hs, ws)
+    _REDUCED[id(normals)] = (refs, (hs, ws), (
+        _reduced_edited(arrays[0], n_s, nb, f, "normals"),
+        _reduced_edited(arrays[1], z_s, hb, f, "heights", normals.dtype.type(ws / w)),
+        _reduced_edited(arrays[2], sl_s, nb, f, "slopes")))
+
+
 def _reduced(a, hs, ws, role, factor=None):
     """One of the shape's inputs (or a block of it) at hs × ws as a reduced bake reads it:
     'normals' renormalised, 'heights' times `factor` (reduced pixels per full pixel),
@@ -178,8 +202,7 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
     n_s, z_s, sl_s = reduced_inputs(normals, heights_px, slopes, hs, ws)
     t = march(n_s, light, offset, k, heights_px=z_s, slopes=sl_s, occupancy=occupancy,
               reach=reach, stats=stats, cancel=cancel, progress=progress)
-    return _upsampled(t, h, w, dtype, (n_s, z_s, sl_s) if plan is not None and
-                      light.kind == "sun" else None)
+    return _upsampled(t, h, w, dtype, (n_s, z_s, sl_s) if plan is not None else None)
 
 
 def _scaled(h, w, scale):
@@ -266,17 +289,26 @@ def _reduced_edited(full, before, box, f, role, factor=None):
     return out
 
 
+def _edited_by_crossings(light, quality):
+    """The crossings' edit of this light's bake at this level (its point grid's step)."""
+    if light.kind == "sun":
+        return crossings.sun_cos_theta_edited
+    return functools.partial(crossings.point_cos_theta_edited,
+                             step=QUALITY[quality].get("point_step", crossings.POINT_STEP))
+
+
 def bake_edited(normals, light, offset, quality, t_before, normals_box, heights_box, *,
                 heights_px=None, slopes=None, steps=64, scale=1.0, occupancy="linear",
                 reach=np.inf):
     """bake() of a shape an edit changed in normals_box and heights_box (core/strokes.py),
     from t_before, its bake before the edit at the same level, light and settings (issue 41):
-    where the level bakes a sun by crossings, only the rays that read a changed pixel are
-    traced again (crossings.sun_cos_theta_edited; equal to the whole bake) — at a reduced
-    size (draft, preview: a whole factor smaller) from the reduced inputs and t kept with
-    t_before, their boxes that read the edit reduced again, then upsampled. None where the
-    level bakes otherwise (a march, a point light, a size that is no whole multiple, nothing
-    kept): bake the whole then (those are the cheap ones, or the reference)."""
+    where the level bakes by crossings, only the rays that read a changed pixel are traced
+    again (crossings.sun_cos_theta_edited, point_cos_theta_edited; equal to the whole bake)
+    — also at a reduced size (draft, preview: a whole factor smaller) from the reduced
+    inputs and t kept with t_before, their boxes that read the edit reduced again, then
+    upsampled. None where the level bakes otherwise (a march, a point light over the edit, a
+    size that is no whole multiple, nothing kept): bake the whole then (those are the cheap
+    ones, or the reference)."""
     _, scale, dtype = quality_settings(quality, steps, scale)
     h, w = normals.shape[:2]
     if normals_box is None and heights_box is None and t_before.shape == (h, w):
@@ -284,14 +316,14 @@ def bake_edited(normals, light, offset, quality, t_before, normals_box, heights_
         # image reloaded unchanged): at any level its bake is the one before
         return t_before.astype(dtype, copy=False)
     plan = _level_plan(light, quality, scale, occupancy, h, w, slopes is not None, offset)
-    if plan is None or light.kind != "sun" or t_before.shape != (h, w):
+    if plan is None or t_before.shape != (h, w):
         return None
     normals = normals.astype(dtype, copy=False)
     heights_px = None if heights_px is None else heights_px.astype(dtype, copy=False)
     slopes = None if slopes is None else slopes.astype(dtype, copy=False)
     (hs, ws), _ = plan
     if (hs, ws) == (h, w):
-        t = crossings.sun_cos_theta_edited(
+        t = _edited_by_crossings(light, quality)(
             normals, light, offset, t_before.astype(dtype, copy=False), normals_box,
             heights_box, heights_px=heights_px, slopes=slopes, reach=reach)
         return None if t is None else t.astype(dtype, copy=False)
@@ -305,8 +337,8 @@ def bake_edited(normals, light, offset, quality, t_before, normals_box, heights_
     reduced = (_reduced_edited(normals, n_s, nb, f, "normals"),
                _reduced_edited(heights_px, z_s, hb, f, "heights", normals.dtype.type(ws / w)),
                _reduced_edited(slopes, sl_s, nb, f, "slopes"))
-    edited = crossings.sun_cos_theta_edited(reduced[0], light, offset, t_s, nb, hb,
-                                            heights_px=reduced[1], slopes=reduced[2],
-                                            reach=reach)
+    edited = _edited_by_crossings(light, quality)(reduced[0], light, offset, t_s, nb, hb,
+                                                  heights_px=reduced[1], slopes=reduced[2],
+                                                  reach=reach)
     return None if edited is None else _upsampled(edited, h, w, dtype, reduced,
                                                   (t_s, t_before))

@@ -11,6 +11,7 @@ import numpy as np
 from .crossing_search import table_levels
 from .sampling import pixel_centres, sample_bilinear, sample_bilinear_extend
 from .shadow import BakeCancelled
+from .strokes import inside
 
 MAX_TABLE_BYTES = 1.5 * 2**30   # tables built at once (larger grids: in groups of blocks)
 THREADS = max(1, min(4, os.cpu_count() or 1))
@@ -95,7 +96,9 @@ class BlockGrid:
 
     A subclass sets rows and width, calls _split with each row's column range, and writes
     _profile (G of a block), starts (the rays of some pixel rows), _search_block (their
-    inside lengths) and finish (t from them).
+    inside lengths) and finish (t from them); for an edit (retrace), cells_reading (the rows
+    and columns whose profile reads a box of pixels) and pixels_near (the pixels whose rays
+    may read those rows).
     """
 
     def _split(self, lo, hi, blocks):
@@ -185,6 +188,69 @@ class BlockGrid:
         if t is not None:
             done = self.finish(ray, r_h, float(offset) * w)
             t[:] = np.clip(np.where(np.isfinite(done), done, 0), 0, 1).reshape(r1 - r0, w)
+
+    # -- an edit (issues 41, 61): only the rays that read changed pixels are traced again --
+    def retrace(self, pool, normals, offset, heights_px, slopes, t, path_box, own_box):
+        """t after an edit, from t before it: the rays whose grid rows read `path_box` (the
+        relief, or a normal map's slopes, changed there: the grid's cells_reading) and those
+        starting in `own_box` (their normal or the relief at P0 changed) are traced again,
+        in the blocks they are in; None where every row reads the edit or those rows'
+        tables do not fit in memory. A ray reads its rows from the column it starts in
+        onward: one starting past the last changed column sees nothing new on a height map
+        (a normal map's rebuilt heights run on along the whole row)."""
+        h, w = normals.shape[:2]
+        d = float(offset) * w
+        idx = np.zeros(0, np.int64)
+        reading = None
+        if path_box is not None:
+            # past the image's edge a lookup reads the edge's pixels: a height map's rays read
+            # the relief from within d of the image onward; a normal map's rebuilt heights
+            # integrate each row from its block's first column (the rounding of the whole
+            # row's heights changes with any slope on it)
+            reading = self.cells_reading(path_box, d + 4 if heights_px is not None else None)
+            if reading is None:
+                return None
+            rows, last = reading
+            idx = self.pixels_near(rows, last if heights_px is not None else None, d + 1)
+        if own_box is not None:
+            r0, r1, c0, c1 = own_box
+            idx = np.union1d(idx, (np.arange(r0, r1)[:, None] * w + np.arange(c0, c1)).ravel())
+        if idx.size == 0:
+            return t.copy()
+        ray = self.starts(normals, offset, heights_px, idx)
+        keep = inside(own_box, *np.divmod(idx, w))
+        if reading is not None:
+            rows, last = reading
+            reads = rows[ray.row0] | rows[ray.row0 + 1]
+            if heights_px is not None:
+                reads &= np.floor(ray.fu) <= last
+            keep |= reads
+        idx = idx[keep]
+        ray = Rays(**{k: None if v is None else v[keep] for k, v in vars(ray).items()})
+        block = np.minimum(ray.row0 // self.block_rows, len(self.blocks) - 1).astype(np.int16)
+        block[~ray.searched] = -1
+        # each block's rows that these rays read, alone: a row's profile and tables are the
+        # row's own (the block's columns kept), so they equal the whole block's there
+        parts = {}
+        for b in np.unique(block[block >= 0]):
+            sel = np.flatnonzero(block == b)
+            first, last = int(ray.row0[sel].min()), int(ray.row0[sel].max())
+            _, _, c0, c1 = self.blocks[b]
+            parts[int(b)] = (sel, (first, last - first + 2, c0, c1))
+        if sum((2 * table_levels(c1 - c0) + 2) * n * (c1 - c0 + 1) * 4
+               for _, (_, n, c0, c1) in parts.values()) > MAX_TABLE_BYTES:
+            return None
+        inputs = self._inputs(heights_px, slopes)
+        r_h = ray.alone.copy()
+
+        def search_part(part):
+            sel, spec = part
+            r_h[sel] = self._search_block(spec, self._profile(spec, *inputs), ray, sel)
+        list(pool.map(search_part, parts.values()))
+        done = self.finish(ray, r_h, d)
+        out = t.copy()
+        out.reshape(-1)[idx] = np.clip(np.where(np.isfinite(done), done, 0), 0, 1)
+        return out
 
     def _block_rays(self, spec, ray, sel):
         """Rays `sel` in the coordinates of block `spec` (a, n, c0, c1): (rows from its

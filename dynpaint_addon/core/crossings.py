@@ -33,9 +33,9 @@ import numpy as np
 
 from . import crossing_blocks
 from .crossing_blocks import BlockGrid, Rays, lookup, start_points, table_groups
-from .crossing_search import inside_length, row_value, search_tables, table_levels
+from .crossing_search import inside_length, row_value, search_tables
 from .shadow import cos_theta_shadow, exit_distance, inside_box, vertical_cos_theta
-from .strokes import grow, inside, union
+from .strokes import grow, union
 
 SUN_BLOCKS, SUN_BLOCK_ROWS = 8, 160   # _SunGrid's blocks of rows: at most 8, ≥ 160 rows
 POINT_RHO_MIN = 1e-3   # ρ (px) below which G = (H − z_L)/ρ divides by this: only a column at F
@@ -87,12 +87,32 @@ def sun_cos_theta_edited(normals, light, offset, t, normals_box, heights_box, *,
     if lvec[2] <= 0 or offset <= 0 or np.hypot(lvec[0], lvec[1]) < 1e-6:
         return None          # (nothing to trace: the whole bake is as cheap)
     reach_px = max(0.0, float(reach)) * w if slopes is not None else np.inf
+    return _retrace(_SunGrid(lvec, h, w, reach_px), normals, offset, t, normals_box,
+                    heights_box, heights_px, slopes)
+
+
+def point_cos_theta_edited(normals, light, offset, t, normals_box, heights_box, *,
+                           heights_px=None, slopes=None, reach=np.inf, step=POINT_STEP):
+    """point_cos_theta of an edited shape from `t`, the term before the edit, as
+    sun_cos_theta_edited (issue 61: a dab under a point light at a sun's speed): only the
+    rays whose rows (the angles about the light's foot that see the edit) read a changed
+    pixel nearer the light than their start are traced again. None where every row reads
+    the edit (the light's foot over it) or d = 0: bake the whole then."""
+    if offset <= 0:
+        return None
+    h, w = normals.shape[:2]
+    reach_px = max(0.0, float(reach)) * w if slopes is not None else np.inf
+    return _retrace(_PointGrid(light, h, w, offset, reach_px, step), normals, offset, t,
+                    normals_box, heights_box, heights_px, slopes)
+
+
+def _retrace(grid, normals, offset, t, normals_box, heights_box, heights_px, slopes):
+    h, w = normals.shape[:2]
     d = float(offset) * w
     # a start reads its own normal, and the relief within d of its pixel
     own = union(normals_box, grow(heights_box, d + 2, h, w))
     path = heights_box if heights_px is not None else normals_box
-    return _SunGrid(lvec, h, w, reach_px).retrace(_pool(), normals, offset, heights_px,
-                                                  slopes, t, path, own)
+    return grid.retrace(_pool(), normals, offset, heights_px, slopes, t, path, own)
 
 
 def _bake(grid, normals, offset, heights_px, slopes, cancel=None, progress=None):
@@ -241,12 +261,13 @@ class _SunGrid(BlockGrid):
         return d / np.maximum(r, d)
 
     # -- an edit (issue 41): only the rays that read changed pixels are traced again ------
-    def cells_reading(self, box):
-        """The grid rows (first, last) whose profile reads pixels of `box` (strokes.py), and
-        the last column that does: a lookup reads the pixels within 1 px of its point, and
-        past the image's edge (the grid runs 3 px beyond it) the edge's own."""
+    def cells_reading(self, box, beyond):
+        """(mask of the grid rows whose profile reads pixels of `box` (strokes.py), the last
+        column that does): a lookup reads the pixels within 1 px of its point, and past the
+        image's edge the edge's own, up to `beyond` px from it (None: as far as the grid
+        runs)."""
         r0, r1, c0, c1 = box
-        beyond = 4.0
+        beyond = beyond if beyond is not None else self.width + self.rows
         x_lo = c0 - 0.5 if c0 > 0 else 0.5 - beyond
         x_hi = c1 + 0.5 if c1 < self.w else self.w - 0.5 + beyond
         y_lo = r0 - 0.5 if r0 > 0 else 0.5 - beyond
@@ -255,8 +276,15 @@ class _SunGrid(BlockGrid):
         ys = np.array([y_lo, y_lo, y_hi, y_hi]) - self.cy
         v = ys * self.ex - xs * self.ey - self.vmin
         u = xs * self.ex + ys * self.ey - self.umin
-        return (max(0, int(np.floor(v.min())) - 1), min(self.rows - 1, int(np.ceil(v.max())) + 1),
-                int(np.ceil(u.max())) + 1)
+        mask = np.zeros(self.rows, bool)
+        mask[max(0, int(np.floor(v.min())) - 1):int(np.ceil(v.max())) + 2] = True
+        return mask, int(np.ceil(u.max())) + 1
+
+    def pixels_near(self, mask, last_column, margin):
+        """Flat indices of the pixels whose rays may read the rows of `mask`: those whose
+        centre lies within `margin` of them (a ray starts within d of its pixel)."""
+        rows = np.flatnonzero(mask)
+        return self._pixels_near_rows(rows[0] - 1, rows[-1] + 1, margin)
 
     def _pixels_near_rows(self, first, last, margin):
         """Flat indices of the pixels whose centre lies within grid rows first − margin …
@@ -277,59 +305,6 @@ class _SunGrid(BlockGrid):
         ends = np.cumsum(counts)
         return np.arange(ends[-1] if h else 0) - np.repeat(ends - counts, counts) + \
             np.repeat(firsts, counts)
-
-    def retrace(self, pool, normals, offset, heights_px, slopes, t, path_box, own_box):
-        """t after an edit, from t before it: the rays whose grid rows read `path_box` (the
-        relief, or a normal map's slopes, changed there) and those starting in `own_box`
-        (their normal or the relief at P0 changed) are traced again, in the blocks they are
-        in; None where those rows' tables do not fit in memory. A ray reads its rows from the
-        column it starts in onward: one starting past the last changed column sees nothing
-        new on a height map (a normal map's rebuilt heights run on along the whole row)."""
-        h, w = normals.shape[:2]
-        d = float(offset) * w
-        idx = np.zeros(0, np.int64)
-        rows = None
-        if path_box is not None:
-            rows = self.cells_reading(path_box)
-            idx = self._pixels_near_rows(rows[0] - 1, rows[1] + 1, d + 1)
-        if own_box is not None:
-            r0, r1, c0, c1 = own_box
-            idx = np.union1d(idx, (np.arange(r0, r1)[:, None] * w + np.arange(c0, c1)).ravel())
-        if idx.size == 0:
-            return t.copy()
-        ray = self.starts(normals, offset, heights_px, idx)
-        keep = inside(own_box, *np.divmod(idx, w))
-        if rows is not None:
-            reads = (ray.row0 + 1 >= rows[0]) & (ray.row0 <= rows[1])
-            if heights_px is not None:
-                reads &= np.floor(ray.fu) <= rows[2]
-            keep |= reads
-        idx = idx[keep]
-        ray = Rays(**{k: None if v is None else v[keep] for k, v in vars(ray).items()})
-        block = np.minimum(ray.row0 // self.block_rows, len(self.blocks) - 1).astype(np.int16)
-        block[~ray.searched] = -1
-        # each block's rows that these rays read, alone: a row's profile and tables are the
-        # row's own (the block's columns kept), so they equal the whole block's there
-        parts = {}
-        for b in np.unique(block[block >= 0]):
-            sel = np.flatnonzero(block == b)
-            first, last = int(ray.row0[sel].min()), int(ray.row0[sel].max())
-            _, _, c0, c1 = self.blocks[b]
-            parts[int(b)] = (sel, (first, last - first + 2, c0, c1))
-        if sum((2 * table_levels(c1 - c0) + 2) * n * (c1 - c0 + 1) * 4
-               for _, (_, n, c0, c1) in parts.values()) > crossing_blocks.MAX_TABLE_BYTES:
-            return None
-        inputs = self._inputs(heights_px, slopes)
-        r_h = ray.alone.copy()
-
-        def search_part(part):
-            sel, spec = part
-            r_h[sel] = self._search_block(spec, self._profile(spec, *inputs), ray, sel)
-        list(pool.map(search_part, parts.values()))
-        done = self.finish(ray, r_h, d)
-        out = t.copy()
-        out.reshape(-1)[idx] = np.clip(np.where(np.isfinite(done), done, 0), 0, 1)
-        return out
 
 
 def point_cos_theta(normals, light, offset, *, heights_px=None, slopes=None, reach=np.inf,
@@ -522,6 +497,68 @@ class _PointGrid(BlockGrid):
                              np.inf)
             plane = np.minimum(plane, np.maximum(rho0 - reach_h, 0))
         return total + np.where(ray.by_reach[sel], plane, tail)
+
+    # -- an edit (issue 61): the rows at the angles that see the box --------------------
+    EDIT_TILE = 16      # pixels_near's tiles (px): a tile's angles are bounded by its corners
+
+    def _angles(self, xs, ys, centre):
+        """Angles of the points (xs, ys) about F, relative to `centre` (in (−π, π])."""
+        return np.angle(np.exp(1j * (np.arctan2(ys - self.fy, xs - self.fx) - centre)))
+
+    def cells_reading(self, box, beyond):
+        """(mask of the grid rows whose profile reads pixels of `box`, the last column that
+        does), or None where F lies within the pixels the box's lookups reach (every row
+        reads them). A row is a ray from F: it reads the box where its angle lies between
+        the angles of the box's corners (grown by the 1 px a lookup reads, and past the
+        image's edge by `beyond`; None: as far as the grid runs), from the nearest on."""
+        r0, r1, c0, c1 = box
+        beyond = beyond if beyond is not None else \
+            self.rho_max + np.hypot(self.fx, self.fy) + self.w + self.h
+        x_lo = c0 - 0.5 if c0 > 0 else 0.5 - beyond
+        x_hi = c1 + 0.5 if c1 < self.w else self.w - 0.5 + beyond
+        y_lo = r0 - 0.5 if r0 > 0 else 0.5 - beyond
+        y_hi = r1 + 0.5 if r1 < self.h else self.h - 0.5 + beyond
+        if x_lo - 1 <= self.fx <= x_hi + 1 and y_lo - 1 <= self.fy <= y_hi + 1:
+            return None
+        xs, ys = np.array([x_lo, x_hi, x_lo, x_hi]), np.array([y_lo, y_lo, y_hi, y_hi])
+        centre = np.arctan2((y_lo + y_hi) / 2 - self.fy, (x_lo + x_hi) / 2 - self.fx)
+        rel = self._angles(xs, ys, centre)
+        row_rel = self._angles(self.fx + np.cos(self.phi0 + self.dphi * np.arange(self.rows)),
+                               self.fy + np.sin(self.phi0 + self.dphi * np.arange(self.rows)),
+                               centre)
+        mask = (row_rel >= rel.min() - self.dphi) & (row_rel <= rel.max() + self.dphi)
+        near = np.hypot(max(x_lo - self.fx, 0, self.fx - x_hi), max(y_lo - self.fy, 0, self.fy - y_hi))
+        return mask, int(np.ceil((self.rho_max - near) / self.col_step)) + 1
+
+    def pixels_near(self, mask, last_column, margin):
+        """Flat indices of a superset of the pixels whose rays may read the rows of `mask`
+        from their start on: those of the EDIT_TILE² tiles that lie, grown by `margin` (a ray
+        starts within d of its pixel), at those rows' angles and, where `last_column` is
+        given (height maps), farther from F than that column."""
+        rows = np.flatnonzero(mask)
+        phi = self.phi0 + self.dphi * rows
+        centre = np.angle(np.exp(1j * phi).sum())
+        rel = np.angle(np.exp(1j * (phi - centre)))
+        lo, hi = rel.min() - self.dphi, rel.max() + self.dphi
+        n = self.EDIT_TILE
+        ty, tx = np.arange(0, self.h, n), np.arange(0, self.w, n)
+        x_lo = (tx + 0.5 - margin)[None, :].repeat(len(ty), 0)
+        x_hi = (np.minimum(tx + n, self.w) - 0.5 + margin)[None, :].repeat(len(ty), 0)
+        y_lo = (ty + 0.5 - margin)[:, None].repeat(len(tx), 1)
+        y_hi = (np.minimum(ty + n, self.h) - 0.5 + margin)[:, None].repeat(len(tx), 1)
+        xs, ys = np.stack([x_lo, x_hi, x_lo, x_hi]), np.stack([y_lo, y_lo, y_hi, y_hi])
+        a = self._angles(xs, ys, centre)
+        has_f = (x_lo <= self.fx) & (self.fx <= x_hi) & (y_lo <= self.fy) & (self.fy <= y_hi)
+        # a tile across the ray opposite `centre` spans about (−π, π]: kept, as it may
+        take = has_f | ((a.max(0) >= lo) & (a.min(0) <= hi))
+        if last_column is not None:
+            far = np.hypot(xs - self.fx, ys - self.fy).max(0)
+            take &= far >= self.rho_max - (last_column + 1) * self.col_step
+        out = []
+        for i, j in zip(*np.nonzero(take)):
+            r, c = np.arange(ty[i], min(ty[i] + n, self.h)), np.arange(tx[j], min(tx[j] + n, self.w))
+            out.append((r[:, None] * self.w + c[None, :]).ravel())
+        return np.concatenate(out) if out else np.zeros(0, np.int64)
 
     def finish(self, ray, r_h, d):
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):

@@ -262,16 +262,56 @@ def painting_of(fl, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF, effects=None):
     if "shape" in images:
         p.shape.kind = "height" if looks_like_height(images["shape"]) else "normal"
         return images, p, notes
+    backdrop = backdrop_share(images["bright"])
     try:
+        if backdrop is not None:
+            raise ShapeError(f"it fills {backdrop:.0%} of the canvas: a backdrop")
         kind, rgba, lines = make_shape("inflate", images, p, height=relief, **(effects or {}))
         notes.append(f"{fl.name}: {lines[0]}")
-    except ShapeError:                                 # opaque: a flat card
+    except ShapeError:                        # opaque, or a backdrop: a flat card
         w, h = images["bright"].size
         kind, rgba = "height", np.zeros((h, w, 1), np.float32)
-        notes.append(f"{fl.name}: no transparent part to inflate: a flat card")
+        if backdrop is not None:    # its figure, as an inflated shape's alpha holds it
+            rgba = np.dstack([rgba] * 3 + [images["bright"].alpha()])
+        notes.append(f"{fl.name}: " + ("no transparent part to inflate" if backdrop is None
+                                       else f"fills {backdrop:.0%} of the canvas, a backdrop")
+                     + ": a flat card (give it a shape image for relief)")
     read_as_made(p, kind)
     images["shape"] = ImageData(np.asarray(rgba, np.float32), 32, f"{fl.name} shape")
     return images, p, notes
+
+
+# A layer whose figure spans BACKDROP_SPAN of the canvas both ways and fills BACKDROP_FILL of
+# that box is a backdrop (a sky, a wall; a Grease Pencil fill drawn to the drawing's bounds
+# leaves only the drawing's margin clear): a flat card — inflated, its border would fall
+# off as a pillow's, and a shadow cast on it would bend where the scene has no edge
+BACKDROP_SPAN, BACKDROP_FILL = 0.9, 0.9
+
+
+def backdrop_share(img):
+    """The share of the canvas a backdrop layer's figure (alpha ≥ ½) fills, or None where
+    the layer is no backdrop (or opaque: no figure to speak of).
+
+    >>> a = np.zeros((100, 100, 4), np.float32); a[2:98, 2:98, 3] = 1
+    >>> round(backdrop_share(ImageData(a, 8)), 2)               # a sky within a margin
+    0.92
+    >>> a[:, 50:, 3] = 0; backdrop_share(ImageData(a, 8)) is None     # a card on the left
+    True
+    """
+    alpha = img.alpha()
+    if alpha is None:
+        return None
+    inside = np.nan_to_num(alpha) >= 0.5
+    rows, cols = np.flatnonzero(inside.any(1)), np.flatnonzero(inside.any(0))
+    if rows.size == 0 or inside.all():
+        return None
+    h, w = inside.shape
+    box_h, box_w = rows[-1] - rows[0] + 1, cols[-1] - cols[0] + 1
+    share = float(inside.mean())
+    if box_h < BACKDROP_SPAN * h or box_w < BACKDROP_SPAN * w or \
+            share * h * w < BACKDROP_FILL * box_h * box_w:
+        return None
+    return share
 
 
 def painting_of_frames(name, cells, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF, darks=None,

@@ -16,34 +16,53 @@ from .whole_files import write_text_whole
 
 
 def _strokes(x, y, seed):
-    """Deterministic brush-stroke-like variation in [-1, 1]."""
+    """Deterministic brush-stroke-like variation in [-1, 1] (float32) at pixel centres x (1, W)
+    and y (H, 1), in image widths: six waves sin(fx·x + θ(y)), θ(y) = fy·y + φ + 2 sin(3y + φ).
+    Each is sin(fx·x)·cos θ + cos(fx·x)·sin θ, so the image is one (H, 12) × (12, W) product:
+    no sine per pixel (an 8192² painting's cost is writing its files)."""
     rng = np.random.default_rng(seed)
-    v = np.zeros_like(x)
+    across, down = [], []
     for _ in range(6):
         a, fx, fy, ph = rng.uniform(0.2, 1), rng.uniform(5, 25), rng.uniform(2, 9), rng.uniform(0, 6.3)
-        v += a * np.sin(fx * x + fy * y + ph + 2 * np.sin(3 * y + ph))
-    return v / np.max(np.abs(v))
+        theta = fy * y[:, 0] + ph + 2 * np.sin(3 * y[:, 0] + ph)
+        down += [a * np.cos(theta), a * np.sin(theta)]
+        across += [np.sin(fx * x[0]), np.cos(fx * x[0])]
+    v = np.stack(down, 1).astype(np.float32) @ np.stack(across).astype(np.float32)
+    v /= np.max(np.abs(v))
+    return v
+
+
+def _centres(h, w):
+    """Pixel centres x (1, W) and y (H, 1) in image widths (y up)."""
+    return (np.arange(w)[None, :] + 0.5) / w, (np.arange(h)[:, None] + 0.5) / w
+
+
+def _encoded(channels):
+    """8-bit sRGB of linear colour channels (each H × W): what a painter's PNG holds."""
+    out = np.empty(channels[0].shape + (len(channels),), np.float32)
+    for i, c in enumerate(channels):
+        out[..., i] = np.round(linear_to_srgb(np.clip(c, 0, 1).astype(np.float32)) * 255) / 255
+    return out
 
 
 def builtin_images(size=256):
     """{channel: ImageData} with y-up arrays: 16-bit height, 8-bit sRGB dark and bright."""
     w = h = int(size)
-    y, x = np.mgrid[0:h, 0:w].astype(np.float64)
-    x = (x + 0.5) / w
-    y = (y + 0.5) / w
-    r2 = ((x - 0.36) ** 2 + (y - 0.56) ** 2) / 0.22 ** 2
-    dome = np.sqrt(np.clip(1 - r2, 0, 1))
-    box = ((np.abs(x - 0.74) < 0.1) & (np.abs(y - 0.3) < 0.14)) * 0.55
-    ridge = 0.35 * np.exp(-((y - 0.15 - 0.25 * x) / 0.03) ** 2) * (x < 0.55)
-    height = np.clip(np.maximum(np.maximum(dome, box), ridge), 0, 1)
-    height = np.round(height * 65535) / 65535
+    x, y = _centres(h, w)
+    height = (x - 0.36) ** 2 + (y - 0.56) ** 2             # the dome's r² · 0.22²
+    np.sqrt(np.clip(1 - height / 0.22 ** 2, 0, 1), out=height)
+    box = (np.abs(x - 0.74) < 0.1) & (np.abs(y - 0.3) < 0.14)
+    np.maximum(height, box * 0.55, out=height)
+    left = int(np.searchsorted(x[0], 0.55))                # the ridge: x < 0.55
+    ridge = 0.35 * np.exp(-((y - 0.15 - 0.25 * x[:, :left]) / 0.03) ** 2)
+    np.maximum(height[:, :left], ridge, out=height[:, :left])
+    height = np.round(np.clip(height, 0, 1) * 65535) / 65535
     s1, s2 = _strokes(x, y, 1), _strokes(x, y, 2)
-    dark = np.stack([0.10 + 0.03 * s1, 0.09 + 0.02 * s2, 0.22 + 0.05 * s1], -1)
-    bright = np.stack([0.95 + 0.04 * s2, 0.72 + 0.06 * s1, 0.42 + 0.05 * s2], -1)
-    enc = lambda c: np.round(linear_to_srgb(np.clip(c, 0, 1)) * 255) / 255
+    dark = _encoded([0.10 + 0.03 * s1, 0.09 + 0.02 * s2, 0.22 + 0.05 * s1])
+    bright = _encoded([0.95 + 0.04 * s2, 0.72 + 0.06 * s1, 0.42 + 0.05 * s2])
     return {"shape": ImageData(height.astype(np.float32), 16, "height.png"),
-            "dark": ImageData(enc(dark).astype(np.float32), 8, "dark.png"),
-            "bright": ImageData(enc(bright).astype(np.float32), 8, "bright.png")}
+            "dark": ImageData(dark, 8, "dark.png"),
+            "bright": ImageData(bright, 8, "bright.png")}
 
 
 def builtin_recipe():
@@ -80,10 +99,8 @@ def write_test_painting(folder, size=256):
 
 def _cutout(inside, colour, seed, x, y):
     """An 8-bit sRGB RGBA image of one painted colour with stroke variation, alpha = inside."""
-    s = _strokes(x, y, seed)[..., None]
-    rgb = np.clip(np.asarray(colour) * (1 + 0.08 * s), 0, 1)
-    rgb = np.round(linear_to_srgb(rgb) * 255) / 255
-    return np.dstack([rgb, inside.astype(np.float64)]).astype(np.float32)
+    s = 1 + 0.08 * _strokes(x, y, seed)
+    return np.dstack([_encoded([c * s for c in colour]), inside.astype(np.float32)])
 
 
 def builtin_scene_layers(size=128):
@@ -91,8 +108,7 @@ def builtin_scene_layers(size=128):
     {channel: ImageData}, p)]: the test painting behind, a flat ring card in the middle and
     a star with a dome's relief in front, both cut out by their dark image's alpha."""
     w = h = int(size)
-    y, x = np.mgrid[0:h, 0:w].astype(np.float64)
-    x, y = (x + 0.5) / w, (y + 0.5) / w
+    x, y = _centres(h, w)
     r = np.hypot(x - 0.62, y - 0.6)
     ring = (r > 0.12) & (r < 0.2)
     ang = np.arctan2(y - 0.35, x - 0.35)

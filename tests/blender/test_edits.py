@@ -413,6 +413,53 @@ def test_strokes_on_a_large_height_map_bake_incrementally_and_equal_a_whole_bake
                for a, d in zip(derived, mat.dynamic_painting.derived))
 
 
+def _shadow_images(mat):
+    """{light's name: its cos-θ image's pixels (h, w), at the size it was written at}."""
+    out = {}
+    for item in mat.dynamic_painting.lights:
+        w, h = item.shadow.size
+        px = np.empty(len(item.shadow.pixels), np.float32)
+        item.shadow.pixels.foreach_get(px)
+        out[item.object.data.type] = px.reshape(h, w, -1)[..., 0]
+    return out
+
+
+# 4096²'s final is the stroke benchmark's (docs/paint-latency.md: its whole bake with the
+# point light alone takes ~23 s here); the levels a dab at 4096² goes stale in are tested
+@pytest.mark.parametrize("size", [256, 512, 1024, 4096])
+def test_a_dab_changes_every_lights_shadow_where_it_is_at_every_level(tmp_path, size):
+    """Issue 61 (drafts that never followed the brush: 0 pixels changed at 512² draft, a
+    point light's never at 1024²): under a sun and a point light, at each level a dab on the
+    height map changes each light's cos-θ image where the dab is, and (below 4096²) the image
+    after it is the level's bake of the whole edited image (≤ 1e-6)."""
+    mat = sun_painting(tmp_path, size, ("sun", "point"), quality="draft")
+    s = mat.dynamic_painting
+    img = s.image_shape
+    px = image_pixels(img)
+    y, x = np.ogrid[0:size, 0:size]
+    levels = ("draft", "preview", "final") if size < 4096 else ("draft", "preview")
+    for k, level in enumerate(levels):
+        s.shadows.quality = level
+        bpy.context.view_layer.update()
+        before = _shadow_images(mat)
+        cx, cy, r = size * (0.3 + 0.2 * k), size * 0.4, size * 0.06
+        px[..., :3] += 0.3 * np.clip(1 - np.hypot(x - cx, y - cy) / r, 0, 1)[..., None]
+        img.pixels.foreach_set(px.ravel())
+        img.update_tag()
+        bpy.context.view_layer.update()
+        after = _shadow_images(mat)
+        for kind, t in after.items():
+            h, w = t.shape          # (a draft's or preview's image: the size it baked at)
+            yy, xx = np.ogrid[0:h, 0:w]
+            at_dab = np.hypot((xx + 0.5) * size / w - cx, (yy + 0.5) * size / h - cy) < r
+            assert np.abs(t - before[kind])[at_dab].max() > 0.01, (level, kind)
+        if size < 4096:         # (4096²'s whole bakes: 8 s; the core's tests cover them)
+            shadow_images.forget_cached_shape(mat)
+            update(mat, bpy.context.scene, rebake=True, force=True)
+            whole = _shadow_images(mat)
+            assert all(np.abs(after[kind] - whole[kind]).max() <= 1e-6 for kind in after), level
+
+
 def test_a_draft_is_written_at_the_size_it_baked_at_and_renders_like_the_core(tmp_path):
     """A draft's cos-θ image is the size its bake ran at (768² bakes by crossings at 96²: 64×
     fewer pixels through Blender's image API), resized in place — the nodes keep the same
@@ -436,10 +483,13 @@ def test_a_draft_is_written_at_the_size_it_baked_at_and_renders_like_the_core(tm
 def test_the_paint_latency_benchmark_runs_and_checks_incremental_equals_whole():
     """benchmarks/paint_latency.py at a tiny size (numbers, not speed): both levels timed,
     incremental and whole (the figure mask's too), and the painting after the dabs equals a
-    whole bake."""
+    whole bake, lit by the sun alone and by the sun and the point light."""
     m = paint_latency.measure(128, 1)
     assert all(m[level][0] > 0 and m[level][1] > 0 for level in ("draft", "final", "mask"))
     assert m["error"] <= 1e-6
+    both = paint_latency.measure(128, 1, mask=False, kinds=("sun", "point"))
+    assert "mask" not in both and both["error"] <= 1e-6
+    assert "sun's alone" in paint_latency.goal("final", 1024, 150.0, 60.0)
 
 
 def test_a_grey_image_rewritten_where_it_changed_holds_the_whole_write(monkeypatch):

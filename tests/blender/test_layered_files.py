@@ -10,8 +10,8 @@ import pytest
 from conftest import run_cli
 from dynpaint_addon.core.input_rules import ImageData
 from dynpaint_addon.core.layers import render_scene
-from dynpaint_addon.inputs.layered_files import (DEFAULT_SHADE, LayeredFileError, load_scene, read_ora,
-                                          shaded)
+from dynpaint_addon.inputs.layered_files import (DEFAULT_SHADE, FileLayer, LayeredFileError,
+                                                 load_scene, painting_of, read_ora, shaded)
 from testkit.layered_files import window_scene, write_ora, write_photoshop_folder
 
 SIZE = 64
@@ -49,6 +49,24 @@ def test_a_photoshop_folder_reads_as_the_ora_does(ora, tmp_path):
     assert all(layer.offset == (0.0, 0.0) and layer.scale == 1.0 for layer in layers)
     hill = layers[1].images["bright"].alpha()
     np.testing.assert_array_equal(hill[:SIZE // 2], from_ora["hill"].images["bright"].alpha())
+
+
+def test_a_backdrop_within_a_clear_margin_is_a_flat_card():
+    """Issue 61 (the walk sample's sky inflated into a pillow, the post's shadow bending on
+    it): a layer that fills its canvas but a clear margin (a Grease Pencil fill drawn to the
+    drawing's bounds, which are drawn 2 % apart from the picture's edge) is a backdrop, a
+    flat card, said; a figure of the same size but with room around it is inflated."""
+    px = np.zeros((SIZE, SIZE, 4), np.float32)
+    px[2:-2, 2:-2] = (0.4, 0.6, 0.9, 1.0)
+    images, _, notes = painting_of(FileLayer("sky", {"painted": ImageData(px, 8)}))
+    assert images["shape"].pixels[..., :3].max() == 0
+    assert np.array_equal(images["shape"].alpha(), px[..., 3])     # its figure, as inflated
+    assert notes == ["sky: fills 88% of the canvas, a backdrop: a flat card (give it a shape "
+                     "image for relief)"]
+    y, x = np.mgrid[0:SIZE, 0:SIZE]
+    px[..., 3] = np.hypot(x - SIZE / 2, y - SIZE / 2) < SIZE * 0.45
+    images, _, notes = painting_of(FileLayer("moon", {"painted": ImageData(px, 8)}))
+    assert images["shape"].pixels.max() > 0 and "moon: inflated" in notes[0]
 
 
 def test_the_shaded_copy_is_the_share_of_the_linear_colour():

@@ -49,6 +49,17 @@ def _stroked(rng, img, p, shape, n):
             yield k, img, edited
 
 
+def _carry(ts, lights, shape, normals_box, heights_box, whole, edited):
+    """Each light's term `ts[i]` carried across an edit of a height map: re-traced by
+    `edited`, or baked `whole` where that declines → how many were re-traced."""
+    retraced = 0
+    for i, light in enumerate(lights):
+        t = edited(shape[0], light, 0.01, ts[i], normals_box, heights_box, heights_px=shape[1])
+        retraced += t is not None
+        ts[i] = t if t is not None else whole(shape[0], light, 0.01, heights_px=shape[1])
+    return retraced
+
+
 @pytest.mark.parametrize("preblur", [0.0, 1.5])
 def test_random_strokes_on_a_height_map_equal_the_whole_decode_and_bake(preblur):
     """200 random strokes on a 160² height map, 5 suns (one straight up: baked whole): after
@@ -64,12 +75,8 @@ def test_random_strokes_on_a_height_map_equal_the_whole_decode_and_bake(preblur)
     for k, img, (shape, normals_box, heights_box) in _stroked(rng, img, p, shape, 200):
         whole = shape_normals(img, p)
         assert np.array_equal(shape[0], whole[0]) and np.array_equal(shape[1], whole[1]), k
-        for i, sun in enumerate(SUNS):
-            t = crossings.sun_cos_theta_edited(shape[0], sun, 0.01, ts[i], normals_box,
-                                               heights_box, heights_px=shape[1])
-            retraced += t is not None
-            ts[i] = t if t is not None else \
-                crossings.sun_cos_theta(shape[0], sun, 0.01, heights_px=shape[1])
+        retraced += _carry(ts, SUNS, shape, normals_box, heights_box,
+                           crossings.sun_cos_theta, crossings.sun_cos_theta_edited)
         if k % 20 == 19:
             for sun, t in zip(SUNS, ts):
                 full = crossings.sun_cos_theta(whole[0], sun, 0.01, heights_px=whole[1])
@@ -126,10 +133,120 @@ def test_a_stroke_re_traces_a_small_part_of_the_image():
     assert changed.size and changed[:, 1].max() <= 300 + 20          # downlight (−x) of it
     assert np.abs(t2 - bake_edited(shape2[0], sun, 0.01, "final", t, strokes.whole(512, 512),
                                    strokes.whole(512, 512), heights_px=shape2[1])).max() <= 1e-6
-    # a reduced level with no reduced bake kept for t, and point lights, are baked whole
+    # a reduced level with no reduced bake kept for t, and a point light whose foot is over
+    # the dab (every row of its grid reads it), are baked whole
     assert bake_edited(shape2[0], sun, 0.01, "draft", t, nb, hb, heights_px=shape2[1]) is None
-    assert bake_edited(shape2[0], Light("point", (0.2, 0.1, 0.5)), 0.01, "final", t, nb, hb,
-                       heights_px=shape2[1]) is None
+    over = Light("point", (300 / 512 - 0.5, (200 - 256) / 512, 0.5))
+    assert bake_edited(shape2[0], over, 0.01, "final", t, nb, hb, heights_px=shape2[1]) is None
+
+
+# point lights (x, y, z in image widths from the centre): foot inside the image (its grid
+# a full circle), beside it, low and far; the strokes pass under the first at times
+POINTS = [Light("point", v) for v in ((0.1, -0.05, 0.4), (0.9, 0.6, 0.3), (-0.3, 1.2, 0.15))]
+
+
+def test_random_strokes_under_point_lights_equal_the_whole_bake():
+    """Issue 61: a dab under a point light re-traces the rays at the angles about its foot
+    that see the dab (crossings.point_cos_theta_edited): 60 random strokes on a 160² height
+    map, three point lights, carried from stroke to stroke, equal whole bakes (checked every
+    10 strokes) within 1e-6; a stroke under a light's foot bakes that light whole."""
+    rng = np.random.default_rng(61)
+    p = params.defaults()
+    p.shape.kind, p.shape.height_scale = "height", 0.2
+    img = ImageData(_dome(160), 16)
+    shape = shape_normals(img, p)
+    ts = [crossings.point_cos_theta(shape[0], light, 0.01, heights_px=shape[1])
+          for light in POINTS]
+    retraced = 0
+    for k, img, (shape, nb, hb) in _stroked(rng, img, p, shape, 60):
+        retraced += _carry(ts, POINTS, shape, nb, hb, crossings.point_cos_theta,
+                           crossings.point_cos_theta_edited)
+        if k % 10 == 9:
+            for light, t in zip(POINTS, ts):
+                full = crossings.point_cos_theta(shape[0], light, 0.01, heights_px=shape[1])
+                assert np.abs(t - full).max() <= 1e-6, (k, light.vector)
+    assert retraced >= 0.8 * 3 * 50
+
+
+def test_a_dab_under_a_point_light_re_traces_its_wedge_only():
+    """The rays that can read a dab are those at its angles about the light's foot, farther
+    from the foot than the dab: every pixel the edit changed lies in that wedge (and the
+    whole bake's equal), and the edit costs a fraction of the whole bake's rays."""
+    p = params.defaults()
+    p.shape.kind, p.shape.height_scale = "height", 0.2
+    img = ImageData(_dome(256), 16)
+    shape = shape_normals(img, p)
+    light = Light("point", (-0.3, -0.2, 0.3))            # foot at (51, 77) px
+    t = crossings.point_cos_theta(shape[0], light, 0.01, heights_px=shape[1])
+    pixels = img.pixels.copy()
+    y, x = np.ogrid[0:256, 0:256]
+    pixels[..., :3] += 0.3 * np.clip(1 - np.hypot(x - 150, y - 140) / 10, 0, 1)[..., None]
+    shape2, nb, hb = shape_normals_edited(ImageData(pixels, 16), p, shape,
+                                          strokes.changed_box(img.pixels, pixels))
+    t2 = crossings.point_cos_theta_edited(shape2[0], light, 0.01, t, nb, hb,
+                                          heights_px=shape2[1])
+    assert np.abs(t2 - crossings.point_cos_theta(shape2[0], light, 0.01,
+                                                 heights_px=shape2[1])).max() <= 1e-6
+    rows, cols = np.nonzero(t2 != t)
+    assert rows.size > 50
+    fx, fy = light.position_px(256, 256)[:2]
+    angle = np.arctan2(rows + 0.5 - fy, cols + 0.5 - fx) - np.arctan2(140 - fy, 150 - fx)
+    assert np.abs(angle).max() < 0.15                    # the dab's 10 px at ~120 px: ±0.08
+    assert np.hypot(rows + 0.5 - fy, cols + 0.5 - fx).min() > 120 - 15
+
+
+def test_random_strokes_on_a_normal_maps_slopes_under_a_point_light_equal_the_whole_bake():
+    """A normal map along the ray under a point light: 30 strokes tipping the normals,
+    re-traced from the normals' box (rebuilt heights run on along the whole row), equal the
+    whole bake within 1e-6."""
+    rng = np.random.default_rng(9)
+    p = params.defaults()
+    p.shape.kind, p.shape.height_scale = "height", 0.2
+    n = shape_normals(ImageData(_dome(128), 16), p)[0]
+    light = POINTS[1]
+    t = crossings.point_cos_theta(n, light, 0.01, slopes=slopes_from_normals(n), reach=0.3)
+    for k in range(30):
+        r0, c0 = rng.integers(0, 120, 2)
+        after = n.copy()
+        part = after[r0:r0 + rng.integers(1, 12), c0:c0 + rng.integers(1, 12)]
+        part += rng.normal(0, 0.4, 3) * [1, 1, 0]
+        part /= np.linalg.norm(part, axis=-1, keepdims=True)
+        box = strokes.changed_box(n, after)
+        n = after
+        t = crossings.point_cos_theta_edited(n, light, 0.01, t, box, None,
+                                             slopes=slopes_from_normals(n), reach=0.3)
+    full = crossings.point_cos_theta(n, light, 0.01, slopes=slopes_from_normals(n), reach=0.3)
+    assert np.abs(t - full).max() <= 1e-6
+
+
+@pytest.mark.parametrize("size", [512, 768])
+@pytest.mark.parametrize("quality", ["draft", "preview"])
+def test_a_shape_edited_in_place_is_baked_from_its_edit_at_every_level(size, quality):
+    """Issue 61 (drafts that never followed the brush): a draft's or preview's whole bake
+    reads the shape's reduction kept for its arrays (bake.reduced_inputs); an edit into
+    those very arrays (in_place) patches it (768²: a whole factor) or drops it (512² draft:
+    96² is none), so the next bake, sun or point light, equals that of a fresh decode of the
+    edited image."""
+    p = params.defaults()
+    p.shape.kind, p.shape.height_scale = "height", 0.2
+    img = ImageData(_dome(size), 16)
+    shape = shape_normals(img, p)
+    lights = [SUNS[0], POINTS[1]]
+    before = [bake(shape[0], light, 0.01, quality, heights_px=shape[1]) for light in lights]
+    pixels = img.pixels.copy()
+    y, x = np.ogrid[0:size, 0:size]
+    pixels[..., :3] += 0.4 * np.clip(1 - np.hypot(x - size / 3, y - size / 2) / 40, 0, 1)[..., None]
+    edited = ImageData(pixels, 16)
+    patched, _, _ = shape_normals_edited(edited, p, shape, strokes.changed_box(img.pixels,
+                                                                                pixels),
+                                         in_place=True)
+    assert patched[0] is shape[0]
+    fresh = shape_normals(edited, p)
+    for light, t in zip(lights, before):
+        got = bake(patched[0], light, 0.01, quality, heights_px=patched[1])
+        want = bake(fresh[0], light, 0.01, quality, heights_px=fresh[1])
+        assert np.abs(got - want).max() <= 1e-6, light.kind
+        assert np.abs(want - t).max() > 0.1             # (the dab casts a shadow)
 
 
 @pytest.mark.parametrize("quality", ["draft", "preview"])
