@@ -113,28 +113,13 @@ def reduced_inputs(normals, heights_px, slopes, hs, ws):
     return n_s, z_s, sl_s
 
 
-def reductions_edited(normals, normals_box, heights_box):
-    """The shape whose normals are `normals` was edited in place in these boxes
-    (strokes.height_shape_edited): its kept reduction (reduced_inputs) is patched where the
-    edit reaches it (_reduced_edited: equal to reducing the whole again), or dropped where
-    the size is no whole multiple — else a later bake of the same arrays would read the
-    shape before the edit (a draft that never followed the brush, issue 61)."""
-    hit = _REDUCED.pop(id(normals), None)
-    if hit is None or (normals_box is None and heights_box is None):
-        if hit is not None:
-            _REDUCED[id(normals)] = hit
-        return
-    refs, (hs, ws), (n_s, z_s, sl_s) = hit
-    arrays = [None if ref is None else ref() for ref in refs]
-    h, w = normals.shape[:2]
-    f = h // hs
-    if arrays[0] is not normals or hs * f != h or ws * f != w:
-        return
-    nb, hb = reduced_box(normals_box, f, hs, ws), reduced_box(heights_box, f, hs, ws)
-    _REDUCED[id(normals)] = (refs, (hs, ws), (
-        _reduced_edited(arrays[0], n_s, nb, f, "normals"),
-        _reduced_edited(arrays[1], z_s, hb, f, "heights", normals.dtype.type(ws / w)),
-        _reduced_edited(arrays[2], sl_s, nb, f, "slopes")))
+def forget_reductions(normals):
+    """The shape whose normals are `normals` was edited in place (strokes.height_shape_edited):
+    its kept reduction (reduced_inputs) no longer holds — a later bake of the same arrays
+    would read the shape before the edit (a draft that never followed the brush, issue 61).
+    (An edit's own bake at a reduced level reads the reduction kept with the bake before it,
+    patched: bake_edited.)"""
+    _REDUCED.pop(id(normals), None)
 
 
 def _reduced(a, hs, ws, role, factor=None):

@@ -33,7 +33,7 @@ from .integrate import integrate
 from .lights import falloff, light_vectors
 from .sampling import gaussian_blur, pixel_centres, resample, sample_bilinear
 from .bake import bake as shadow_bake
-from .bake import bake_edited, reductions_edited
+from .bake import bake_edited, forget_reductions
 from .shape import (default_preblur_px, height_field_px, normals_from_height_px, reach_of,
                     slopes_from_normals)
 from .strokes import height_shape_edited
@@ -90,8 +90,8 @@ def shape_normals_edited(shape, p, before, box, in_place=False):
         return None
     edited = height_shape_edited(shape, before, box, p.shape.height_scale,
                                  _preblur_px(shape, p), p.shape.z_min, in_place)
-    if in_place:                # the bakes' kept reductions of these arrays: edited too
-        reductions_edited(edited[0][0], *edited[1:])
+    if in_place:                # the bakes' kept reductions of these arrays: stale now
+        forget_reductions(edited[0][0])
     return edited
 
 

@@ -224,8 +224,8 @@ def test_random_strokes_on_a_normal_maps_slopes_under_a_point_light_equal_the_wh
 def test_a_shape_edited_in_place_is_baked_from_its_edit_at_every_level(size, quality):
     """Issue 61 (drafts that never followed the brush): a draft's or preview's whole bake
     reads the shape's reduction kept for its arrays (bake.reduced_inputs); an edit into
-    those very arrays (in_place) patches it (768²: a whole factor) or drops it (512² draft:
-    96² is none), so the next bake, sun or point light, equals that of a fresh decode of the
+    those very arrays (in_place) drops it, so the next bake, sun or point light, at a whole
+    factor smaller (768²) or not (512² draft: 96²), equals that of a fresh decode of the
     edited image."""
     p = params.defaults()
     p.shape.kind, p.shape.height_scale = "height", 0.2
