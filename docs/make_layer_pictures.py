@@ -29,7 +29,8 @@ from dynpaint_addon.core.colour import linear_to_srgb  # noqa: E402
 from dynpaint_addon.core.layers import MAX_LAYERS, Layer, render_scene  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.inputs.imageio import read_image, write_png  # noqa: E402
-from dynpaint_addon.inputs.layered_files import DEFAULT_SPACING, painting_of_frames  # noqa: E402
+from dynpaint_addon.inputs.layered_files import (BACKDROP_FILL, BACKDROP_SPAN, DEFAULT_SPACING,  # noqa: E402
+                                                 painting_of_frames)
 from dynpaint_addon.inputs.recipe import load_layers, load_recipe  # noqa: E402
 from dynpaint_addon.inputs.testpainting import write_test_scene  # noqa: E402
 from testkit.grease_pencil import figure_on_a_hill  # noqa: E402
@@ -183,7 +184,8 @@ drawing's extent over all its frames; the layers are then built as a folder of l
 (below): a plane per layer where the drawing is — at the depth the artist moved it toward
 the camera (its layer's translation), else *Spacing* apart (0.05 of its width) — each
 inflated by parts from its alpha with a low *Relief* (0.1 of a hemisphere: a drawing's layers
-lie close), the layers in front shadowing those behind. The drawing is hidden, not changed:
+lie close), but a backdrop (a fill to the drawing's bounds: a sky, a wall) stays a flat card;
+the layers in front shadow those behind. The drawing is hidden, not changed:
 unhide it and draw on, and the lit copy follows — each change of the drawing (a stroke, a
 keyframe, a material's colour) shows at once as a draft (the changed layer drawn 128 px
 across at one anti-aliasing sample and enlarged, its shadows from the layers made as small:
@@ -268,7 +270,10 @@ shading only (middle), and with the shadows the figure and the hill cast on the 
 
 - **A plain painted layer is enough.** Its bright image is the layer, its dark image a shaded
   copy (*Dark Shade*, 0.35 of its linear colour by default), its shape its silhouette inflated
-  (*Make Shape › Inflate*); an opaque layer (a background) is a flat card.
+  (*Make Shape › Inflate*); an opaque layer (a background) is a flat card, and so is a
+  backdrop: a layer whose figure spans at least {BACKDROP_SPAN:.0%} of the canvas both ways and
+  fills {BACKDROP_FILL:.0%} of that box (a sky drawn to a Grease Pencil drawing's bounds, only its margin clear) —
+  inflated, its border would fall off like a pillow's and shadows cast on it would bend.
 - **A group holds one layer's channels** (an OpenRaster stack, a subfolder), matched by their
   names as *From Images* matches files: `figure_dark`, `figure_bright`, `figure_normal`, …
 - **Depths** follow the stack: the back layer at 0, each next one *Spacing* image widths

@@ -428,13 +428,20 @@ def test_max_size_downsamples_what_add_reads(empty_scene, tmp_path):
 
 def test_a_drawings_recipe_renders_with_cycles_unless_told(monkeypatch, capsys, tmp_path):
     """Issue 61: `dynpaint render walk --out x.png` failed at once with the default engine
-    (the numpy core reads no Grease Pencil drawing): Cycles renders it, said. (The render
-    itself is test_the_command_line_renders_a_blend_files_drawing_lit's.)"""
-    from dynpaint_addon.cli import main, render as render_cmd
+    (the numpy core reads no Grease Pencil drawing): Cycles renders it, said; --width draws
+    each layer that wide. (The render itself is
+    test_the_command_line_renders_a_blend_files_drawing_lit's.)"""
+    from dynpaint_addon.blender import headless
+    from dynpaint_addon.cli import main
     engines = []
-    monkeypatch.setattr(render_cmd, "_render_blender",
-                        lambda args, recipe: engines.append(args.engine))
+    monkeypatch.setattr(headless, "render_recipe", lambda recipe, engine, out, frame, notes,
+                        drawing_width: engines.append((engine, drawing_width)) or 0.1)
     assert main(["render", "walk", "--out", str(tmp_path / "x.png")]) == 0
-    assert engines == ["cycles"] and "rendered with Cycles" in capsys.readouterr().err
+    assert engines == [("cycles", None)] and "rendered with Cycles" in capsys.readouterr().err
     assert main(["render", "walk", "--out", str(tmp_path / "x.png"), "--engine", "eevee"]) == 0
-    assert engines == ["cycles", "eevee"]
+    # --width: each layer drawn that wide (a quick look: 13 s at 256 px here, 491 s at 1024)
+    assert main(["render", "walk", "--out", str(tmp_path / "x.png"), "--width", "256"]) == 0
+    assert engines[1:] == [("eevee", None), ("cycles", 256)]
+    assert main(["render", "portrait", "--out", str(tmp_path / "x.png"), "--width", "64",
+                 "--engine", "cycles"]) == 1
+    assert "apply to the numpy engine only" in capsys.readouterr().err

@@ -10,6 +10,7 @@ Every import of a dynpaint_addon module counts, also one inside a function: a cy
 by a late import is still a cycle.
 """
 import ast
+import functools
 import os
 import subprocess
 import sys
@@ -36,8 +37,10 @@ def modules():
     return found
 
 
+@functools.lru_cache(maxsize=None)
 def parsed(path):
-    """(syntax tree, ids of the nodes inside a function) of a module."""
+    """(syntax tree, ids of the nodes inside a function) of a module (parsed once for every
+    test: the trees are only read)."""
     tree = ast.parse(open(path, encoding="utf-8").read())
     in_function = set()
     for node in ast.walk(tree):

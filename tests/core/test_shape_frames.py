@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from conftest import run_cli
+from dynpaint_addon.cli import main as cli_main
 from dynpaint_addon.core import laplace
 from dynpaint_addon.core.frames import SheetGrid, sheet_cell
 from dynpaint_addon.core.inflate import inflate
@@ -55,10 +56,10 @@ def test_a_sequence_in_gives_a_sequence_out_each_frame_as_alone(tmp_path):
     assert r.returncode == 0, r.stderr
     assert "frame 5/6 (mask_0005.exr): the same pixels as frame 3: its shape" in r.stdout
     assert "wrote 6 frames" in r.stdout and "the figure is where" in r.stderr
-    for n in range(1, 7):
+    for n in range(1, 7):       # (each alone in this process: the command's own code)
         alone = tmp_path / f"alone_{n}.exr"
-        assert run_cli("make-shape", "inflate", tmp_path / f"mask_{n:04d}.exr", "--profile",
-                       "flat", "--out", alone).returncode == 0
+        assert cli_main(["make-shape", "inflate", str(tmp_path / f"mask_{n:04d}.exr"),
+                         "--profile", "flat", "--out", str(alone)]) == 0
         np.testing.assert_array_equal(read_image(str(tmp_path / f"height_{n:04d}.exr")).pixels,
                                       read_image(str(alone)).pixels)
 
@@ -72,8 +73,8 @@ def test_a_sheet_in_gives_a_sheet_of_the_same_grid_out(tmp_path):
                 "--out", tmp_path / "heights.exr")
     assert r.returncode == 0, r.stderr
     assert "wrote a sheet of 6 frames, 4 × 2 cells" in r.stdout
-    assert run_cli("make-shape", "inflate", tmp_path / "mask_####.exr",
-                   "--out", tmp_path / "h_####.exr").returncode == 0
+    assert cli_main(["make-shape", "inflate", str(tmp_path / "mask_####.exr"),
+                     "--out", str(tmp_path / "h_####.exr")]) == 0
     sheet = read_image(str(tmp_path / "heights.exr")).pixels[..., 0]
     assert sheet.shape == read_image(str(tmp_path / "sheet.exr")).pixels.shape[:2]
     grid = SheetGrid(4, 2, 6, 3, 2)
@@ -129,8 +130,8 @@ def test_photometric_methods_run_frame_by_frame_too(tmp_path):
                 tmp_path / "lit_right_####.exr", "--top", tmp_path / "lit_top_####.exr",
                 "--out", tmp_path / "p_####.exr")
     assert r.returncode == 0 and "wrote 2 frames" in r.stdout, r.stderr
-    assert run_cli("make-shape", "rg-photo", tmp_path / "photo_0002.exr", "--out",
-                   tmp_path / "alone.exr").returncode == 0
+    assert cli_main(["make-shape", "rg-photo", str(tmp_path / "photo_0002.exr"), "--out",
+                     str(tmp_path / "alone.exr")]) == 0
     np.testing.assert_array_equal(read_image(str(tmp_path / "n_0002.exr")).pixels,
                                   read_image(str(tmp_path / "alone.exr")).pixels)
 
