@@ -671,3 +671,36 @@ def test_the_frames_benchmark_runs_and_nothing_still_flickers():
     import grease_pencil_frames
     m = grease_pencil_frames.measure(96, 3, 96)
     assert m["numpy"] <= 1e-4 and m["cycles"] <= 1e-4 and m["frame s"] > 0
+    assert m["again s"] > 0
+
+
+def test_a_loop_played_again_under_the_same_light_bakes_nothing(monkeypatch):
+    """Issue 61 (each frame change baked the group again, 2–3 s at 512², even for a frame
+    shown before): a moving group keeps each frame's bakes (bake/layers._KEPT), so a loop that
+    comes round under the same light writes them again, baking nothing; the shadows are
+    those of the first time; a light moved bakes again."""
+    sys.path.insert(0, os.path.join(REPO, "benchmarks"))
+    import grease_pencil_frames
+    from dynpaint_addon.core import layers as core_layers
+    back, prop, figure = grease_pencil_frames.lit_animation(96, 3)
+    scene = bpy.context.scene
+
+    def shadows():
+        return image_data_from_blender(figure.dynamic_painting.lights[0].shadow).pixels.copy()
+    first = []
+    for f in (1, 2, 3):
+        scene.frame_set(f)
+        first.append(shadows())
+    assert not np.array_equal(first[0], first[1])            # the figure walks
+    baked = []
+    bake = core_layers.Scene.bake
+    monkeypatch.setattr(core_layers.Scene, "bake",
+                        lambda self, *a, **k: baked.append(1) or bake(self, *a, **k))
+    for f in (1, 2, 3):
+        scene.frame_set(f)
+        assert np.array_equal(shadows(), first[f - 1]), f
+    assert baked == []
+    sun = next(o for o in scene.objects if o.type == "LIGHT")
+    sun.rotation_euler[2] += 0.3
+    scene.frame_set(2)
+    assert baked and not np.array_equal(shadows(), first[1])

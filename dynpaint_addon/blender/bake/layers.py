@@ -25,15 +25,16 @@ import bpy
 from ...core.input_rules import ImageData
 from ...core.layers import Layer, Scene
 from ...core.sampling import resample_separable
+from ...inputs.painting_frames import BoundedCache
 from ...nodegraph.derived_inputs import grey_rgba
 from ..state.edits import versions
-from ..state.frames import frame_data, slot_frame
+from ..state.frames import frame_data, moves, slot_frame
 from ..state.lights import painting_frame_light, plane_matrix
 from ..state.images import enlarged_into
 from ..state.settings import channel_images, settings_to_params
 from .live_bake import DEBOUNCE_S
-from .shadow_images import (bake_shadows, light_key, settings_key, shadow_image_name,
-                            write_shadow)
+from .shadow_images import (KEPT_BAKES_MB, bake_shadows, light_key, settings_key,
+                            shadow_image_name, write_shadow)
 
 LAYERED = "dynamic_painting_layered"     # custom property that marks a layered scene's parent
 LAYER_CHANNELS = ("shape", "dark", "bright", "transparency")   # what T and t_own read
@@ -142,15 +143,17 @@ def group_layers(mats, depsgraph=None, channels=None, f=None, kept=None):
 
 def forget_group(name):
     """The group under parent `name` is gone (a lit copy made anew under the same name): its
-    cached scene and drafts go with it."""
+    cached scene, kept bakes and drafts go with it."""
     _SCENES.pop(name, None)
     _SMALL.pop(name, None)
+    _KEPT.pop(name, None)
 
 
 def forget_scenes():
     """Another file is open, or undo: the cached scenes may show other planes."""
     _SCENES.clear()
     _SMALL.clear()
+    _KEPT.clear()
     _FINAL_DUE.clear()
     _RUNNING.clear()              # (a running bake's results are dropped: its group is gone)
 
@@ -173,14 +176,16 @@ class _GroupBake:
     core Scene: main thread), baked by run() (numpy only: any thread), written by write()
     (main thread) where the group is still as it was read."""
 
-    def __init__(self, parent, mats, group, quality, todo, scene):
+    def __init__(self, parent, mats, group, quality, todo, scene, kept=None):
         self.parent_name, self.names = parent.name, [m.name for m in mats]
         self.group, self.quality, self.todo, self.scene = group, quality, todo, scene
         self.key = group + f"|{quality or 'own'}"
+        self.kept = kept or {}      # light name → [t per layer] baked before for this key
         self.results, self.error, self.thread = None, None, None
 
     def run(self):
-        self.results = {name: self.scene.bake(light, self.quality)
+        self.results = {name: self.kept[name] if name in self.kept else
+                        self.scene.bake(light, self.quality)
                         for name, light in self.todo.items()}
 
     def _run_reporting(self):
@@ -211,6 +216,10 @@ class _GroupBake:
                 self.thread is not None and not self._still_current(mats):
             return False
         _write_shadows(mats, self.results, lambda name: _key(self.key, self.todo[name]))
+        if any(moves(m) for m in mats):        # a loop that comes round shows them again
+            kept = _KEPT.setdefault(self.parent_name, BoundedCache(KEPT_BAKES_MB))
+            for name, ts in self.results.items():
+                kept.put(_key(self.key, self.todo[name]), ts, sum(t.nbytes for t in ts))
         return True
 
     def _still_current(self, mats):
@@ -255,8 +264,19 @@ def _group_job(parent, depsgraph=None, quality=None, force=False):
             item.bake_key != _key(key, lights[item.object.name])}
     if not todo:
         return None
-    return _GroupBake(parent, mats, group, quality, todo,
-                      core_scene(parent, mats, depsgraph, group))
+    cache = _KEPT.get(parent.name)
+    kept = {} if cache is None or force else \
+        {name: ts for name, ts in ((n, cache.get(_key(key, light))) for n, light in todo.items())
+         if ts is not None}
+    # (a group whose every light's bake is kept reads no scene: a frame come round again)
+    scene = None if len(kept) == len(todo) else core_scene(parent, mats, depsgraph, group)
+    return _GroupBake(parent, mats, group, quality, todo, scene, kept)
+
+
+# parent name → BoundedCache: bake key → [t per layer], the bakes of a group that moves (§16):
+# a looping animation played under still lights shows each frame's shadows again without
+# baking them, as a moving painting's (shadow_images._BAKES), within KEPT_BAKES_MB a group
+_KEPT = {}
 
 
 def _linked(mats):
