@@ -186,7 +186,7 @@ def _painting_recipe(folder, base, reading=None, images=None):
     data, reasons, made = reading.data, dict(reading.reasons), []
     images = images or {c: os.path.join(folder, f) for c, f in data["images"].items()}
     if reading.depth_in_alpha:          # Sprite Lamp's NormalDepth: the map is its RGB
-        source = read_image(images["shape"])
+        source = reading.depth_map_colour          # (as the folder's reading read it)
         stem = os.path.splitext(reading.depth_in_alpha)[0]
         images["shape"] = os.path.join(base, MADE, f"{stem}_rgb.png")
         write_png(images["shape"], source.rgb(), min(source.bits, 16))

@@ -103,6 +103,7 @@ class FolderReading:
     notes: list
     reasons: dict = field(default_factory=dict)     # "images.shape", "shape.kind", … → why
     depth_in_alpha: str = ""    # the shape file whose alpha is its depth (its RGB is the map)
+    depth_map_colour: ImageData = None      # … that RGB, as read (`new` writes it out)
 
     @property
     def has_shape(self):
@@ -187,7 +188,9 @@ def read_painting_folder(path):
             if relief:
                 data["shadows"]["relief"], reasons["shadows.relief"] = relief, why
                 notes.append(why)
-    return FolderReading(data, notes, reasons, depth_map if sprites.frames <= 1 else "")
+    still = sprites.frames <= 1 and bool(depth_map)
+    return FolderReading(data, notes, reasons, depth_map if still else "",
+                         shape if still else None)
 
 
 def not_used_note(rest):

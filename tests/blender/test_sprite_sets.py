@@ -12,9 +12,10 @@ bpy = pytest.importorskip("bpy")
 
 from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
 from dynpaint_addon.blender.state.settings import settings_to_params  # noqa: E402
-from dynpaint_addon.cli import main  # noqa: E402
+from dynpaint_addon.cli import main, new as new_cmd  # noqa: E402
 from dynpaint_addon.core.frames import expand_pattern  # noqa: E402
 from dynpaint_addon.core.lights import DEFAULT_SUN_DIRECTION  # noqa: E402
+from dynpaint_addon.inputs import painting_folder  # noqa: E402
 from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
 from dynpaint_addon.inputs.recipe import load_recipe  # noqa: E402
 from testkit import sprite_sets  # noqa: E402
@@ -161,10 +162,10 @@ def test_add_reads_an_alpha_opaque_everywhere_as_a_full_frame_map(sets, empty_sc
 
 
 def test_sprite_lamps_normal_depth_is_read_as_its_colour_everywhere(sets, empty_scene,
-                                                                   tmp_path):
+                                                                   tmp_path, monkeypatch):
     """Sprite Lamp's NormalDepth holds the depth in its alpha: `render FOLDER` asks for `new`
-    (which writes the map's colour to made/), and Add packs the colour as the normal map, so
-    the mortar (depth 0) is not cut out."""
+    (which writes the map's colour to made/, reading the file once), and Add packs the
+    colour as the normal map, so the mortar (depth 0) is not cut out."""
     wall = sets["Sprite Lamp (NormalDepth: the depth in the map's alpha)"]
     folder = tmp_path / "wall"
     folder.mkdir()
@@ -185,3 +186,9 @@ def test_sprite_lamps_normal_depth_is_read_as_its_colour_everywhere(sets, empty_
     verdict = sprite_sets.judge(got, np.dstack([colour[..., :3], np.ones(colour.shape[:2])]),
                                 wall.normals[0], None, light)
     assert verdict.passes(), verdict
+    reads = []
+    for module in (painting_folder, new_cmd):
+        monkeypatch.setattr(module, "read_image", lambda path, *a, real=module.read_image, **k:
+                            reads.append(os.path.basename(path)) or real(path, *a, **k))
+    assert main(["new", str(folder)]) == 0
+    assert reads.count("wall_NormalDepth.png") == 1
