@@ -166,14 +166,10 @@ def _atlas_recipe(folder, base):
         {f"images.{c}": f"{told}: {first.name} … {shown[-1].name}" for c in names})
     reading.reasons["shape.kind"] = f"{first.normal_map}: the atlas's normal-map sheet"
     green = green_of_frames(readings)
-    if green.flip:
-        reading.data["shape"]["flip_green"] = True
-    reading.reasons["shape.flip_green"] = green.describe(f"{first.normal_map}'s frames")
-    reading.notes.append(green.describe(f"{first.normal_map}'s frames"))
+    reading.guess("shape.flip_green", True if green.flip else None,
+                  green.describe(f"{first.normal_map}'s frames"))
     if all(relief for relief, _ in reliefs):    # every shown frame's map opaque (§6)
-        reading.data["shadows"]["relief"], why = reliefs[0]
-        reading.reasons["shadows.relief"] = why
-        reading.notes.append(why)
+        reading.guess("shadows.relief", *reliefs[0])
     lines, more, notes = _painting_recipe(folder, base, reading,
                                           {c: os.path.join(base, n) for c, n in names.items()})
     return lines, made + more, notes

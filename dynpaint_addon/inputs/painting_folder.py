@@ -109,6 +109,15 @@ class FolderReading:
     def has_shape(self):
         return "shape" in self.data["images"]
 
+    def guess(self, path, value, why):
+        """A key the images chose: `section.key` = value in the recipe's data (None: left at
+        its default), why kept for `new`'s comment and said in the notes."""
+        if value is not None:
+            section, key = path.split(".")
+            self.data.setdefault(section, {})[key] = value
+        self.reasons[path] = why
+        self.notes.append(why)
+
 
 def painting_channels(names):
     """One painting's image files → ({channel: file}, [not used], {"images.<channel>": why}):
@@ -157,6 +166,7 @@ def read_painting_folder(path):
         "shadows": {"enabled": True}}
     reasons["shadows.enabled"] = ("cast shadows and the subsurface look (§6); false draws "
                                   "faster")
+    reading = FolderReading(data, notes, reasons)
     depth_map = ""
     if "shape" in channels:
         first = sprites.first_shape if sprites.frames > 1 else channels["shape"]
@@ -180,17 +190,14 @@ def read_painting_folder(path):
                      + ("; floats: heights in image widths)" if widths else ")"))
         if kind == "normal":        # which way its green points, read from the map (§2)
             green = green_reading(shape.rgb(), shape.alpha(), "auto", "auto")
-            if green.flip:
-                data["shape"]["flip_green"] = True
-            reasons["shape.flip_green"] = green.describe(first)
-            notes.append(green.describe(first))
+            reading.guess("shape.flip_green", True if green.flip else None,
+                          green.describe(first))
             relief, why = relief_guess(shape, first)
             if relief:
-                data["shadows"]["relief"], reasons["shadows.relief"] = relief, why
-                notes.append(why)
-    still = sprites.frames <= 1 and bool(depth_map)
-    return FolderReading(data, notes, reasons, depth_map if still else "",
-                         shape if still else None)
+                reading.guess("shadows.relief", relief, why)
+    if sprites.frames <= 1 and depth_map:       # (numbered NormalDepth frames: not yet)
+        reading.depth_in_alpha, reading.depth_map_colour = depth_map, shape
+    return reading
 
 
 def not_used_note(rest):
