@@ -161,9 +161,9 @@ def test_ci_runs_the_readme_test_command_exactly():
     ci = open(os.path.join(REPO, ".ci", "run")).read()
     assert tests_cmd[0].strip() in [ln.strip() for ln in ci.splitlines()]
     # both ends of the Blender versions the manifest claims (README.md, "Tested Blender versions")
-    assert ".venv/bin/python -m pytest -q -n auto --dist loadfile tests" in tests_cmd[0]
-    assert ".venv-newest/bin/python -m pytest -q -n auto --dist loadfile -m every_blender " \
-        "tests" in tests_cmd[0]
+    spread = "-n auto --maxprocesses 4 --dist loadfile"     # (memory: ~5 GB a worker at most)
+    assert f".venv/bin/python -m pytest -q {spread} tests" in tests_cmd[0]
+    assert f".venv-newest/bin/python -m pytest -q {spread} -m every_blender tests" in tests_cmd[0]
     # the suite spread over the machine's cores: its tool comes with the set-up
     assert "pytest-xdist" in open(os.path.join(REPO, "requirements-dev.txt")).read()
     assert any(".venv/bin/dynpaint turntable" in c for c in commands)      # the main job
