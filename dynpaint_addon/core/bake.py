@@ -75,12 +75,25 @@ def _crossings_plan(light, quality, fast_level, h, w, normal_map, offset):
     f = q.get("crossings_scale_normal" if normal_map else "crossings_scale", 1.0)
     f = min(1.0, max(f, q.get("crossings_min_px", 0) / max(1, min(h, w))))
     sh, sw = max(1, round(h * f)), max(1, round(w * f))
-    step = q.get("point_step", crossings.POINT_STEP)
-    fn = crossings.sun_cos_theta if light.kind == "sun" else \
-        functools.partial(crossings.point_cos_theta, step=step)
     # blocks are built in groups that fit in memory: one block must
-    _, largest = crossings.table_bytes(light, sh, sw, offset, step)
-    return ((sh, sw), fn) if largest <= crossing_blocks.MAX_TABLE_BYTES else None
+    _, largest = crossings.table_bytes(light, sh, sw, offset, _point_step(quality))
+    return ((sh, sw), _by_crossings(light, quality)) \
+        if largest <= crossing_blocks.MAX_TABLE_BYTES else None
+
+
+def _point_step(quality):
+    """The column spacing of a point light's polar grid at this level (px)."""
+    return QUALITY[quality].get("point_step", crossings.POINT_STEP)
+
+
+def _by_crossings(light, quality, edited=False):
+    """The crossings' bake of this light at this level: of the whole shape, or `edited`,
+    of an edit (re-traced where it reads the edit)."""
+    if light.kind == "sun":
+        return crossings.sun_cos_theta_edited if edited else crossings.sun_cos_theta
+    return functools.partial(
+        crossings.point_cos_theta_edited if edited else crossings.point_cos_theta,
+        step=_point_step(quality))
 
 
 _REDUCED = {}   # id(normals) → (weak refs to the arrays, (hs, ws), reduced inputs)
@@ -274,14 +287,6 @@ def _reduced_edited(full, before, box, f, role, factor=None):
     return out
 
 
-def _edited_by_crossings(light, quality):
-    """The crossings' edit of this light's bake at this level (its point grid's step)."""
-    if light.kind == "sun":
-        return crossings.sun_cos_theta_edited
-    return functools.partial(crossings.point_cos_theta_edited,
-                             step=QUALITY[quality].get("point_step", crossings.POINT_STEP))
-
-
 def bake_edited(normals, light, offset, quality, t_before, normals_box, heights_box, *,
                 heights_px=None, slopes=None, steps=64, scale=1.0, occupancy="linear",
                 reach=np.inf):
@@ -308,7 +313,7 @@ def bake_edited(normals, light, offset, quality, t_before, normals_box, heights_
     slopes = None if slopes is None else slopes.astype(dtype, copy=False)
     (hs, ws), _ = plan
     if (hs, ws) == (h, w):
-        t = _edited_by_crossings(light, quality)(
+        t = _by_crossings(light, quality, edited=True)(
             normals, light, offset, t_before.astype(dtype, copy=False), normals_box,
             heights_box, heights_px=heights_px, slopes=slopes, reach=reach)
         return None if t is None else t.astype(dtype, copy=False)
@@ -322,8 +327,8 @@ def bake_edited(normals, light, offset, quality, t_before, normals_box, heights_
     reduced = (_reduced_edited(normals, n_s, nb, f, "normals"),
                _reduced_edited(heights_px, z_s, hb, f, "heights", normals.dtype.type(ws / w)),
                _reduced_edited(slopes, sl_s, nb, f, "slopes"))
-    edited = _edited_by_crossings(light, quality)(reduced[0], light, offset, t_s, nb, hb,
-                                                  heights_px=reduced[1], slopes=reduced[2],
-                                                  reach=reach)
+    edited = _by_crossings(light, quality, edited=True)(
+        reduced[0], light, offset, t_s, nb, hb, heights_px=reduced[1], slopes=reduced[2],
+        reach=reach)
     return None if edited is None else _upsampled(edited, h, w, dtype, reduced,
                                                   (t_s, t_before))

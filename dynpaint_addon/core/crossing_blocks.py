@@ -252,6 +252,16 @@ class BlockGrid:
         out.reshape(-1)[idx] = np.clip(np.where(np.isfinite(done), done, 0), 0, 1)
         return out
 
+    def read_area(self, box, beyond):
+        """(x_lo, x_hi, y_lo, y_hi): where a lookup reads pixels of `box` (strokes.py):
+        within 1 px of their centres, and past the image's edge (the edge's own pixels) up to
+        `beyond` px out."""
+        r0, r1, c0, c1 = box
+        return (c0 - 0.5 if c0 > 0 else 0.5 - beyond,
+                c1 + 0.5 if c1 < self.w else self.w - 0.5 + beyond,
+                r0 - 0.5 if r0 > 0 else 0.5 - beyond,
+                r1 + 0.5 if r1 < self.h else self.h - 0.5 + beyond)
+
     def _block_rays(self, spec, ray, sel):
         """Rays `sel` in the coordinates of block `spec` (a, n, c0, c1): (rows from its
         first, u from its first column, u_end there)."""

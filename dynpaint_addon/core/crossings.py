@@ -115,6 +115,11 @@ def _retrace(grid, normals, offset, t, normals_box, heights_box, heights_px, slo
     return grid.retrace(_pool(), normals, offset, heights_px, slopes, t, path, own)
 
 
+def _relative(phi, centre):
+    """Angles `phi` relative to `centre`, in (−π, π]."""
+    return np.angle(np.exp(1j * (phi - centre)))
+
+
 def _bake(grid, normals, offset, heights_px, slopes, cancel=None, progress=None):
     """t (H, W) by the grid's crossing search. numpy releases the GIL on large arrays: the
     blocks' profiles and tables, the rays' starts and their searches each run side by side,
@@ -266,12 +271,8 @@ class _SunGrid(BlockGrid):
         column that does): a lookup reads the pixels within 1 px of its point, and past the
         image's edge the edge's own, up to `beyond` px from it (None: as far as the grid
         runs)."""
-        r0, r1, c0, c1 = box
-        beyond = beyond if beyond is not None else self.width + self.rows
-        x_lo = c0 - 0.5 if c0 > 0 else 0.5 - beyond
-        x_hi = c1 + 0.5 if c1 < self.w else self.w - 0.5 + beyond
-        y_lo = r0 - 0.5 if r0 > 0 else 0.5 - beyond
-        y_hi = r1 + 0.5 if r1 < self.h else self.h - 0.5 + beyond
+        x_lo, x_hi, y_lo, y_hi = self.read_area(
+            box, beyond if beyond is not None else self.width + self.rows)
         xs = np.array([x_lo, x_hi, x_lo, x_hi]) - self.cx
         ys = np.array([y_lo, y_lo, y_hi, y_hi]) - self.cy
         v = ys * self.ex - xs * self.ey - self.vmin
@@ -377,26 +378,33 @@ class _PointGrid(BlockGrid):
         self.fx, self.fy, self.zl = (float(v) for v in light.position_px(h, w))
         margin = float(offset) * w + 2                 # ray starts lie within d of the box
         xs, ys = (0.5 - margin, w - 0.5 + margin), (0.5 - margin, h - 0.5 + margin)
-        cx, cy = [(a + b) / 2 for a, b in (xs, ys)]
         corners = np.array([(x - self.fx, y - self.fy) for x in xs for y in ys])
         self.rho_max = float(np.hypot(corners[:, 0], corners[:, 1]).max()) + 2
+        base, lo, hi, near = self._seen_from_f(xs, ys)
         if xs[0] < self.fx < xs[1] and ys[0] < self.fy < ys[1]:
             self.rows = int(np.ceil(2 * np.pi * self.rho_max / POINT_ARC)) + 2
             self.phi0 = -np.pi
             self.dphi = 2 * np.pi / (self.rows - 2)    # one row past 2π: the seam blends
         else:
-            base = np.arctan2(cy - self.fy, cx - self.fx)
-            rel = np.angle(np.exp(1j * (np.arctan2(corners[:, 1], corners[:, 0]) - base)))
             self.dphi = 1 / self.rho_max                 # one pixel apart at ρ_max, as suns
-            self.phi0 = base + rel.min() - 2 * self.dphi
-            self.rows = int(np.ceil((rel.max() - rel.min()) / self.dphi)) + 5
+            self.phi0 = base + lo - 2 * self.dphi
+            self.rows = int(np.ceil((hi - lo) / self.dphi)) + 5
         # rays end where they leave the box, so the grid stops at its nearest point to F
-        near = np.hypot(max(xs[0] - self.fx, 0, self.fx - xs[1]),
-                        max(ys[0] - self.fy, 0, self.fy - ys[1]))
         self.width = int(np.ceil((self.rho_max - max(near - 2, 0)) / step)) + 2
         far = self._farthest(self.phi0 + self.dphi * np.arange(self.rows), xs, ys)
         self._split((self.rho_max - far - 3) / step, np.full(self.rows, self.width - 1.0),
                     max(crossing_blocks.THREADS, min(POINT_BLOCKS, self.rows * self.width // POINT_BLOCK_CELLS)))
+
+    def _seen_from_f(self, xs, ys):
+        """(the angle about F of the box xs × ys's centre, the least and the greatest angle of
+        its corners from that one, its distance from F): F outside the box, the corners'
+        angles span under π."""
+        centre = np.arctan2((ys[0] + ys[1]) / 2 - self.fy, (xs[0] + xs[1]) / 2 - self.fx)
+        rel = _relative(np.arctan2(np.repeat(ys, 2) - self.fy, np.tile(xs, 2) - self.fx),
+                        centre)
+        near = np.hypot(max(xs[0] - self.fx, 0, self.fx - xs[1]),
+                        max(ys[0] - self.fy, 0, self.fy - ys[1]))
+        return centre, rel.min(), rel.max(), near
 
     def _farthest(self, phi, xs, ys):
         """ρ where a line from F at angle φ leaves the box xs × ys (−∞ where it misses it):
@@ -501,33 +509,20 @@ class _PointGrid(BlockGrid):
     # -- an edit (issue 61): the rows at the angles that see the box --------------------
     EDIT_TILE = 16      # pixels_near's tiles (px): a tile's angles are bounded by its corners
 
-    def _angles(self, xs, ys, centre):
-        """Angles of the points (xs, ys) about F, relative to `centre` (in (−π, π])."""
-        return np.angle(np.exp(1j * (np.arctan2(ys - self.fy, xs - self.fx) - centre)))
-
     def cells_reading(self, box, beyond):
         """(mask of the grid rows whose profile reads pixels of `box`, the last column that
         does), or None where F lies within the pixels the box's lookups reach (every row
         reads them). A row is a ray from F: it reads the box where its angle lies between
         the angles of the box's corners (grown by the 1 px a lookup reads, and past the
         image's edge by `beyond`; None: as far as the grid runs), from the nearest on."""
-        r0, r1, c0, c1 = box
-        beyond = beyond if beyond is not None else \
-            self.rho_max + np.hypot(self.fx, self.fy) + self.w + self.h
-        x_lo = c0 - 0.5 if c0 > 0 else 0.5 - beyond
-        x_hi = c1 + 0.5 if c1 < self.w else self.w - 0.5 + beyond
-        y_lo = r0 - 0.5 if r0 > 0 else 0.5 - beyond
-        y_hi = r1 + 0.5 if r1 < self.h else self.h - 0.5 + beyond
+        x_lo, x_hi, y_lo, y_hi = self.read_area(box, beyond if beyond is not None else
+                                                self.rho_max + np.hypot(self.fx, self.fy)
+                                                + self.w + self.h)
         if x_lo - 1 <= self.fx <= x_hi + 1 and y_lo - 1 <= self.fy <= y_hi + 1:
             return None
-        xs, ys = np.array([x_lo, x_hi, x_lo, x_hi]), np.array([y_lo, y_lo, y_hi, y_hi])
-        centre = np.arctan2((y_lo + y_hi) / 2 - self.fy, (x_lo + x_hi) / 2 - self.fx)
-        rel = self._angles(xs, ys, centre)
-        row_rel = self._angles(self.fx + np.cos(self.phi0 + self.dphi * np.arange(self.rows)),
-                               self.fy + np.sin(self.phi0 + self.dphi * np.arange(self.rows)),
-                               centre)
-        mask = (row_rel >= rel.min() - self.dphi) & (row_rel <= rel.max() + self.dphi)
-        near = np.hypot(max(x_lo - self.fx, 0, self.fx - x_hi), max(y_lo - self.fy, 0, self.fy - y_hi))
+        centre, lo, hi, near = self._seen_from_f((x_lo, x_hi), (y_lo, y_hi))
+        rows = _relative(self.phi0 + self.dphi * np.arange(self.rows), centre)
+        mask = (rows >= lo - self.dphi) & (rows <= hi + self.dphi)
         return mask, int(np.ceil((self.rho_max - near) / self.col_step)) + 1
 
     def pixels_near(self, mask, last_column, margin):
@@ -535,10 +530,9 @@ class _PointGrid(BlockGrid):
         from their start on: those of the EDIT_TILE² tiles that lie, grown by `margin` (a ray
         starts within d of its pixel), at those rows' angles and, where `last_column` is
         given (height maps), farther from F than that column."""
-        rows = np.flatnonzero(mask)
-        phi = self.phi0 + self.dphi * rows
+        phi = self.phi0 + self.dphi * np.flatnonzero(mask)
         centre = np.angle(np.exp(1j * phi).sum())
-        rel = np.angle(np.exp(1j * (phi - centre)))
+        rel = _relative(phi, centre)
         lo, hi = rel.min() - self.dphi, rel.max() + self.dphi
         n = self.EDIT_TILE
         ty, tx = np.arange(0, self.h, n), np.arange(0, self.w, n)
@@ -547,18 +541,14 @@ class _PointGrid(BlockGrid):
         y_lo = (ty + 0.5 - margin)[:, None].repeat(len(tx), 1)
         y_hi = (np.minimum(ty + n, self.h) - 0.5 + margin)[:, None].repeat(len(tx), 1)
         xs, ys = np.stack([x_lo, x_hi, x_lo, x_hi]), np.stack([y_lo, y_lo, y_hi, y_hi])
-        a = self._angles(xs, ys, centre)
+        a = _relative(np.arctan2(ys - self.fy, xs - self.fx), centre)
         has_f = (x_lo <= self.fx) & (self.fx <= x_hi) & (y_lo <= self.fy) & (self.fy <= y_hi)
         # a tile across the ray opposite `centre` spans about (−π, π]: kept, as it may
         take = has_f | ((a.max(0) >= lo) & (a.min(0) <= hi))
         if last_column is not None:
             far = np.hypot(xs - self.fx, ys - self.fy).max(0)
             take &= far >= self.rho_max - (last_column + 1) * self.col_step
-        out = []
-        for i, j in zip(*np.nonzero(take)):
-            r, c = np.arange(ty[i], min(ty[i] + n, self.h)), np.arange(tx[j], min(tx[j] + n, self.w))
-            out.append((r[:, None] * self.w + c[None, :]).ravel())
-        return np.concatenate(out) if out else np.zeros(0, np.int64)
+        return np.flatnonzero(np.repeat(np.repeat(take, n, 0), n, 1)[:self.h, :self.w])
 
     def finish(self, ray, r_h, d):
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):

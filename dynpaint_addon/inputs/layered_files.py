@@ -262,20 +262,22 @@ def painting_of(fl, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF, effects=None):
     if "shape" in images:
         p.shape.kind = "height" if looks_like_height(images["shape"]) else "normal"
         return images, p, notes
-    backdrop = backdrop_share(images["bright"])
-    try:
-        if backdrop is not None:
-            raise ShapeError(f"it fills {backdrop:.0%} of the canvas: a backdrop")
-        kind, rgba, lines = make_shape("inflate", images, p, height=relief, **(effects or {}))
-        notes.append(f"{fl.name}: {lines[0]}")
-    except ShapeError:                        # opaque, or a backdrop: a flat card
+    backdrop, flat = backdrop_share(images["bright"]), None
+    if backdrop is not None:
+        flat = f"fills {backdrop:.0%} of the canvas, a backdrop"
+    else:
+        try:
+            kind, rgba, lines = make_shape("inflate", images, p, height=relief,
+                                           **(effects or {}))
+            notes.append(f"{fl.name}: {lines[0]}")
+        except ShapeError:
+            flat = "no transparent part to inflate"          # opaque
+    if flat is not None:
         w, h = images["bright"].size
         kind, rgba = "height", np.zeros((h, w, 1), np.float32)
         if backdrop is not None:    # its figure, as an inflated shape's alpha holds it
             rgba = np.dstack([rgba] * 3 + [images["bright"].alpha()])
-        notes.append(f"{fl.name}: " + ("no transparent part to inflate" if backdrop is None
-                                       else f"fills {backdrop:.0%} of the canvas, a backdrop")
-                     + ": a flat card (give it a shape image for relief)")
+        notes.append(f"{fl.name}: {flat}: a flat card (give it a shape image for relief)")
     read_as_made(p, kind)
     images["shape"] = ImageData(np.asarray(rgba, np.float32), 32, f"{fl.name} shape")
     return images, p, notes

@@ -22,7 +22,7 @@ from dynpaint_addon.blender.state.images import grey_image, load_image  # noqa: 
 from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
 from dynpaint_addon.blender.state.settings import channel_images, settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
-from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
+from dynpaint_addon.inputs.imageio import image_data_from_blender, read_image  # noqa: E402
 from dynpaint_addon.nodegraph import derived_inputs  # noqa: E402
 from dynpaint_addon.nodegraph.derived_inputs import grey_rgba  # noqa: E402
 from dynpaint_addon.inputs.recipe import Recipe  # noqa: E402
@@ -414,14 +414,9 @@ def test_strokes_on_a_large_height_map_bake_incrementally_and_equal_a_whole_bake
 
 
 def _shadow_images(mat):
-    """{light's name: its cos-θ image's pixels (h, w), at the size it was written at}."""
-    out = {}
-    for item in mat.dynamic_painting.lights:
-        w, h = item.shadow.size
-        px = np.empty(len(item.shadow.pixels), np.float32)
-        item.shadow.pixels.foreach_get(px)
-        out[item.object.data.type] = px.reshape(h, w, -1)[..., 0]
-    return out
+    """{light's type: its cos-θ image's pixels (h, w), at the size it was written at}."""
+    return {item.object.data.type: image_data_from_blender(item.shadow).pixels[..., 0]
+            for item in mat.dynamic_painting.lights}
 
 
 # 4096²'s final is the stroke benchmark's (docs/paint-latency.md: its whole bake with the
