@@ -144,25 +144,29 @@ def test_a_loop_that_comes_round_under_a_still_light_shows_its_bakes_again(
     assert len(baked) == 2
 
 
-def test_the_live_worker_shows_a_drawings_kept_preview_without_baking(empty_scene, recipe):
-    """During playback with a UI the live worker bakes at preview; a drawing it comes back to
-    under the same light is shown from its kept preview at once (no bake, no thread)."""
+@pytest.mark.parametrize("level", live_bake.LIVE_LEVELS)
+def test_the_live_worker_shows_a_drawings_finest_kept_bake_without_baking(empty_scene, recipe,
+                                                                           level):
+    """During playback with a UI the live worker bakes at its live level; a drawing it comes
+    back to under the same light is shown from its finest kept bake at once (no bake, no
+    thread), whichever level the worker has come to (a loaded machine moves it to draft)."""
     plane, mat = build_recipe_scene(load_recipe(recipe))
     scene = bpy.context.scene
     live = live_bake.LiveBake()
     item = mat.dynamic_painting.lights[0]
-    previews = []
-    for f in (2, 3):
-        scene.frame_set(f)                # (background Blender bakes its final quality here)
-        live.request(mat, scene)
-        assert live.wait() == 1
-        previews.append(image_data_from_blender(item.shadow).pixels.copy())
-    last = live.threads[-1]
+    scene.frame_set(2)                 # (background Blender bakes its final quality here)
+    final = image_data_from_blender(item.shadow).pixels.copy(), item.bake_key
+    live.request(mat, scene, quality=level)       # kept: the final is shown, nothing baked
+    assert live.threads == [] and live.wait() == 0
+    scene.frame_set(3)
+    live.levels[mat.name] = level
+    live.request(mat, scene, quality="final")     # baked already: shown from the cache too
+    assert live.threads == []
     scene.frame_set(2)
     live.request(mat, scene)
-    assert live.threads[-1] is last and live.wait() == 0
-    np.testing.assert_array_equal(image_data_from_blender(item.shadow).pixels, previews[0])
-    assert "preview" in item.bake_key
+    assert live.threads == [] and live.wait() == 0
+    np.testing.assert_array_equal(image_data_from_blender(item.shadow).pixels, final[0])
+    assert item.bake_key == final[1]
 
 
 def _shape_copy(mat):

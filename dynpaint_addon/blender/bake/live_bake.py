@@ -25,8 +25,8 @@ import bpy
 from ...core.shadow import BakeCancelled
 from ..state.settings import settings_to_params
 from ..state.status import report
-from .shadow_images import (bake_light, bake_shape, edit_start, held, keep_bake, kept_bake,
-                            light_bakes, released, write_shadow)
+from .shadow_images import (bake_light, bake_shape, edit_start, held, keep_bake, keeps_bakes,
+                            kept_bake, light_bakes, released, write_shadow)
 
 DEBOUNCE_S = 0.3
 TIMER_S = 0.01          # polls a queue while a bake is due: cheap, and a small part of the budget
@@ -79,9 +79,9 @@ class LiveBake:
         self.generation[name] = gen
         if quality != "final":
             self.still_since[name] = time.perf_counter()
-        kept = [kept_bake(mat, key) for key in keys]
-        if keys and all(t is not None for t in kept):     # a moving shape's loop came round
-            for item, t, key in zip(items, kept, keys):
+        kept = self._kept(mat, depsgraph, p, quality, self.wanted[name])
+        if keys and kept is not None:           # a moving shape's loop came round
+            for item, (t, key) in zip(items, kept):
                 write_shadow(mat, item, t, key)
             return gen
         shape = held(bake_shape(mat, p))        # (released by the worker: _run)
@@ -95,6 +95,30 @@ class LiveBake:
         if not bpy.app.background and not bpy.app.timers.is_registered(_tick):
             bpy.app.timers.register(_tick, first_interval=TIMER_S)
         return gen
+
+    @staticmethod
+    def _kept(mat, depsgraph, p, quality, final_keys):
+        """Per light, (t, key) of the finest bake kept for where it is now (shadow_images.
+        kept_bake): its final, else a live level no coarser than `quality` — the level may
+        have changed since (_adapt) and a kept final is better than any live one. None unless
+        every light has one. p: set to `quality` already."""
+        if not keeps_bakes(mat):
+            return None
+        finer = LIVE_LEVELS[:LIVE_LEVELS.index(quality) + 1] if quality in LIVE_LEVELS else ()
+        candidates = [final_keys]
+        for level in finer:
+            p.shadows.quality = level
+            candidates.append([key for item, _, key in light_bakes(mat, depsgraph, p)
+                               if item.shadow is not None])
+        p.shadows.quality = quality
+        kept = []
+        for keys in zip(*candidates):
+            hit = next(((t, k) for t, k in ((kept_bake(mat, k), k) for k in keys)
+                        if t is not None), None)
+            if hit is None:
+                return None
+            kept.append(hit)
+        return kept
 
     def apply(self):
         """Write finished bakes into their images (main thread) → number applied."""

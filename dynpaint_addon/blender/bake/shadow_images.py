@@ -211,6 +211,11 @@ def kept_bake(mat, key):
     return None if cache is None else cache.get(key)
 
 
+def keeps_bakes(mat):
+    """Whether the painting's bakes are kept (its shape moves and it has baked)."""
+    return mat.name in _BAKES
+
+
 def forget_cached_shapes():
     """Another file is open: cached shapes may belong to same-named paintings of the last one."""
     _SHAPES.clear()
