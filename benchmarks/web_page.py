@@ -18,6 +18,9 @@ renders with SwiftShader, its software WebGL2. Sizes: every sample's page agains
 images (goal ≤ 3×). Export: `export-web`'s own work and the add-on's File › Export, best of 3.
 
     .venv/bin/python benchmarks/web_page.py --sizes 512 1024 --out docs/web-numbers.md
+
+The page on a phone (its file size at 1K–8K, the copy each device draws): web_phone.py, whose
+section this page ends with (--phone-sizes).
 """
 import argparse
 import base64
@@ -33,6 +36,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 from report import publish  # noqa: E402
+from web_phone import phone_lines  # noqa: E402
 
 from dynpaint_addon import blender  # noqa: E402
 from dynpaint_addon.cli import main as cli_main  # noqa: E402
@@ -250,6 +254,8 @@ def main(argv=None):
     ap.add_argument("--frames", type=int, default=3, help="frames per timing (best of 3)")
     ap.add_argument("--gpu", action="store_true",
                     help="let Chromium use the GPU (default: SwiftShader, software)")
+    ap.add_argument("--phone-sizes", type=int, nargs="*", default=[1024, 2048, 4096, 8192],
+                    help="test paintings whose pages are weighed for phones (web_phone.py)")
     ap.add_argument("--out", help="also write the Markdown page here")
     args = ap.parse_args(argv)
     flags = ("--use-angle=default", "--enable-gpu", "--ignore-gpu-blocklist") if args.gpu else ()
@@ -303,6 +309,8 @@ def main(argv=None):
                          f"≤ {SIZE_GOAL:g}×: {'met' if ratio <= SIZE_GOAL else 'not met'} | "
                          f"{seconds:.2f} | {addon_export_seconds(name, folder):.2f} | "
                          f"{addon_export_seconds(name, folder, animated=True):.2f} |")
+    if args.phone_sizes:
+        lines += [""] + phone_lines(args.phone_sizes)
     publish(lines, args.out)
 
 

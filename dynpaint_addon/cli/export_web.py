@@ -14,6 +14,7 @@ from ..inputs.layered_files import is_layered_file, load_layered
 from ..inputs.painting_frames import PaintingFrames
 from ..inputs.recipe import image_bytes, load_recipe
 from ..inputs.samples import recipe_help
+from ..web.device_fit import DEFAULT_MAX_SIZE
 from ..web.page import TURNTABLE_SECONDS, page_data, scene_data, write_page
 from .notes import check_and_print, print_notes
 
@@ -28,8 +29,9 @@ class ExportError(UserError):
 def cmd_export_web(args):
     if not args.out.lower().endswith((".html", ".htm")):
         raise ExportError(f"--out {args.out}: a web page is an .html file")
-    if args.max_size is not None and args.max_size < 16:
-        raise ExportError(f"--max-size {args.max_size}: at least 16 pixels")
+    if args.max_size and args.max_size < 16 or args.max_size < 0:
+        raise ExportError(f"--max-size {args.max_size}: at least 16 pixels (0: the painting's "
+                          f"own size)")
     if args.steps is not None:
         try:
             STEPS.check(args.steps)
@@ -140,9 +142,11 @@ def add_parser(sub):
                        "PAINTING.html?embed for the painting alone at its own size.")
     w.add_argument("recipe", help=recipe_help())
     w.add_argument("--out", required=True, help="the web page (.html)")
-    w.add_argument("--max-size", type=int, metavar="PX",
-                   help="longest side of the painting in the page, in pixels (default: the "
-                   "shape image's size; smaller pages load faster)")
+    w.add_argument("--max-size", type=int, metavar="PX", default=DEFAULT_MAX_SIZE,
+                   help=f"longest side of the painting in the page, in pixels (default "
+                   f"{DEFAULT_MAX_SIZE}, the most many phones draw; 0: the shape image's own "
+                   f"size). A page over 2048 px also carries smaller copies, and each device "
+                   f"draws the largest it can")
     w.add_argument("--steps", type=int, metavar="K",
                    help="march steps per pixel of the in-page shadows (default: the recipe's "
                    "shadows.steps, 64; fewer draw faster)")

@@ -38,6 +38,7 @@ from ..nodegraph import glsl_codegen
 from ..nodegraph.derived_inputs import Source, make_derived, march_bounds, prepare
 from ..nodegraph.pipeline_graph import describe, describe_shadow
 from ..nodegraph.text_codegen import param_name, read_snippet
+from .device_fit import SMALLEST_LEVEL, with_levels
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 COLOUR_CHANNELS = {c for c, (_, kind) in params.CHANNELS.items() if kind == "colour"}
@@ -219,8 +220,22 @@ def _variant(images, lights, p, steps, cache):
 
 
 def page_data(images, lights, p, title="", credits="", steps=None, max_size=None,
-              animation=None, turntable_seconds=TURNTABLE_SECONDS, looks=True, frames=None):
-    """Everything the viewer needs, as JSON-ready data.
+              animation=None, turntable_seconds=TURNTABLE_SECONDS, looks=True, frames=None,
+              smallest=SMALLEST_LEVEL):
+    """Everything the viewer needs, as JSON-ready data → (data, warnings): painting_data's,
+    with the smaller copies a device that cannot draw it draws instead (device_fit.py: each
+    power of two below its size down to `smallest`; None: none)."""
+    def make(side):
+        return painting_data(images, lights, p, title, credits, steps, side, animation,
+                             turntable_seconds, looks, frames)[0]
+    data, warnings = painting_data(images, lights, p, title, credits, steps, max_size,
+                                   animation, turntable_seconds, looks, frames)
+    return with_levels(data, make, smallest), warnings
+
+
+def painting_data(images, lights, p, title="", credits="", steps=None, max_size=None,
+                  animation=None, turntable_seconds=TURNTABLE_SECONDS, looks=True, frames=None):
+    """Everything the viewer needs to draw the painting at one size, as JSON-ready data.
 
     images: {channel: ImageData}; lights: [core Light]; p: the parameters. steps: the march's
     K (default the recipe's shadows.steps). max_size: the longest side of the painting in the
@@ -307,9 +322,22 @@ def page_frames(frames, first, textures, lights, p, steps, max_size, cache, shad
 
 
 def scene_data(layers, lights, title="", credits="", steps=None, max_size=None,
-               turntable_seconds=TURNTABLE_SECONDS, frames=None, animation=None):
-    """A scene of layers (§15) as JSON-ready data → (data, warnings): each layer's page data
-    (its own images and shaders, as a painting's, without the other looks), where it lies on
+               turntable_seconds=TURNTABLE_SECONDS, frames=None, animation=None,
+               smallest=SMALLEST_LEVEL):
+    """A scene of layers (§15) as JSON-ready data → (data, warnings): layers_data's, with the
+    smaller copies a device that cannot draw it draws instead (as page_data's)."""
+    def make(side):
+        return layers_data(layers, lights, title, credits, steps, side, turntable_seconds,
+                           frames, animation)[0]
+    data, warnings = layers_data(layers, lights, title, credits, steps, max_size,
+                                 turntable_seconds, frames, animation)
+    return with_levels(data, make, smallest), warnings
+
+
+def layers_data(layers, lights, title="", credits="", steps=None, max_size=None,
+                turntable_seconds=TURNTABLE_SECONDS, frames=None, animation=None):
+    """A scene of layers (§15) at one size as JSON-ready data → (data, warnings): each layer's
+    page data (its own images and shaders, as a painting's, without the other looks), where it lies on
     the canvas, and what the pass of the shadows between layers reads — the layer as the
     layers behind it meet it (alpha, relief, opacity), its surface height, and the pass's
     shader for the number of layers in front of it. The canvas is the back layer's image, at
@@ -335,8 +363,8 @@ def scene_data(layers, lights, title="", credits="", steps=None, max_size=None,
         moving = None if len(firsts) == 1 else {
             "drawings": [drawn[s][i].images for s in firsts], "fps": frames["fps"],
             "sequence": [drawing_of[s] for s in frames["sequence"]]}
-        data, warns = page_data(layer.images, lights, layer.p, steps=steps, looks=False,
-                                frames=moving)
+        data, warns = painting_data(layer.images, lights, layer.p, steps=steps, looks=False,
+                                    frames=moving)
         warnings += about(layer.name, warns)
         data.update(name=layer.name, place=[place.corner[0], place.corner[1], place.px, place.z])
         # each other drawing of this layer in the first scene, the others as prepared there

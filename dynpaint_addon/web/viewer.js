@@ -5,8 +5,9 @@
 "use strict";
 
 (function () {
-  const DATA = JSON.parse(document.getElementById("dp-data").textContent);
-  const EMBED = new URLSearchParams(location.search).has("embed");
+  const PAGE = JSON.parse(document.getElementById("dp-data").textContent);
+  const QUERY = new URLSearchParams(location.search);
+  const EMBED = QUERY.has("embed");
   const canvas = document.getElementById("painting");
   const message = document.getElementById("message");
   const BACKDROP = [0.0116, 0.0116, 0.0116];          // #1b1b1b, linear
@@ -20,10 +21,10 @@
     const n = Math.hypot(x, y, z) || 1;
     return [x / n, y / n, z / n];
   }
-  const lights = DATA.lights.map((lt) => ({ ...lt, on: true, place: placeOf(lt) }));
+  const lights = PAGE.lights.map((lt) => ({ ...lt, on: true, place: placeOf(lt) }));
   const state = { key: 0, playing: false, phase: 0, frame: 0, look: 0, dirty: true,
                   drawScale: 1, fullFrameMs: 0, measure: true, lastInput: -1e9,
-                  pageFrame: 0, framesPlaying: !!DATA.frames };
+                  pageFrame: 0, framesPlaying: !!PAGE.frames };
 
   function lightVector(lt) {
     const [x, y, h] = lt.place;
@@ -44,6 +45,47 @@
   const api = { ready: null, error: null, frames: 0, state, lights };
   const paintings = [];           // the painting, or each layer of a scene (back first)
   window.dynamicPainting = api;
+
+  // -- the copy of the painting this device draws (web/device_fit.py, chosen_copy): the
+  // largest whose textures the GPU takes (MAX_TEXTURE_SIZE, and its viewports) and whose
+  // estimated memory is within the page's share of the device's (navigator.deviceMemory,
+  // which browsers round and cap at 8 GB; 8 where it says nothing). Tests imitate a smaller
+  // device: ?max_texture=PX, ?device_gb=GB.
+  const UNREPORTED_GB = 8;
+  function deviceLimits() {
+    const asked = (name) => { const v = parseFloat(QUERY.get(name)); return v > 0 ? v : null; };
+    const dims = gl ? [gl.getParameter(gl.MAX_TEXTURE_SIZE), ...gl.getParameter(gl.MAX_VIEWPORT_DIMS)]
+      : [Infinity];
+    const gb = asked("device_gb") || navigator.deviceMemory || UNREPORTED_GB;
+    return { side: Math.min(...dims, asked("max_texture") || Infinity),
+             bytes: gb * 2 ** 30 * (PAGE.gpu_share || 1) };
+  }
+  function chooseLevel(page) {
+    const limits = deviceLimits();
+    const levels = [page, ...(page.smaller || [])];
+    const fits = (d) => !d.fit || (d.fit.side <= limits.side && d.fit.bytes <= limits.bytes);
+    const data = levels.find(fits) || levels[levels.length - 1];
+    page.smaller = null;                   // the others are not kept
+    api.level = { width: data.width, height: data.height, full: [page.width, page.height],
+                  maxTexture: limits.side, budgetMB: Math.round(limits.bytes / 2 ** 20),
+                  neededMB: data.fit ? Math.round(data.fit.bytes / 2 ** 20) : null,
+                  fits: fits(data) };
+    return data;
+  }
+  const DATA = chooseLevel(PAGE);
+
+  // The info line: the painting's size, and why this device draws a smaller copy of it.
+  function levelInfo() {
+    const { width, height, full, maxTexture, budgetMB, neededMB, fits } = api.level;
+    let text = `${full[0]} × ${full[1]} px`;
+    if (width !== full[0] || height !== full[1] || !fits) {
+      const limit = isFinite(maxTexture) ? `textures up to ${maxTexture} px` : "";
+      text += ` · drawn at ${width} × ${height}: this device draws ${limit}` +
+        `${limit ? " and " : ""}about ${budgetMB} MB of images` +
+        (fits ? "" : ` (this copy needs about ${neededMB} MB: it may not draw)`);
+    }
+    return text + (DATA.shadows ? ` · shadows K = ${DATA.steps}` : "");
+  }
 
   const VERTEX = "#version 300 es\nvoid main() {\n" +
     "  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n" +
@@ -1065,6 +1107,7 @@
       frameValue.textContent = `1 / ${DATA.frames.sequence.length}`;
     }
     document.getElementById("view-row").hidden = !scene;
+    document.getElementById("info").textContent = levelInfo();
     document.getElementById("title").textContent = DATA.title || "Dynamic painting";
     document.getElementById("credits").textContent = DATA.credits || "";
     showHeight();

@@ -124,7 +124,8 @@ def test_addon_export_is_offered_in_the_file_menu(empty_scene):
 def test_benchmark_reports_every_figure_with_its_goal(tmp_path):
     out = tmp_path / "web-numbers.md"
     r = subprocess.run([sys.executable, os.path.join(REPO, "benchmarks", "web_page.py"),
-                        "--sizes", "64", "--steps", "4", "--frames", "1", "--out", str(out)],
+                        "--sizes", "64", "--steps", "4", "--frames", "1", "--phone-sizes", "96",
+                        "--out", str(out)],
                        capture_output=True, text=True, timeout=600,
                        env={**os.environ, "PYTHONPATH": REPO})
     assert r.returncode == 0, r.stderr
@@ -145,6 +146,10 @@ def test_benchmark_reports_every_figure_with_its_goal(tmp_path):
              and "≤ 3×" in ln]
     assert len(sizes) == 5 and all("≤ 3×: met" in ln for ln in sizes)
     assert "worst edge" in text
+    # the page on a phone: its size, the time it takes to arrive and the copy each device draws
+    phone = [ln.split(" | ") for ln in text.splitlines() if ln.startswith("| 96² |")]
+    assert len(phone) == 1 and phone[0][1] == "own size (default)" and "s: met" in phone[0][3]
+    assert phone[0][5:9] == ["96"] * 4
 
 
 def test_frames_only_read_for_the_lights_bake_nothing(empty_scene, tmp_path):

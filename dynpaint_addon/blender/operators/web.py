@@ -9,6 +9,7 @@ from bpy_extras.io_utils import ExportHelper
 
 from ... import params
 from ...inputs.imageio import ImageReadError
+from ...web.device_fit import DEFAULT_MAX_SIZE
 from ...web.page import write_page
 from ..scenes.web_page import painting_page
 from .common import PaintingOperator, active_painting, run_and_report
@@ -26,9 +27,12 @@ class DYNPAINT_OT_export_web(PaintingOperator, bpy.types.Operator, ExportHelper)
     title: StringProperty(name="Title", description="Shown above the painting (default: the "
                           "painting's name)")
     credits: StringProperty(name="Credits", description="Shown under the title: who made it")
-    max_size: IntProperty(name="Max Size", default=0, min=0, max=16384, subtype="PIXEL",
+    max_size: IntProperty(name="Max Size", default=DEFAULT_MAX_SIZE, min=0, max=16384,
+                          subtype="PIXEL",
                           description="Longest side of the painting in the page, in pixels "
-                          "(0: the shape image's size; smaller pages load faster)")
+                          "(0: the shape image's size; smaller pages load faster). The "
+                          "default is the most many phones draw; a page over 2048 px also "
+                          "carries smaller copies, and each device draws the largest it can")
     steps: IntProperty(name="Shadow Steps", default=STEPS.default, min=1, max=STEPS.max,
                        description="K: march steps per pixel of the shadows the page computes "
                        "as the light moves (fewer draw faster on slow devices)")
