@@ -157,12 +157,15 @@ REDUCED_KEPT = 32
 
 
 def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=None, steps=64,
-         scale=1.0, occupancy="linear", reach=np.inf, stats=None, cancel=None, progress=None):
+         scale=1.0, occupancy="linear", reach=np.inf, stats=None, cancel=None, progress=None,
+         own_size=False):
     """The cos-θ term at a quality level (§13): march at a reduced resolution if the level
     says so, then upsample to the shape's size. Heights are in pixels of the full image;
     reach: how far a normal map's rebuilt relief is felt (image widths, §6 Reach).
     progress: optional callable(fraction done) (the march reports once per band of rows,
-    crossings once per chunk of rays)."""
+    crossings once per chunk of rays). own_size: a reduced level's t at the size it was
+    marched at, clipped, not upsampled (what own_size_t gives of the upsampled one: a caller
+    that writes it as an image, which every backend's bilinear lookup enlarges alike)."""
     k, scale, dtype = quality_settings(quality, steps, scale)
     h, w = normals.shape[:2]
     normals = normals.astype(dtype, copy=False)
@@ -200,6 +203,8 @@ def bake(normals, light, offset, quality="final", *, heights_px=None, slopes=Non
     n_s, z_s, sl_s = reduced_inputs(normals, heights_px, slopes, hs, ws)
     t = march(n_s, light, offset, k, heights_px=z_s, slopes=sl_s, occupancy=occupancy,
               reach=reach, stats=stats, cancel=cancel, progress=progress)
+    if own_size:
+        return np.clip(t, 0, 1).astype(dtype, copy=False)
     return _upsampled(t, h, w, dtype, (n_s, z_s, sl_s) if plan is not None else None)
 
 

@@ -172,7 +172,7 @@ class Scene:
         return [light_in_layer(lt, self.places[i], self.ready[i].size, self.canvas)
                 for lt in lights]
 
-    def bake(self, light, quality=None, progress=None, reduced=1.0, own=None):
+    def bake(self, light, quality=None, progress=None, reduced=1.0, own=None, own_size=False):
         """t = t_own·T of one light on every layer → [(H_i, W_i)] in the layers' order;
         each at its own shadows' quality level, or at `quality` for all (a live bake while
         a light is dragged: 'draft'). The inputs stay prepared: a scene made once serves
@@ -183,7 +183,9 @@ class Scene:
         of an earlier bake's `self.own`} of layers whose inputs and parameters are those it
         was baked from (a stroke on another layer: draft_group): its t_own is used where the
         light it saw and the level are this bake's, not marched again; this bake's entries
-        are left in `self.own`."""
+        are left in `self.own`. own_size: a layer's t at a reduced level at the size its own
+        term was baked at (core/bake.bake's own_size; T resampled to it), for a caller that
+        writes images, which every backend enlarges alike: a drag then upsamples nothing."""
         out, own, self.own = [None] * len(self.layers), own or {}, {}
         for position, i in enumerate(self.order):
             ready, p = self.ready[i], self.layers[i].p
@@ -194,20 +196,21 @@ class Scene:
             if reduced != 1.0 and level in QUALITY:
                 p.shadows.steps, scale, _ = quality_settings(level)
                 p.shadows.quality, p.shadows.resolution = "custom", min(1.0, scale * reduced)
-            seen = (self.own_lights(i, [light])[0], quality, reduced)
+            seen = (self.own_lights(i, [light])[0], quality, reduced, own_size)
             t_own = own[i][1] if i in own and own[i][0] == seen else \
-                shadow_term(ready.n, ready.z_px, ready.slopes, seen[0], p)
+                shadow_term(ready.n, ready.z_px, ready.slopes, seen[0], p, own_size=own_size)
             self.own[i] = (seen, t_own)
-            through = self.through(i, [light], level, reduced)
+            through = self.through(i, [light], level, reduced, t_own.shape)
             out[i] = t_own if through is None else t_own * through[0].astype(t_own.dtype)
             if progress is not None:
                 progress((position + 1) / len(self.order))
         return out
 
-    def through(self, i, lights, quality=None, reduced=1.0):
+    def through(self, i, lights, quality=None, reduced=1.0, size=None):
         """Per light, T of layer i (§15): what the layers in front let through along its
         rays, at its own shadows' quality level (its pixels' reduction divided by
-        `reduced`: bake); None when nothing is in front."""
+        `reduced`: bake), resampled to `size` (h, w; default the layer's); None when nothing
+        is in front."""
         p = self.layers[i].p
         level = quality or p.shadows.quality
         q = dict(LAYER_QUALITY.get(level, LAYER_QUALITY["final"]))
@@ -215,7 +218,7 @@ class Scene:
         front = [self.occluder(k, q["scale"]) for k in self.order[self.order.index(i) + 1:]]
         if not front:
             return None
-        h, w = self.ready[i].size
+        h, w = size or self.ready[i].size
         if (i, q["scale"]) not in self._origins:         # a drag moves the light only
             self._origins[i, q["scale"]] = _origins(self.ready[i], self.places[i], q["scale"])
         origins = self._origins[i, q["scale"]]

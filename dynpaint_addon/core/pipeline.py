@@ -110,12 +110,13 @@ def normal_map_relief_px(n, shape, precise=False, floor=None):
     return (integrate(n, mask, precise=precise, floor=floor).height * n.shape[1]).astype(n.dtype)
 
 
-def shadow_term(n, z_px, slopes, light, p, cancel=None, progress=None):
-    """The raw cos-θ term of one light (§6) at the parameters' quality level (§13)."""
+def shadow_term(n, z_px, slopes, light, p, cancel=None, progress=None, own_size=False):
+    """The raw cos-θ term of one light (§6) at the parameters' quality level (§13);
+    own_size: a reduced level's at the size it was baked at (core/bake.bake)."""
     t = shadow_bake(n, light, p.shadows.offset, p.shadows.quality, heights_px=z_px, slopes=slopes,
                     steps=p.shadows.steps, scale=p.shadows.resolution,
                     occupancy=p.shadows.occupancy, reach=reach_of(p.shadows.reach, slopes),
-                    cancel=cancel, progress=progress)
+                    cancel=cancel, progress=progress, own_size=own_size)
     return t.astype(n.dtype, copy=False)
 
 

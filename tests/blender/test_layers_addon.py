@@ -114,6 +114,22 @@ def test_a_dragged_lights_final_bake_runs_beside_the_ui_and_never_writes_a_stale
     consistent(name)
 
 
+def test_a_dragged_lights_draft_is_written_at_its_own_size(empty_scene, tmp_path):
+    """A drag's draft (issue 62: ≤ 50 ms at 1024², docs/layers-speed.md) is written as the
+    core bakes it at its own size — 96² images for 768² layers, which the material enlarges as
+    it samples them — nothing upsampled on the way."""
+    parent = add_layered(write_test_scene(str(tmp_path), size=768))
+    mats = group_materials(parent)
+    turn(bpy.data.objects["Key"], 0.2)
+    assert bake_group_live(parent) > 0
+    back = mats[0].dynamic_painting.plane
+    sun = painting_frame_light(mats[0].dynamic_painting.lights[0].object, back.matrix_world)
+    want = core_scene(parent, mats).bake(sun, "draft", own_size=True)
+    for mat, t in zip(mats, want):
+        assert t.shape == (96, 96)
+        np.testing.assert_allclose(shadow_of(mat), t, atol=1e-6, err_msg=mat.name)
+
+
 def test_a_moved_light_or_layer_rebakes_the_group_and_undo_brings_it_back(empty_scene, recipe):
     parent = add_layered(recipe)
     name = parent.name

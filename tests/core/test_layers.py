@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from dynpaint_addon import params
+from dynpaint_addon.core.bake import own_size_t
 from dynpaint_addon.core.input_rules import ImageData
 from dynpaint_addon.core.layers import Layer, Scene, placement, render_scene, scene_notes
 from dynpaint_addon.core.lights import Light
@@ -377,3 +378,25 @@ def test_a_layer_left_alone_keeps_its_own_term_and_the_bake_equals_a_fresh_one()
         t = scene.bake(lt, "draft", own=left_alone)
         assert all((scene.own[i][1] is left_alone[i][1]) == kept for i in left_alone)
         assert all(np.array_equal(a, b) for a, b in zip(t, Scene(layers).bake(lt, "draft")))
+
+
+def test_a_drags_draft_at_its_own_size_is_as_near_the_final_as_the_full_sized_draft():
+    """Scene.bake(own_size=True) (a dragged light's draft, written as small images that every
+    backend enlarges alike; issue 62: nothing upsampled): the layer with nothing in front is
+    its own term's reduced bake bit for bit, a shadowed one t_own·T at that size — enlarged,
+    about as near the final as the full-sized draft (the product of the enlarged terms):
+    measured 5–11 % farther at 384², within 3 % from 768² — and a final bake is the same
+    either way."""
+    light = Light("sun", (0.45, -0.5, 0.74))
+    layers = [Layer(images, p, name, depth)
+              for name, depth, images, p in builtin_scene_layers(384)]
+    final = Scene(layers).bake(light, "final")
+    full, small = Scene(layers).bake(light, "draft"), Scene(layers).bake(light, "draft",
+                                                                       own_size=True)
+    assert all(s.shape == (96, 96) for s in small)
+    np.testing.assert_array_equal(small[-1], own_size_t(full[-1]))
+    for s, f, want in zip(small[:-1], full[:-1], final):
+        enlarged = np.clip(resample_separable(s, *f.shape), 0, 1)
+        assert np.abs(enlarged - want).mean() <= 1.15 * np.abs(f - want).mean()
+    assert all(np.array_equal(a, b) for a, b in zip(final, Scene(layers).bake(
+        light, "final", own_size=True)))

@@ -184,8 +184,9 @@ class _GroupBake:
         self.results, self.error, self.thread = None, None, None
 
     def run(self):
+        # (a reduced level's t at its own size: the images enlarge it as they are sampled)
         self.results = {name: self.kept[name] if name in self.kept else
-                        self.scene.bake(light, self.quality)
+                        self.scene.bake(light, self.quality, own_size=True)
                         for name, light in self.todo.items()}
 
     def _run_reporting(self):
