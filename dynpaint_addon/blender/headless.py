@@ -13,6 +13,7 @@ import bpy
 
 from . import register_once
 from ..core.layers import render_scene
+from ..core.frames import expand_pattern
 from ..core.lights import default_sun
 from ..inputs import memory
 from ..inputs.imageio import quiet_native, write_render
@@ -235,7 +236,7 @@ def video_size(width, height, notes=None):
 
 def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevation=None,
                      light_name=None, clockwise=False, samples=None, fps=24, progress=print,
-                     notes=None, grease_pencil=None):
+                     notes=None, grease_pencil=None, only=None):
     """Render a light turntable of the recipe's painting to a video file → (seconds, samples
     per pixel).
 
@@ -246,7 +247,9 @@ def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevati
     antialiasing. Blender's own render log is kept off the terminal: `progress` gets a line a
     frame; notes: as for build_recipe_scene. grease_pencil: a drawing's name, `recipe` then
     the .blend file holding it (build_grease_pencil_scene: lit by the file's lights; an
-    animated drawing plays while the light turns).
+    animated drawing plays while the light turns). only: (first, last) frames of the orbit,
+    `out` then a frame-numbered pattern of PNG files (a farm's chunk: each frame rendered
+    and written whole, as a whole turntable renders it).
     """
     if grease_pencil is not None:
         _, mat = build_grease_pencil_scene(recipe, grease_pencil,
@@ -281,6 +284,9 @@ def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevati
     bpy.app.handlers.render_post.append(report)
     previous = signal.signal(signal.SIGINT, _stop_rendering)
     try:
+        if only is not None:
+            _render_frame_files(scene, out, *only)
+            return time.perf_counter() - start, samples
         # the video appears whole when the last frame is in (issue 60): an interrupted or a
         # second turntable never leaves a cut or interleaved file at `out`
         with written_whole(out) as part, quiet_native(1):   # "Video append frame N" lines
@@ -290,6 +296,19 @@ def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevati
         signal.signal(signal.SIGINT, previous)
         bpy.app.handlers.render_post.remove(report)
     return time.perf_counter() - start, samples
+
+
+def _render_frame_files(scene, pattern, first, last):
+    """Frames first … last of the scene's animation, each a 16-bit PNG at `pattern` with its
+    number (core/frames.expand_pattern), written whole: a farm's task that dies leaves no
+    cut frame for the video to take."""
+    turntable.frames_output(scene)
+    for f in range(first, last + 1):
+        scene.frame_set(f)             # (frame_change_post bakes this frame's shadows)
+        with written_whole(expand_pattern(os.path.abspath(pattern), f)) as part, \
+                quiet_native(1):                  # (Blender's "Saved: …" lines)
+            scene.render.filepath = part
+            bpy.ops.render.render(write_still=True)
 
 
 def _stop_rendering(*_):

@@ -535,12 +535,16 @@ def _painting_toml(recipe, base_dir, prefix, base, only_changed):
     return lines
 
 
-def image_bytes(recipe):
-    """The size in bytes of the recipe's image files, its layers' and every frame of a
-    sequence too (a file named twice counted once)."""
+def image_files(recipe):
+    """Every image file the recipe reads, its layers' and every frame of a sequence too, each
+    once (a set of paths)."""
     paintings = [recipe] + [lay.recipe for lay in recipe.layers]
-    paths = {f for r in paintings for slot in r.slots().values() for f in slot.files()}
-    return sum(os.path.getsize(p) for p in paths)
+    return {f for r in paintings for slot in r.slots().values() for f in slot.files()}
+
+
+def image_bytes(recipe):
+    """The size in bytes of the recipe's image files (image_files)."""
+    return sum(os.path.getsize(p) for p in image_files(recipe))
 
 
 def load_images(recipe, frame=None):

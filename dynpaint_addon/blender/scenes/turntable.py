@@ -113,6 +113,15 @@ def add_light_turntable(context, mat, light=None, kind="SUN", frame_start=1, fra
     return pivot, light, messages
 
 
+def frames_output(scene):
+    """Write stills as 16-bit RGB PNG files at exactly scene.render.filepath (a turntable's
+    frames, for a farm: ffmpeg joins them)."""
+    s = scene.render.image_settings
+    s.media_type = "IMAGE"
+    s.file_format, s.color_mode, s.color_depth = "PNG", "RGB", "16"
+    scene.render.use_file_extension = False
+
+
 def video_output(scene, path):
     """Write animations as an H.264 MP4 at `path` (exactly that name)."""
     s = scene.render.image_settings
