@@ -1,9 +1,10 @@
 """The package's imports run one way (issue 14), its top shows its parts (issue 40), and bpy
 lives in one folder (issue 28): read from the source, no Blender needed.
 
-    cli/ → blender/ (grouped by job) → web/ → inputs/ → shapes/ → nodegraph/ → the tables → core/
+    cli/ → blender/ (grouped by job) → farm/ → web/ → inputs/ → shapes/ → nodegraph/ → the
+    tables → core/
 
-Only blender/ imports bpy; nothing under core/, nodegraph/, shapes/, web/ or cli/ does, even
+Only blender/ imports bpy; nothing under core/, nodegraph/, shapes/, web/, farm/ or cli/ does, even
 inside a function; inputs/ may reach Blender on first use only (imageio's image loader).
 
 Every import of a dynpaint_addon module counts, also one inside a function: a cycle kept alive
@@ -117,7 +118,7 @@ def test_no_import_inside_a_function_but_optional_ones():
 # only. The tables sit at the top of the package beside the parts; blender/ is grouped by job,
 # and its own modules (what Blender calls: properties, panels, handlers; headless, the command
 # line's way in) sit above its groups.
-ORDER = ("core", "tables", "nodegraph", "shapes", "inputs", "web",
+ORDER = ("core", "tables", "nodegraph", "shapes", "inputs", "web", "farm",
          "blender.nodes", "blender.state", "blender.bake", "blender.material", "blender.scenes",
          "blender.operators", "blender", "cli", "entry")
 TABLES = ("params", "looks", "errors")
@@ -177,7 +178,7 @@ def test_no_single_letter_module_aliases():
     assert short == []
 
 
-BPY_FREE = ("core", "tables", "nodegraph", "shapes", "web", "cli", "entry")
+BPY_FREE = ("core", "tables", "nodegraph", "shapes", "web", "farm", "cli", "entry")
 
 
 def bpy_imports(path):
@@ -193,7 +194,7 @@ def bpy_imports(path):
 
 
 def test_bpy_lives_in_blender_only():
-    """The folder rule: core/, nodegraph/, shapes/, web/, cli/ and the tables never import bpy;
+    """The folder rule: core/, nodegraph/, shapes/, web/, farm/, cli/ and the tables never import bpy;
     inputs/ only inside a function (on first use); blender/ is the glue."""
     wrong = []
     for name, path in modules().items():
