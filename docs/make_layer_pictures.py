@@ -336,8 +336,8 @@ held out from the choosing — thin cards 0.15 image widths apart, a dome under 
 ground and ≤ 0.011 on the reliefs, for suns from 15° to 60°, a point light and a 5° sun;
 speed and memory (docs/layers-speed.md): three 1024² layers bake in about 1.3× the time of
 the same images baked alone (antialiased edges made a final bake about a fifth slower), a
-dragged light's update takes 50–55 ms on this 2-core machine, written at the size its draft
-was baked at (goal 50 ms; the three layers' own draft bakes alone take 50–66 ms in the same
+dragged light's update takes 54–57 ms on this 2-core machine, written at the size its draft
+was baked at (goal 50 ms; the three layers' own draft bakes alone take 52–66 ms in the same
 runs), at most {MAX_LAYERS} layers.
 
 ## Limits
