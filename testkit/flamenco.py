@@ -37,8 +37,11 @@ def unavailable():
 
 def build():
     """Build (once) Flamenco's Manager and Worker → the folder holding them."""
-    subprocess.run(["bash", os.path.join(SOURCE, "build.sh"), BUILT], check=True,
-                   capture_output=True, text=True, timeout=1200)
+    done = subprocess.run(["bash", os.path.join(SOURCE, "build.sh"), BUILT],
+                          capture_output=True, text=True, timeout=1200)
+    if done.returncode:
+        raise RuntimeError(f"building Flamenco from {SOURCE} failed (exit {done.returncode}):\n"
+                           + (done.stdout + done.stderr)[-3000:])
     return BUILT
 
 
