@@ -25,8 +25,8 @@ import bpy
 from ...core.shadow import BakeCancelled
 from ..state.settings import settings_to_params
 from ..state.status import report
-from .shadow_images import (bake_light, bake_shape, edit_start, held, keep_bake, keeps_bakes,
-                            kept_bake, light_bakes, released, write_shadow)
+from .shadow_images import (bake_key, bake_light, bake_shape, edit_start, held, keep_bake,
+                            keeps_bakes, kept_bake, light_bakes, released, write_shadow)
 
 DEBOUNCE_S = 0.3
 TIMER_S = 0.01          # polls a queue while a bake is due: cheap, and a small part of the budget
@@ -79,7 +79,7 @@ class LiveBake:
         self.generation[name] = gen
         if quality != "final":
             self.still_since[name] = time.perf_counter()
-        kept = self._kept(mat, depsgraph, p, quality, self.wanted[name])
+        kept = self._kept(mat, lights, p, quality, self.wanted[name])
         if keys and kept is not None:           # a moving shape's loop came round
             for item, (t, key) in zip(items, kept):
                 write_shadow(mat, item, t, key)
@@ -97,20 +97,19 @@ class LiveBake:
         return gen
 
     @staticmethod
-    def _kept(mat, depsgraph, p, quality, final_keys):
-        """Per light, (t, key) of the finest bake kept for where it is now (shadow_images.
-        kept_bake): its final, else a live level no coarser than `quality` — the level may
-        have changed since (_adapt) and a kept final is better than any live one. None unless
-        every light has one. p: set to `quality` already."""
+    def _kept(mat, lights, p, quality, final_keys):
+        """Per light (`lights`: where they are now), (t, key) of the finest bake kept for it
+        (shadow_images.kept_bake): its final, else a live level no coarser than `quality` —
+        the level may have changed since (_adapt) and a kept final is better than any live
+        one. None unless every light has one."""
         if not keeps_bakes(mat):
             return None
-        finer = LIVE_LEVELS[:LIVE_LEVELS.index(quality) + 1] if quality in LIVE_LEVELS else ()
+        s, at = mat.dynamic_painting, copy.deepcopy(p)
         candidates = [final_keys]
-        for level in finer:
-            p.shadows.quality = level
-            candidates.append([key for item, _, key in light_bakes(mat, depsgraph, p)
-                               if item.shadow is not None])
-        p.shadows.quality = quality
+        for level in LIVE_LEVELS[:LIVE_LEVELS.index(quality) + 1] if quality in LIVE_LEVELS \
+                else ():
+            at.shadows.quality = level
+            candidates.append([bake_key(light, at, s) for light in lights])
         kept = []
         for keys in zip(*candidates):
             hit = next(((t, k) for t, k in ((kept_bake(mat, k), k) for k in keys)
