@@ -12,7 +12,6 @@ one deflates less (the samples' pages are 0.8–2.3× their input files: web-num
     .venv/bin/python benchmarks/web_phone.py --sizes 1024 2048 4096 8192
 """
 import argparse
-import json
 import os
 import sys
 import tempfile
@@ -24,19 +23,13 @@ from report import command_line, publish  # noqa: E402
 
 from dynpaint_addon.cli import main as cli_main  # noqa: E402
 from dynpaint_addon.web.device_fit import DEFAULT_MAX_SIZE, GPU_SHARE, chosen_copy  # noqa: E402
+from dynpaint_addon.web.page import data_of_page  # noqa: E402
 
 PHONE_MBIT = 10          # a phone's connection, megabits per second (a slow 4G; 3G is ~2)
 SIZE_GOAL_S = 10         # the default page of every size arrives within this
 # (name, MAX_TEXTURE_SIZE, memory in GB as navigator.deviceMemory reports it)
 DEVICES = [("desktop", 16384, 8), ("phone, 4 GB", 4096, 4), ("phone, 2 GB", 4096, 2),
            ("old phone, 2 GB", 2048, 2)]
-
-
-def page_of(path):
-    """The data an exported page carries (its #dp-data block)."""
-    text = open(path, encoding="utf-8").read()
-    start = text.index('id="dp-data">') + len('id="dp-data">')
-    return json.loads(text[start:text.index("</script>", start)])
 
 
 def export(folder, out, max_size):
@@ -53,7 +46,7 @@ def rows(sizes, work):
         for max_size in [0] + ([DEFAULT_MAX_SIZE] if DEFAULT_MAX_SIZE < size else []):
             path = os.path.join(work, f"p{size}_{max_size}.html")
             seconds = export(folder, path, max_size)
-            data = page_of(path)
+            data = data_of_page(open(path, encoding="utf-8").read())
             mb = os.path.getsize(path) / 1e6
             arrive = mb * 8 / PHONE_MBIT
             copies = ", ".join(f"{d['width']}: {d['fit']['bytes'] / 2 ** 20:.0f} MB"

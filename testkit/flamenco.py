@@ -137,9 +137,10 @@ class Farm:
 
     def wait_job(self, job_id, timeout=600, until=("completed", "failed", "canceled")):
         """The job once its status is one of `until` → its data."""
-        return _wait(f"job {job_id} {'/'.join(until)}", lambda: (lambda j: j if j["status"]
-                     in until else None)(api(self.url, "GET", f"/api/v3/jobs/{job_id}")),
-                     timeout)
+        def ended():
+            job = api(self.url, "GET", f"/api/v3/jobs/{job_id}")
+            return job if job["status"] in until else None
+        return _wait(f"job {job_id} {'/'.join(until)}", ended, timeout)
 
     def tasks(self, job_id):
         return api(self.url, "GET", f"/api/v3/jobs/{job_id}/tasks").get("tasks", [])

@@ -14,6 +14,7 @@ import sys
 import numpy as np
 import pytest
 
+from dynpaint_addon.inputs.imageio import read_image
 from testkit.chromium import Chromium, find_chromium
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -104,6 +105,13 @@ def shown(page, element_id):
     return page.evaluate(f"(() => {{ const e = document.getElementById('{element_id}'); "
                          f"return e.getClientRects().length > 0 && "
                          f"getComputedStyle(e).visibility !== 'hidden'; }})()")
+
+
+def shot_pixels(page, path, width, height):
+    """A screenshot of the page, its top-left `width` × `height` pixels as the page shows them
+    (8-bit sRGB RGB, y up like the core's arrays)."""
+    page.screenshot(str(path))
+    return read_image(str(path)).pixels[-height:, :width, :3]
 
 
 def page_pixels(page, width, height):

@@ -29,7 +29,7 @@ class ExportError(UserError):
 def cmd_export_web(args):
     if not args.out.lower().endswith((".html", ".htm")):
         raise ExportError(f"--out {args.out}: a web page is an .html file")
-    if args.max_size and args.max_size < 16 or args.max_size < 0:
+    if args.max_size != 0 and args.max_size < 16:
         raise ExportError(f"--max-size {args.max_size}: at least 16 pixels (0: the painting's "
                           f"own size)")
     if args.steps is not None:

@@ -9,6 +9,7 @@ frames' shadows; chunks give a whole turntable's frames bit for bit), then `fram
 read it, and submits the job; `job_status` reads it back.
 """
 import datetime
+from collections import Counter
 import json
 import os
 import shutil
@@ -110,7 +111,8 @@ def stage_layered(path, folder):
 
 
 def job_name(recipe_path, now=None):
-    """'portrait 2026-11-29 18:40:02': the recipe's folder or file name and the time."""
+    """'portrait 2026-11-29 18.40.02': the recipe's folder or file name and the time (no ':',
+    which some file systems refuse in the job's folder name)."""
     stem = os.path.splitext(os.path.basename(recipe_path))[0]
     if stem == "painting":                   # every recipe's file is painting.toml
         stem = os.path.basename(os.path.dirname(os.path.abspath(recipe_path))) or stem
@@ -145,7 +147,4 @@ def job_status(manager, job_id):
     """(the job, {task status: count}) as the Manager has them now."""
     job = api(manager, "GET", f"/api/v3/jobs/{job_id}")
     tasks = api(manager, "GET", f"/api/v3/jobs/{job_id}/tasks").get("tasks", [])
-    counts = {}
-    for task in tasks:
-        counts[task["status"]] = counts.get(task["status"], 0) + 1
-    return job, counts
+    return job, dict(Counter(task["status"] for task in tasks))

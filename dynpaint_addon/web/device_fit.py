@@ -98,10 +98,10 @@ def chosen_copy(data, max_texture, device_gb=None):
 
 def with_levels(data, make, smallest=SMALLEST_LEVEL):
     """`data` (a page's) with its `fit` and `smaller`: the page made by `make(max_size)` at
-    each of level_sides, each with its own `fit`, largest first (and the rule's share of the
-    device's memory, `gpu_share`, for the viewer). smallest: None for none."""
+    each of level_sides, each with its own `fit`, largest first (and chosen_copy's constants,
+    `device_rule`, for the viewer's twin of it). smallest: None for none."""
     data["fit"] = fit_of(data)
-    data["gpu_share"] = GPU_SHARE
+    data["device_rule"] = {"gpu_share": GPU_SHARE, "unreported_gb": UNREPORTED_GB}
     data["smaller"] = []
     if smallest is None:
         return data

@@ -227,10 +227,9 @@ def page_data(images, lights, p, title="", credits="", steps=None, max_size=None
     power of two below its size down to `smallest`; None: none)."""
     def make(side):
         return painting_data(images, lights, p, title, credits, steps, side, animation,
-                             turntable_seconds, looks, frames)[0]
-    data, warnings = painting_data(images, lights, p, title, credits, steps, max_size,
-                                   animation, turntable_seconds, looks, frames)
-    return with_levels(data, make, smallest), warnings
+                             turntable_seconds, looks, frames)
+    data, warnings = make(max_size)
+    return with_levels(data, lambda side: make(side)[0], smallest), warnings
 
 
 def painting_data(images, lights, p, title="", credits="", steps=None, max_size=None,
@@ -328,10 +327,9 @@ def scene_data(layers, lights, title="", credits="", steps=None, max_size=None,
     smaller copies a device that cannot draw it draws instead (as page_data's)."""
     def make(side):
         return layers_data(layers, lights, title, credits, steps, side, turntable_seconds,
-                           frames, animation)[0]
-    data, warnings = layers_data(layers, lights, title, credits, steps, max_size,
-                                 turntable_seconds, frames, animation)
-    return with_levels(data, make, smallest), warnings
+                           frames, animation)
+    data, warnings = make(max_size)
+    return with_levels(data, lambda side: make(side)[0], smallest), warnings
 
 
 def layers_data(layers, lights, title="", credits="", steps=None, max_size=None,
@@ -472,6 +470,19 @@ def json_for_html(data):
     for char, escape in HTML_SAFE.items():
         text = text.replace(char, escape)
     return text
+
+
+DATA_START, DATA_END = 'id="dp-data">', "</script>"     # viewer.html's data block
+
+
+def data_of_page(text):
+    """The data a page's text carries (render_html's, read back): what a script or a test
+    reads of an exported page.
+
+    >>> data_of_page(render_html({"title": "</script>", "lights": []}))["title"]
+    '</script>'
+    """
+    return json.loads(text.split(DATA_START, 1)[1].split(DATA_END, 1)[0])
 
 
 def render_html(data):

@@ -46,29 +46,29 @@
   const paintings = [];           // the painting, or each layer of a scene (back first)
   window.dynamicPainting = api;
 
-  // -- the copy of the painting this device draws (web/device_fit.py, chosen_copy): the
-  // largest whose textures the GPU takes (MAX_TEXTURE_SIZE, and its viewports) and whose
-  // estimated memory is within the page's share of the device's (navigator.deviceMemory,
-  // which browsers round and cap at 8 GB; 8 where it says nothing). Tests imitate a smaller
-  // device: ?max_texture=PX, ?device_gb=GB.
-  const UNREPORTED_GB = 8;
+  // -- the copy of the painting this device draws (web/device_fit.py, chosen_copy; its
+  // constants in PAGE.device_rule): the largest whose textures the GPU takes
+  // (MAX_TEXTURE_SIZE, and its viewports) and whose estimated memory is within a share of the
+  // device's (navigator.deviceMemory, which browsers round and cap at 8 GB, and some do not
+  // say). Tests imitate a smaller device: ?max_texture=PX, ?device_gb=GB.
   function deviceLimits() {
     const asked = (name) => { const v = parseFloat(QUERY.get(name)); return v > 0 ? v : null; };
     const dims = gl ? [gl.getParameter(gl.MAX_TEXTURE_SIZE), ...gl.getParameter(gl.MAX_VIEWPORT_DIMS)]
       : [Infinity];
-    const gb = asked("device_gb") || navigator.deviceMemory || UNREPORTED_GB;
+    const rule = PAGE.device_rule;
+    const gb = asked("device_gb") || navigator.deviceMemory || rule.unreported_gb;
     return { side: Math.min(...dims, asked("max_texture") || Infinity),
-             bytes: gb * 2 ** 30 * (PAGE.gpu_share || 1) };
+             bytes: gb * 2 ** 30 * rule.gpu_share };
   }
   function chooseLevel(page) {
     const limits = deviceLimits();
-    const levels = [page, ...(page.smaller || [])];
-    const fits = (d) => !d.fit || (d.fit.side <= limits.side && d.fit.bytes <= limits.bytes);
+    const levels = [page, ...page.smaller];
+    const fits = (d) => d.fit.side <= limits.side && d.fit.bytes <= limits.bytes;
     const data = levels.find(fits) || levels[levels.length - 1];
     page.smaller = null;                   // the others are not kept
     api.level = { width: data.width, height: data.height, full: [page.width, page.height],
                   maxTexture: limits.side, budgetMB: Math.round(limits.bytes / 2 ** 20),
-                  neededMB: data.fit ? Math.round(data.fit.bytes / 2 ** 20) : null,
+                  neededMB: Math.round(data.fit.bytes / 2 ** 20),
                   fits: fits(data) };
     return data;
   }

@@ -18,6 +18,7 @@ from dynpaint_addon.core.lights import DEFAULT_SUN_DIRECTION
 from dynpaint_addon.core.pipeline import render
 from dynpaint_addon.inputs.imageio import read_image, write_png
 from dynpaint_addon.inputs.recipe import load_images, load_recipe
+from dynpaint_addon.web.page import data_of_page
 from testkit import artist_folders as af
 
 DYNPAINT = os.path.join(os.path.dirname(sys.executable), "dynpaint")
@@ -363,9 +364,7 @@ def test_every_command_describes_itself_and_options_take_what_their_help_offers(
 def test_the_layered_page_takes_the_recipes_name(tmp_path):
     res = run_cli("export-web", "window", "--out", tmp_path / "w.html")
     assert res.returncode == 0, res.stderr
-    import json
-    page = open(tmp_path / "w.html", encoding="utf-8").read()
-    data = json.loads(page.split('id="dp-data">')[1].split("</script>")[0])
+    data = data_of_page(open(tmp_path / "w.html", encoding="utf-8").read())
     assert data["title"] == load_recipe("window").name != "window"
 
 

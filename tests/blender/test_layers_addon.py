@@ -2,7 +2,6 @@
 plane per layer under a parent; the layers in front shadow those behind — the same t as the
 core's bake of the same scene — and the shadows follow a dragged light, a moved layer, undo,
 a saved and reopened file, and a render frame by frame."""
-import json
 
 import numpy as np
 import pytest
@@ -22,6 +21,7 @@ from dynpaint_addon.inputs.recipe import load_layers, load_recipe  # noqa: E402
 from dynpaint_addon.inputs.testpainting import write_test_scene  # noqa: E402
 from mathutils import Matrix  # noqa: E402
 from test_addon import render_cycles  # noqa: E402
+from dynpaint_addon.web.page import data_of_page  # noqa: E402
 from testkit.layered_files import window_scene, write_ora  # noqa: E402
 
 SIZE = 64
@@ -227,8 +227,7 @@ def test_file_export_html_of_a_layer_exports_its_whole_scene(empty_scene, recipe
     bpy.context.view_layer.objects.active = group_materials(parent)[1].dynamic_painting.plane
     out = str(tmp_path / "scene.html")
     assert bpy.ops.dynpaint.export_web(filepath=out) == {"FINISHED"}
-    text = open(out, encoding="utf-8").read()
-    data = json.loads(text.split('id="dp-data">', 1)[1].split("</script>", 1)[0])
+    data = data_of_page(open(out, encoding="utf-8").read())
     assert [layer["name"] for layer in data["layers"]] == ["scene back", "scene ring",
                                                             "scene star"]
     assert data["layers"][0]["front"] == [1, 2] and "through" in data["layers"][0]

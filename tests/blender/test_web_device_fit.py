@@ -10,14 +10,13 @@ import pytest
 from dynpaint_addon.core.layers import render_scene
 from dynpaint_addon.core.pipeline import render as core_render
 from dynpaint_addon.core.colour import linear_to_srgb
-from dynpaint_addon.inputs.imageio import read_image
 from dynpaint_addon.inputs.layered_files import load_layered
 from dynpaint_addon.inputs.samples import recipe_path
 from dynpaint_addon.inputs.testpainting import builtin_images, builtin_recipe
 from dynpaint_addon.web.device_fit import GPU_SHARE, chosen_copy, fit_of, level_sides
 from dynpaint_addon.web.page import page_data, scene_data, shrink, write_page
 
-from conftest import open_page
+from conftest import open_page, shot_pixels
 
 SIZE = 256
 SMALLEST = 64
@@ -33,11 +32,6 @@ def painting(tmp_path_factory):
     path = tmp_path_factory.mktemp("fit") / "painting.html"
     write_page(path, data)
     return recipe, images, path, data
-
-
-def screenshot(page, tmp_path, w, h):
-    page.screenshot(str(tmp_path / "shot.png"))
-    return read_image(str(tmp_path / "shot.png")).pixels[-h:, :w, :3]     # (y up: top left)
 
 
 def assert_on_screen_as_core(shot, rgba):
@@ -73,7 +67,7 @@ def test_the_page_draws_the_largest_copy_the_device_takes(painting, browser, tmp
     small = {c: shrink(img, side) for c, img in images.items()}
     p = recipe.params
     p.shadows.quality, p.shadows.steps = "custom", 32
-    assert_on_screen_as_core(screenshot(page, tmp_path, side, side),
+    assert_on_screen_as_core(shot_pixels(page, tmp_path / "shot.png", side, side),
                              core_render(small, recipe.lights, p).rgba)
 
 
@@ -115,5 +109,5 @@ def test_a_scene_of_layers_draws_its_smaller_copy_as_the_core(browser, tmp_path)
     shrunk = [dataclasses.replace(layer, images={
         c: shrink(img, round(max(img.size) * factor)) for c, img in layer.images.items()})
         for layer in layers]
-    assert_on_screen_as_core(screenshot(page, tmp_path, small["width"], small["height"]),
+    assert_on_screen_as_core(shot_pixels(page, tmp_path / "shot.png", small["width"], small["height"]),
                              render_scene(shrunk, lights).rgba)

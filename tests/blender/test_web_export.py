@@ -1,6 +1,5 @@
 """Exporting the web page (issue 17): from the command line and from the add-on (its current
 settings, lights and their animation), opened in headless Chromium and compared with the core."""
-import json
 import math
 import os
 import re
@@ -21,6 +20,7 @@ from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
 from dynpaint_addon.inputs.recipe import image_bytes, load_recipe  # noqa: E402
 from dynpaint_addon.inputs.samples import recipe_path  # noqa: E402
+from dynpaint_addon.web.page import data_of_page  # noqa: E402
 
 from conftest import REPO, open_page, page_pixels, run_cli  # noqa: E402
 from parity_recipes import write_images  # noqa: E402
@@ -28,7 +28,7 @@ from parity_recipes import write_images  # noqa: E402
 
 def page_json(path):
     text = open(path, encoding="utf-8").read()
-    return text, json.loads(re.search(r'id="dp-data">(.*?)</script>', text, re.S).group(1))
+    return text, data_of_page(text)
 
 
 def test_cli_exports_a_sample_as_one_offline_file(tmp_path, browser):

@@ -7,11 +7,11 @@ import dataclasses
 import numpy as np
 import pytest
 
-from conftest import open_page, run_cli, shown
+from conftest import open_page, run_cli, shot_pixels, shown
 from dynpaint_addon.core.colour import linear_to_srgb
 from dynpaint_addon.core.layers import render_scene
 from dynpaint_addon.core.lights import Light
-from dynpaint_addon.inputs.imageio import ImageData, read_image
+from dynpaint_addon.inputs.imageio import ImageData
 from dynpaint_addon.inputs.layered_files import load_layered
 from dynpaint_addon.inputs.recipe import load_layers, load_recipe
 from dynpaint_addon.inputs.samples import recipe_path
@@ -114,8 +114,7 @@ def test_the_window_samples_page_on_screen_is_the_core(browser, tmp_path):
     path = str(tmp_path / "window.html")
     write_page(path, data)
     page = open_page(browser, path, data["width"], data["height"], query="?embed")
-    page.screenshot(str(tmp_path / "shot.png"))
-    shot = read_image(str(tmp_path / "shot.png")).pixels[:data["height"], :data["width"], :3]
+    shot = shot_pixels(page, tmp_path / "shot.png", data["width"], data["height"])
     want = linear_to_srgb(np.clip(render_scene(layers, lights).rgba[..., :3], 0, 1))
     diff = np.abs(shot - want).max(axis=-1)
     assert float(np.percentile(diff, 99)) <= 8 / 255
