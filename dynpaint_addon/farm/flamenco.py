@@ -131,15 +131,19 @@ def submit(manager, source, settings, name=None, priority=50):
     folder = os.path.join(shared, STAGING, name.replace("/", "_"))
     if os.path.exists(folder):
         raise FarmError(f"{folder} exists already: give the job another --name")
-    staged = stage_layered(source, os.path.join(folder, "input")) if isinstance(source, str) \
-        else stage(source, os.path.join(folder, "input"))
     output = os.path.join(folder, "output")
-    os.makedirs(output)
-    job = api(manager, "POST", "/api/v3/jobs", {
-        "name": name, "type": JOB_TYPE, "priority": int(priority),
-        "submitter_platform": PLATFORM,
-        "settings": {**settings, "recipe": staged, "render_output_path": output},
-        "metadata": {"dynpaint.recipe": os.path.abspath(path)}})
+    try:
+        staged = stage_layered(source, os.path.join(folder, "input")) \
+            if isinstance(source, str) else stage(source, os.path.join(folder, "input"))
+        os.makedirs(output)
+        job = api(manager, "POST", "/api/v3/jobs", {
+            "name": name, "type": JOB_TYPE, "priority": int(priority),
+            "submitter_platform": PLATFORM,
+            "settings": {**settings, "recipe": staged, "render_output_path": output},
+            "metadata": {"dynpaint.recipe": os.path.abspath(path)}})
+    except BaseException:       # a job the Manager refused leaves nothing on the storage
+        shutil.rmtree(folder, ignore_errors=True)
+        raise
     return job, output
 
 

@@ -11,8 +11,9 @@ import imageio_ffmpeg
 import numpy as np
 import pytest
 
-from dynpaint_addon.farm.flamenco import JOB_TYPE, PLATFORM, api
+from dynpaint_addon.farm.flamenco import JOB_TYPE, PLATFORM, FarmError, api, submit
 from dynpaint_addon.inputs.imageio import read_image
+from dynpaint_addon.inputs.recipe import load_recipe
 from testkit import flamenco
 
 from conftest import REPO, run_cli
@@ -107,10 +108,17 @@ def test_refused_before_anything_is_sent(farm, painting, tmp_path):
     r = run_cli("farm", "submit", painting, "--manager", f"http://127.0.0.1:{flamenco.free_port()}/")
     assert r.returncode == 1 and "no Flamenco Manager answers" in r.stderr
     assert "Traceback" not in r.stderr
-    before = set(os.listdir(os.path.join(farm.shared, "dynpaint-jobs")))
-    r = run_cli("farm", "submit", painting, "--manager", farm.url, "--name", "two workers")
+    jobs = os.path.join(farm.shared, "dynpaint-jobs")
+    os.makedirs(os.path.join(jobs, "taken"), exist_ok=True)          # a job's folder
+    before = set(os.listdir(jobs))
+    r = run_cli("farm", "submit", painting, "--manager", farm.url, "--name", "taken")
     assert r.returncode == 1 and "exists already" in r.stderr
-    assert set(os.listdir(os.path.join(farm.shared, "dynpaint-jobs"))) == before
+    assert set(os.listdir(jobs)) == before
+    # a job the Manager refuses (its job type's own check) leaves nothing staged behind
+    with pytest.raises(FarmError, match="refused"):
+        submit(farm.url, load_recipe(str(painting)), {"frames": 1, "chunk_size": 1},
+               name="refused")
+    assert set(os.listdir(jobs)) == before
 
 
 def test_a_worker_killed_mid_task_has_its_task_requeued_and_the_job_completes(farm, painting):
