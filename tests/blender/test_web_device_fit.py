@@ -16,7 +16,7 @@ from dynpaint_addon.inputs.testpainting import builtin_images, builtin_recipe
 from dynpaint_addon.web.device_fit import GPU_SHARE, chosen_copy, fit_of, level_sides
 from dynpaint_addon.web.page import page_data, scene_data, shrink, write_page
 
-from conftest import open_page, shot_pixels
+from conftest import open_page, shot_pixels, shown
 
 SIZE = 256
 SMALLEST = 64
@@ -79,6 +79,7 @@ def test_a_memory_budget_chooses_a_smaller_copy_and_the_info_line_says_why(paint
     assert page.evaluate("window.dynamicPainting.level.width") == 128 == \
         chosen_copy(data, 16384, gb)["width"]
     info = page.evaluate("document.getElementById('info').textContent")
+    assert shown(page, "info")                     # on screen, under the controls
     assert info.startswith(f"{SIZE} × {SIZE} px · drawn at 128 × 128") and "MB" in info, info
     # nothing fits: the smallest copy, and the line says it may not draw
     page = open_page(browser, path, query="?device_gb=0.0001")
