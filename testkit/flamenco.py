@@ -17,7 +17,7 @@ import time
 
 import imageio_ffmpeg
 
-from dynpaint_addon.farm.flamenco import JOB_TYPE_FILE, api
+from dynpaint_addon.farm.flamenco import JOB_TYPE_FILES, api
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SOURCE = os.path.normpath(os.path.join(REPO, "..", "shared", "flamenco"))
@@ -89,7 +89,8 @@ class Farm:
         os.makedirs(os.path.join(where, "scripts"), exist_ok=True)
         os.makedirs(self.shared, exist_ok=True)
         exe = shutil.copy(os.path.join(built, "flamenco-manager"), where)
-        shutil.copy(JOB_TYPE_FILE, os.path.join(where, "scripts"))
+        for file in JOB_TYPE_FILES:
+            shutil.copy(file, os.path.join(where, "scripts"))
         with open(os.path.join(where, "flamenco-manager.yaml"), "w") as fh:
             fh.write(f"_meta:\n  version: 3\nmanager_name: dynpaint tests\n"
                      f"database: flamenco-manager.sqlite\nlisten: 127.0.0.1:{self.port}\n"

@@ -75,20 +75,26 @@ def render_recipe(recipe, engine, out, frame=None, notes=None, drawing_width=Non
     return time.perf_counter() - t
 
 
-def build_grease_pencil_scene(path, object_name, width=None, frame=None):
-    """A .blend file's Grease Pencil drawing lit as *From Grease Pencil* lights it (its
-    animation where it has one), every other object hidden from renders, an exact camera on
-    its back layer → (parent, back layer's material). ValueError names what is
-    wrong (no such file or object, not a drawing)."""
+def open_blend(path):
+    """Open a .blend file here, the add-on registered first (its load handler remakes the
+    images numpy made, which a file keeps no pixels of). ValueError names what is wrong."""
     if not os.path.isfile(path) or not path.lower().endswith(".blend"):
         raise ValueError(f"{path}: not a .blend file")
+    register_once()
     try:
         with quiet_native():
             bpy.ops.wm.open_mainfile(filepath=os.path.abspath(path))
     except RuntimeError as exc:     # a damaged file, or another file named .blend
         raise ValueError(f"{path}: Blender cannot open it "
                          f"({str(exc).removeprefix('Error: ').strip()})") from None
-    register_once()
+
+
+def build_grease_pencil_scene(path, object_name, width=None, frame=None):
+    """A .blend file's Grease Pencil drawing lit as *From Grease Pencil* lights it (its
+    animation where it has one), every other object hidden from renders, an exact camera on
+    its back layer → (parent, back layer's material). ValueError names what is
+    wrong (no such file or object, not a drawing)."""
+    open_blend(path)
     context = bpy.context
     obj = bpy.data.objects.get(object_name)
     drawings = [o.name for o in bpy.data.objects if o.type == "GREASEPENCIL"]
@@ -275,27 +281,55 @@ def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevati
     turntable.add_light_turntable(bpy.context, mat, light, kind, 1, frames, elev, radius, azimuth,
                           clockwise)
     scene.render.fps = fps
+    return _render_frames(scene, out, only, progress), samples
+
+
+def render_animation(path, out, only=None, as_frames=False, progress=print):
+    """Render a .blend file's animation as it was saved — its scene, camera, frame range and
+    render settings — each frame baking its paintings' shadows (the add-on's frame handler, as
+    in Blender) → (seconds, (first, last) frames rendered, paintings in the scene). `out`: a
+    video, or `as_frames` a frame-numbered pattern of PNG files, of frames `only` (first,
+    last: a farm's chunk) or all.
+    ValueError names what is wrong (no file, no camera, frames outside the scene's range)."""
+    open_blend(path)
+    scene = bpy.context.scene
+    if scene.camera is None:
+        raise ValueError(f"{path}: its scene '{scene.name}' has no camera to render from")
+    first, last = only or (scene.frame_start, scene.frame_end)
+    if not scene.frame_start <= first <= last <= scene.frame_end:
+        raise ValueError(f"--only {first}-{last}: the scene '{scene.name}' has frames "
+                         f"{scene.frame_start}-{scene.frame_end}")
+    shown = sum(1 for o in scene.objects if o.active_material is not None
+                and o.active_material.dynamic_painting.is_painting)
+    return _render_frames(scene, out, (first, last) if as_frames else None, progress), \
+        (first, last), shown
+
+
+def _render_frames(scene, out, only, progress):
+    """The scene's animation into the video `out`, or frames only = (first, last) into the
+    PNG pattern `out`; a line to `progress` a frame; Ctrl-C ends it cleanly → seconds."""
     start = time.perf_counter()
+    count = scene.frame_end - scene.frame_start + 1
 
     def report(scene, *_):
         done = scene.frame_current - scene.frame_start + 1
-        progress(f"frame {done}/{frames}  {time.perf_counter() - start:6.1f} s")
+        progress(f"frame {done}/{count}  {time.perf_counter() - start:6.1f} s")
 
     bpy.app.handlers.render_post.append(report)
     previous = signal.signal(signal.SIGINT, _stop_rendering)
     try:
         if only is not None:
             _render_frame_files(scene, out, *only)
-            return time.perf_counter() - start, samples
+            return time.perf_counter() - start
         # the video appears whole when the last frame is in (issue 60): an interrupted or a
-        # second turntable never leaves a cut or interleaved file at `out`
+        # second render never leaves a cut or interleaved file at `out`
         with written_whole(out) as part, quiet_native(1):   # "Video append frame N" lines
             turntable.video_output(scene, part)
             bpy.ops.render.render(animation=True)
     finally:
         signal.signal(signal.SIGINT, previous)
         bpy.app.handlers.render_post.remove(report)
-    return time.perf_counter() - start, samples
+    return time.perf_counter() - start
 
 
 def _render_frame_files(scene, pattern, first, last):

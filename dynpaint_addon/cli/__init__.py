@@ -2,8 +2,8 @@
 runs the same.
 
 One module per command, each with its `add_parser(sub)`: new, render, bake_shadow, turntable,
-demo, make_test_painting, parameters (`params`), make_shape, export_web, farm; notes.py is how they
-all say what they guessed. User mistakes (missing files, unreadable images, bad recipes or
+animation, demo, make_test_painting, parameters (`params`), make_shape, export_web, farm;
+notes.py is how they all say what they guessed. User mistakes (missing files, unreadable images, bad recipes or
 options: errors.UserError) end with one line `error: …` on stderr and exit status 1 (2 for
 malformed command lines; 130 for Ctrl-C); never a traceback. Before any work an output is
 checked (cli/outputs.py: writable, none of the inputs), and every file is written whole.
@@ -14,11 +14,11 @@ import os
 import sys
 
 from ..errors import UserError
-from . import (bake_shadow, demo, export_web, farm, make_shape, make_test_painting, new,
-               parameters, render, turntable)
+from . import (animation, bake_shadow, demo, export_web, farm, make_shape, make_test_painting,
+               new, parameters, render, turntable)
 from .outputs import guard_outputs
 
-COMMANDS = (new, render, turntable, farm, export_web, bake_shadow, make_shape, demo,
+COMMANDS = (new, render, turntable, animation, farm, export_web, bake_shadow, make_shape, demo,
             make_test_painting, parameters)
 
 

@@ -1,18 +1,22 @@
-"""`dynpaint farm`: a turntable rendered by a Flamenco render farm (issue 64; docs/farm.md).
+"""`dynpaint farm`: a turntable or a .blend's animation rendered by a Flamenco render farm
+(issue 64; docs/farm.md).
 
-    dynpaint farm submit RECIPE --manager URL [turntable's options] [--chunk-size N]
+    dynpaint farm submit RECIPE|FILE.blend --manager URL [turntable's options] [--chunk-size N]
     dynpaint farm status JOB --manager URL
     dynpaint farm job-type [--install FOLDER]
 
-`submit` copies the recipe and the files it reads onto the farm's shared storage and submits a
-job of the type farm/dynamic_painting.js (which the Manager must have: `job-type --install`);
-its workers render chunks of frames, each frame baking its own shadows, then join the video.
+`submit` copies the recipe and the files it reads (or the .blend packed with its images) onto
+the farm's shared storage and submits a job of the types in farm/ (which the Manager must have:
+`job-type --install`); its workers render chunks of frames, each frame baking its own shadows,
+then join the video.
 """
+import argparse
 import os
 import shutil
 
 from ..errors import CommandError
-from ..farm.flamenco import JOB_TYPE_FILE, job_status, submit
+from ..farm.blend_files import is_blend, scene_frames
+from ..farm.flamenco import JOB_TYPE_FILES, job_status, submit
 from ..inputs.layered_files import is_layered_file
 from ..inputs.recipe import load_recipe
 from ..inputs.samples import recipe_help
@@ -29,17 +33,46 @@ def job_settings(args):
             "samples": args.samples or 0, "fps": args.fps}
 
 
+def orbit_options_given(args):
+    """The turntable's options (add_orbit_options) given other than their defaults."""
+    orbit = argparse.ArgumentParser(add_help=False)
+    add_orbit_options(orbit)
+    defaults = vars(orbit.parse_args([]))
+    return [f"--{key.replace('_', '-')}" for key, value in defaults.items()
+            if getattr(args, key) != value]
+
+
+def blend_settings(args):
+    """The animation job type's settings (dynamic_painting_animation.js) of a .blend: its
+    scene's frame range and rate → (settings, frames)."""
+    given = orbit_options_given(args)
+    if given:
+        raise CommandError(f"{args.recipe}: a .blend renders its own animation (its frame "
+                           f"range, camera and render settings, as saved): {', '.join(given)} "
+                           f"are a recipe's turntable's options")
+    first, last, fps = scene_frames(args.recipe)
+    return {"frames": f"{first}-{last}", "chunk_size": args.chunk_size, "fps": fps}, \
+        last - first + 1
+
+
 def cmd_submit(args):
-    check_orbit_options(args)
     if args.chunk_size < 1:
         raise CommandError(f"--chunk-size must be at least 1, got {args.chunk_size}")
-    if is_layered_file(args.recipe):
+    if is_blend(args.recipe):
+        if not os.path.isfile(args.recipe):
+            raise CommandError(f"{args.recipe}: no such file")
+        settings, frames = blend_settings(args)
         source = os.path.abspath(args.recipe)
     else:
-        source = load_recipe(args.recipe)
-        print_notes(source.notes)
-    job, output = submit(args.manager, source, job_settings(args), args.name, args.priority)
-    tasks = -(-args.frames // args.chunk_size)
+        check_orbit_options(args)
+        settings, frames = job_settings(args), args.frames
+        if is_layered_file(args.recipe):
+            source = os.path.abspath(args.recipe)
+        else:
+            source = load_recipe(args.recipe)
+            print_notes(source.notes)
+    job, output = submit(args.manager, source, settings, args.name, args.priority)
+    tasks = -(-frames // args.chunk_size)
     print(f"farm: submitted '{job['name']}' ({tasks} render tasks of up to {args.chunk_size} "
           f"frames, then the video): job {job['id']}, status {job['status']}")
     print(f"farm: its frames and video go to {output}")
@@ -56,15 +89,17 @@ def cmd_status(args):
 
 def cmd_job_type(args):
     if args.install is None:
-        print(JOB_TYPE_FILE)
+        print("\n".join(JOB_TYPE_FILES))
         return
     if not os.path.isdir(args.install):
         raise CommandError(f"--install {args.install}: not a folder (the one holding "
                            f"flamenco-manager)")
     scripts = os.path.join(args.install, "scripts")
     os.makedirs(scripts, exist_ok=True)
-    target = shutil.copy(JOB_TYPE_FILE, scripts)
-    print(f"farm: installed the job type as {target}: restart the Manager to offer it")
+    for file in JOB_TYPE_FILES:
+        target = shutil.copy(file, scripts)
+        print(f"farm: installed the job type {target}")
+    print("farm: restart the Manager to offer them")
 
 
 def add_parser(sub):
@@ -74,10 +109,15 @@ def add_parser(sub):
                           "turntable in chunks of frames, each frame baking its own shadows, "
                           "then join them into a video (docs/farm.md).")
     what = farm.add_subparsers(dest="farm_command", required=True, metavar="SUBCOMMAND")
-    s = what.add_parser("submit", help="submit a recipe's turntable to a Manager",
+    s = what.add_parser("submit", help="submit a recipe's turntable, or a .blend's "
+                        "animation, to a Manager",
                         description="Copy the recipe and the files it reads onto the farm's "
-                        "shared storage and submit its turntable.")
-    s.add_argument("recipe", help=recipe_help())
+                        "shared storage and submit its turntable; or a .blend file, packed "
+                        "with the files it uses, and submit its animation as saved (its frame "
+                        "range, camera and render settings; a turntable made in Blender is "
+                        "one).")
+    s.add_argument("recipe", metavar="RECIPE|FILE.blend",
+                   help=recipe_help() + "; or a .blend file")
     s.add_argument("--manager", required=True, metavar="URL",
                    help="the Flamenco Manager's address, e.g. http://farm:8080/")
     add_orbit_options(s)
@@ -90,10 +130,11 @@ def add_parser(sub):
     st.add_argument("job", help="the job's id (submit prints it)")
     st.add_argument("--manager", required=True, metavar="URL", help="the Manager's address")
     st.set_defaults(func=cmd_status)
-    jt = what.add_parser("job-type", help="where the Flamenco job type is, or install it",
-                         description="Print the path of the job type's file "
-                         "(dynamic_painting.js), or copy it into a Manager's scripts/ folder.")
+    jt = what.add_parser("job-type", help="where the Flamenco job types are, or install them",
+                         description="Print the paths of the job types' files (a recipe's "
+                         "turntable, a .blend's animation), or copy them into a Manager's "
+                         "scripts/ folder.")
     jt.add_argument("--install", metavar="FOLDER",
-                    help="the folder holding flamenco-manager: the job type goes into its "
+                    help="the folder holding flamenco-manager: the job types go into its "
                     "scripts/ folder")
     jt.set_defaults(func=cmd_job_type)

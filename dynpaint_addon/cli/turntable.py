@@ -17,37 +17,57 @@ def video_size_fits(width, height):
     return (width + 128) * (height + 128) < (2**31 - 1) // 8
 
 
+def parse_only(only):
+    """`--only A-B` (or `N`) → (A, B), a chunk's first and last frames; None → None.
+
+    >>> parse_only("5-8"), parse_only("3"), parse_only(None)
+    ((5, 8), (3, 3), None)
+    """
+    if only is None:
+        return None
+    try:
+        a, _, b = only.partition("-")
+        first, last = int(a), int(b or a)
+    except ValueError:
+        raise CommandError(f"--only {only}: frames as FIRST-LAST, e.g. 1-12") from None
+    if first > last:
+        raise CommandError(f"--only {only}: the first frame after the last")
+    return first, last
+
+
 def frames_range(only, frames):
     """`--only A-B` (or `N`) → (A, B), the orbit's frames a chunk renders (1 … frames).
 
     >>> frames_range("5-8", 24), frames_range("3", 24), frames_range(None, 24)
     ((5, 8), (3, 3), (1, 24))
     """
-    if only is None:
-        return 1, frames
-    try:
-        a, _, b = only.partition("-")
-        first, last = int(a), int(b or a)
-    except ValueError:
-        raise CommandError(f"--only {only}: frames as FIRST-LAST, e.g. 1-12") from None
+    first, last = parse_only(only) or (1, frames)
     if not 1 <= first <= last <= frames:
         raise CommandError(f"--only {only}: frames between 1 and {frames} (--frames), the "
                            f"first not after the last")
     return first, last
 
 
-def cmd_turntable(args):
+def check_out(args):
+    """CommandError for an --out a turntable or animation cannot write (with --only) →
+    whether it names frame files (frames/####.png) rather than a video."""
     out_ext = os.path.splitext(args.out)[1].lower()
     frame_files = is_pattern(os.path.basename(args.out))
     if frame_files and out_ext != ".png":
         raise CommandError(f"--out {args.out}: frames are written as PNG files "
                            f"(frames/####.png)")
     if not frame_files and out_ext not in (".mp4", ".mkv", ".mov"):
-        raise CommandError(f"--out {args.out}: a turntable is a video (use .mp4), or its "
-                           f"frames as PNG files (frames/####.png)")
+        article = "an" if args.command[0] in "aeiou" else "a"
+        raise CommandError(f"--out {args.out}: {article} {args.command} is a video (use "
+                           f".mp4), or its frames as PNG files (frames/####.png)")
     if args.only is not None and not frame_files:
         raise CommandError("--only renders a chunk of the frames: --out names their files "
                            "(frames/####.png), not a video")
+    return frame_files
+
+
+def cmd_turntable(args):
+    frame_files = check_out(args)
     check_orbit_options(args)
     chunk = frames_range(args.only, args.frames)
     if args.grease_pencil:                 # a .blend file's drawing: built from its path

@@ -2,10 +2,12 @@
 REST API as `dynpaint farm` uses it. No bpy.
 
 Flamenco (Blender's own farm) runs a Manager that splits a job into tasks and Workers that run
-them, with storage they all share. `dynamic_painting.js` beside this file is the job type: a
-turntable's frames in chunks (`dynpaint turntable … --only FIRST-LAST`: each worker bakes its
-frames' shadows; chunks give a whole turntable's frames bit for bit), then `frames-to-video`.
-`submit` copies the recipe and every file it reads onto the shared storage, where the workers
+them, with storage they all share. The job types are the .js files beside this one:
+`dynamic_painting.js`, a recipe's turntable's frames in chunks (`dynpaint turntable … --only
+FIRST-LAST`: each worker bakes its frames' shadows; chunks give a whole turntable's frames bit
+for bit), and `dynamic_painting_animation.js`, a .blend file's animation (`dynpaint animation`),
+each then `frames-to-video`. `submit` copies the painting — a recipe and every file it reads, or
+a .blend packed with its images (blend_files.py) — onto the shared storage, where the workers
 read it, and submits the job; `job_status` reads it back.
 """
 import datetime
@@ -19,10 +21,19 @@ import urllib.request
 
 from ..errors import UserError
 from ..inputs.recipe import image_files
+from .blend_files import is_blend, pack
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-JOB_TYPE_FILE = os.path.join(HERE, "dynamic_painting.js")
-JOB_TYPE = "dynamic-painting"          # Flamenco names a job type after its file (_ → -)
+TURNTABLE = "dynamic-painting"             # a recipe's turntable (its `recipe` setting)
+ANIMATION = "dynamic-painting-animation"   # a .blend's animation (its `blendfile` setting)
+
+
+def job_type_file(job_type):
+    """The file of a job type shipped here (Flamenco names a job type after its file, _ → -)."""
+    return os.path.join(HERE, job_type.replace("-", "_") + ".js")
+
+
+JOB_TYPE_FILES = tuple(job_type_file(t) for t in (TURNTABLE, ANIMATION))
 STAGING = "dynpaint-jobs"              # the folder on the shared storage the jobs' files go to
 PLATFORM = {"linux": "linux", "darwin": "darwin", "win32": "windows"}.get(sys.platform,
                                                                           sys.platform)
@@ -70,13 +81,14 @@ def shared_storage(manager):
     return location
 
 
-def check_job_type(manager):
+def check_job_type(manager, job_type):
     """Refuse early where the Manager lacks the job type (it was never installed there)."""
     types = api(manager, "GET", "/api/v3/jobs/types").get("job_types", [])
-    if not any(t.get("name") == JOB_TYPE for t in types):
-        raise FarmError(f"the Manager at {manager} has no '{JOB_TYPE}' job type: copy "
-                        f"{JOB_TYPE_FILE} into the scripts/ folder beside its flamenco-manager "
-                        f"(`dynpaint farm job-type --install FOLDER`) and restart it")
+    if not any(t.get("name") == job_type for t in types):
+        raise FarmError(f"the Manager at {manager} has no '{job_type}' job type: copy "
+                        f"{job_type_file(job_type)} into the scripts/ folder beside its "
+                        f"flamenco-manager (`dynpaint farm job-type --install FOLDER`) and "
+                        f"restart it")
 
 
 def stage(recipe, folder):
@@ -120,11 +132,14 @@ def job_name(recipe_path, now=None):
 
 
 def submit(manager, source, settings, name=None, priority=50):
-    """Stage a painting on the shared storage and submit a turntable job → (job, the folder
-    its frames and video are written to). source: a loaded Recipe, or the path of a layered
-    file (.ora, a folder of layers); settings: the job type's (dynamic_painting.js) without
-    `recipe` and `render_output_path`, which this fills in."""
-    check_job_type(manager)
+    """Stage a painting on the shared storage and submit its job → (job, the folder its frames
+    and video are written to). source: a loaded Recipe or the path of a layered file (.ora, a
+    folder of layers), for a turntable; or a .blend file's path, for its animation. settings:
+    the job type's without its input (`recipe` or `blendfile`) and `render_output_path`,
+    which this fills in."""
+    blend = isinstance(source, str) and is_blend(source)
+    job_type, key = (ANIMATION, "blendfile") if blend else (TURNTABLE, "recipe")
+    check_job_type(manager, job_type)
     shared = shared_storage(manager)
     path = source if isinstance(source, str) else source.path
     name = name or job_name(path)
@@ -133,13 +148,14 @@ def submit(manager, source, settings, name=None, priority=50):
         raise FarmError(f"{folder} exists already: give the job another --name")
     output = os.path.join(folder, "output")
     try:
-        staged = stage_layered(source, os.path.join(folder, "input")) \
-            if isinstance(source, str) else stage(source, os.path.join(folder, "input"))
+        staging = os.path.join(folder, "input")
+        staged = pack(source, staging) if blend else stage_layered(source, staging) \
+            if isinstance(source, str) else stage(source, staging)
         os.makedirs(output)
         job = api(manager, "POST", "/api/v3/jobs", {
-            "name": name, "type": JOB_TYPE, "priority": int(priority),
+            "name": name, "type": job_type, "priority": int(priority),
             "submitter_platform": PLATFORM,
-            "settings": {**settings, "recipe": staged, "render_output_path": output},
+            "settings": {**settings, key: staged, "render_output_path": output},
             "metadata": {"dynpaint.recipe": os.path.abspath(path)}})
     except BaseException:       # a job the Manager refused leaves nothing on the storage
         shutil.rmtree(folder, ignore_errors=True)

@@ -7,14 +7,18 @@ import re
 import subprocess
 import sys
 
+import hashlib
+import shutil
+
 import imageio_ffmpeg
 import numpy as np
 import pytest
 
-from dynpaint_addon.farm.flamenco import JOB_TYPE, PLATFORM, FarmError, api, submit
+from dynpaint_addon.farm.flamenco import ANIMATION, PLATFORM, TURNTABLE, FarmError, api, submit
 from dynpaint_addon.inputs.imageio import read_image
 from dynpaint_addon.inputs.recipe import load_recipe
 from testkit import flamenco
+from testkit.turntable_blend import save_turntable_blend
 
 from conftest import REPO, run_cli
 
@@ -84,11 +88,78 @@ def test_two_workers_render_the_local_turntables_frames_and_join_them(farm, pain
     assert f"{FRAMES // 4 + 1} completed" in status.stdout
 
 
+@pytest.fixture(scope="module")
+def blend(tmp_path_factory):
+    """A .blend of a turntable saved in a project folder beside its painting's images."""
+    project = tmp_path_factory.mktemp("project")
+    assert run_cli("make-test-painting", "--size", SIZE, project / "painting").returncode == 0
+    save_turntable_blend(project / "painting", project / "portrait.blend", 6)
+    return project / "portrait.blend"
+
+
+def digest(path):
+    return hashlib.sha256(open(path, "rb").read()).hexdigest()
+
+
+def test_a_blend_files_animation_packed_and_rendered_by_two_workers(farm, blend, tmp_path):
+    """`farm submit FILE.blend`: the file packed with its images onto the shared storage (the
+    artist's file only read), its animation rendered in chunks by both workers, the frames
+    a local `dynpaint animation`'s bit for bit, joined into a video."""
+    before = digest(blend)
+    local = run_cli("animation", blend, "--out", tmp_path / "local" / "####.png")
+    assert local.returncode == 0, local.stderr
+    job, output = submitted(farm, blend, "--chunk-size", 2, "--name", "a blend")
+    assert farm.wait_job(job)["status"] == "completed"
+    settings = api(farm.url, "GET", f"/api/v3/jobs/{job}")["settings"]
+    staged = os.path.dirname(settings["blendfile"])
+    assert os.path.basename(settings["blendfile"]) == "portrait.blend"
+    assert sorted(os.listdir(os.path.join(staged, "painting"))) == \
+        sorted(n for n in os.listdir(blend.parent / "painting") if n.endswith(".png"))
+    assert settings["frames"] == "1-6" and settings["fps"] == 24
+    tasks = [api(farm.url, "GET", f"/api/v3/tasks/{t['id']}") for t in farm.tasks(job)]
+    renders = [t for t in tasks if t["name"].startswith("render-")]
+    assert sorted(t["name"] for t in renders) == ["render-1-2", "render-3-4", "render-5-6"]
+    names, got = frame_pixels(output)
+    assert names == [f"frame_{f:06d}.png" for f in range(1, 7)]
+    _, want = frame_pixels(tmp_path / "local")
+    for name, a, b in zip(names, want, got):
+        np.testing.assert_array_equal(a, b, err_msg=name)
+    assert video_frames(os.path.join(output, "portrait.mp4")) == 6
+    assert digest(blend) == before
+
+
+def test_the_animation_job_type_is_one_flamencos_add_on_fills_in(farm):
+    """Flamenco's Blender add-on lists the Manager's job types and, for one with a `blendfile`
+    string setting of subtype file_path, packs the open file and fills it in; the frame range
+    and rate are evaluated in Blender from its settings' `eval`."""
+    types = {t["name"]: t for t in api(farm.url, "GET", "/api/v3/jobs/types")["job_types"]}
+    settings = {s["key"]: s for s in types[ANIMATION]["settings"]}
+    assert (settings["blendfile"]["type"], settings["blendfile"]["subtype"]) == \
+        ("string", "file_path")
+    assert "C.scene.frame_start" in settings["frames"]["eval"]
+    assert "C.scene.render.fps" in settings["fps"]["eval"]
+    assert types[ANIMATION]["label"] == "Dynamic Painting animation"
+    assert types[TURNTABLE]["label"] == "Dynamic Painting turntable"
+
+
+def test_a_blend_is_refused_with_a_turntables_options_or_missing_images(farm, blend, tmp_path):
+    r = run_cli("farm", "submit", blend, "--manager", farm.url, "--frames", 24)
+    assert r.returncode == 1 and "--frames are a recipe's turntable's options" in r.stderr
+    moved = tmp_path / "moved.blend"            # saved elsewhere: its images left behind
+    shutil.copy(blend, moved)
+    jobs = os.path.join(farm.shared, "dynpaint-jobs")
+    before = set(os.listdir(jobs)) if os.path.isdir(jobs) else set()
+    r = run_cli("farm", "submit", moved, "--manager", farm.url, "--name", "moved")
+    assert r.returncode == 1 and "uses files that are not there" in r.stderr, r.stderr
+    assert "bright.png" in r.stderr and "Traceback" not in r.stderr
+    assert (set(os.listdir(jobs)) if os.path.isdir(jobs) else set()) == before
+
+
 def test_a_bad_recipe_fails_the_job_with_the_projects_message(farm):
     """A recipe that cannot be read on the workers (here: not there at all) fails its tasks
     with the project's one-line error in their logs, and the job fails."""
     job = api(farm.url, "POST", "/api/v3/jobs", {
-        "name": "bad recipe", "type": JOB_TYPE, "priority": 50,
+        "name": "bad recipe", "type": TURNTABLE, "priority": 50,
         "submitter_platform": PLATFORM,
         "settings": {"recipe": os.path.join(farm.shared, "nowhere", "painting.toml"),
                      "frames": 4, "chunk_size": 4, "engine": "cycles", "size": "",
@@ -156,3 +227,16 @@ def test_the_benchmark_times_one_and_two_workers_against_no_farm(tmp_path):
     assert "| farm, 2 workers |" in text and "bit for bit: yes" in text
     sheet = read_image(str(tmp_path / "frames.png")).pixels    # 4 frames in a row, 4 px apart
     assert sheet.shape[:2] == (2 * 4 + 32, 2 * 4 + 4 * 32 + 3 * 4)
+
+
+def test_job_type_says_where_the_job_types_are_and_installs_both(tmp_path):
+    r = run_cli("farm", "job-type")
+    assert r.returncode == 0
+    assert [os.path.basename(p) for p in r.stdout.split()] == \
+        ["dynamic_painting.js", "dynamic_painting_animation.js"]
+    r = run_cli("farm", "job-type", "--install", tmp_path)
+    assert r.returncode == 0 and "restart the Manager" in r.stdout
+    assert sorted(os.listdir(tmp_path / "scripts")) == \
+        ["dynamic_painting.js", "dynamic_painting_animation.js"]
+    r = run_cli("farm", "job-type", "--install", tmp_path / "nowhere")
+    assert r.returncode == 1 and "not a folder" in r.stderr

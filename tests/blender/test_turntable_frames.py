@@ -47,7 +47,7 @@ def test_chunks_rendered_apart_are_the_whole_turntables_frames(painting, tmp_pat
 
 @pytest.mark.parametrize("args, message", [
     (["--only", "5-9", "--out", "f/####.png"], "--only 5-9: frames between 1 and 6"),
-    (["--only", "4-2", "--out", "f/####.png"], "the first not after the last"),
+    (["--only", "4-2", "--out", "f/####.png"], "the first frame after the last"),
     (["--only", "a-b", "--out", "f/####.png"], "frames as FIRST-LAST"),
     (["--only", "1-2", "--out", "v.mp4"], "--out names their files"),
     (["--out", "f/####.exr"], "frames are written as PNG files"),

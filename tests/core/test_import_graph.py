@@ -22,7 +22,7 @@ PACKAGE = os.path.join(REPO, "dynpaint_addon")
 # Imports inside a function that are allowed: what is optional or heavy for some callers
 # (the command line runs without Blender until a command asks for it).
 LAZY = {(f"dynpaint_addon.cli.{command}", "dynpaint_addon.blender.headless")
-        for command in ("render", "turntable", "export_web")}
+        for command in ("render", "turntable", "animation", "export_web")}
 LAZY_EXTERNAL = {"bpy", "OpenEXR", "cycles"}
 
 
