@@ -214,6 +214,31 @@ def test_a_worker_killed_mid_task_has_its_task_requeued_and_the_job_completes(fa
     assert not [n for n in os.listdir(output) if n.startswith(".")]   # no cut frame left
 
 
+def test_a_worker_gone_for_good_has_its_task_requeued_to_another(farm, painting):
+    """A worker's machine dies and does not come back: removed from the farm (Flamenco's web
+    interface, Workers › Delete: the API call below), its task is requeued and another worker
+    renders it; the job completes with every frame whole. (Left alone, the Manager's timeout
+    check requeues it too, minutes later: docs/farm.md.) Last of the module's farm tests:
+    the farm has one worker after it."""
+    job, output = submitted(farm, painting, "--frames", 8, "--chunk-size", 4,
+                            "--name", "worker gone")
+    active = flamenco._wait("a render task active", lambda: next(
+        (api(farm.url, "GET", f"/api/v3/tasks/{t['id']}") for t in farm.tasks(job)
+         if t["status"] == "active"), None), 120)
+    gone = active["worker"]
+    farm.kill_worker(int(gone["name"].removeprefix("worker")))
+    api(farm.url, "DELETE", f"/api/v3/worker-mgt/workers/{gone['id']}")
+    assert farm.wait_job(job, timeout=600)["status"] == "completed"
+    task = api(farm.url, "GET", f"/api/v3/tasks/{active['id']}")
+    assert task["worker"]["name"] != gone["name"]                  # rendered by another
+    log = farm.task_log(active["id"])
+    assert "queued by Manager because worker is being deleted" in log and \
+        f"Task assigned to worker {task['worker']['name']}" in log, log
+    names, _ = frame_pixels(output)
+    assert names == [f"frame_{f:06d}.png" for f in range(1, 9)]
+    assert not [n for n in os.listdir(output) if n.startswith(".")]   # no cut frame left
+
+
 def test_the_benchmark_times_one_and_two_workers_against_no_farm(tmp_path):
     """benchmarks/farm.py at a tiny size (numbers, not speed): every row measured, the farms'
     frames the whole turntable's."""
