@@ -363,9 +363,10 @@ export. Not for impossible figures: the residual says how much of the drawing wo
 {relief}
 
 The portrait under a low sun, from its height map (left, the truth), then as a normal map with
-its shadows from the integrated relief (middle: what `relief = "auto"`, the default, picks for
-a map with the figure in its alpha) and rebuilt along each ray (right, the paper's way, which
-`auto` picks for a full-frame map: [relief-choice.md](relief-choice.md)). Mean colour difference from the truth: {err_integrated:.4f} integrated,
+its shadows from the integrated relief (middle: what `relief = "auto"`, the default, bakes
+live for a map with the figure in its alpha) and rebuilt along each ray (right, the paper's way,
+which `auto` bakes live for a full-frame map); a final bake casts the shadow of either, the
+darker of the two ([relief-choice.md](relief-choice.md)). Mean colour difference from the truth: {err_integrated:.4f} integrated,
 {err_along:.4f} along the ray. Against 3D renders (shape-numbers.md) the integrated relief's
 cast shadows overlap the truth 0.84–0.89× as well as a true height map's, along the ray 0.33×.
 What keeps it under 0.9× is walls the figure hides: Suzanne's muzzle stands up to 0.16 image

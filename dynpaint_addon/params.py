@@ -212,8 +212,11 @@ PARAMS = (
       "integrated, the height field that best fits its normals (least squares, the figure cut "
       "at the shape image's alpha); along_ray, its slopes rebuilt along each shadow ray (the "
       "paper's way: impossible figures, whose normals fit no height field, and full-frame maps "
-      "whose hidden walls the integration would spread); auto = integrated where the shape "
-      "image has an alpha, else along_ray (measured against 3D: docs/relief-choice.md)",
+      "whose hidden walls the integration would spread); auto = at final quality the shadow "
+      "of either relief (the darker of the two: a map cannot tell a figure sunk in its ground "
+      "from one resting on it) where the normals fit a height field; at live levels, and "
+      "for impossible figures, integrated where the shape image has an alpha, else along_ray "
+      "(measured against 3D: docs/relief-choice.md)",
       choices=("integrated", "along_ray", "auto"),   # this order: a .blend stores the index
       spec="§6", label="Normal-Map Relief", structural=True, derives=("relief",), bake=True,
       shown_if=("shape.kind", "normal")),

@@ -9,13 +9,12 @@ import time
 import numpy as np
 
 from .. import params
-from ..core.bake import QUALITY, bake, quality_level, quality_settings
+from ..core.bake import QUALITY, quality_level, quality_settings
 from ..core.layers import bake_scene
 from ..core.lights import Light
 from ..core.input_rules import finite_image, pixel_role
-from ..core.pipeline import shape_normals
+from ..core.pipeline import shadow_term, shape_normals
 from ..core.shadow import ShadowStats
-from ..core.shape import reach_of
 from ..errors import CommandError
 from ..inputs import memory
 from ..inputs.imageio import painting_headers, read_image, write_exr
@@ -174,9 +173,8 @@ def cmd_bake_shadow(args):
     n, z, slopes = shape_normals(shape, p, dtype)
     stats = ShadowStats()
     t0 = time.perf_counter()
-    t = bake(n, light, p.shadows.offset, quality, heights_px=z, slopes=slopes, steps=steps,
-             scale=scale, occupancy=p.shadows.occupancy, reach=reach_of(p.shadows.reach, slopes),
-             stats=stats)
+    p.shadows.quality, p.shadows.steps, p.shadows.resolution = quality, steps, scale
+    t = shadow_term(n, z, slopes, light, p, stats=stats)
     ms = (time.perf_counter() - t0) * 1000
     write_exr(args.out, t)
     if args.verbose:

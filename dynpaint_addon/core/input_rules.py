@@ -147,9 +147,10 @@ def input_notes(images, p):
               if c in images and images[c].size != shape.size]
     if p.shape.kind == "normal" and p.shadows.enabled and p.shadows.relief == "auto" and \
             not shape.has_alpha:
-        notes.append(f"{name}: no alpha, so its shadows fall from its "
-                     f"slopes along each ray (shadows.relief auto); give it the figure's alpha "
-                     f"to cut the figure out, or set shadows.relief = \"integrated\" "
+        notes.append(f"{name}: no alpha, so its live shadows fall from its slopes along each "
+                     f"ray (shadows.relief auto; final ones from either relief where its "
+                     f"normals fit a height field); give it the figure's alpha to cut the "
+                     f"figure out, or set shadows.relief = \"integrated\" "
                      f"(docs/relief-choice.md)")
     if p.shape.kind == "normal" and p.shadows.enabled and p.shadows.relief == "auto" and \
             opaque_alpha(shape):

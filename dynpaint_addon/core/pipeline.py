@@ -33,6 +33,7 @@ from .integrate import integrate
 from .lights import falloff, light_vectors
 from .sampling import gaussian_blur, pixel_centres, resample, sample_bilinear
 from .bake import bake as shadow_bake
+from .either_relief import both_reliefs, either_shadow
 from .bake import bake_edited, forget_reductions
 from .shape import (default_preblur_px, height_field_px, normals_from_height_px, reach_of,
                     slopes_from_normals)
@@ -110,19 +111,29 @@ def normal_map_relief_px(n, shape, precise=False, floor=None):
     return (integrate(n, mask, precise=precise, floor=floor).height * n.shape[1]).astype(n.dtype)
 
 
-def shadow_term(n, z_px, slopes, light, p, cancel=None, progress=None, own_size=False):
+def shadow_term(n, z_px, slopes, light, p, cancel=None, progress=None, own_size=False,
+                stats=None):
     """The raw cos-θ term of one light (§6) at the parameters' quality level (§13);
-    own_size: a reduced level's at the size it was baked at (core/bake.bake)."""
-    t = shadow_bake(n, light, p.shadows.offset, p.shadows.quality, heights_px=z_px, slopes=slopes,
-                    steps=p.shadows.steps, scale=p.shadows.resolution,
-                    occupancy=p.shadows.occupancy, reach=reach_of(p.shadows.reach, slopes),
-                    cancel=cancel, progress=progress, own_size=own_size)
+    own_size: a reduced level's at the size it was baked at; stats: the bake's (core/bake.bake).
+    A normal map with relief auto at a final level casts the shadow of either relief
+    (either_relief.py)."""
+    def bake_one(heights_px, slopes, reach, progress):
+        return shadow_bake(n, light, p.shadows.offset, p.shadows.quality, heights_px=heights_px,
+                           slopes=slopes, steps=p.shadows.steps, scale=p.shadows.resolution,
+                           occupancy=p.shadows.occupancy, reach=reach, stats=stats,
+                           cancel=cancel, progress=progress, own_size=own_size)
+    both = both_reliefs(n, z_px, slopes, p)
+    t = either_shadow(bake_one, *both, progress) if both else \
+        bake_one(z_px, slopes, reach_of(p.shadows.reach, slopes), progress)
     return t.astype(n.dtype, copy=False)
 
 
 def shadow_term_edited(n, z_px, slopes, light, p, t_before, normals_box, heights_box):
     """shadow_term of a shape an edit changed in these boxes, from t_before, the term of the
-    shape before it (core/bake.bake_edited): None where the level bakes the whole anyway."""
+    shape before it (core/bake.bake_edited): None where the level bakes the whole anyway, or
+    where it casts the shadow of either relief (a normal map's: decoded whole)."""
+    if both_reliefs(n, z_px, slopes, p):
+        return None
     t = bake_edited(n, light, p.shadows.offset, p.shadows.quality, t_before, normals_box,
                     heights_box, heights_px=z_px, slopes=slopes, steps=p.shadows.steps,
                     scale=p.shadows.resolution, occupancy=p.shadows.occupancy,

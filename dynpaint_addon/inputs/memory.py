@@ -23,6 +23,7 @@ except ImportError:         # Windows: no address-space limits to read
     resource = None
 
 from ..core import crossing_blocks, crossings
+from ..core.either_relief import casts_either
 from ..core.input_rules import PER_PIXEL_CHANNELS, relief_of
 from ..core.shadow import BAND_PIXELS
 from ..errors import UserError
@@ -36,8 +37,9 @@ _base = [BASE_BYTES]
 SHADE_BAND_PX = 1 << 20
 SHADE_BAND_BYTES = 114
 # Preparing the shape (§2): (bytes kept per pixel, held a while per pixel, fixed)
+# ("either": the normals, both reliefs, and the first relief's term while the second bakes)
 PREPARE = {"height": (16, 23, 16 * MiB), "along_ray": (20, 41, 8 * MiB),
-           "integrated": (16, 118, 0)}
+           "integrated": (16, 118, 0), "either": (28, 126, 8 * MiB)}
 # A bake beside its crossings' tables: per pixel up to the rays traced at once, per pixel
 # always (the terms and starts at full size), fixed; a light whose largest block of tables
 # would not fit marches instead (core.bake): per pixel of the band marched at once
@@ -253,9 +255,11 @@ def painting(headers, p, width=None):
 
 
 def shape_work(p, shape_has_alpha):
-    """How the shape is prepared (PREPARE's key): a height map, or a normal map's relief."""
-    return "height" if p.shape.kind == "height" else relief_of(p.shadows.relief,
-                                                               shape_has_alpha)
+    """How the shape is prepared (PREPARE's key): a height map, or a normal map's relief (both
+    where it may cast the shadow of either: core/either_relief.py)."""
+    if p.shape.kind == "height":
+        return "height"
+    return "either" if casts_either(p) else relief_of(p.shadows.relief, shape_has_alpha)
 
 
 # What export-web holds beside the images it reads: the page's textures and their PNG and

@@ -159,9 +159,10 @@ def test_render_with_cycles_matches_numpy(tmp_path):
 
 
 def test_bake_shadow_chooses_the_relief_and_its_reach(tmp_path):
-    """--relief and --reach reach the bake (issues 27, 39): auto is along the ray for a
-    full-frame normal map, integrated for one with an alpha (core.input_rules.relief_of); the
-    reach stops an impossible figure's relief only (core.shape.reach_of)."""
+    """--relief and --reach reach the bake (issues 27, 39, 62): auto is the shadow of either
+    relief at final quality (core/either_relief.py), at a live level along the ray for a
+    full-frame normal map and integrated for one with an alpha (core.input_rules.relief_of);
+    the reach stops an impossible figure's relief only (core.shape.reach_of)."""
     from testkit.example_paintings import penrose_triangle
     size = 48
     y, x = (np.mgrid[0:size, 0:size] + 0.5) / size - 0.5
@@ -179,8 +180,13 @@ def test_bake_shadow_chooses_the_relief_and_its_reach(tmp_path):
     along, integrated = bake("n.png", "--relief", "along_ray"), bake("n.png", "--relief",
                                                                       "integrated")
     assert np.abs(along - integrated).max() > 0.1
-    np.testing.assert_array_equal(bake("n.png"), along)
-    np.testing.assert_array_equal(bake("na.png"), bake("na.png", "--relief", "integrated"))
+    np.testing.assert_array_equal(bake("n.png"), np.minimum(along, integrated))
+    np.testing.assert_array_equal(bake("na.png"), np.minimum(
+        bake("na.png", "--relief", "integrated"), bake("na.png", "--relief", "along_ray")))
+    np.testing.assert_array_equal(bake("n.png", "--quality", "draft"),
+                                  bake("n.png", "--quality", "draft", "--relief", "along_ray"))
+    np.testing.assert_array_equal(bake("na.png", "--quality", "draft"),
+                                  bake("na.png", "--quality", "draft", "--relief", "integrated"))
     # the dome's normals fit a height field: its relief is felt along the whole ray, whatever
     # --reach says (§6 Reach); an impossible figure's stops at --reach
     np.testing.assert_array_equal(bake("n.png", "--relief", "along_ray", "--reach", 0.01), along)
@@ -188,6 +194,8 @@ def test_bake_shadow_chooses_the_relief_and_its_reach(tmp_path):
     write_png(tmp_path / "tribar.png", (tribar + 1) / 2, bits=16)
     assert np.abs(bake("tribar.png", "--relief", "along_ray", "--reach", 0.01)
                   - bake("tribar.png", "--relief", "along_ray", "--reach", 10)).max() > 0.05
+    # an impossible figure casts one relief's shadow, even at final (it fits no height field)
+    np.testing.assert_array_equal(bake("tribar.png"), bake("tribar.png", "--relief", "along_ray"))
 
 
 # -- layered recipes (§15) -----------------------------------------------------------------

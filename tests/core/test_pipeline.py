@@ -6,7 +6,7 @@ from dynpaint_addon import params
 from dynpaint_addon.core.colour import srgb_to_linear
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.input_rules import ImageData, input_notes, relief_of
-from dynpaint_addon.core.pipeline import render, shape_normals
+from dynpaint_addon.core.pipeline import render, shadow_term, shape_normals
 
 
 def srgb_decode(v):
@@ -371,3 +371,36 @@ def test_auto_relief_integrates_cut_out_figures_and_marches_full_frame_maps_and_
     assert input_notes({"shape": cut}, p) == []
     p.shadows.relief = "along_ray"                       # chosen: only how far it is felt
     assert input_notes({"shape": full}, p) == notes[1:]
+
+
+def _dome_map(size=48, cut=True):
+    """A dome's normal map (a figure of radius 0.3), with its figure as the alpha or full-frame."""
+    y, x = (np.mgrid[0:size, 0:size] + 0.5) / size - 0.5
+    z = np.sqrt(np.clip(0.3 ** 2 - x * x - y * y, 0, None))
+    gy, gx = np.gradient(z * size)
+    n = np.dstack([-gx, -gy, np.ones_like(z)])
+    n /= np.linalg.norm(n, axis=2, keepdims=True)
+    rgb = ((n + 1) / 2).astype(np.float32)
+    return ImageData(np.dstack([rgb, (z > 0).astype(np.float32)]) if cut else rgb, 32, "n.exr")
+
+
+@pytest.mark.parametrize("cut", [True, False], ids=["cut out", "full-frame"])
+def test_auto_relief_casts_the_shadow_of_either_relief_at_final_and_one_live(cut):
+    """§6 "Relief" auto (issue 62, core/either_relief.py): at final and reference quality a
+    map whose normals fit a height field is shadowed where either relief shadows it — t is the
+    min of the integrated relief's and the whole ray's, each baked as its own setting bakes it;
+    draft and preview keep the one relief relief_of names."""
+    shape = _dome_map(cut=cut)
+    light = Light("sun", (0.8, 0.1, 0.45))
+
+    def t(relief, quality):
+        p = params.defaults()
+        p.shape.kind, p.shadows.relief, p.shadows.quality = "normal", relief, quality
+        return shadow_term(*shape_normals(shape, p), light, p)
+    for quality in ("final", "reference"):
+        integrated, along = t("integrated", quality), t("along_ray", quality)
+        assert np.abs(integrated - along).max() > 0.1            # they differ: a choice
+        np.testing.assert_array_equal(t("auto", quality), np.minimum(integrated, along))
+    for quality in ("draft", "preview"):
+        np.testing.assert_array_equal(t("auto", quality),
+                                      t(relief_of("auto", cut), quality))
