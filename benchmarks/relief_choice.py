@@ -250,7 +250,7 @@ within a kind: sunk figures without an alpha have their smallest error along the
 best IoU integrated. The target since issue 62 is Pareto: no fixed setting may beat the default
 on both measures. The shadow of either relief — a pixel is shadowed where either relief shadows
 it, min of the two t — meets it (the column *beaten on both by*), so it is `auto` at final
-quality since 2026-11-29. It bakes twice (the cost below); the live levels (draft, preview)
+quality since 2026-11-29. It bakes twice (its cost is above); the live levels (draft, preview)
 keep one relief, as the in-shader marches do (OSL, the web page): integrated with an alpha,
 along the ray without."""
 
