@@ -7,6 +7,7 @@ tests/blender are marked `blender`, so `pytest -m "not blender"` runs the rest i
 With DYNPAINT_NO_BPY=1 importing bpy fails, which proves that they need no Blender.
 """
 import base64
+import dataclasses
 import os
 import subprocess
 import sys
@@ -14,6 +15,7 @@ import sys
 import numpy as np
 import pytest
 
+from dynpaint_addon.core.either_relief import one_relief
 from dynpaint_addon.inputs.imageio import read_image
 from testkit.chromium import Chromium, find_chromium
 
@@ -118,3 +120,12 @@ def page_pixels(page, width, height):
     """The page's premultiplied linear RGBA at the painting's size, y up (a float framebuffer)."""
     raw = base64.b64decode(page.evaluate("window.dynamicPainting.renderFloat()"))
     return np.frombuffer(raw, np.float32).reshape(height, width, 4)
+
+
+def drawn_live(layers):
+    """A scene's layers as the web page draws them (core/either_relief.one_relief: a normal
+    map's one relief, where a final bake casts the shadow of either) — for the core picture a
+    page's screenshot is checked against."""
+    return [dataclasses.replace(layer, p=one_relief(
+        layer.p, "shape" in layer.images and layer.images["shape"].has_alpha))
+        for layer in layers]

@@ -26,10 +26,12 @@ relief there too (shape.reach_of).
 >>> both_reliefs(flat, None, np.zeros((8, 8, 2), np.float32), p) is None
 True
 """
+import copy
 import weakref
 
 import numpy as np
 
+from .input_rules import relief_of
 from .integrate import integrate
 from .shape import fits_height_field, slopes_from_normals
 
@@ -39,11 +41,27 @@ EITHER_QUALITIES = ("final", "reference")
 _OTHER = {}     # id(normals) → (weak ref, the relief it was not decoded with): bakes repeat
 
 
+def asks_either(p):
+    """Whether these parameters ask for the shadow of either relief at the final levels (a
+    normal map, relief auto), where its normals fit a height field."""
+    return p.shape.kind == "normal" and p.shadows.relief == "auto"
+
+
 def casts_either(p):
-    """Whether these parameters cast the shadow of either relief (a normal map, relief auto,
-    a final quality level) where the normals fit a height field."""
-    return p.shape.kind == "normal" and p.shadows.relief == "auto" and \
-        p.shadows.quality in EITHER_QUALITIES
+    """Whether these parameters cast the shadow of either relief now (asks_either, at a final
+    quality level) where the normals fit a height field."""
+    return asks_either(p) and p.shadows.quality in EITHER_QUALITIES
+
+
+def one_relief(p, shape_has_alpha):
+    """Parameters p as the live levels and the in-shader marches (OSL, the web page) shade
+    them: relief auto pinned to the one relief input_rules.relief_of names for a shape image
+    with or without an alpha (what their pictures are checked against); p itself otherwise."""
+    if not asks_either(p):
+        return p
+    pinned = copy.deepcopy(p)
+    pinned.shadows.relief = relief_of(p.shadows.relief, shape_has_alpha)
+    return pinned
 
 
 def both_reliefs(n, z_px, slopes, p):

@@ -99,13 +99,16 @@ def shape_normals_edited(shape, p, before, box, in_place=False):
 def normal_map_relief_px(n, shape, precise=False, floor=None):
     """§6 "Relief": the height field a normal map's shadows fall from, in pixels: the
     least-squares integral of its slopes (core/integrate.py), its figure (the shape image's
-    alpha) integrated apart from the background. `precise`: to 1e-6 rather than the 1e-4 a
+    alpha) integrated apart from the background (an alpha over every pixel cuts nothing: a
+    full-frame map's, as without one). `precise`: to 1e-6 rather than the 1e-4 a
     shadow bake needs (exported height maps); floor: the height (image widths) made 0, None:
     for a cut-out the background's (its parts stand at mean 0: each part then keeps its
     heights bit for bit while another part of a moving painting changes, §16), else the
     lowest (integrate's)."""
     alpha = shape.alpha()
     mask = None if alpha is None else np.nan_to_num(alpha) >= 0.5
+    if mask is not None and mask.all():      # an alpha that cuts nothing out: a full frame
+        mask = None
     if floor is None and mask is not None:
         floor = 0.0
     return (integrate(n, mask, precise=precise, floor=floor).height * n.shape[1]).astype(n.dtype)

@@ -16,7 +16,7 @@ from dynpaint_addon.inputs.testpainting import builtin_images, builtin_recipe
 from dynpaint_addon.web.device_fit import GPU_SHARE, chosen_copy, fit_of, level_sides
 from dynpaint_addon.web.page import page_data, scene_data, shrink, write_page
 
-from conftest import open_page, shot_pixels, shown
+from conftest import drawn_live, open_page, shot_pixels, shown
 
 SIZE = 256
 SMALLEST = 64
@@ -111,4 +111,4 @@ def test_a_scene_of_layers_draws_its_smaller_copy_as_the_core(browser, tmp_path)
         c: shrink(img, round(max(img.size) * factor)) for c, img in layer.images.items()})
         for layer in layers]
     assert_on_screen_as_core(shot_pixels(page, tmp_path / "shot.png", small["width"], small["height"]),
-                             render_scene(shrunk, lights).rgba)
+                             render_scene(drawn_live(shrunk), lights).rgba)

@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from conftest import open_page, run_cli, shot_pixels, shown
+from conftest import drawn_live, open_page, run_cli, shot_pixels, shown
 from dynpaint_addon.core.colour import linear_to_srgb
 from dynpaint_addon.core.layers import render_scene
 from dynpaint_addon.core.lights import Light
@@ -115,7 +115,7 @@ def test_the_window_samples_page_on_screen_is_the_core(browser, tmp_path):
     write_page(path, data)
     page = open_page(browser, path, data["width"], data["height"], query="?embed")
     shot = shot_pixels(page, tmp_path / "shot.png", data["width"], data["height"])
-    want = linear_to_srgb(np.clip(render_scene(layers, lights).rgba[..., :3], 0, 1))
+    want = linear_to_srgb(np.clip(render_scene(drawn_live(layers), lights).rgba[..., :3], 0, 1))
     diff = np.abs(shot - want).max(axis=-1)
     assert float(np.percentile(diff, 99)) <= 8 / 255
     assert float(diff.mean()) <= 2e-3
