@@ -71,7 +71,8 @@ def both_reliefs(n, z_px, slopes, p):
     is made once per normals array while it lives — the slopes of the normals, or the
     least-squares heights of a map without an alpha (a map with one was decoded integrated,
     its figure cut at the alpha)."""
-    if not casts_either(p) or (z_px is None) == (slopes is None):
+    if not casts_either(p) or (z_px is None) == (slopes is None) or \
+            (slopes is not None and not fits_height_field(slopes)):   # (no integration then)
         return None
     hit = _OTHER.get(id(n))
     if hit is None or hit[0]() is not n:
