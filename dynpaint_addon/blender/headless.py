@@ -19,6 +19,7 @@ from ..inputs import memory
 from ..inputs.imageio import quiet_native, write_render
 from ..inputs.whole_files import abandon_writing, written_whole
 from .bake.layers import group_layers, group_materials
+from .handlers import paintings
 from .scenes import turntable
 from .scenes.grease_pencil.lit_copy import light_recipe_drawing
 from .scenes.layered_build import add_layered
@@ -244,18 +245,29 @@ def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevati
                      light_name=None, clockwise=False, samples=None, fps=24, progress=print,
                      notes=None, grease_pencil=None, only=None):
     """Render a light turntable of the recipe's painting to a video file → (seconds, samples
-    per pixel).
+    per pixel): build_turntable_scene's scene, rendered. Blender's own render log is kept off
+    the terminal: `progress` gets a line a frame. only: (first, last) frames of the orbit,
+    `out` then a frame-numbered pattern of PNG files (a farm's chunk: each frame rendered
+    and written whole, as a whole turntable renders it).
+    """
+    scene, samples = build_turntable_scene(recipe, frames, engine, size, elevation, light_name,
+                                           clockwise, samples, fps, notes, grease_pencil)
+    return _render_frames(scene, out, only, progress), samples
+
+
+def build_turntable_scene(recipe, frames=48, engine="cycles", size=None, elevation=None,
+                          light_name=None, clockwise=False, samples=None, fps=24, notes=None,
+                          grease_pencil=None):
+    """Empty scene → a light turntable of the recipe's painting, ready to render (or to save:
+    a .blend as Add Light Turntable leaves it) → (scene, samples per pixel).
 
     The recipe's first Sun (or the named light) orbits the painting once over `frames` frames,
     starting where the recipe puts it; every frame bakes its shadows at final quality. At the
     shape image's size (the default) the video frames the painting pixel for pixel and one
     sample is the exact image; `samples` (default ANTIALIAS_SAMPLES at other sizes) adds
-    antialiasing. Blender's own render log is kept off the terminal: `progress` gets a line a
-    frame; notes: as for build_recipe_scene. grease_pencil: a drawing's name, `recipe` then
-    the .blend file holding it (build_grease_pencil_scene: lit by the file's lights; an
-    animated drawing plays while the light turns). only: (first, last) frames of the orbit,
-    `out` then a frame-numbered pattern of PNG files (a farm's chunk: each frame rendered
-    and written whole, as a whole turntable renders it).
+    antialiasing. notes: as for build_recipe_scene. grease_pencil: a drawing's name, `recipe`
+    then the .blend file holding it (build_grease_pencil_scene: lit by the file's lights; an
+    animated drawing plays while the light turns).
     """
     if grease_pencil is not None:
         _, mat = build_grease_pencil_scene(recipe, grease_pencil,
@@ -281,7 +293,7 @@ def render_turntable(recipe, out, frames=48, engine="cycles", size=None, elevati
     turntable.add_light_turntable(bpy.context, mat, light, kind, 1, frames, elev, radius, azimuth,
                           clockwise)
     scene.render.fps = fps
-    return _render_frames(scene, out, only, progress), samples
+    return scene, samples
 
 
 def render_animation(path, out, only=None, as_frames=False, progress=print):
@@ -299,10 +311,8 @@ def render_animation(path, out, only=None, as_frames=False, progress=print):
     if not scene.frame_start <= first <= last <= scene.frame_end:
         raise ValueError(f"--only {first}-{last}: the scene '{scene.name}' has frames "
                          f"{scene.frame_start}-{scene.frame_end}")
-    shown = sum(1 for o in scene.objects if o.active_material is not None
-                and o.active_material.dynamic_painting.is_painting)
     return _render_frames(scene, out, (first, last) if as_frames else None, progress), \
-        (first, last), shown
+        (first, last), len(paintings(scene))
 
 
 def _render_frames(scene, out, only, progress):

@@ -31,8 +31,8 @@ import weakref
 
 import numpy as np
 
-from .input_rules import relief_of
-from .integrate import integrate
+from .input_rules import normal_map_normals, relief_of
+from .integrate import relief_px
 from .shape import fits_height_field, slopes_from_normals
 
 # the levels where a picture is final: the shadow of either relief is cast there
@@ -51,6 +51,13 @@ def casts_either(p):
     """Whether these parameters cast the shadow of either relief now (asks_either, at a final
     quality level) where the normals fit a height field."""
     return asks_either(p) and p.shadows.quality in EITHER_QUALITIES
+
+
+def image_casts_either(shape, p):
+    """Whether a normal-map shape image (ImageData) read with parameters p casts the shadow of
+    either relief at its final levels: asks_either, and normals that fit a height field."""
+    return asks_either(p) and fits_height_field(
+        slopes_from_normals(normal_map_normals(shape, p)))
 
 
 def one_relief(p, shape_has_alpha):
@@ -78,8 +85,7 @@ def both_reliefs(n, z_px, slopes, p):
     if hit is None or hit[0]() is not n:
         for gone in [k for k, (ref, _) in _OTHER.items() if ref() is None]:
             del _OTHER[gone]
-        other = slopes_from_normals(n) if slopes is None else \
-            (integrate(n, None, precise=False).height * n.shape[1]).astype(n.dtype)
+        other = slopes_from_normals(n) if slopes is None else relief_px(n)
         hit = (weakref.ref(n), other)
         _OTHER[id(n)] = hit
     z_px, slopes = (z_px, hit[1]) if slopes is None else (hit[1], slopes)

@@ -147,3 +147,11 @@ def integrate(normals, mask=None, depth=0.0, precise=True, breaks=None, floor=No
                       residual_rms=float(np.sqrt(total / max(equations, 1))),
                       residual_share=float(np.sqrt(total / field)) if field > 0 else 0.0,
                       parts=count, iterations=iterations)
+
+
+def relief_px(normals, mask=None, precise=False, floor=None):
+    """The heights a shadow bake marches of a normal map's relief (§6 "Relief"): integrate's,
+    in pixels of the image's width and in the normals' dtype (precise=False by default: the
+    1e-4 a bake needs)."""
+    z = integrate(normals, mask, precise=precise, floor=floor).height
+    return (z * normals.shape[1]).astype(normals.dtype)

@@ -29,12 +29,12 @@ from .input_rules import (PER_PIXEL_CHANNELS, ImageData, finite_image, input_not
                           silhouette_channel, transparency_branch, albedo_channel,
                           image_channels)
 from .inputs import mask_values
-from .integrate import integrate
+from .integrate import relief_px
 from .lights import falloff, light_vectors
 from .sampling import gaussian_blur, pixel_centres, resample, sample_bilinear
 from .bake import bake as shadow_bake
-from .either_relief import both_reliefs, either_shadow
 from .bake import bake_edited, forget_reductions
+from .either_relief import both_reliefs, either_shadow
 from .shape import (default_preblur_px, height_field_px, normals_from_height_px, reach_of,
                     slopes_from_normals)
 from .strokes import height_shape_edited
@@ -111,7 +111,7 @@ def normal_map_relief_px(n, shape, precise=False, floor=None):
         mask = None
     if floor is None and mask is not None:
         floor = 0.0
-    return (integrate(n, mask, precise=precise, floor=floor).height * n.shape[1]).astype(n.dtype)
+    return relief_px(n, mask, precise=precise, floor=floor)
 
 
 def shadow_term(n, z_px, slopes, light, p, cancel=None, progress=None, own_size=False,

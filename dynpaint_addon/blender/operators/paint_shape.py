@@ -12,9 +12,9 @@ the painted layer's pixels while Texture Paint is on (_watch). *Done* leaves Tex
 import bpy
 import numpy as np
 
-from ...core.either_relief import asks_either
-from ...core.input_rules import normal_map_normals, relief_of
-from ...core.shape import default_preblur_px, fits_height_field, slopes_from_normals
+from ...core.either_relief import image_casts_either
+from ...core.input_rules import relief_of
+from ...core.shape import default_preblur_px
 from ...core.strokes import changed_box
 from ...inputs.imageio import image_data_from_blender
 from ...shapes.maker import read_as_made
@@ -63,11 +63,12 @@ def set_up(mat, scene):
             pt.base_scale = p.shape.height_scale
             pt.base_preblur = default_preblur_px(image_data_from_blender(base).bits) \
                 if preblur == "auto" else float(preblur)
-        if over_normals and not casts_either_relief(base, p):
+        if over_normals:
             # its shadows fall from the relief the base's did (an alpha or not); a map that
             # casts the shadow of either relief keeps auto: its final shadows are the base's
-            p.shadows.relief = relief_of(p.shadows.relief,
-                                         image_data_from_blender(base).has_alpha)
+            base_data = image_data_from_blender(base)
+            if not image_casts_either(base_data, p):
+                p.shadows.relief = relief_of(p.shadows.relief, base_data.has_alpha)
         params_to_settings(read_as_made(p, "normal" if over_normals else "height"), s,
                            sections=("shape", "shadows"))
         s.image_shape = made
@@ -76,13 +77,6 @@ def set_up(mat, scene):
         ("its silhouette is the figure mask" if figure is not None else
          "paint the figure mask where the figure is")
     return [f"Paint Shape: {mat.name} is painted in layers ({what}; packed in the .blend)"]
-
-
-def casts_either_relief(base, p):
-    """Whether a normal map `base` read with parameters p casts the shadow of either relief at
-    its final levels (core/either_relief.py: relief auto, normals that fit a height field)."""
-    return asks_either(p) and fits_height_field(
-        slopes_from_normals(normal_map_normals(image_data_from_blender(base), p)))
 
 
 def enter_texture_paint(context, mat):
