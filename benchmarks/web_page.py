@@ -50,8 +50,6 @@ from dynpaint_addon.web.page import page_data, scene_data, shrink, write_page  #
 from testkit.chromium import Chromium  # noqa: E402
 
 SIZE_GOAL = 3.0
-RUNS = 3                # exports timed
-ROUNDS = 5              # interleaved frame-time rounds
 
 
 def renderer(page):
@@ -169,7 +167,7 @@ def page_samples():
     return [s.id for s in list_samples() if not load_recipe(s.recipe).drawing]
 
 
-def frame_rows(browser, folder, sizes, steps, frames):
+def frame_rows(browser, folder, sizes, steps, frames, rounds):
     """The frame-time table's rows, and who drew them."""
     rows, who = [], ""
     for name in page_samples():
@@ -181,7 +179,7 @@ def frame_rows(browser, folder, sizes, steps, frames):
                 else None                        # (before the dragged frames move the light)
             # interleaved rounds, the best of each: this machine's noise is about ±10 %
             times = {"floor": [], "off": [], "still": [], "drag": [], "frames": []}
-            for _ in range(ROUNDS):
+            for _ in range(rounds):
                 times["floor"].append(off_page.evaluate(
                     f"window.dynamicPainting.floorTime({frames})")["ms"])
                 times["off"].append(off_page.evaluate(
@@ -213,11 +211,11 @@ def frame_rows(browser, folder, sizes, steps, frames):
     return rows, who
 
 
-def export_numbers(name, folder):
-    """(best seconds, page bytes, input bytes) of `export-web SAMPLE` (a painting that moves:
-    every drawing of its loop), run as the command line runs it."""
+def export_numbers(name, folder, runs):
+    """(best seconds of `runs`, page bytes, input bytes) of `export-web SAMPLE` (a painting
+    that moves: every drawing of its loop), run as the command line runs it."""
     best, out = float("inf"), os.path.join(folder, f"{name}.html")
-    for _ in range(RUNS):
+    for _ in range(runs):
         start = time.perf_counter()
         if cli_main(["export-web", name, "--out", out]) != 0:
             raise RuntimeError(f"export-web {name} failed")
@@ -225,25 +223,29 @@ def export_numbers(name, folder):
     return best, os.path.getsize(out), image_bytes(load_recipe(recipe_path(name)))
 
 
-def addon_export_seconds(name, folder, animated=False):
+def addon_export_seconds(name, folder, runs):
     """Seconds from File › Export › Dynamic Painting (.html) to the written file, for the
-    sample added to an empty scene (its lights sampled over the default 250 frames; with
-    `animated`, a point light keyframed round the painting over them), best of RUNS."""
+    sample added to an empty scene (its lights sampled over the default 250 frames), then with
+    a point light keyframed round the painting over them, each best of `runs` → (still,
+    animated)."""
     bpy.ops.wm.read_homefile(use_empty=True)
     blender.register_once()
     bpy.ops.dynpaint.add_sample(sample=name)     # (a scene of layers: its parent is active)
-    if animated:
-        scene = bpy.context.scene
-        assert bpy.ops.dynpaint.add_light_turntable(
-            light="NEW_POINT", frame_start=scene.frame_start, frame_end=scene.frame_end,
-            set_output=False) == {"FINISHED"}
-    best = float("inf")
-    for _ in range(RUNS):
-        start = time.perf_counter()
-        assert bpy.ops.dynpaint.export_web(filepath=os.path.join(folder, f"addon_{name}.html")) \
-            == {"FINISHED"}
-        best = min(best, time.perf_counter() - start)
-    return best
+
+    def best():
+        seconds = float("inf")
+        for _ in range(runs):
+            start = time.perf_counter()
+            assert bpy.ops.dynpaint.export_web(
+                filepath=os.path.join(folder, f"addon_{name}.html")) == {"FINISHED"}
+            seconds = min(seconds, time.perf_counter() - start)
+        return seconds
+    still = best()
+    scene = bpy.context.scene
+    assert bpy.ops.dynpaint.add_light_turntable(
+        light="NEW_POINT", frame_start=scene.frame_start, frame_end=scene.frame_end,
+        set_output=False) == {"FINISHED"}
+    return still, best()
 
 
 def main(argv=None):
@@ -252,6 +254,10 @@ def main(argv=None):
                     help="canvas sizes: the long side in pixels")
     ap.add_argument("--steps", type=int, default=64, help="march steps K")
     ap.add_argument("--frames", type=int, default=3, help="frames per timing (best of 3)")
+    ap.add_argument("--rounds", type=int, default=5,
+                    help="interleaved frame-time rounds, the best of them kept (this machine's "
+                         "noise is about ±10 %%)")
+    ap.add_argument("--runs", type=int, default=3, help="exports timed, the best kept")
     ap.add_argument("--gpu", action="store_true",
                     help="let Chromium use the GPU (default: SwiftShader, software)")
     ap.add_argument("--phone-sizes", type=int, nargs="*", default=[1024, 2048, 4096, 8192],
@@ -264,10 +270,11 @@ def main(argv=None):
              f"{' --gpu' if args.gpu else ''}`: "]
     with tempfile.TemporaryDirectory() as folder, Chromium(gpu=args.gpu,
                                                            extra_flags=flags) as browser:
-        rows, who = frame_rows(browser, folder, args.sizes, args.steps, args.frames)
+        rows, who = frame_rows(browser, folder, args.sizes, args.steps, args.frames,
+                                args.rounds)
         lines[-1] += (f"the samples drawn by headless Chromium on **{who}**"
                       f"{'' if args.gpu else ' (no GPU lent here: software WebGL2)'}; "
-                      f"each time the best of {ROUNDS} interleaved rounds of {args.frames} "
+                      f"each time the best of {args.rounds} interleaved rounds of {args.frames} "
                       f"frames, each frame waited for; shadows K = {args.steps}.")
         probe = browser.open("about:blank", 64, 64).evaluate(FILTER_PROBE)
         lines += ["", "## Frame time against the floor", "",
@@ -296,19 +303,19 @@ def main(argv=None):
                   + ", ".join(f"{k} {v:.1e}" for k, v in probe.items()) + ".", ""]
         lines += ["## Exported file and export time", "",
                   f"Each sample exported with its recipe's settings (`export-web SAMPLE`), best "
-                  f"of {RUNS}; the page holds every image the shader samples (derived ones "
+                  f"of {args.runs}; the page holds every image the shader samples (derived ones "
                   f"too: pre-blurred heights in float32, environments as halves) and one shader "
                   f"per look that needs other features.", "",
                   "| sample | page MB | input images MB | ratio | goal | export-web s | "
                   "File › Export s | the same, a light keyframed over 250 frames |",
                   "|---|---|---|---|---|---|---|---|"]
         for name in page_samples():
-            seconds, size, inputs = export_numbers(name, folder)
+            seconds, size, inputs = export_numbers(name, folder, args.runs)
             ratio = size / inputs
+            still, animated = addon_export_seconds(name, folder, args.runs)
             lines.append(f"| {name} | {size / 1e6:.2f} | {inputs / 1e6:.2f} | {ratio:.2f}× | "
                          f"≤ {SIZE_GOAL:g}×: {'met' if ratio <= SIZE_GOAL else 'not met'} | "
-                         f"{seconds:.2f} | {addon_export_seconds(name, folder):.2f} | "
-                         f"{addon_export_seconds(name, folder, animated=True):.2f} |")
+                         f"{seconds:.2f} | {still:.2f} | {animated:.2f} |")
     if args.phone_sizes:
         lines += [""] + phone_lines(args.phone_sizes)
     publish(lines, args.out)

@@ -124,7 +124,8 @@ def test_addon_export_is_offered_in_the_file_menu(empty_scene):
 def test_benchmark_reports_every_figure_with_its_goal(tmp_path):
     out = tmp_path / "web-numbers.md"
     r = subprocess.run([sys.executable, os.path.join(REPO, "benchmarks", "web_page.py"),
-                        "--sizes", "64", "--steps", "4", "--frames", "1", "--phone-sizes", "96",
+                        "--sizes", "64", "--steps", "4", "--frames", "1", "--rounds", "1",
+                        "--runs", "1", "--phone-sizes", "96",
                         "--out", str(out)],
                        capture_output=True, text=True, timeout=600,
                        env={**os.environ, "PYTHONPATH": REPO})

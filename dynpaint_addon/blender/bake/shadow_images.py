@@ -25,8 +25,10 @@ BAKE_PARAMS = tuple(prm for prm in params.PARAMS if prm.bake)
 
 
 def light_key(light):
-    """Where a light is, as far as its bake is concerned."""
-    return repr((light.kind, np.round(light.vector, 9).tolist()))
+    """Where a light is, as far as its bake is concerned: to a millionth (of a unit vector or
+    an image width) — coarser than the float32 noise of a light re-parented where it stands (a
+    turntable made from it), finer than any move a shadow shows (0.004 px at 4096²)."""
+    return repr((light.kind, np.round(light.vector, 6).tolist()))
 
 
 def bake_key(light, p, s):

@@ -150,7 +150,7 @@ def layout(tree, graph, made):
             frame.label = title
             frame.label_size = 16
             frames[title] = frame
-    rows = {}
+    rows, where = {}, {}          # node pointer → its planned location
     for n in sorted(graph.nodes, key=lambda n: (sections.index(n.section), n.id)):
         col = depth[n.id]
         row = rows.get(col, 0)
@@ -159,11 +159,17 @@ def layout(tree, graph, made):
         for k, node in enumerate(reversed(nodes)):   # a backend's helper nodes sit to the left
             if n.section in frames:
                 node.parent = frames[n.section]
-            node.location = (col * COLUMN_WIDTH - k * 170, -row * ROW_HEIGHT)
-    placed = {node.as_pointer() for nodes in made.values() for node in nodes}
-    for k, node in enumerate(n for n in tree.nodes if n.as_pointer() not in placed
-                             and n.bl_idname != "NodeFrame"):
-        node.location = (-2 * COLUMN_WIDTH, -k * ROW_HEIGHT)   # shared inputs, far left
+            where[node.as_pointer()] = (col * COLUMN_WIDTH - k * 170, -row * ROW_HEIGHT)
+    others = (n for n in tree.nodes if n.as_pointer() not in where and n.bl_idname != "NodeFrame")
+    for k, node in enumerate(others):
+        where[node.as_pointer()] = (-2 * COLUMN_WIDTH, -k * ROW_HEIGHT)   # shared inputs, far left
+    # All at once: each node.location set updates the whole tree (O(nodes): 0.4 ms a node at
+    # 300 nodes), foreach_set does not — the layout was half of a rebuild's time.
+    flat = [0.0] * (2 * len(tree.nodes))
+    tree.nodes.foreach_get("location", flat)
+    for i, node in enumerate(tree.nodes):
+        flat[2 * i:2 * i + 2] = where.get(node.as_pointer(), flat[2 * i:2 * i + 2])
+    tree.nodes.foreach_set("location", flat)
 
 
 def count_nodes(tree, seen=None):

@@ -109,7 +109,7 @@ def add_light_turntable(context, mat, light=None, kind="SUN", frame_start=1, fra
         messages.append(f"{light.name} is not in the painting's light collection: it will not "
                         "light the painting")
     scene.frame_set(scene.frame_current)
-    update(mat, scene, rebake=True)    # a new light joins the tree's drivers; shadows re-bake
+    update(mat, scene)    # a new light joins the tree's drivers; a moved or new one bakes
     return pivot, light, messages
 
 
