@@ -14,6 +14,7 @@ from dynpaint_addon.blender import headless  # noqa: E402
 from dynpaint_addon.blender.scenes.painting_scene import exact_render_settings, output_settings  # noqa: E402
 from dynpaint_addon.blender.scenes.turntable import add_light_turntable, orbit_position  # noqa: E402
 from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
+from dynpaint_addon.blender.state.frame_sampling import reading_lights  # noqa: E402
 from dynpaint_addon.core.lights import Light  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
 from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
@@ -199,9 +200,10 @@ def test_the_layered_sample_comes_with_a_camera_move_and_a_light_turntable(empty
     cam = scene.camera
     assert cam is not None and cam.data.type == "PERSP"
     xs = []
-    for frame in (scene.frame_start, scene.frame_end):
-        scene.frame_set(frame)
-        xs.append(cam.matrix_world.translation.x)
+    with reading_lights():        # (the camera's frames only: the shadows are tested below)
+        for frame in (scene.frame_start, scene.frame_end):
+            scene.frame_set(frame)
+            xs.append(cam.matrix_world.translation.x)
     assert xs[1] - xs[0] == pytest.approx(0.6, abs=1e-3)          # trucked across
     planes = sorted(parent.children, key=lambda o: o.location.z)
     width = planes[0].scale.x                     # the back layer's width: the depths' unit
