@@ -15,7 +15,8 @@ before each frame, drawn as while its frames play). Goals (issue 29): off ≤ 1.
 floor, dragged and playing ≤ 2.5× the floor, still ≤ 1.05× off. Parity: the
 page with final shadows against the numpy core (mean |Δ| ≤ 2e-3). Without --gpu the browser
 renders with SwiftShader, its software WebGL2. Sizes: every sample's page against its input
-images (goal ≤ 3×). Export: `export-web`'s own work and the add-on's File › Export, best of 3.
+images (goal ≤ 3×). Export: `export-web`'s own work and the add-on's File › Export, best of 3
+(--runs; the frame times best of --rounds 5): its test runs one of each.
 
     .venv/bin/python benchmarks/web_page.py --sizes 512 1024 --out docs/web-numbers.md
 
