@@ -166,12 +166,15 @@ def _march(o, d, length, k, spacing, steps):
     return hit, rho
 
 
+MARCH_POINTS = 1 << 20     # a march's points sampled together (≈ 80 MB of arrays at most)
+
+
 def _march_part(o, d, a, b, k, spacing, steps, todo, idx, hit, rho):
     """March rays `todo` (positions into idx) over [a, b] of their crossing, from below: n
     points from end to end sample the silhouette, the relief only where it covers; the first
     point inside marks the ray hit, its ρ the opacity there (arrays over all rays, indexed by
     idx) → the rays still not inside. Every point of a group of rays at once (MARCH_POINTS
-    at a time): a loop over the points paid Python's overhead per point, most of the bake."""
+    at a time): a loop over the points paid Python's overhead at each (a preview 2.3× slower)."""
     if not todo.size:
         return todo
     across = float(np.max((b[todo] - a[todo]) * np.hypot(d[todo, 0], d[todo, 1]))) / k.place.px
@@ -195,9 +198,6 @@ def _march_part(o, d, a, b, k, spacing, steps, todo, idx, hit, rho):
         rho[idx[group[inside]]] = _sample(k.opacity, x[rows, first], y[rows, first])
         missed.append(group[~inside])
     return np.concatenate(missed) if missed else todo
-
-
-MARCH_POINTS = 1 << 20     # a march's points sampled together (≈ 60 MB of arrays)
 
 
 def _sample(img, x, y):
