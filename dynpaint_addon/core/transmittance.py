@@ -182,9 +182,9 @@ def _march_part(o, d, a, b, k, spacing, steps, todo, idx, hit, rho):
     lh, lw = k.alpha.shape
     todo = todo[b[todo] > a[todo]]
     along = np.arange(n) / (n - 1)                  # (each j / (n − 1), as the loop had it)
-    missed = []
-    for start in range(0, todo.size, max(1, MARCH_POINTS // n)):
-        group = todo[start:start + max(1, MARCH_POINTS // n)]
+    missed, rays = [], max(1, MARCH_POINTS // n)
+    for start in range(0, todo.size, rays):
+        group = todo[start:start + rays]
         s = a[group, None] + (b[group] - a[group])[:, None] * along
         p = o[group, None, :] + s[..., None] * d[group, None, :]
         x, y = k.place.to_layer(p[..., 0], p[..., 1])
