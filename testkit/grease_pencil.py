@@ -83,3 +83,46 @@ def walking_drawing(frames=24, name="Walk"):
 def walking_figure(scene, frames=24, name="Walk"):
     """walking_drawing built as a Grease Pencil object in `scene` → the object."""
     return build_drawing(scene, walking_drawing(frames, name))
+
+
+def line_material(gp, name, rgba):
+    """A line-only Grease Pencil material of linear colour `rgba` on `gp` → its index."""
+    m = bpy.data.materials.new(name)
+    bpy.data.materials.create_gpencil_data(m)
+    m.grease_pencil.show_stroke, m.grease_pencil.show_fill = True, False
+    m.grease_pencil.color = rgba
+    gp.materials.append(m)
+    return len(gp.materials) - 1
+
+
+def add_line(layer, points, radii, material, opacities=None, colours=None, frame=1):
+    """An open round-capped line through `points` [(x, z)] of `radii` on `frame` of a layer;
+    opacities: each point's (the pen's pressure), colours: its vertex colour (r, g, b, mix)."""
+    found = [f for f in layer.frames if f.frame_number == frame]
+    drawing = (found[0] if found else layer.frames.new(frame)).drawing
+    drawing.add_strokes([len(points)])
+    stroke = drawing.strokes[len(drawing.strokes) - 1]
+    for k, (p, (x, z)) in enumerate(zip(stroke.points, points)):
+        p.position = (x, 0.0, z)
+        p.radius = radii[k]
+        p.opacity = 1.0 if opacities is None else opacities[k]
+        if colours is not None:
+            p.vertex_color = colours[k]
+    stroke.material_index = material
+    if hasattr(stroke, "fill_id"):          # Blender 5.3: outlined as the stroke says
+        stroke.hide_stroke = False
+
+
+def inked(obj, opacity=0.6):
+    """An "Ink" layer on top of a drawing at `opacity`: a wavy line thickening left to right
+    as its pen presses harder, and a second turning red along it (a vertex colour) → the
+    layer."""
+    ink = line_material(obj.data, "ink", (0.05, 0.05, 0.1, 1.0))
+    layer = obj.data.layers.new("Ink")
+    t = np.linspace(0, 1, 30)
+    for k in range(2):
+        add_line(layer, list(zip(-0.8 + 1.6 * t, 0.25 * np.sin(6 * t) + 0.3 * k)),
+                 0.01 + 0.02 * t, ink, opacities=0.3 + 0.7 * t,
+                 colours=[(1.0, 0.2, 0.1, v * k) for v in t])
+    layer.opacity = opacity
+    return layer

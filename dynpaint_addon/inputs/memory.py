@@ -331,11 +331,12 @@ def blender_image_bytes(header):
 
 # Lighting a drawing (issue 42: From Grease Pencil, and a drawing's render, turntable and
 # page), per pixel of its frame: each distinct drawing of a layer kept (drawn, its dark copy
-# and inflated shape, its sprite-sheet cell), each lit layer (Blender's images of it, its
-# bake), and a fixed part. Fitted to peaks (RSS) of the walk sample (3 layers, 26 drawings)
-# at 256 and 512 px and a still 3-layer drawing at 512 and 1024 px; checked at 1024 (walk:
-# 4509 MiB measured, 4482 estimated) and 2048 (still: 3573 measured, 4349 estimated).
-DRAWING_CELL, DRAWING_LAYER, DRAWING_FIXED = 176, 255, 150 * MiB
+# and inflated shape, its sprite-sheet cell), each lit layer (its images in Blender, its
+# bake), and a fixed part. Fitted (least squares of the ratio) to peaks (RSS) of the walk
+# sample (3 layers, 26 drawings) and a still 3-layer drawing at 256, 512, 1024 and 2048 px,
+# numpy drawing the layers (issue 61: Blender's renderer, and its 150 MiB, no longer in
+# it): 0.89–1.14 of the peaks (the walk at 2048 px, 12.3 GiB, grows less than its cells).
+DRAWING_CELL, DRAWING_LAYER, DRAWING_FIXED = 153, 219, 27 * MiB
 
 
 def drawing_bytes(drawings, layers, width, height):

@@ -46,9 +46,7 @@ def render_layers(obj, folder, width_px, frames=None, progress=None, margin=MARG
     w, h = drawn_size(bounds, width_px)
     artist = bpy.context.scene
     frames = [artist.frame_current] if frames is None else list(frames)
-    memory.check(*drawing_memory(obj, layers, frames, w, h, only),
-                 "draw it smaller (From Grease Pencil's Resolution, --width on the command "
-                 "line) or over fewer frames (the scene's frame range)")
+    check_drawing_memory(obj, layers, frames, w, h, only)
     os.makedirs(folder, exist_ok=True)
     partner_layers, partner_materials = shadow_layers(obj), shadow_materials(obj)
     scene = bpy.data.scenes.new(f"{obj.name} layers (Dynamic Painting)")
@@ -256,6 +254,13 @@ def drawing_memory(obj, layers, frames, w, h, only=None):
     drawings = sum(len(set(shown_keyframes(obj, group, frames))) for group in drawn)
     return memory.drawing_bytes(drawings, len(drawn), w, h), \
         f"lighting {obj.name} ({drawings} drawings of {len(drawn)} layers at {w}×{h})"
+
+
+def check_drawing_memory(obj, layers, frames, w, h, only=None):
+    """memory.check of drawing_memory: refused, with what to do, where it does not fit."""
+    memory.check(*drawing_memory(obj, layers, frames, w, h, only),
+                 "draw it smaller (From Grease Pencil's Resolution, --width on the command "
+                 "line) or over fewer frames (the scene's frame range)")
 
 
 @contextlib.contextmanager

@@ -22,8 +22,10 @@ from ...state.images import packed_image
 from ..layered_build import build_layered
 from ..painting_scene import NO_CAMERA, unchanged_images_on_failure
 from .building import build_drawing
-from .drawing import render_layers
-from .reading import animated, drawn_layers, layer_depths, layer_digests, layer_stem
+from .drawing import check_drawing_memory, drawn_size, render_layers
+from .reading import (animated, drawn_layers, framing, layer_depths, layer_digests,
+                      layer_stem)
+from .strokes import read_drawing, unsupported
 
 # A drawing's layers lie a Spacing apart (0.05 image widths): inflated as a file's layers are
 # (a disc a hemisphere), a large card would reach through the layers in front of it
@@ -47,30 +49,48 @@ def drawing_frames(scene, obj, settings):
         if settings["animation"] and animated(obj) else None
 
 
-def drawn_images(scene, obj, settings, progress=None, only=None, samples=None, bounds=None):
-    """Each layer of the drawing that draws something, drawn by Blender (render_layers, read
-    back) → ([(name, depth, [ImageData per frame] or None, [its dark ones] or None)], bounds,
-    frames or None, notes); only: the layers to draw (the others' images None); samples,
-    bounds: render_layers'."""
-    progress = progress or (lambda f: None)
+def read_images(scene, obj, settings, only=None, samples=None, bounds=None):
+    """Each layer of the drawing that draws something, read on Blender's main thread to be
+    drawn → (draw, bounds, frames or None, notes): draw(progress=None) → [(name, depth,
+    [ImageData per frame] or None, [its dark ones] or None)], safe in a worker thread.
+    numpy draws the layers (strokes.read_drawing) where it draws all the drawing uses;
+    else Blender's renderer draws them here (render_layers, read back: a note says why).
+    only: the layers to draw (the others' images None); samples, bounds: render_layers'."""
     frames = drawing_frames(scene, obj, settings)
+    layers, notes = drawn_layers(obj, settings["merge"])
+    bounds = framing(obj) if bounds is None else tuple(bounds)
+    depths = layer_depths([group[0] for group in layers], bounds[1] - bounds[0],
+                          settings["spacing"])     # a merged group lies where its back one is
+    names = [layer_stem(i, group) for i, group in enumerate(layers)]
+    why = unsupported(obj, layers)
+    if why is None:
+        size = drawn_size(bounds, settings["resolution"])
+        check_drawing_memory(obj, layers, frames or [scene.frame_current], *size, only)
+        read = read_drawing(obj, layers, frames or [scene.frame_current], bounds, size,
+                            settings["shade"], only)
+
+        def draw(progress=None):
+            return list(zip(names, depths, *read.draw(progress)))
+        return draw, bounds, frames, notes
+    notes.append(f"{obj.name}: drawn by Blender's Grease Pencil renderer (slower: numpy does "
+                 f"not draw {why})")
     folder = tempfile.mkdtemp(prefix="dynpaint-grease-pencil-")
     try:
-        paths, bounds, notes, darks = render_layers(
-            obj, folder, settings["resolution"], frames, progress, only=only,
-            shade=settings["shade"], merge=settings["merge"], samples=samples, bounds=bounds)
-        layers = drawn_layers(obj, settings["merge"])[0]
-        # a group of merged layers (drawn_layers) lies where its back one does
-        depths = layer_depths([group[0] for group in layers], bounds[1] - bounds[0],
-                              settings["spacing"])
-        drawn = [(layer_stem(i, layer), depth,
-                  layer_paths and [read_image(path) for path in layer_paths],
+        paths, bounds, _, darks = render_layers(
+            obj, folder, settings["resolution"], frames, only=only, shade=settings["shade"],
+            merge=settings["merge"], samples=samples, bounds=bounds)
+        drawn = [(name, depth, layer_paths and [read_image(path) for path in layer_paths],
                   dark_paths and [read_image(path) for path in dark_paths])
-                 for i, (layer, layer_paths, dark_paths, depth)
-                 in enumerate(zip(layers, paths, darks, depths))]
+                 for name, depth, layer_paths, dark_paths in zip(names, depths, paths, darks)]
     finally:
         shutil.rmtree(folder, ignore_errors=True)
-    return drawn, bounds, frames, notes
+    return (lambda progress=None: drawn), bounds, frames, notes
+
+
+def drawn_images(scene, obj, settings, progress=None, only=None, samples=None, bounds=None):
+    """read_images' layers drawn now → (drawn, bounds, frames or None, notes)."""
+    draw, bounds, frames, notes = read_images(scene, obj, settings, only, samples, bounds)
+    return draw(progress), bounds, frames, notes
 
 
 def made_paintings(drawn, settings, progress=None):

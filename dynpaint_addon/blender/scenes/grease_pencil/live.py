@@ -1,7 +1,8 @@
 """A lit copy following its drawing while the artist draws (issue 42: draft while drawing,
 final after): a stroke's draft (the changed layers drawn small, enlarged into their images,
-the shadows drafted), then once the strokes stop the full redraw (Blender draws the changed
-layers at full size, a worker thread makes them paintings, finish_redraws writes them), or
+the shadows drafted), then once the strokes stop the full redraw (the changed layers read,
+a worker thread draws them at full size and makes them paintings, finish_redraws writes
+them), or
 the lit copy made anew where the drawing's layers, bounds or frames are no longer its own.
 """
 import contextlib
@@ -20,8 +21,8 @@ from ...state.frames import forget_frames, moves
 from ...state.images import forget_enlarged, refill_enlarged, refill_packed_image
 from ...state.status import report
 from ..layered_build import remove_objects
-from .lit_copy import (LAYER, LIT_SETTINGS, SOURCE, drawn_images, drawn_paintings,
-                       light_drawing, lit_defaults, made_paintings)
+from .lit_copy import (LAYER, LIT_SETTINGS, SOURCE, drawn_paintings, light_drawing,
+                       lit_defaults, made_paintings, read_images)
 from .reading import drawn_layers, framing, layer_digests, layer_stem
 
 DRAFT_WIDTH = 128      # px: a stroke's draft drawing (Blender's draw costs its pixels here)
@@ -72,9 +73,11 @@ def refresh_lit_drawing(context, parent, beside=None):
     (layer_digests) drawn again and their images written in place where the layers, the
     drawing's bounds, sizes and frames are as before (their edits noted, so the group bakes
     again), else the lit copy made anew → the parent (a new one then). beside (default:
-    with a UI, rendering() not): Blender draws the layers now (all of them where the lit
-    copy is made anew) and a worker thread makes them paintings; finish_redraws writes them
-    once made, or makes the lit copy anew from them, if the drawing is still as drawn."""
+    with a UI, rendering() not): the layers are read now (all of them where the lit copy is
+    made anew) and a worker thread draws them and makes them paintings (read_images: where
+    numpy cannot draw the drawing, Blender's renderer draws them now); finish_redraws
+    writes them once made, or makes the lit copy anew from them, if the drawing is still as
+    drawn."""
     found = _source(parent)
     if found is None:
         return parent
@@ -83,9 +86,9 @@ def refresh_lit_drawing(context, parent, beside=None):
     digests, changed = _changed(obj, source.get("layers", {}))
     mats = _layer_materials(obj, parent, source, settings)
     if not rendering() if beside is None else beside:
-        drawn, bounds, frames, notes = drawn_images(
+        draw, bounds, frames, notes = read_images(
             context.scene, obj, settings, only=None if mats is None else changed)
-        _REDRAWS[parent.name] = _Redraw(digests, drawn, settings,
+        _REDRAWS[parent.name] = _Redraw(digests, draw, settings,
                                         anew=None if mats is not None else (bounds, frames, notes))
         if not bpy.app.timers.is_registered(finish_redraws):
             bpy.app.timers.register(finish_redraws, first_interval=POLL_S)
@@ -159,19 +162,21 @@ POLL_S = 0.05          # how often finish_redraws looks for made paintings
 
 
 class _Redraw:
-    """A full redraw's layers, drawn by Blender, made paintings in a worker thread (the
-    inflation of a changed part at full size takes a second at 1024²) while the UI goes on.
-    anew: (bounds, frames, notes) of drawn_images where the lit copy is made anew from them
+    """A full redraw's layers drawn (numpy's drawing; Blender's renderer drew them already
+    where numpy does not draw the drawing: lit_copy.read_images) and made paintings in a
+    worker thread (the inflation of a changed part at full size takes a second at 1024²)
+    while the UI goes on.
+    anew: (bounds, frames, notes) of read_images where the lit copy is made anew from them
     (a stroke beyond the drawing's bounds: every layer drawn again), else None."""
 
-    def __init__(self, digests, drawn, settings, anew=None):
+    def __init__(self, digests, draw, settings, anew=None):
         self.digests, self.anew, self.made, self.error = digests, anew, None, None
-        self.thread = threading.Thread(target=self._run, args=(drawn, settings), daemon=True)
+        self.thread = threading.Thread(target=self._run, args=(draw, settings), daemon=True)
         self.thread.start()
 
-    def _run(self, drawn, settings):
+    def _run(self, draw, settings):
         try:
-            self.made = made_paintings(drawn, settings)[0]
+            self.made = made_paintings(draw(), settings)[0]
         except Exception as exc:        # (said on the main thread: finish_redraws)
             self.error = exc
 
