@@ -326,7 +326,8 @@ def painting_of_frames(name, cells, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF, 
     shadow colours the artist drew on each frame), its dark image those colours over the
     shaded one (shadow_colours); effects: make-shape inflate's relief effects (bevel, detail,
     smoothing, profile). Cells that all agree are one still painting, else the cells are laid
-    out as sprite sheets (§16)."""
+    out as sprite sheets (§16), a cell given again (the same object: a drawing held over
+    frames) made a painting once."""
     darks = darks or [None] * len(cells)
 
     def painting(cell, dark):
@@ -336,7 +337,12 @@ def painting_of_frames(name, cells, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF, 
     if all(np.array_equal(c.pixels, cells[0].pixels) for c in cells[1:]) and \
             all(d is darks[0] or np.array_equal(d.pixels, darks[0].pixels) for d in darks[1:]):
         return (*painting(cells[0], darks[0]), None)
-    made = [painting(cell, dark) for cell, dark in zip(cells, darks)]
+    made, first = [], {}
+    for cell, dark in zip(cells, darks):     # a drawing held over frames: made once
+        key = (id(cell), id(dark))
+        if key not in first:
+            first[key] = painting(cell, dark)
+        made.append(first[key])
     notes = sorted({n for _, _, lines in made for n in lines if "inflated" not in n})
     grid = SheetGrid.squarest(len(cells))
     h, w = cells[0].pixels.shape[:2]

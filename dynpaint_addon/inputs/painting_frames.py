@@ -228,6 +228,7 @@ class PaintingFrames:
         self._read = read
         self._cache = BoundedCache(cache_mb)      # file path → ImageData
         self._first = {}                 # channel → (size, bits) of its first file
+        self._firsts = {}                # a sheet's path → the first cell like each cell
         self.notes = [s.describe() for s in slots.values() if s.kind != "still"]
 
     @property
@@ -287,6 +288,18 @@ class PaintingFrames:
         images are kept by it)."""
         return tuple((ch, s.frame_of(f)) for ch, s in self.slots.items() if s.kind != "still")
 
+    def shown_cell(self, channel, f):
+        """frame_of(f) of a slot — of a sheet, the first of its cells that holds the same
+        pixels (a drawing held over frames, as a lit Grease Pencil drawing's sheets hold
+        theirs: its frames share one bake and one set of derived images, §16's m(f))."""
+        slot = self.slots[channel]
+        n = slot.frame_of(f)
+        if slot.kind != "sheet":
+            return n
+        if slot.path not in self._firsts:
+            self._cut(slot, n)                       # (its cells' digests, read once)
+        return self._firsts[slot.path][n]
+
     def images(self, f):
         """{channel: ImageData} of scene frame `f`."""
         return {ch: self.image(ch, f) for ch in self.slots}
@@ -304,14 +317,19 @@ class PaintingFrames:
         a sheet of large frames is large), the one wanted last → that cell."""
         data = self._read(slot.path)
         cells = [c for c in range(slot.grid.frames()) if c != wanted] + [wanted]
+        seen, firsts = {}, {}
         try:
             for cell in cells:
                 px = np.ascontiguousarray(sheet_cell(data.pixels, slot.grid, cell))
                 self._cache.put((slot.path, cell), ImageData(px, data.bits,
                                                              f"{data.name} [{cell + 1}]"),
                                 px.nbytes)
+                digest = hashlib.blake2b(px.tobytes(), digest_size=16).digest()
+                seen[digest] = min(seen.get(digest, cell), cell)
+                firsts[cell] = digest
         except ValueError as exc:
             raise FrameError(f"{slot.channel}: {slot.name}: {exc}") from None
+        self._firsts[slot.path] = [seen[firsts[c]] for c in range(len(cells))]
         return self._cache.get((slot.path, wanted))
 
     def _file(self, slot, path, f):
@@ -327,6 +345,7 @@ class PaintingFrames:
     def forget(self):
         """Read every file again (one was replaced behind the cache's back)."""
         self._cache.clear()
+        self._firsts.clear()
 
     def _missing(self, slot, path, f):
         n = slot.file_number(f)

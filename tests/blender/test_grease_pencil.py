@@ -764,3 +764,36 @@ def test_a_loop_played_again_under_the_same_light_bakes_nothing(monkeypatch):
     sun.rotation_euler[2] += 0.3
     scene.frame_set(2)
     assert baked and not np.array_equal(shadows(), first[1])
+
+
+def test_a_frame_that_holds_the_drawing_bakes_nothing(monkeypatch):
+    """Issue 61 (a frame change cost 6–7 s even where the drawing holds): scene frames that
+    show the same drawing show the same sheet cell's pixels, so they share its bake and
+    derived images (state/frames.shown_frame) — a held frame bakes nothing and shows the
+    shadows of the frame it holds; a frame that draws anew bakes."""
+    from dynpaint_addon.core import layers as core_layers
+    bpy.ops.wm.read_homefile(use_empty=True)
+    blender.register_once()
+    scene = bpy.context.scene
+    obj = rolling_disc(scene, frames=(1, 3))          # the disc drawn on 1, moved on 3
+    scene.frame_start, scene.frame_end = 1, 4
+    scene.frame_set(1)
+    bpy.context.view_layer.objects.active = obj
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=64) == {"FINISHED"}
+    back, front = group_materials(bpy.context.object)
+    assert moves(front)
+
+    def shadows():
+        return image_data_from_blender(back.dynamic_painting.lights[0].shadow).pixels.copy()
+    baked = []
+    bake = core_layers.Scene.bake
+    monkeypatch.setattr(core_layers.Scene, "bake",
+                        lambda self, *a, **k: baked.append(scene.frame_current)
+                        or bake(self, *a, **k))
+    first = shadows()
+    scene.frame_set(2)                                 # holds frame 1's drawing
+    assert baked == [] and np.array_equal(shadows(), first)
+    scene.frame_set(3)                                 # the disc moved
+    assert baked == [3] and not np.array_equal(shadows(), first)
+    scene.frame_set(4)
+    assert baked == [3]

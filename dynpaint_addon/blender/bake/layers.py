@@ -28,7 +28,7 @@ from ...core.sampling import resample_separable
 from ...inputs.painting_frames import BoundedCache
 from ...nodegraph.derived_inputs import grey_rgba
 from ..state.edits import versions
-from ..state.frames import frame_data, moves, slot_frame
+from ..state.frames import frame_data, moves, shown_frame
 from ..state.lights import painting_frame_light, plane_matrix
 from ..state.images import enlarged_into
 from ..state.settings import channel_images, settings_to_params
@@ -86,7 +86,7 @@ def group_key(mats, depsgraph=None):
                       round(s.layer_thickness, 7), settings_key(settings_to_params(s), s),
                       versions({c: img for c, img in channel_images(s).items()
                                 if c in LAYER_CHANNELS}),
-                      tuple(slot_frame(mat, c) for c in LAYER_CHANNELS)))
+                      tuple(shown_frame(mat, c) for c in LAYER_CHANNELS)))
     return repr(parts)
 
 
@@ -99,7 +99,7 @@ def layer_keys(mats):
     return [repr((m.name, repr(settings_to_params(m.dynamic_painting)),
                   versions({c: img for c, img in channel_images(m.dynamic_painting).items()
                             if c in LAYER_CHANNELS}),
-                  tuple(slot_frame(m, c) for c in LAYER_CHANNELS))) for m in mats]
+                  tuple(shown_frame(m, c) for c in LAYER_CHANNELS))) for m in mats]
 
 
 def core_scene(parent, mats, depsgraph=None, key=None):

@@ -16,7 +16,7 @@ from ...inputs import memory
 from ...inputs.imageio import file_channels
 from ...inputs.painting_frames import BoundedCache
 from ..state.edits import key_name
-from ..state.frames import frame_data, painting_size, slot_frame
+from ..state.frames import frame_data, painting_size, shown_frame, slot_frame
 from ..state.images import grey_image
 from ..state.lights import painting_frame_light, plane_matrix
 from ..state.settings import settings_to_params
@@ -48,7 +48,7 @@ def settings_key(p, s):
     values = bake_values(p)
     if s.image_shape is None:
         return repr((values, None))
-    frame = slot_frame(s.id_data, "shape")
+    frame = shown_frame(s.id_data, "shape")
     shape = key_name(s.image_shape)
     return repr((values, shape) if frame is None else (values, shape, frame))
 
@@ -88,7 +88,7 @@ def shape_key(settings, p, edits=True):
     §2 settings, and for a normal map the relief its shadows fall from (§6); `edits`: and how
     many times the image was edited (state/edits.py)."""
     img = settings.image_shape
-    return (key_name(img) if edits else img.name, slot_frame(settings.id_data, "shape"),
+    return (key_name(img) if edits else img.name, shown_frame(settings.id_data, "shape"),
             repr(vars(p.shape)), p.shadows.relief)
 
 

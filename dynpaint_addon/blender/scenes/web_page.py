@@ -8,7 +8,7 @@ from ...inputs.imageio import image_data_from_blender
 from ...web.page import page_data, scene_data
 from ..bake.layers import group_layers, group_materials, layer_parent
 from ..state.frame_sampling import reading_lights
-from ..state.frames import frame_data, moves, painting_frames, slot_frame
+from ..state.frames import frame_data, moves, painting_frames, shown_frame, slot_frame
 from ..state.lights import painting_lights
 from ..state.settings import channel_images, settings_to_params
 
@@ -54,7 +54,7 @@ def group_frames(mats, scene):
         return None
     firsts, sequence = {}, []
     for f in played_frames(scene):
-        key = tuple(slot_frame(mat, c, f) for mat in mats for c in channel_images(
+        key = tuple(shown_frame(mat, c, f) for mat in mats for c in channel_images(
             mat.dynamic_painting))
         sequence.append(firsts.setdefault(key, (len(firsts), f))[0])
     shown = [f for _, f in sorted(firsts.values())]

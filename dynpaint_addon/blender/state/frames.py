@@ -95,6 +95,15 @@ def slot_frame(mat, channel, f=None):
     return None if slot is None else slot.frame_of(now() if f is None else f)
 
 
+def shown_frame(mat, channel, f=None):
+    """slot_frame, of a sprite sheet the first of its cells with the same pixels: what bakes
+    and derived images are kept by (PaintingFrames.shown_cell: a drawing held over frames
+    is baked once)."""
+    frames = painting_frames(mat)
+    slot = frames.slots.get(channel)
+    return None if slot is None else frames.shown_cell(channel, now() if f is None else f)
+
+
 def frame_data(mat, channel, f=None):
     """A slot's pixels at scene frame `f` (default: now) → ImageData."""
     frames = painting_frames(mat)

@@ -14,7 +14,7 @@ from typing import Callable
 from ...nodegraph.derived_inputs import Source, prepare
 from ...nodegraph.features import Features
 from .edits import version
-from .frames import frame_data, slot_frame
+from .frames import frame_data, shown_frame
 from .images import bits_of, has_alpha, is_grey
 from .lights import linked_lights
 from .settings import channel_images, settings_to_params
@@ -59,7 +59,7 @@ def read_state(mat, scene):
     lights = linked_lights(mat, scene)
     f = scene.frame_current
     sources = {c: frame_source(img, frame_data(mat, c, f), frame)
-               if (frame := slot_frame(mat, c, f)) is not None else image_source(img)
+               if (frame := shown_frame(mat, c, f)) is not None else image_source(img)
                for c, img in images.items()}
     features, plan = prepare(p, sources, [o.data.type.lower() for o in lights])
     reads = {}

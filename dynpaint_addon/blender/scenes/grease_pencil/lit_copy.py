@@ -79,8 +79,14 @@ def read_images(scene, obj, settings, only=None, samples=None, bounds=None):
         paths, bounds, _, darks = render_layers(
             obj, folder, settings["resolution"], frames, only=only, shade=settings["shade"],
             merge=settings["merge"], samples=samples, bounds=bounds)
-        drawn = [(name, depth, layer_paths and [read_image(path) for path in layer_paths],
-                  dark_paths and [read_image(path) for path in dark_paths])
+        read = {}          # a frame showing what another showed: its file, read once
+
+        def cells(files):
+            for path in files or ():
+                if path not in read:
+                    read[path] = read_image(path)
+            return files and [read[path] for path in files]
+        drawn = [(name, depth, cells(layer_paths), cells(dark_paths))
                  for name, depth, layer_paths, dark_paths in zip(names, depths, paths, darks)]
     finally:
         shutil.rmtree(folder, ignore_errors=True)
