@@ -12,7 +12,8 @@
   settings and light positions undo brought back.
 - render_pre: a painting that lost an optional image (deleted) is rebuilt without it; deleted
   planes or images and missing files are reported (one line each), never raised.
-- save_pre: a painted shape's layers (Paint Shape) are packed again where strokes changed them.
+- save_pre: a painted shape's layers (Paint Shape) and a lit drawing's images a redraw wrote are
+  packed again where they changed.
 - load_post: a saved .blend keeps the node tree, drivers and settings but not the pixels of the
   images numpy made (derived copies, shadow bakes: generated images): they are remade when
   the file opens, so a reopened file renders the same pixels as before it was saved.
@@ -236,11 +237,15 @@ def remake_generated_images(*_):
 
 
 @persistent
-def pack_painted_layers(*_):
-    """Before a save: the layers of painted shapes that strokes changed are packed again (a
-    packed image saves the pixels it was packed with: the strokes would be lost)."""
+def pack_edited_images(*_):
+    """Before a save: the packed images written since they were packed are packed again —
+    the layers of painted shapes that strokes changed, and a lit drawing's images that a
+    redraw wrote without packing (a 1024² image takes 75–260 ms to pack: not while the
+    artist draws) — a packed image saves the pixels it was packed with: the strokes would
+    be lost."""
     for mat in bpy.data.materials:
-        for img in painted_layers(mat.dynamic_painting):
+        s = mat.dynamic_painting
+        for img in {*painted_layers(s), *channel_images(s).values()}:
             try:
                 if img.packed_file is not None and img.is_dirty:
                     img.pack()
@@ -249,7 +254,7 @@ def pack_painted_layers(*_):
 
 
 HANDLERS = ((bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),
-            (bpy.app.handlers.save_pre, pack_painted_layers),
+            (bpy.app.handlers.save_pre, pack_edited_images),
             (bpy.app.handlers.frame_change_post, on_frame_change),
             (bpy.app.handlers.load_post, remake_generated_images),
             (bpy.app.handlers.render_pre, on_render_pre),

@@ -30,7 +30,7 @@ from ...nodegraph.derived_inputs import grey_rgba
 from ..state.edits import versions
 from ..state.frames import frame_data, moves, shown_frame
 from ..state.lights import painting_frame_light, plane_matrix
-from ..state.images import enlarged_into
+from ..state.images import enlarged_into, keep_enlarged
 from ..state.settings import channel_images, settings_to_params
 from .live_bake import DEBOUNCE_S
 from .shadow_images import (KEPT_BAKES_MB, bake_shadows, light_key, settings_key,
@@ -102,38 +102,44 @@ def layer_keys(mats):
                   tuple(shown_frame(m, c) for c in LAYER_CHANNELS))) for m in mats]
 
 
-def core_scene(parent, mats, depsgraph=None, key=None):
+def core_scene(parent, mats, depsgraph=None, key=None, later=False):
     """The core Scene of a layered group, made once per group key (its layers' inputs read
     from Blender and prepared once: a moving light reuses them; a layer whose own inputs did
     not change keeps its prepared ones when another is edited, layer_keys); key: group_key's,
-    when the caller has it."""
+    when the caller has it; later: → a function that makes it (numpy alone: a worker
+    thread prepares the changed layers, issue 61 — 0.1 s at 1024² on Blender's main
+    thread), its inputs read now."""
     key = key or group_key(mats, depsgraph)
     hit = _SCENES.get(parent.name)
-    if hit is None or hit[0] != key:
-        keys = layer_keys(mats)
-        before = {} if hit is None else {k: i for i, k in enumerate(hit[2])}
-        kept = {i: before[k] for i, k in enumerate(keys) if k in before}
-        layers = group_layers(mats, depsgraph, LAYER_CHANNELS,
-                              kept={mats[i].name: hit[1].layers[j].images
-                                    for i, j in kept.items()})
-        for layer in layers:
-            layer.p.shadows.enabled = True
-        hit = (key, Scene(layers, prepared={i: hit[1].ready[j] for i, j in kept.items()}),
-               keys)
-        _SCENES[parent.name] = hit
-    return hit[1]
+    if hit is not None and hit[0] == key:
+        return (lambda: hit[1]) if later else hit[1]
+    keys = layer_keys(mats)
+    before = {} if hit is None else {k: i for i, k in enumerate(hit[2])}
+    kept = {i: before[k] for i, k in enumerate(keys) if k in before}
+    layers = group_layers(mats, depsgraph, LAYER_CHANNELS,
+                          kept={mats[i].name: hit[1].layers[j].images for i, j in kept.items()})
+    for layer in layers:
+        layer.p.shadows.enabled = True
+    prepared, name = {i: hit[1].ready[j] for i, j in kept.items()}, parent.name
+
+    def made():
+        scene = Scene(layers, prepared=prepared)
+        _SCENES[name] = (key, scene, keys)
+        return scene
+    return made if later else made()
 
 
 def group_layers(mats, depsgraph=None, channels=None, f=None, kept=None):
     """The paintings of a group (group_materials) as the core's layers (§15): their images
     (only `channels` when given) at scene frame `f` (default: now), parameters, and places
-    in the back layer's frame; kept: {material name: images} already read (not read again)."""
+    in the back layer's frame; kept: {material name: images} already read (not read again;
+    None: filled in later, warm_drafts)."""
     back = mats[0].dynamic_painting.plane
     layers = []
     for mat in mats:
         s = mat.dynamic_painting
         depth, offset, scale = _placement(back, s.plane, depsgraph)
-        images = (kept or {}).get(mat.name) or \
+        images = kept[mat.name] if kept is not None and mat.name in kept else \
             {c: frame_data(mat, c, f) for c in channel_images(s)     # (§16: the frame's)
              if channels is None or c in channels}
         layers.append(Layer(images, settings_to_params(s), mat.name, depth,
@@ -146,6 +152,7 @@ def forget_group(name):
     cached scene, kept bakes and drafts go with it."""
     _SCENES.pop(name, None)
     _SMALL.pop(name, None)
+    _WARM.pop(name, None)
     _KEPT.pop(name, None)
 
 
@@ -153,6 +160,7 @@ def forget_scenes():
     """Another file is open, or undo: the cached scenes may show other planes."""
     _SCENES.clear()
     _SMALL.clear()
+    _WARM.clear()
     _KEPT.clear()
     _FINAL_DUE.clear()
     _RUNNING.clear()              # (a running bake's results are dropped: its group is gone)
@@ -173,8 +181,8 @@ def bake_group(parent, depsgraph=None, quality=None, force=False):
 
 class _GroupBake:
     """One bake of a group: what it bakes read from Blender (the group's key, its lights, the
-    core Scene: main thread), baked by run() (numpy only: any thread), written by write()
-    (main thread) where the group is still as it was read."""
+    core Scene's inputs: main thread), the Scene made and baked by run() (numpy only: any
+    thread), written by write() (main thread) where the group is still as it was read."""
 
     def __init__(self, parent, mats, group, quality, todo, scene, kept=None):
         self.parent_name, self.names = parent.name, [m.name for m in mats]
@@ -184,6 +192,8 @@ class _GroupBake:
         self.results, self.error, self.thread = None, None, None
 
     def run(self):
+        if callable(self.scene):          # (core_scene's, made here: later)
+            self.scene = self.scene()
         # (a reduced level's t at its own size: the images enlarge it as they are sampled)
         self.results = {name: self.kept[name] if name in self.kept else
                         self.scene.bake(light, self.quality, own_size=True)
@@ -270,7 +280,8 @@ def _group_job(parent, depsgraph=None, quality=None, force=False):
         {name: ts for name, ts in ((n, cache.get(_key(key, light))) for n, light in todo.items())
          if ts is not None}
     # (a group whose every light's bake is kept reads no scene: a frame come round again)
-    scene = None if len(kept) == len(todo) else core_scene(parent, mats, depsgraph, group)
+    scene = None if len(kept) == len(todo) else core_scene(parent, mats, depsgraph, group,
+                                                            later=True)
     return _GroupBake(parent, mats, group, quality, todo, scene, kept)
 
 
@@ -317,9 +328,9 @@ def draft_group(parent, drawn, depsgraph=None):
         return 0.0
     start = time.perf_counter()
     name, small = next(iter(drawn.items()))
-    full = bpy.data.materials[name].dynamic_painting.image_shape.size
-    f = (full[0] / small["shape"].size[0], full[1] / small["shape"].size[1])   # (x, y)
-    before, images = _SMALL.get(parent.name, {}), {}
+    f = _smaller(bpy.data.materials[name].dynamic_painting.image_shape.size, small)
+    before = {**_SMALL.get(parent.name, {}), **_WARM.pop(parent.name, {})}
+    images = {}
     keys = layer_keys(mats)
     kept = {i: before[key] for i, (mat, key) in enumerate(zip(mats, keys))
             if key in before and mat.name not in drawn}
@@ -347,6 +358,65 @@ def draft_group(parent, drawn, depsgraph=None):
                            for i, (mat, key) in enumerate(zip(mats, keys))}
     _write_shadows(mats, results, lambda name: DRAFTED, _write_drafted)
     return (time.perf_counter() - start) * 1000
+
+
+def _smaller(full, small):
+    """(fx, fy): how many times smaller than a layer's images (`full`: its shape image's
+    size) are its `small` ones."""
+    return full[0] / small["shape"].size[0], full[1] / small["shape"].size[1]
+
+
+_WARM = {}             # parent name → {layer_keys' key: a _SMALL entry} warm_drafts made
+
+
+def warm_drafts(parent, small, depsgraph=None):
+    """Make ready, in a worker thread, what the group's first draft needs (issue 61: cold, a
+    first stroke's draft held Blender 180 ms at 512²): its layers' images made small —
+    small(): {material name: its images}, called in the worker (a drawing drawn small) —
+    prepared, and their own draft terms per light, kept as draft_group keeps its own
+    (_SMALL), which takes them where the layers are still as they were here; the draft's
+    t kept for refill_enlarged as if a draft had enlarged it into the cos-θ images (the
+    first draft enlarges only where it differs). Places, parameters and lights are read
+    now. → the thread, or None (no light)."""
+    mats = group_materials(parent)
+    lights = group_lights(mats, depsgraph) if mats else {}
+    if not lights:
+        return None
+    keys = layer_keys(mats)
+    layers = group_layers(mats, depsgraph, LAYER_CHANNELS, kept=dict.fromkeys(
+        m.name for m in mats))
+    name, full = parent.name, tuple(mats[0].dynamic_painting.image_shape.size)
+    shadows = {}             # (layer, light): its cos-θ image's name, pointer and size
+    for i, mat in enumerate(mats):
+        for light_name in lights:
+            img = bpy.data.images.get(shadow_image_name(mat, light_name))
+            if img is not None:
+                shadows[(i, light_name)] = (img.name, img.as_pointer(),
+                                            tuple(mat.dynamic_painting.image_shape.size))
+
+    def run():
+        try:
+            images = small()
+            for layer, mat in zip(layers, mats):
+                layer.images = images[mat.name]
+                layer.p.shadows.enabled = True
+            scene, own = Scene(layers), {i: {} for i in range(len(mats))}
+            for light_name, light in lights.items():
+                ts = scene.bake(light, "draft", reduced=_smaller(full, images[mats[0].name])[0])
+                for i, entry in scene.own.items():
+                    own[i][light_name] = entry
+                for i, t in enumerate(ts):        # as if a draft had enlarged them
+                    if (i, light_name) in shadows:
+                        image, pointer, (w, h) = shadows[(i, light_name)]
+                        rgba = grey_rgba(np.clip(t, 0, 1))
+                        keep_enlarged(image, pointer, rgba, resample_separable(rgba, h, w))
+            _WARM[name] = {key: (images[mat.name], scene.ready[i], own[i])
+                           for i, (mat, key) in enumerate(zip(mats, keys))}
+        except Exception as exc:         # (the first draft is made cold, as before)
+            print(f"Dynamic Painting: drafts of {name} not made ready: {exc}")
+    thread = threading.Thread(target=run, daemon=True)
+    thread.start()
+    return thread
 
 
 def _made_small(img, f):

@@ -18,8 +18,10 @@ from bpy.props import BoolProperty, FloatProperty, IntProperty
 from ...core.layers import MAX_LAYERS
 from ...inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING
 from ..bake.layers import group_materials
+from ..bake.live_bake import rendering
 from ..scenes.grease_pencil.lit_copy import (GREASE_PENCIL_RELIEF, GREASE_PENCIL_RESOLUTION,
                                               LAYER_EFFECTS, LIT_SETTINGS, light_drawing)
+from ..scenes.grease_pencil.live import warm_first_draft
 from ..state.shape_options import option_property
 from .add import select_only
 from .common import run_and_report
@@ -78,7 +80,12 @@ class DYNPAINT_OT_add_grease_pencil(bpy.types.Operator):
         settings = {name: getattr(self, name) for name in LIT_SETTINGS}
 
         def work(progress):
-            parent, lines = light_drawing(context, obj, settings, progress)
+            # with a UI the group's shadows as a dragged light's: a draft now, the final in
+            # a worker thread (seconds at 1024²: issue 61); a script waits for the final
+            parent, lines = light_drawing(context, obj, settings, progress,
+                                          bake="now" if rendering() else "live")
+            if not rendering():        # the first stroke's draft made ready meanwhile
+                warm_first_draft(context, parent)
             select_only(context, parent)
             return [("WARNING", m) for m in lines] + [
                 ("INFO", f"Lit {obj.name}: {len(group_materials(parent))} layers as "

@@ -286,21 +286,26 @@ def _store(settings, channel, image, key):
     item.image, item.key = image, key
 
 
-def _rgba(data):
+def image_rgba(data):
+    """ImageData as the RGBA float32 buffer Blender's image holds (grey repeated, no alpha:
+    1); pixels that are that already, as they are."""
     px = data.pixels
+    if px.shape[2] == 4 and px.dtype == np.float32 and px.flags.c_contiguous:
+        return px
     return np.concatenate([px[..., :1].repeat(3, -1) if px.shape[2] < 3 else px[..., :3],
                            px[..., -1:] if data.has_alpha else np.ones(px.shape[:2] + (1,))],
                           axis=2).astype(np.float32)
 
 
-def refill_packed_image(img, data, pack=True):
+def refill_packed_image(img, data, pack=True, rgba=None):
     """Write ImageData into an image packed_image made from data of the same size and kind,
-    packed again (unless not `pack`: a draft the next write replaces) → whether it could
-    (False: another size or bit depth)."""
+    packed again (unless not `pack`: a draft the next write replaces, or pixels packed when
+    the file is saved, handlers.pack_edited_images) → whether it could (False: another size
+    or bit depth); rgba: image_rgba(data) where it is made already (a worker thread's)."""
     h, w = data.pixels.shape[:2]
     if tuple(img.size) != (w, h) or img.is_float != (data.bits == 32):
         return False
-    img.pixels.foreach_set(np.ascontiguousarray(_rgba(data)).ravel())
+    img.pixels.foreach_set((image_rgba(data) if rgba is None else rgba).ravel())
     if pack:
         img.pack()
     return True
@@ -320,7 +325,7 @@ def refill_enlarged(img, data):
     w, h = img.size
     if img.is_float != (data.bits == 32):
         return False
-    small = _rgba(data)
+    small = image_rgba(data)
     last = _ENLARGED.get(img.name)
     if last is not None and last[2] == img.as_pointer() and last[0].shape == small.shape \
             and last[1].shape == (h, w, 4):
@@ -335,6 +340,20 @@ def refill_enlarged(img, data):
     _ENLARGED[img.name] = (small, big, img.as_pointer())
     img.pixels.foreach_set(big.ravel())
     return True
+
+
+def keep_enlarged(name, pointer, small, big):
+    """Tell refill_enlarged what image `name` (its as_pointer()) shows: `big`, its RGBA at
+    full size, whose drawing made small is `small` (RGBA) — so the next draft enlarges only
+    where its small drawing differs and keeps the rest as drawn in full (issue 61: the
+    first stroke's draft, not the whole image, and not blurred). Any thread."""
+    _ENLARGED[name] = (small, big, pointer)
+
+
+def enlarged_kept(img):
+    """The full-size RGBA refill_enlarged keeps of `img` (what it shows), or None."""
+    last = _ENLARGED.get(img.name)
+    return last[1] if last is not None and last[2] == img.as_pointer() else None
 
 
 def enlarged_into(name, rgba, size):
@@ -371,7 +390,7 @@ def packed_image(name, data, channel):
     """An image numpy holds (core ImageData: a layer of an .ora file, a shaded copy) → a new
     image packed into the .blend, as the channel reads it (§0): 8- and 16-bit values stay
     file values (sRGB codes for colour), floats are linear or data."""
-    rgba = _rgba(data)
+    rgba = image_rgba(data)
     if data.bits == 32:
         return made_shape_image(name, rgba)
     h, w = rgba.shape[:2]

@@ -13,17 +13,22 @@ import numpy as np
 
 import bpy
 
-from ...bake.layers import draft_group, final_bake_due, group_materials
+from ....inputs.imageio import image_data_from_blender
+
+from ...bake.layers import draft_group, final_bake_due, group_materials, warm_drafts
 from ...bake.live_bake import rendering
 from ...material.sync import update
 from ...state.edits import note_edited
 from ...state.frames import forget_frames, moves
-from ...state.images import forget_enlarged, refill_enlarged, refill_packed_image
+from ...state.images import (enlarged_kept, forget_enlarged, image_rgba, keep_enlarged,
+                             refill_enlarged, refill_packed_image)
+from ...state.settings import channel_images
 from ...state.status import report
 from ..layered_build import remove_objects
 from .lit_copy import (LAYER, LIT_SETTINGS, SOURCE, drawn_paintings, light_drawing,
                        lit_defaults, made_paintings, read_images)
 from .reading import drawn_layers, framing, layer_digests, layer_stem
+from .strokes import unsupported
 
 DRAFT_WIDTH = 128      # px: a stroke's draft drawing (Blender's draw costs its pixels here)
 DRAFT_SAMPLES = 1      # and its anti-aliasing samples (each a draw of every pixel; SMAA stays)
@@ -109,19 +114,26 @@ def _made_anew(context, parent, obj, settings, painted=None, beside=False):
     parent, _ = light_drawing(context, obj, settings, painted=painted,
                               bake="live" if beside else "now")
     obj.hide_set(hidden or obj.hide_get())
+    if beside:
+        warm_first_draft(context, parent)
     return parent
 
 
-def _write_redraw(context, parent, mats, made, obj, settings, source, digests, beside=False):
+def _write_redraw(context, parent, mats, made, obj, settings, source, digests, beside=False,
+                  rgba=None):
     """The made paintings written into the lit copy's images in place (packed) and its
     record updated, or the lit copy made anew where they cannot be (made None, or an image
     of another size or kind) → the parent. The group is baked now, or `beside` the UI: at
-    its own quality in a worker thread (final_bake_due)."""
+    its own quality in a worker thread (final_bake_due); rgba: {(layer, channel): the RGBA
+    buffer written} made there already."""
     written = []
     for name, imgs in made or ():
         for channel, data in imgs.items():
             img = getattr(mats[name].dynamic_painting, f"image_{channel}")
-            if img is None or not refill_packed_image(img, data):
+            # beside the UI: packed when the file is saved (handlers.pack_edited_images), the
+            # RGBA made by the worker (_Redraw) — what Blender is held for is the copy alone
+            if img is None or not refill_packed_image(img, data, pack=not beside,
+                                                      rgba=(rgba or {}).get((name, channel))):
                 made = None
                 break
             written.append(img.name)
@@ -137,6 +149,8 @@ def _write_redraw(context, parent, mats, made, obj, settings, source, digests, b
         update(mat, context.scene, bake="none" if beside else "now")
     if beside:                      # the stroke's draft shows till then: no full-size draft
         final_bake_due(parent)
+        warm_first_draft(context, parent, {(name, c): rgba[(name, c)] for name, imgs in made
+                                           for c in imgs if (name, c) in (rgba or {})})
     return parent
 
 
@@ -171,12 +185,16 @@ class _Redraw:
 
     def __init__(self, digests, draw, settings, anew=None):
         self.digests, self.anew, self.made, self.error = digests, anew, None, None
+        self.rgba = None
         self.thread = threading.Thread(target=self._run, args=(draw, settings), daemon=True)
         self.thread.start()
 
     def _run(self, draw, settings):
         try:
             self.made = made_paintings(draw(), settings)[0]
+            self.rgba = {(name, channel): image_rgba(data)
+                         for name, _, imgs, _, _ in self.made if imgs is not None
+                         for channel, data in imgs.items()}
         except Exception as exc:        # (said on the main thread: finish_redraws)
             self.error = exc
 
@@ -210,10 +228,59 @@ def finish_redraws():
                                (job.made, bounds, frames, notes), beside=True)
                 else:
                     _write_redraw(bpy.context, parent, mats, _in_place(mats, job.made), obj,
-                                  settings, source, job.digests, beside=True)
+                                  settings, source, job.digests, beside=True, rgba=job.rgba)
         except Exception as exc:        # never into Blender's timer loop
             report(name, exc)
     return POLL_S if _REDRAWS else None
+
+
+def warm_first_draft(context, parent, bigs=None):
+    """Once the lit copy `parent` shows its drawing in full (From Grease Pencil, a full
+    redraw written), make its first stroke's draft ready in a worker thread — every layer
+    drawn DRAFT_WIDTH across and made a painting there (as draft_lit_drawing draws it),
+    refill_enlarged told what each image shows (`bigs`: {(layer stem, channel): its RGBA};
+    the others kept from the last, or read from Blender now), the group's small scene
+    prepared with its own draft
+    terms (bake/layers.warm_drafts) — so the first draft costs what the next ones do
+    (issue 61). Where numpy does not draw the drawing, or a layer moves, nothing is made
+    ready (the draft does it all). → the worker thread, or None."""
+    found = _source(parent)
+    if found is None:
+        return None
+    obj, settings, source = found
+    mats = _layer_materials(obj, parent, source, settings, bounds=False)
+    if mats is None or any(moves(m) for m in mats.values()) or \
+            unsupported(obj, drawn_layers(obj, settings["merge"])[0]):
+        return None
+    small = _draft_settings(settings)
+    draw = read_images(context.scene, obj, small, bounds=source["bounds"])[0]
+    images = {(stem, c): img for stem, m in mats.items()
+              for c, img in channel_images(m.dynamic_painting).items() if img is not None}
+    shown = {}
+    for key, img in images.items():      # what each shows: written, kept, else read now
+        big = (bigs or {}).get(key)
+        big = enlarged_kept(img) if big is None else big
+        big = image_rgba(image_data_from_blender(img)) if big is None else big
+        shown[key] = (img.name, img.as_pointer(), big)
+    names = {stem: m.name for stem, m in mats.items()}
+
+    def made_small():            # (the worker: numpy alone)
+        out = {}
+        for stem, _, imgs, _, _ in made_paintings(draw(), small)[0]:
+            out[names[stem]] = imgs
+            for c, data in imgs.items():
+                if (stem, c) in shown:
+                    name, pointer, big = shown[(stem, c)]
+                    keep_enlarged(name, pointer, image_rgba(data), big)
+        return out
+    return warm_drafts(parent, made_small)
+
+
+def _draft_settings(settings):
+    """A lit copy's settings as a stroke's draft draws its layers: DRAFT_WIDTH across, the
+    current frame."""
+    return {**settings, "resolution": min(DRAFT_WIDTH, settings["resolution"]),
+            "animation": False}
 
 
 def forget_drafts():
@@ -241,8 +308,7 @@ def draft_lit_drawing(context, parent):
     mats = _layer_materials(obj, parent, source, settings, bounds=False)
     if not changed or mats is None:
         return False
-    small = {**settings, "resolution": min(DRAFT_WIDTH, settings["resolution"]),
-             "animation": False}
+    small = _draft_settings(settings)
     made = _in_place(mats, drawn_paintings(context.scene, obj, small, only=changed,
                                            samples=DRAFT_SAMPLES, bounds=source["bounds"])[0])
     if made is None:
