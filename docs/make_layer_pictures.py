@@ -178,25 +178,37 @@ distance between layers.*
 
 Grease Pencil cannot be lit in Blender (its material is not a BSDF: no normal maps, no
 shadows). *Add › Dynamic Painting › From Grease Pencil* lights the active drawing: each of its
-layers that draws something is drawn by **Blender's own Grease Pencil renderer** (its
-materials, fills, modifiers and effects), unlit, into an image with its alpha, framed by the
-drawing's extent over all its frames; the layers are then built as a folder of layers is
-(below): a plane per layer where the drawing is — at the depth the artist moved it toward
-the camera (its layer's translation), else *Spacing* apart (0.05 of its width) — each
+layers that draws something is drawn unlit into an image with its alpha, framed by the
+drawing's extent over all its frames — by numpy (`scenes/grease_pencil/strokes.py`,
+`core/raster.py`: fills by each pixel's exact covered area, round-capped lines that thicken
+and fade with the pen, vertex colours, layer opacity, as Grease Pencil mixes them; 23× faster
+than Blender's renderer here and free of its main thread), or, where the drawing uses what
+numpy does not draw (textures and gradients, modifiers and effects, blend modes, masks, tints,
+curves that are not polylines, soft or flat-capped lines, holdouts, animated layers and
+materials), by **Blender's own Grease Pencil renderer**, a note saying why. Inside every
+figure the two agree within 1/255; at the edges numpy's coverage is the exact area where
+Blender's anti-aliasing spreads an edge over ~2 px. The layers are then built as a folder of
+layers is (below): a plane per layer where the drawing is — at the depth the artist moved it
+toward the camera (its layer's translation), else *Spacing* apart (0.05 of its width) — each
 inflated by parts from its alpha with a low *Relief* (0.1 of a hemisphere: a drawing's layers
 lie close), but a backdrop (a fill to the drawing's bounds: a sky, a wall) stays a flat card;
-the layers in front shadow those behind. The drawing is hidden, not changed:
-unhide it and draw on, and the lit copy follows — each change of the drawing (a stroke, a
-keyframe, a material's colour) shows at once as a draft (the changed layer drawn 128 px
-across at one anti-aliasing sample and enlarged, its shadows from the layers made as small:
-under 0.1 s at 1024² here) and is drawn in full in place once no stroke has come for 1 s
-(Blender holds only while it draws the changed layer; its painting and the shadows are made
-in worker threads; at once in scripts and renders, after a depsgraph evaluation); a layer
-added or removed, or a stroke past the drawing's bounds (its draft shows it as far as the lit
-copy reaches), makes the lit copy anew — with a UI, from paintings made in a worker while the
-old one shows, its shadows a draft at once and final in a worker. Blender draws each layer at the scene's Grease Pencil
-anti-aliasing samples (*Render Properties › Grease Pencil*, 8 unless set), as F12 would:
-each sample is a drawing of every pixel, so fewer make the full redraw sooner.
+the layers in front shadow those behind. With a UI the lit copy shows its shadows as a draft
+at once and the final ones from a worker thread (2.5 s at 1024² here until it shows; a script
+waits for the final bake). The drawing is hidden, not changed: unhide it and draw on, and the
+lit copy follows — each change of the drawing (a stroke, a keyframe, a material's colour)
+shows at once as a draft (the changed layer drawn 128 px across, made a painting there and
+enlarged where it changed, its shadows from the layers made as small: under 0.1 s at 1024²
+here) and is drawn in full in place once no stroke has come for 1 s — with a UI its drawing,
+painting and final shadows are made in worker threads and Blender is held only to write
+them (at most ~70 ms at 1024² here; the images so written are packed when the file is
+saved); at once in scripts and renders, after a depsgraph evaluation. A layer added or
+removed, or a stroke past the drawing's bounds (its draft shows it as far as the lit copy
+reaches), makes the lit copy anew — with a UI, from paintings made in a worker while the old
+one shows, its shadows a draft at once and final in a worker (building the new copy holds
+Blender ~2 s at 1024²). Where Blender's renderer draws the drawing, it draws each layer at the
+scene's Grease Pencil anti-aliasing samples (*Render Properties › Grease Pencil*, 8 unless
+set), as F12 would. Scene frames that show the same drawing share one bake: a frame where the
+drawing holds costs milliseconds.
 An animated
 drawing (a layer with more than one keyframe, or animated data) is drawn on every frame of
 the scene's range: a layer whose drawing changes becomes a painting of sprite sheets that

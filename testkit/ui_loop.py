@@ -21,13 +21,18 @@ TIMERS = (handlers._redraw_pending, live.finish_redraws, layers._final_bakes)
 
 
 @contextlib.contextmanager
-def with_a_ui(monkeypatch):
+def with_a_ui():
     """rendering() false where the add-on asks it (handlers, live redraws, updates, From
     Grease Pencil), until the block ends."""
-    with monkeypatch.context() as patch:
-        for module in (handlers, live, sync, from_grease_pencil):
-            patch.setattr(module, "rendering", lambda: False)
+    modules = (handlers, live, sync, from_grease_pencil)
+    saved = [module.rendering for module in modules]
+    try:
+        for module in modules:
+            module.rendering = lambda: False
         yield
+    finally:
+        for module, rendering in zip(modules, saved):
+            module.rendering = rendering
 
 
 class MainThread:
@@ -55,7 +60,8 @@ class MainThread:
         """The UI's loop until nothing is due: each registered timer called when its interval
         has passed (its return: the next interval, None: done), the live bake's results
         taken (live_bake._tick) while it has work, a depsgraph update after each call that
-        did something — idle between, as the UI is."""
+        did something — idle between, as the UI is, and while a worker makes the next
+        stroke's draft ready (bake/layers.warm_drafts)."""
         due = {fn: time.perf_counter() for fn in TIMERS if bpy.app.timers.is_registered(fn)}
         end = time.perf_counter() + timeout_s
         while time.perf_counter() < end:
@@ -65,6 +71,9 @@ class MainThread:
             busy = any(t.is_alive() for t in live_bake.LIVE.threads) or \
                 not live_bake.LIVE.results.empty()
             if not due and not busy:
+                if any(t.is_alive() for t in layers.WARMING.values()):
+                    time.sleep(0.005)     # (a first draft made ready: the UI is idle)
+                    continue
                 return self
             if busy:
                 self.call("live bake's results", live_bake.LIVE.tick)

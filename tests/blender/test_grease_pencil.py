@@ -722,7 +722,8 @@ def test_the_cost_benchmark_runs():
     sys.path.insert(0, os.path.join(REPO, "benchmarks"))
     import grease_pencil_cost
     m, page_mb = grease_pencil_cost.measure(48, 1)
-    assert len(m) == 13 and all(seconds > 0 for seconds in m.values()) and page_mb > 0
+    assert m.keys() == grease_pencil_cost.ROWS.keys() and page_mb > 0
+    assert all(seconds > 0 for seconds in m.values())
 
 
 def test_the_frames_benchmark_runs_and_nothing_still_flickers():
@@ -803,7 +804,7 @@ def test_a_frame_that_holds_the_drawing_bakes_nothing(monkeypatch):
 HELD_BUDGET_S = 0.1       # issue 61: Blender's main thread never held longer while drawing
 
 
-def test_a_stroke_never_holds_blender_longer_than_a_blink(monkeypatch, tmp_path):
+def test_a_stroke_never_holds_blender_longer_than_a_blink(tmp_path):
     """Issue 61: a stroke on a three-layer drawing lit at 512 px, driven as Blender's UI
     drives it (testkit/ui_loop.py: the depsgraph update after the stroke — its draft — then
     each timer when due: the full redraw after the pause in the strokes, its worker's
@@ -821,7 +822,7 @@ def test_a_stroke_never_holds_blender_longer_than_a_blink(monkeypatch, tmp_path)
     bpy.context.view_layer.objects.active = obj
     figure = obj.data.layers["Figure"]
     main = MainThread()
-    with with_a_ui(monkeypatch):
+    with with_a_ui():
         assert bpy.ops.dynpaint.add_grease_pencil(resolution=512) == {"FINISHED"}
         parent = bpy.context.object
         main.run()                   # its final bake and first draft made ready, beside

@@ -416,7 +416,11 @@ def warm_drafts(parent, small, depsgraph=None):
             print(f"Dynamic Painting: drafts of {name} not made ready: {exc}")
     thread = threading.Thread(target=run, daemon=True)
     thread.start()
+    WARMING[name] = thread
     return thread
+
+
+WARMING = {}           # parent name → its warm_drafts thread (the newest)
 
 
 def _made_small(img, f):
