@@ -17,7 +17,8 @@ from dynpaint_addon.blender.operators import grease_pencil as from_grease_pencil
 from dynpaint_addon.blender.scenes.grease_pencil import live
 
 # the add-on's timers (bpy.app.timers) on the paths a drawing's edit takes
-TIMERS = (handlers._redraw_pending, live.finish_redraws, layers._final_bakes)
+TIMERS = (handlers._redraw_pending, live.finish_drafts, live.finish_redraws,
+          layers._final_bakes)
 
 
 @contextlib.contextmanager

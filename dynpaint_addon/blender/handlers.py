@@ -23,6 +23,7 @@ while an operator only reads the lights frame by frame (frame_sampling.py). A ha
 raises into Blender: failures are reported (status.py) and the painting keeps its last good
 images (shadow_images.bake_shadows writes only after a complete bake).
 """
+import functools
 import time
 
 import bpy
@@ -97,8 +98,8 @@ def redraw_lit_drawings(scene, depsgraph):
     """A Grease Pencil drawing changed (a stroke, a keyframe, a material): redraw the lit
     copies made from it (scenes/grease_pencil/live.refresh_lit_drawing: the layers that changed)
     — at once without a UI (the headless contract); with one, a draft at once
-    (draft_lit_drawing: drawn small) and the full redraw once no stroke has come for
-    STROKES_QUIET_S."""
+    (draft_lit_drawing: drawn small, in a worker thread) and the full redraw once no stroke
+    has come for STROKES_QUIET_S."""
     if redrawing_now():             # (a lit copy's own renders of its drawing)
         return
     names = set()
@@ -116,7 +117,7 @@ def redraw_lit_drawings(scene, depsgraph):
     if not rendering():
         now = time.perf_counter()
         for parent in stale:       # a draft of each stroke now, the full drawing once they stop
-            if _redraw(parent, draft_lit_drawing):
+            if _redraw(parent, functools.partial(draft_lit_drawing, beside=True)):
                 _PENDING[parent.name] = now
             else:                  # (nothing new since the last draft, or no draft possible)
                 _PENDING.setdefault(parent.name, now)

@@ -849,3 +849,43 @@ def test_a_stroke_never_holds_blender_longer_than_a_blink(tmp_path):
     bright.reload()                                       # (from its packed file)
     assert np.array_equal(image_data_from_blender(bright).pixels, shown)
     assert_what_a_fresh_lit_copy_makes(obj, back, front, resolution=512)
+
+
+def test_a_stroke_drafted_beside_the_ui_while_one_is_under_way_is_drafted_after_it(drawing):
+    """Issue 61: with a UI a stroke's draft is made in a worker thread (draft_lit_drawing
+    beside) and written by finish_drafts (the UI's timer, called here); a stroke while one
+    is under way is drafted once it is written; a full redraw written meanwhile is not
+    overwritten by an older draft."""
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    bpy.context.scene.collection.objects.link(sun)
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=2 * DRAFT_WIDTH) == {"FINISHED"}
+    parent = bpy.context.object
+    back, front = group_materials(parent)
+    bright = front.dynamic_painting.image_bright
+    before = image_data_from_blender(bright).pixels[..., 3].copy()
+    figure = drawing.data.layers["Figure"]
+    add_fill(figure, disc(0.6, -0.4, 0.12), 1)
+    assert draft_lit_drawing(bpy.context, parent, beside=True)
+    first = live._DRAFTS[parent.name]
+    add_fill(figure, disc(-0.7, -0.5, 0.12), 1)                     # a stroke meanwhile
+    assert draft_lit_drawing(bpy.context, parent, beside=True) and first.again
+    assert np.array_equal(image_data_from_blender(bright).pixels[..., 3], before)  # not yet
+    first.thread.join()
+    assert live.finish_drafts() is not None                          # the second started
+    second = live._DRAFTS[parent.name]
+    assert second is not first
+    second.thread.join()
+    assert live.finish_drafts() is None
+    alpha = image_data_from_blender(bright).pixels[..., 3]
+    h, w = alpha.shape
+    gained = alpha - before > 0.5
+    assert gained[:, : w // 4].any() and gained[:, 3 * w // 4:].any()  # both dabs show
+    assert front.dynamic_painting.lights[0].bake_key == DRAFTED
+    add_fill(figure, disc(0.0, 0.5, 0.1), 1)
+    assert draft_lit_drawing(bpy.context, parent, beside=True)
+    late = live._DRAFTS[parent.name]
+    refresh_lit_drawing(bpy.context, parent, beside=False)            # the full redraw first
+    full = image_data_from_blender(bright).pixels.copy()
+    late.thread.join()
+    assert live.finish_drafts() is None
+    assert np.array_equal(image_data_from_blender(bright).pixels, full)  # the draft dropped

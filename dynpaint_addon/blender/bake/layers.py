@@ -30,7 +30,7 @@ from ...nodegraph.derived_inputs import grey_rgba
 from ..state.edits import versions
 from ..state.frames import frame_data, moves, shown_frame
 from ..state.lights import painting_frame_light, plane_matrix
-from ..state.images import enlarged_into, keep_enlarged
+from ..state.images import enlarged, keep_enlarged, shows_enlarged, write_enlarged
 from ..state.settings import channel_images, settings_to_params
 from .live_bake import DEBOUNCE_S
 from .shadow_images import (KEPT_BAKES_MB, bake_shadows, light_key, settings_key,
@@ -241,24 +241,15 @@ class _GroupBake:
                    for name, light in self.todo.items())
 
 
-def _write_shadows(mats, results, key_of, write=write_shadow):
+def _write_shadows(mats, results, key_of):
     """Each layer's cos-θ images of the lights in `results` ({light name: [t per layer]}),
-    keyed key_of(light name), by write(mat, item, t, key); the layers' shadows then
-    current."""
+    keyed key_of(light name) (write_shadow); the layers' shadows then current."""
     for i, mat in enumerate(mats):
         for item in mat.dynamic_painting.lights:
             if item.object is not None and item.object.name in results:
-                write(mat, item, results[item.object.name][i], key_of(item.object.name))
+                write_shadow(mat, item, results[item.object.name][i],
+                             key_of(item.object.name))
         mat.dynamic_painting.shadows_stale = False
-
-
-def _write_drafted(mat, item, t, key):
-    """A draft's small t enlarged into the light's cos-θ image at the layer's size
-    (enlarged_into: where it changed since the last draft)."""
-    item.shadow = enlarged_into(shadow_image_name(mat, item.object.name),
-                                grey_rgba(np.clip(t, 0, 1)),
-                                mat.dynamic_painting.image_shape.size)
-    item.bake_key = key
 
 
 def _group_job(parent, depsgraph=None, quality=None, force=False):
@@ -318,46 +309,95 @@ def draft_group(parent, drawn, depsgraph=None):
     smaller than its images}; the other layers' images made as small (bilinear, kept by
     layer_keys: a stroke reads them once), the small scene baked at draft quality as the
     full-size one would be (Scene.bake's `reduced`) and each t enlarged into its cos-θ
-    images (where it changed: _write_drafted), keyed DRAFTED so that the next bake_group
-    bakes them at full size. A layer the strokes leave alone keeps its prepared inputs and
-    own terms from the last draft.
-    → milliseconds taken."""
-    mats = group_materials(parent)
-    lights = group_lights(mats, depsgraph) if mats else {}
-    if not lights or not drawn:
-        return 0.0
+    images (where it changed), keyed DRAFTED so that the next bake_group bakes them at full
+    size. A layer the strokes leave alone keeps its prepared inputs and own terms from the
+    last draft. GroupDraft, here in one go. → milliseconds taken."""
     start = time.perf_counter()
-    name, small = next(iter(drawn.items()))
-    f = _smaller(bpy.data.materials[name].dynamic_painting.image_shape.size, small)
-    before = {**_SMALL.get(parent.name, {}), **_WARM.pop(parent.name, {})}
-    images = {}
-    keys = layer_keys(mats)
-    kept = {i: before[key] for i, (mat, key) in enumerate(zip(mats, keys))
-            if key in before and mat.name not in drawn}
-    for i, mat in enumerate(mats):
-        if mat.name in drawn:
-            images[mat.name] = drawn[mat.name]
-        elif i in kept:
-            images[mat.name] = kept[i][0]
-        else:
-            images[mat.name] = {c: _made_small(frame_data(mat, c), f)
-                                for c in channel_images(mat.dynamic_painting)
-                                if c in LAYER_CHANNELS}
-    layers = group_layers(mats, depsgraph, LAYER_CHANNELS, kept=images)
-    for layer in layers:
-        layer.p.shadows.enabled = True
-    scene = Scene(layers, prepared={i: entry[1] for i, entry in kept.items()})
-    results, own = {}, {i: {} for i in range(len(mats))}
-    for name, light in lights.items():
-        results[name] = scene.bake(light, "draft", reduced=f[0],
-                                   own={i: entry[2][name] for i, entry in kept.items()
-                                        if name in entry[2]})
-        for i, entry in scene.own.items():
-            own[i][name] = entry
-    _SMALL[parent.name] = {key: (images[mat.name], scene.ready[i], own[i])
-                           for i, (mat, key) in enumerate(zip(mats, keys))}
-    _write_shadows(mats, results, lambda name: DRAFTED, _write_drafted)
+    job = GroupDraft(parent, set(drawn), depsgraph)
+    if not job.lights or not drawn:
+        return 0.0
+    job.run(drawn)
+    job.write()
     return (time.perf_counter() - start) * 1000
+
+
+class GroupDraft:
+    """draft_group in three steps (issue 61: a stroke's draft beside the UI): made on the main
+    thread (what it reads of Blender: the group, its lights, places and parameters, the
+    images of the layers neither drawn nor kept), run(drawn) in any thread (numpy: the small
+    scene baked, each t enlarged to its image's size), write() on the main thread, after
+    the drawn layers' images are (their keys are the layers' then).
+    drawn_names: the materials whose layers run() is given drawn small."""
+
+    def __init__(self, parent, drawn_names, depsgraph=None):
+        mats = group_materials(parent)
+        self.parent_name, self.names = parent.name, [m.name for m in mats]
+        self.lights = group_lights(mats, depsgraph) if mats else {}
+        self.keys = layer_keys(mats)
+        before = {**_SMALL.get(parent.name, {}), **_WARM.pop(parent.name, {})}
+        self.kept = {i: before[key] for i, (mat, key) in enumerate(zip(mats, self.keys))
+                     if key in before and mat.name not in drawn_names}
+        self.read = {mat.name: {c: frame_data(mat, c) for c in channel_images(
+            mat.dynamic_painting) if c in LAYER_CHANNELS} for i, mat in enumerate(mats)
+            if mat.name not in drawn_names and i not in self.kept}
+        self.layers = group_layers(mats, depsgraph, LAYER_CHANNELS,
+                                   kept=dict.fromkeys(self.names))
+        self.full = {m.name: tuple(m.dynamic_painting.image_shape.size) for m in mats}
+        self.shown = {(i, name): shows_enlarged(shadow_image_name(mat, name),
+                                                self.full[mat.name])
+                      for i, mat in enumerate(mats) for name in self.lights}
+        self.enlarged = self.small = None
+
+    def run(self, drawn):
+        """Bake the small scene (`drawn`: {material name: its images drawn small}); each
+        light's t per layer enlarged where it changed (state/images.enlarged)."""
+        name, small = next(iter(drawn.items()))
+        f = _smaller(self.full[name], small)
+        images = {}
+        for i, mat_name in enumerate(self.names):
+            images[mat_name] = drawn[mat_name] if mat_name in drawn else \
+                self.kept[i][0] if i in self.kept else \
+                {c: _made_small(img, f) for c, img in self.read[mat_name].items()}
+        for layer, mat_name in zip(self.layers, self.names):
+            layer.images = images[mat_name]
+            layer.p.shadows.enabled = True
+        scene = Scene(self.layers, prepared={i: entry[1] for i, entry in self.kept.items()})
+        own, self.enlarged = {i: {} for i in range(len(self.names))}, {}
+        for light, at in self.lights.items():
+            ts = scene.bake(at, "draft", reduced=f[0],
+                            own={i: entry[2][light] for i, entry in self.kept.items()
+                                 if light in entry[2]})
+            for i, entry in scene.own.items():
+                own[i][light] = entry
+            for i, t in enumerate(ts):
+                image, pointer, size = self.shown[(i, light)]
+                rgba = grey_rgba(np.clip(t, 0, 1))
+                self.enlarged[(i, light)] = enlarged(image, pointer, size, rgba) \
+                    if pointer is not None else resample_separable(rgba, size[1], size[0])
+        self.small = [(images[n], scene.ready[i], own[i]) for i, n in enumerate(self.names)]
+
+    def write(self):
+        """The drafted shadows written into the layers' cos-θ images (keyed DRAFTED) where
+        the group is still the one read → whether it wrote."""
+        parent = bpy.data.objects.get(self.parent_name)
+        mats = group_materials(parent) if parent is not None else []
+        if [m.name for m in mats] != self.names or self.enlarged is None:
+            return False
+        # kept by the layers' keys now: the drawn layers' images were written (their edits
+        # noted) since this draft was read
+        _SMALL[self.parent_name] = dict(zip(layer_keys(mats), self.small))
+        for i, mat in enumerate(mats):
+            for item in mat.dynamic_painting.lights:
+                light = item.object.name if item.object is not None else None
+                if (i, light) not in self.enlarged:
+                    continue
+                big = self.enlarged[(i, light)]
+                if big is not None:               # (None: t did not change here)
+                    image, _, size = self.shown[(i, light)]
+                    item.shadow = write_enlarged(image, size, big)
+                item.bake_key = DRAFTED
+            mat.dynamic_painting.shadows_stale = False
+        return True
 
 
 def _smaller(full, small):

@@ -320,26 +320,36 @@ def refill_enlarged(img, data):
     """A draft drawn smaller (ImageData of the image's kind) written into the packed image
     `img` at its size (bilinear, resample_separable), not packed: the full-size drawing that
     follows replaces it (forget_enlarged). After a draft of the same image only the pixels
-    that read a changed small pixel are enlarged again (enlarged_box: the same values).
+    that read a changed small pixel are enlarged again (enlarged: the same values).
     → whether it wrote (False: nothing changed, or another bit depth)."""
-    w, h = img.size
     if img.is_float != (data.bits == 32):
         return False
-    small = image_rgba(data)
-    last = _ENLARGED.get(img.name)
-    if last is not None and last[2] == img.as_pointer() and last[0].shape == small.shape \
+    big = enlarged(img.name, img.as_pointer(), tuple(img.size), image_rgba(data))
+    if big is None:
+        return False
+    img.pixels.foreach_set(big.ravel())
+    return True
+
+
+def enlarged(name, pointer, size, small):
+    """refill_enlarged's numpy half (any thread): the RGBA `small` enlarged to `size` (w, h)
+    into what image `name` (its as_pointer()) shows — after a draft of the same image only
+    the pixels that read a changed small pixel (enlarged_box) — kept for the next → the
+    full RGBA to write, or None where nothing changed."""
+    w, h = size
+    last = _ENLARGED.get(name)
+    if last is not None and last[2] == pointer and last[0].shape == small.shape \
             and last[1].shape == (h, w, 4):
         box = changed_box(last[0], small)
         if box is None:
-            return False
+            return None
         big = last[1]
         r0, r1, c0, c1 = out = enlarged_box(box, small.shape[:2], (h, w))
         big[r0:r1, c0:c1] = resample_separable(small, h, w, out)
     else:
         big = resample_separable(small, h, w)
-    _ENLARGED[img.name] = (small, big, img.as_pointer())
-    img.pixels.foreach_set(big.ravel())
-    return True
+    _ENLARGED[name] = (small, big, pointer)
+    return big
 
 
 def keep_enlarged(name, pointer, small, big):
@@ -354,6 +364,25 @@ def enlarged_kept(img):
     """The full-size RGBA refill_enlarged keeps of `img` (what it shows), or None."""
     last = _ENLARGED.get(img.name)
     return last[1] if last is not None and last[2] == img.as_pointer() else None
+
+
+def shows_enlarged(name, size):
+    """(name, its as_pointer() or None, size): what enlarged needs to know of the float
+    image `name` a draft enlarges into at `size` (w, h) — None where it is missing, or not
+    a float image of that size (it is made anew: write_enlarged)."""
+    img = bpy.data.images.get(name)
+    ok = img is not None and tuple(img.size) == tuple(size) and img.is_float
+    return name, img.as_pointer() if ok else None, tuple(size)
+
+
+def write_enlarged(name, size, big):
+    """enlarged's RGBA written into the float image `name`, or a new one where it is
+    missing or not of `size` (main thread) → the image."""
+    img = bpy.data.images.get(name)
+    if img is None or tuple(img.size) != tuple(size) or not img.is_float:
+        return float_image(name, big)
+    img.pixels.foreach_set(big.ravel())
+    return img
 
 
 def enlarged_into(name, rgba, size):

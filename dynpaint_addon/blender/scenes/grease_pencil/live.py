@@ -15,13 +15,13 @@ import bpy
 
 from ....inputs.imageio import image_data_from_blender
 
-from ...bake.layers import draft_group, final_bake_due, group_materials, warm_drafts
+from ...bake.layers import GroupDraft, final_bake_due, group_materials, warm_drafts
 from ...bake.live_bake import rendering
 from ...material.sync import update
 from ...state.edits import note_edited
 from ...state.frames import forget_frames, moves
-from ...state.images import (enlarged_kept, forget_enlarged, image_rgba, keep_enlarged,
-                             refill_enlarged, refill_packed_image)
+from ...state.images import (enlarged, enlarged_kept, forget_enlarged, image_rgba,
+                             keep_enlarged, refill_packed_image)
 from ...state.settings import channel_images
 from ...state.status import report
 from ..layered_build import remove_objects
@@ -288,18 +288,26 @@ def forget_drafts():
     of other drawings."""
     _DRAFTED.clear()
     _REDRAWS.clear()
+    _DRAFTS.clear()
 
 
-def draft_lit_drawing(context, parent):
+def draft_lit_drawing(context, parent, beside=False):
     """A stroke while the artist draws (issue 42: draft while drawing, final after): the
     layers that changed since the last draft drawn at DRAFT_WIDTH px across (DRAFT_SAMPLES
     a pixel) and made paintings there (their relief inflated at that size), enlarged into
-    their images (refill_enlarged) and the group's shadows drafted from its layers made as
-    small (draft_group), in the lit copy's framing (a stroke past the drawing's bounds shows
-    as far as they reach: the full redraw makes the lit copy anew). Nothing is packed and
-    the lit copy's record is left as it was: refresh_lit_drawing draws them at full size
-    once the strokes stop. → whether it drew (False: nothing new, or other layers or
-    frames, or a layer that moves: those wait for the full redraw)."""
+    their images (state/images.enlarged) and the group's shadows drafted from its layers
+    made as small (bake/layers.GroupDraft), in the lit copy's framing (a stroke past the
+    drawing's bounds shows as far as they reach: the full redraw makes the lit copy anew).
+    Nothing is packed and the lit copy's record is left as it was: refresh_lit_drawing
+    draws them at full size once the strokes stop. beside (a UI: issue 61): what Blender
+    holds is read now, the draft made in a worker thread and written by finish_drafts (a
+    stroke meanwhile is drafted after it). → whether it drew, or started to (False: nothing
+    new, or other layers or frames, or a layer that moves: those wait for the full
+    redraw)."""
+    running = _DRAFTS.get(parent.name)
+    if beside and running is not None:          # one at a time: this stroke's comes next
+        running.again = True
+        return True
     found = _source(parent)
     if found is None:
         return False
@@ -308,20 +316,104 @@ def draft_lit_drawing(context, parent):
     mats = _layer_materials(obj, parent, source, settings, bounds=False)
     if not changed or mats is None:
         return False
-    small = _draft_settings(settings)
-    made = _in_place(mats, drawn_paintings(context.scene, obj, small, only=changed,
-                                           samples=DRAFT_SAMPLES, bounds=source["bounds"])[0])
-    if made is None:
-        return False
-    written = []
-    for name, imgs in made:
-        for channel, data in imgs.items():
-            img = getattr(mats[name].dynamic_painting, f"image_{channel}")
-            if img is not None and refill_enlarged(img, data):
-                written.append(img.name)
-    _DRAFTED[parent.name] = digests
-    note_edited(written)
-    draft_group(parent, {mats[name].name: imgs for name, imgs in made})
-    for name, imgs in made:         # their derived images from the small ones; the shadows
-        update(mats[name], context.scene, bake="none", small=imgs)     # the draft's
+    job = _Draft(context, parent, obj, settings, source, mats, digests, changed)
+    if not beside:
+        job.run()
+        return job.write(context)
+    _DRAFTS[parent.name] = job
+    job.thread = threading.Thread(target=job.run_reporting, daemon=True)
+    job.thread.start()
+    if not bpy.app.timers.is_registered(finish_drafts):
+        bpy.app.timers.register(finish_drafts, first_interval=POLL_S)
     return True
+
+
+_DRAFTS = {}           # lit copy's name → its _Draft under way beside the UI
+
+
+class _Draft:
+    """A stroke's draft (draft_lit_drawing): read on the main thread here, made by run()
+    (numpy: any thread), written by write() on the main thread."""
+
+    def __init__(self, context, parent, obj, settings, source, mats, digests, changed):
+        self.parent_name, self.digests, self.recorded = parent.name, digests, \
+            source.get("layers", {})
+        self.small = _draft_settings(settings)
+        self.draw = read_images(context.scene, obj, self.small, only=changed,
+                                samples=DRAFT_SAMPLES, bounds=source["bounds"])[0]
+        self.moving = {stem: moves(m) for stem, m in mats.items()}
+        self.names = {stem: m.name for stem, m in mats.items()}
+        self.shown = {(stem, c): (img.name, img.as_pointer(), tuple(img.size), img.is_float)
+                      for stem, m in mats.items() for c, img in
+                      channel_images(m.dynamic_painting).items() if img is not None}
+        drawn = {layer_stem(i, group) for i, group in
+                 enumerate(drawn_layers(obj, settings["merge"])[0])
+                 if changed & {layer.name for layer in group}}
+        self.group = GroupDraft(parent, {mats[stem].name for stem in drawn if stem in mats})
+        self.made = self.bigs = self.error = self.thread = None
+        self.again = False
+
+    def run(self):
+        made = made_paintings(self.draw(), self.small)[0]
+        # drawn as it was made (not a layer that moves, nor one that stopped: the full
+        # redraw makes those anew)
+        if any((table is None) == self.moving[stem]
+               for stem, _, imgs, _, table in made if imgs is not None):
+            return
+        self.made = [(stem, imgs) for stem, _, imgs, _, _ in made if imgs is not None]
+        self.bigs = {}
+        for stem, imgs in self.made:
+            for c, data in imgs.items():
+                name, pointer, size, is_float = self.shown.get((stem, c), (None,) * 4)
+                if name is not None and is_float == (data.bits == 32):
+                    self.bigs[(stem, c)] = enlarged(name, pointer, size, image_rgba(data))
+        self.group.run({self.names[stem]: imgs for stem, imgs in self.made})
+
+    def run_reporting(self):
+        try:
+            self.run()
+        except Exception as exc:        # (said on the main thread: finish_drafts)
+            self.error = exc
+
+    def write(self, context):
+        """The draft written where the lit copy still shows what it showed when read (a full
+        redraw written since is newer) → whether it wrote."""
+        parent = bpy.data.objects.get(self.parent_name)
+        if self.made is None or parent is None or \
+                json.loads(parent[SOURCE]).get("layers", {}) != self.recorded:
+            return False
+        written = []
+        for (stem, c), big in self.bigs.items():
+            name, pointer = self.shown[(stem, c)][:2]
+            img = bpy.data.images.get(name)
+            if big is not None and img is not None and img.as_pointer() == pointer:
+                img.pixels.foreach_set(big.ravel())
+                written.append(name)
+        _DRAFTED[self.parent_name] = self.digests
+        note_edited(written)
+        self.group.write()
+        for stem, imgs in self.made:    # their derived images from the small ones; the
+            mat = bpy.data.materials.get(self.names[stem])       # shadows the draft's
+            if mat is not None:
+                update(mat, context.scene, bake="none", small=imgs)
+        return True
+
+
+def finish_drafts():
+    """Timer: the drafts made beside the UI written (_Draft.write); where a stroke came
+    meanwhile, its draft started. → seconds to the next call (None: none left)."""
+    for name, job in list(_DRAFTS.items()):
+        if job.thread.is_alive():
+            continue
+        del _DRAFTS[name]
+        parent = bpy.data.objects.get(name)
+        try:
+            if job.error is not None:
+                raise job.error
+            job.write(bpy.context)
+            if job.again and parent is not None:
+                with redrawing(name):
+                    draft_lit_drawing(bpy.context, parent, beside=True)
+        except Exception as exc:        # never into Blender's timer loop
+            report(name, exc)
+    return POLL_S if _DRAFTS else None
