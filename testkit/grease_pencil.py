@@ -8,6 +8,7 @@ import bpy
 
 from dynpaint_addon.blender.scenes.grease_pencil.building import (  # noqa: F401
     add_fill, build_drawing, fill_material)
+from dynpaint_addon.blender.scenes.grease_pencil.reading import material_drawn
 from dynpaint_addon.inputs.drawings import Drawing, DrawingLayer, Fill
 
 
@@ -89,7 +90,8 @@ def line_material(gp, name, rgba):
     """A line-only Grease Pencil material of linear colour `rgba` on `gp` → its index."""
     m = bpy.data.materials.new(name)
     bpy.data.materials.create_gpencil_data(m)
-    m.grease_pencil.show_stroke, m.grease_pencil.show_fill = True, False
+    if "show_fill" in material_drawn():      # Blender 5.0–5.2 (5.3: add_line's attributes)
+        m.grease_pencil.show_stroke, m.grease_pencil.show_fill = True, False
     m.grease_pencil.color = rgba
     gp.materials.append(m)
     return len(gp.materials) - 1

@@ -113,6 +113,9 @@ def _unsupported_strokes(drawing):
     soft = _attribute(drawing, "softness", n)
     if soft is not None and np.any(soft != 0):
         return "soft lines"
+    fills = _attribute(drawing, "fill_id", n)       # (5.3: strokes sharing an id fill as one)
+    if fills is not None and len(np.unique(fills[fills != 0])) < np.count_nonzero(fills):
+        return "strokes that fill together"
     return None
 
 
@@ -163,12 +166,13 @@ def read_strokes(layer, frame_number):
     def get(name, size, shape=()):
         got = _attribute(drawing, name, size)
         return np.full((size, *shape), DEFAULTS[name]) if got is None else got
+    # 5.3: each stroke says whether it is filled (fill_id 0: not) and outlined
+    per_stroke = "show_fill" not in material_drawn()
     return Strokes(offsets, position[:, [0, 2]], get("radius", p), get("opacity", p),
                    get("vertex_color", p, (4,)), get("material_index", s), get("cyclic", s),
                    get("fill_color", s, (4,)), get("fill_opacity", s),
-                   None if "fill_id" not in drawing.attributes else get("fill_id", s) != 0,
-                   None if "hide_stroke" not in drawing.attributes
-                   else ~get("hide_stroke", s).astype(bool))
+                   get("fill_id", s) != 0 if per_stroke else None,
+                   ~get("hide_stroke", s).astype(bool) if per_stroke else None)
 
 
 def _read_group(obj, group, frames):
