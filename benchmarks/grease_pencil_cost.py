@@ -42,7 +42,9 @@ from dynpaint_addon.blender import handlers, register_once  # noqa: E402
 from dynpaint_addon.blender.bake.layers import settle  # noqa: E402
 from dynpaint_addon.blender.scenes.grease_pencil.drawing import (  # noqa: E402
     drawn_size, render_layers)
-from dynpaint_addon.blender.scenes.grease_pencil.lit_copy import GREASE_PENCIL_RELIEF  # noqa: E402
+from dynpaint_addon.blender.scenes.grease_pencil.lit_copy import (  # noqa: E402
+    GREASE_PENCIL_RELIEF, SOURCE)
+from dynpaint_addon.blender.scenes.layered_build import remove_objects  # noqa: E402
 from dynpaint_addon.blender.scenes.grease_pencil.live import (  # noqa: E402
     DRAFT_WIDTH, draft_lit_drawing, refresh_lit_drawing, warm_first_draft)
 from dynpaint_addon.blender.scenes.grease_pencil.reading import drawn_layers, framing  # noqa: E402
@@ -105,7 +107,9 @@ def measure(size, runs):
                                  for i, c in enumerate(cells)], runs)
 
     def lit(ui):
-        def add():
+        def add():                 # (the last run's lit copy removed: one follows the drawing)
+            for parent in [o for o in scene.objects if o.get(SOURCE)]:
+                remove_objects(list(parent.children) + [parent], images=True)
             obj.hide_set(False)
             bpy.context.view_layer.objects.active = obj
             with with_a_ui() if ui else contextlib.nullcontext():

@@ -12,7 +12,7 @@ from ...core.frames import expand_pattern, is_pattern
 from ...core.input_rules import ImageData, pixel_role
 from ...core.sampling import enlarged_box, resample_separable
 from ...core.strokes import changed_box, union
-from ...inputs.imageio import file_channels, file_header
+from ...inputs.imageio import file_channels, file_header, image_data_from_blender
 from ...inputs.memory import check_read
 from ...inputs.painting_frames import BoundedCache, sequence_numbers
 from ...nodegraph.derived_inputs import GreyMade, grey_rgba, make_derived
@@ -358,6 +358,34 @@ def keep_enlarged(name, pointer, small, big):
     where its small drawing differs and keeps the rest as drawn in full (issue 61: the
     first stroke's draft, not the whole image, and not blurred). Any thread."""
     _ENLARGED[name] = (small, big, pointer)
+
+
+def derived_shown(mat, state, channels):
+    """What a draft's derived images are made from small (update_derived_images' `small`):
+    the plan's items (state: PaintingState's) whose source is one of `channels` → (items,
+    {channel: (image name, pointer, the RGBA it shows now)} of those with a float image of
+    the painting's size) — main thread; keep_derived_enlarged uses them in any."""
+    items = [d for d in state.plan if d.source in channels and not d.same_as]
+    shown = {}
+    for item in items:
+        img = bpy.data.images.get(derived_name(mat, item))
+        if img is not None and img.is_float and \
+                tuple(img.size) == tuple(state.images[item.source].size):
+            shown[item.channel] = (img.name, img.as_pointer(),
+                                   image_rgba(image_data_from_blender(img)))
+    return items, shown
+
+
+def keep_derived_enlarged(items, shown, small, params):
+    """derived_shown's items made from `small` ({channel: ImageData} drawn small) and kept
+    for refill_enlarged against what their images show (keep_enlarged): a draft's first
+    write enlarges only where it differs (issue 61). Any thread."""
+    items = [item for item in items if item.source in small]
+    made, _ = make_derived(items, lambda c: small[c], lambda c: pixel_role(c, params))
+    for item in items:
+        if made.get(item.channel) is not None and item.channel in shown:
+            name, pointer, big = shown[item.channel]
+            keep_enlarged(name, pointer, made[item.channel], big)
 
 
 def enlarged_kept(img):

@@ -20,8 +20,10 @@ from ...bake.live_bake import rendering
 from ...material.sync import update
 from ...state.edits import note_edited
 from ...state.frames import forget_frames, moves
-from ...state.images import (enlarged, enlarged_kept, forget_enlarged, image_rgba,
-                             keep_enlarged, refill_packed_image)
+from ...state.images import (derived_shown, enlarged, enlarged_kept, forget_enlarged,
+                             image_rgba, keep_derived_enlarged, keep_enlarged,
+                             refill_packed_image)
+from ...state.painting_state import read_state
 from ...state.settings import channel_images
 from ...state.status import report
 from ..layered_build import remove_objects
@@ -239,10 +241,9 @@ def warm_first_draft(context, parent, bigs=None):
     redraw written), make its first stroke's draft ready in a worker thread — every layer
     drawn DRAFT_WIDTH across and made a painting there (as draft_lit_drawing draws it),
     refill_enlarged told what each image shows (`bigs`: {(layer stem, channel): its RGBA};
-    the others kept from the last, or read from Blender now), the group's small scene
-    prepared with its own draft
-    terms (bake/layers.warm_drafts) — so the first draft costs what the next ones do
-    (issue 61). Where numpy does not draw the drawing, or a layer moves, nothing is made
+    the others kept from the last, or read from Blender now) and what each derived image
+    shows (read now), the group's small scene prepared with its own draft terms
+    (bake/layers.warm_drafts) — so the first draft costs what the next ones do (issue 61). Where numpy does not draw the drawing, or a layer moves, nothing is made
     ready (the draft does it all). → the worker thread, or None."""
     found = _source(parent)
     if found is None:
@@ -263,6 +264,11 @@ def warm_first_draft(context, parent, bigs=None):
         big = image_rgba(image_data_from_blender(img)) if big is None else big
         shown[key] = (img.name, img.as_pointer(), big)
     names = {stem: m.name for stem, m in mats.items()}
+    derived = {}                 # what the draft's derived images will be made from
+    for stem, m in mats.items():
+        state = read_state(m, context.scene)
+        derived[stem] = (*derived_shown(m, state, channel_images(m.dynamic_painting)),
+                         state.params)
 
     def made_small():            # (the worker: numpy alone)
         out = {}
@@ -272,6 +278,7 @@ def warm_first_draft(context, parent, bigs=None):
                 if (stem, c) in shown:
                     name, pointer, big = shown[(stem, c)]
                     keep_enlarged(name, pointer, image_rgba(data), big)
+            keep_derived_enlarged(*derived[stem][:2], imgs, derived[stem][2])
         return out
     return warm_drafts(parent, made_small)
 
