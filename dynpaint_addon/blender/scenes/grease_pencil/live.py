@@ -2,8 +2,10 @@
 final after): a stroke's draft (the changed layers drawn small, enlarged into their images,
 the shadows drafted), then once the strokes stop the full redraw (the changed layers read,
 a worker thread draws them at full size and makes them paintings, finish_redraws writes
-them), or
-the lit copy made anew where the drawing's layers, bounds or frames are no longer its own.
+them), or the lit copy made anew where the drawing's layers, bounds or frames are no longer
+its own. With a UI (issue 61) Blender's main thread only reads and writes: drafts, full
+redraws and their shadows are made in worker threads, and the first stroke's draft is made
+ready after each full redraw (warm_first_draft).
 """
 import contextlib
 import json
@@ -14,7 +16,6 @@ import numpy as np
 import bpy
 
 from ....inputs.imageio import image_data_from_blender
-
 from ...bake.layers import GroupDraft, final_bake_due, group_materials, warm_drafts
 from ...bake.live_bake import rendering
 from ...material.sync import update
