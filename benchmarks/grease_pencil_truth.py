@@ -3,9 +3,9 @@
 Cut-out cards at known depths over a ground are drawn twice: as Grease Pencil fills on layers
 moved toward the camera by their depths (a drawing an artist could make), and as 3D cards
 (ground_truth_layers: faces of a fine grid, each layer's thickness). The drawing goes the way
-*From Grease Pencil* takes it — each layer drawn by Blender's Grease Pencil renderer
-(scenes/grease_pencil/drawing.render_layers, no margin: the drawing is the ground's square, the truth
-camera's frame), made a painting (layered_files.painting_of_frames: a shaded dark copy, the
+*From Grease Pencil* takes it — each layer drawn (lit_copy.drawn_images: by numpy since issue
+61, Blender's Grease Pencil renderer before; no margin: the drawing is the ground's square, the
+truth camera's frame), made a painting (layered_files.painting_of_frames: a shaded dark copy, the
 alpha inflated `--relief` high), at the depth of its layer (layer_depths) — and the core
 bakes the layers (core.layers.bake_scene); the comparison is ground_truth_layers.compare's:
 per layer and light, mean |t − 3D| over the layer's pixels and the IoU of the shadows the
@@ -20,7 +20,6 @@ import argparse
 import math
 import os
 import sys
-import tempfile
 
 import numpy as np
 
@@ -32,11 +31,10 @@ from ground_truth_layers import (GOALS, GROUND, Card, Depth, compare,  # noqa: E
                                  core_layers, disc, square, star)
 from report import command_line, publish  # noqa: E402
 
-from dynpaint_addon.blender.scenes.grease_pencil.drawing import render_layers  # noqa: E402
-from dynpaint_addon.blender.scenes.grease_pencil.lit_copy import GREASE_PENCIL_RELIEF  # noqa: E402
-from dynpaint_addon.blender.scenes.grease_pencil.reading import layer_depths  # noqa: E402
+from dynpaint_addon.blender.scenes.grease_pencil.lit_copy import (  # noqa: E402
+    GREASE_PENCIL_RELIEF, drawn_images, lit_defaults)
+from dynpaint_addon.blender.scenes.grease_pencil.reading import framing, layer_depths  # noqa: E402
 from dynpaint_addon.core.layers import Layer  # noqa: E402
-from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
 from dynpaint_addon.inputs.layered_files import painting_of_frames  # noqa: E402
 from testkit.grease_pencil import add_fill, fill_material  # noqa: E402
 
@@ -112,9 +110,11 @@ def drawn_layers(size, depths, relief):
     """The drawing's layers as From Grease Pencil makes them → core Layers (the truth's
     thickness for each, as the artist would set it)."""
     obj = drawing(depths)
-    with tempfile.TemporaryDirectory() as folder:
-        paths, (x0, x1, _, _), _, _ = render_layers(obj, folder, size, margin=0.0)
-        cells = [read_image(p) for p, in paths]
+    settings = {**lit_defaults(), "resolution": size, "animation": False}
+    drawn, (x0, x1, _, _), _, notes = drawn_images(bpy.context.scene, obj, settings,
+                                                   bounds=framing(obj, margin=0.0))
+    assert not notes, notes                     # (numpy draws it, as From Grease Pencil does)
+    cells = [frames[0] for _, _, frames, _ in drawn]
     at = layer_depths(list(obj.data.layers), x1 - x0, 0.0)
     layers = []
     for spec, cell, depth in zip(depths, cells, at):
