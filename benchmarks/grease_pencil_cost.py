@@ -50,7 +50,8 @@ from dynpaint_addon.blender.scenes.grease_pencil.live import (  # noqa: E402
 from dynpaint_addon.blender.scenes.grease_pencil.reading import drawn_layers, framing  # noqa: E402
 from dynpaint_addon.blender.scenes.grease_pencil.strokes import read_drawing  # noqa: E402
 from dynpaint_addon.inputs.layered_files import DEFAULT_SHADE, painting_of_frames  # noqa: E402
-from testkit.grease_pencil import add_fill, disc, figure_on_a_hill, rectangle  # noqa: E402
+from testkit.grease_pencil import (  # noqa: E402
+    add_fill, disc, figure_on_a_hill_in_the_sun, rectangle)
 from testkit.ui_loop import MainThread, with_a_ui  # noqa: E402
 
 GOALS = {  # part: (seconds, in words)
@@ -81,13 +82,7 @@ ROWS = {BLENDER_DRAW: None, NUMPY_DRAW: None, PAINTED: None, ADD_SCRIPT: None,
 def drawing():
     bpy.ops.wm.read_homefile(use_empty=True)
     register_once()
-    scene = bpy.context.scene
-    obj = figure_on_a_hill(scene)
-    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
-    scene.collection.objects.link(sun)
-    sun.rotation_euler = (np.radians(50), 0, np.radians(-60))
-    bpy.context.view_layer.objects.active = obj
-    return obj
+    return figure_on_a_hill_in_the_sun(bpy.context.scene)
 
 
 def measure(size, runs):

@@ -54,6 +54,17 @@ def figure_on_a_hill(scene, name="Figure on a hill"):
     return obj
 
 
+def figure_on_a_hill_in_the_sun(scene, name="Figure on a hill"):
+    """figure_on_a_hill under a sun 40° high from the front left, the drawing active (what
+    the cost benchmark and the stroke tests light) → the Grease Pencil object."""
+    obj = figure_on_a_hill(scene, name)
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    scene.collection.objects.link(sun)
+    sun.rotation_euler = (np.radians(50), 0, np.radians(-60))
+    bpy.context.view_layer.objects.active = obj
+    return obj
+
+
 def rolling_disc(scene, name="Rolling disc", frames=(1, 2, 3)):
     """card_and_disc whose disc is drawn anew on each of `frames`, 0.25 further right each
     time (a keyframe per frame), the card still → the Grease Pencil object."""

@@ -39,7 +39,8 @@ from dynpaint_addon.blender.state.edits import version  # noqa: E402
 from dynpaint_addon.blender.state.frames import frame_data, moves  # noqa: E402
 from dynpaint_addon.core.layers import MAX_LAYERS  # noqa: E402
 from testkit.grease_pencil import (add_fill, card_and_disc, disc, figure_on_a_hill,  # noqa: E402
-                                   fill_material, inked, rectangle, rolling_disc)
+                                   figure_on_a_hill_in_the_sun, fill_material, inked,
+                                   rectangle, rolling_disc)
 
 from conftest import EEVEE_OPAQUE_SNAP, REPO, open_page, run_cli  # noqa: E402
 
@@ -817,11 +818,7 @@ def test_a_stroke_never_holds_blender_longer_than_a_blink(tmp_path):
     bpy.ops.wm.read_homefile(use_empty=True)
     blender.register_once()
     scene = bpy.context.scene
-    obj = figure_on_a_hill(scene)
-    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
-    scene.collection.objects.link(sun)
-    sun.rotation_euler = (np.radians(50), 0, np.radians(-60))
-    bpy.context.view_layer.objects.active = obj
+    obj = figure_on_a_hill_in_the_sun(scene)
     figure = obj.data.layers["Figure"]
     main = MainThread()
     with with_a_ui():
