@@ -30,7 +30,7 @@ from ...nodegraph.derived_inputs import grey_rgba
 from ..state.edits import versions
 from ..state.frames import frame_data, moves, shown_frame
 from ..state.lights import painting_frame_light, plane_matrix
-from ..state.images import enlarged, keep_enlarged, shows_enlarged, write_enlarged
+from ..state.images import enlarged, shows_enlarged, write_enlarged
 from ..state.settings import channel_images, settings_to_params
 from .live_bake import DEBOUNCE_S
 from .shadow_images import (KEPT_BAKES_MB, bake_shadows, light_key, settings_key,
@@ -370,10 +370,8 @@ class GroupDraft:
             for i, entry in scene.own.items():
                 own[i][light] = entry
             for i, t in enumerate(ts):
-                image, pointer, size = self.shown[(i, light)]
-                rgba = grey_rgba(np.clip(t, 0, 1))
-                self.enlarged[(i, light)] = enlarged(image, pointer, size, rgba) \
-                    if pointer is not None else resample_separable(rgba, size[1], size[0])
+                self.enlarged[(i, light)] = enlarged(*self.shown[(i, light)],
+                                                     grey_rgba(np.clip(t, 0, 1)))
         self.small = [(images[n], scene.ready[i], own[i]) for i, n in enumerate(self.names)]
 
     def write(self):
@@ -411,52 +409,26 @@ _WARM = {}             # parent name → {layer_keys' key: a _SMALL entry} warm_
 
 def warm_drafts(parent, small, depsgraph=None):
     """Make ready, in a worker thread, what the group's first draft needs (issue 61: cold, a
-    first stroke's draft held Blender 180 ms at 512²): its layers' images made small —
-    small(): {material name: its images}, called in the worker (a drawing drawn small) —
-    prepared, and their own draft terms per light, kept as draft_group keeps its own
-    (_SMALL), which takes them where the layers are still as they were here; the draft's
-    t kept for refill_enlarged as if a draft had enlarged it into the cos-θ images (the
-    first draft enlarges only where it differs). Places, parameters and lights are read
-    now. → the thread, or None (no light)."""
-    mats = group_materials(parent)
-    lights = group_lights(mats, depsgraph) if mats else {}
-    if not lights:
+    first stroke's draft held Blender 180 ms at 512²): a GroupDraft of every layer run on
+    small(): {material name: its images}, called in the worker (a drawing drawn small) — its
+    layers prepared and their own draft terms per light kept as draft_group keeps its own
+    (_SMALL), which takes them where the layers are still as they were here, and the
+    draft's t kept for refill_enlarged (state/images.enlarged) as if a draft had enlarged it
+    into the cos-θ images (the first draft enlarges only where it differs). Places,
+    parameters and lights are read now. → the thread, or None (no light)."""
+    job = GroupDraft(parent, {m.name for m in group_materials(parent)}, depsgraph)
+    if not job.lights:
         return None
-    keys = layer_keys(mats)
-    layers = group_layers(mats, depsgraph, LAYER_CHANNELS, kept=dict.fromkeys(
-        m.name for m in mats))
-    name, full = parent.name, tuple(mats[0].dynamic_painting.image_shape.size)
-    shadows = {}             # (layer, light): its cos-θ image's name, pointer and size
-    for i, mat in enumerate(mats):
-        for light_name in lights:
-            img = bpy.data.images.get(shadow_image_name(mat, light_name))
-            if img is not None:
-                shadows[(i, light_name)] = (img.name, img.as_pointer(),
-                                            tuple(mat.dynamic_painting.image_shape.size))
 
     def run():
         try:
-            images = small()
-            for layer, mat in zip(layers, mats):
-                layer.images = images[mat.name]
-                layer.p.shadows.enabled = True
-            scene, own = Scene(layers), {i: {} for i in range(len(mats))}
-            for light_name, light in lights.items():
-                ts = scene.bake(light, "draft", reduced=_smaller(full, images[mats[0].name])[0])
-                for i, entry in scene.own.items():
-                    own[i][light_name] = entry
-                for i, t in enumerate(ts):        # as if a draft had enlarged them
-                    if (i, light_name) in shadows:
-                        image, pointer, (w, h) = shadows[(i, light_name)]
-                        rgba = grey_rgba(np.clip(t, 0, 1))
-                        keep_enlarged(image, pointer, rgba, resample_separable(rgba, h, w))
-            _WARM[name] = {key: (images[mat.name], scene.ready[i], own[i])
-                           for i, (mat, key) in enumerate(zip(mats, keys))}
+            job.run(small())
+            _WARM[job.parent_name] = dict(zip(job.keys, job.small))
         except Exception as exc:         # (the first draft is made cold, as before)
-            print(f"Dynamic Painting: drafts of {name} not made ready: {exc}")
+            print(f"Dynamic Painting: drafts of {job.parent_name} not made ready: {exc}")
     thread = threading.Thread(target=run, daemon=True)
     thread.start()
-    WARMING[name] = thread
+    WARMING[job.parent_name] = thread
     return thread
 
 

@@ -9,7 +9,7 @@ import bpy
 
 from ... import params
 from ...core.frames import expand_pattern, is_pattern
-from ...core.input_rules import ImageData, pixel_role
+from ...core.input_rules import pixel_role
 from ...core.sampling import enlarged_box, resample_separable
 from ...core.strokes import changed_box, union
 from ...inputs.imageio import file_channels, file_header, image_data_from_blender
@@ -333,10 +333,13 @@ def refill_enlarged(img, data):
 
 def enlarged(name, pointer, size, small):
     """refill_enlarged's numpy half (any thread): the RGBA `small` enlarged to `size` (w, h)
-    into what image `name` (its as_pointer()) shows — after a draft of the same image only
-    the pixels that read a changed small pixel (enlarged_box) — kept for the next → the
-    full RGBA to write, or None where nothing changed."""
+    into what image `name` (its as_pointer(); None: an image to be made anew, nothing kept)
+    shows — after a draft of the same image only the pixels that read a changed small
+    pixel (enlarged_box) — kept for the next → the full RGBA to write, or None where
+    nothing changed."""
     w, h = size
+    if pointer is None:
+        return resample_separable(small, h, w)
     last = _ENLARGED.get(name)
     if last is not None and last[2] == pointer and last[0].shape == small.shape \
             and last[1].shape == (h, w, 4):
@@ -415,14 +418,10 @@ def write_enlarged(name, size, big):
 
 def enlarged_into(name, rgba, size):
     """The float image `name` holding RGBA made small, enlarged to `size` (w, h): after a
-    draft of the same image only where it changed (refill_enlarged), the whole of it where
-    the image is new or of another size."""
-    img = bpy.data.images.get(name)
-    if img is None or tuple(img.size) != tuple(size) or not img.is_float:
-        w, h = size
-        return float_image(name, resample_separable(rgba, h, w))
-    refill_enlarged(img, ImageData(rgba, 32, name))
-    return img
+    draft of the same image only where it changed (enlarged), the whole of it where the
+    image is new or of another size."""
+    big = enlarged(*shows_enlarged(name, size), rgba)
+    return bpy.data.images[name] if big is None else write_enlarged(name, size, big)
 
 
 def remove_images(images):

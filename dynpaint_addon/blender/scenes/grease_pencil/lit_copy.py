@@ -64,10 +64,9 @@ def read_images(scene, obj, settings, only=None, samples=None, bounds=None):
     names = [layer_stem(i, group) for i, group in enumerate(layers)]
     why = unsupported(obj, layers)
     if why is None:
-        size = drawn_size(bounds, settings["resolution"])
-        check_drawing_memory(obj, layers, frames or [scene.frame_current], *size, only)
-        read = read_drawing(obj, layers, frames or [scene.frame_current], bounds, size,
-                            settings["shade"], only)
+        size, shown = drawn_size(bounds, settings["resolution"]), frames or [scene.frame_current]
+        check_drawing_memory(obj, layers, shown, *size, only)
+        read = read_drawing(obj, layers, shown, bounds, size, settings["shade"], only)
 
         def draw(progress=None):
             return list(zip(names, depths, *read.draw(progress)))

@@ -38,6 +38,11 @@ DRAFT_SAMPLES = 1      # and its anti-aliasing samples (each a draw of every pix
 _DRAFTED = {}          # lit copy's name → the layer digests its last draft drew
 
 
+def _moving(mats):
+    """{stem: whether its material moves} of _layer_materials' (read on the main thread)."""
+    return {stem: moves(mat) for stem, mat in mats.items()}
+
+
 def _layer_materials(obj, parent, source, settings, bounds=True):
     """The lit copy's layer materials {stem: material}, or None where the drawing's layers or
     (with `bounds`) its bounds are not those it was made from (it is made anew then)."""
@@ -48,11 +53,12 @@ def _layer_materials(obj, parent, source, settings, bounds=True):
     return mats if same else None
 
 
-def _in_place(mats, made):
+def _in_place(moving, made):
     """The made paintings (drawn_paintings' entries) that can be written into the lit copy's
-    materials `mats` → [(stem, images)], or None where one of them moves and its material
-    does not, or the other way round (other frames: the lit copy is made anew)."""
-    if any((table is None) != (not moves(mats[name]))
+    materials (`moving`: {stem: whether its material moves}) → [(stem, images)], or None
+    where one of them moves and its material does not, or the other way round (other
+    frames: the lit copy is made anew)."""
+    if any((table is None) == moving[name]
            for name, _, imgs, _, table in made if imgs is not None):
         return None
     return [(name, imgs) for name, _, imgs, _, _ in made if imgs is not None]
@@ -101,8 +107,8 @@ def refresh_lit_drawing(context, parent, beside=None):
         if not bpy.app.timers.is_registered(finish_redraws):
             bpy.app.timers.register(finish_redraws, first_interval=POLL_S)
         return parent
-    made = None if mats is None else \
-        _in_place(mats, drawn_paintings(context.scene, obj, settings, only=changed)[0])
+    made = None if mats is None else _in_place(
+        _moving(mats), drawn_paintings(context.scene, obj, settings, only=changed)[0])
     return _write_redraw(context, parent, mats, made, obj, settings, source, digests)
 
 
@@ -230,8 +236,9 @@ def finish_redraws():
                     _made_anew(bpy.context, parent, obj, settings,
                                (job.made, bounds, frames, notes), beside=True)
                 else:
-                    _write_redraw(bpy.context, parent, mats, _in_place(mats, job.made), obj,
-                                  settings, source, job.digests, beside=True, rgba=job.rgba)
+                    _write_redraw(bpy.context, parent, mats,
+                                  _in_place(_moving(mats), job.made), obj, settings, source,
+                                  job.digests, beside=True, rgba=job.rgba)
         except Exception as exc:        # never into Blender's timer loop
             report(name, exc)
     return POLL_S if _REDRAWS else None
@@ -349,7 +356,7 @@ class _Draft:
         self.small = _draft_settings(settings)
         self.draw = read_images(context.scene, obj, self.small, only=changed,
                                 samples=DRAFT_SAMPLES, bounds=source["bounds"])[0]
-        self.moving = {stem: moves(m) for stem, m in mats.items()}
+        self.moving = _moving(mats)
         self.names = {stem: m.name for stem, m in mats.items()}
         self.shown = {(stem, c): (img.name, img.as_pointer(), tuple(img.size), img.is_float)
                       for stem, m in mats.items() for c, img in
@@ -362,13 +369,11 @@ class _Draft:
         self.again = False
 
     def run(self):
-        made = made_paintings(self.draw(), self.small)[0]
         # drawn as it was made (not a layer that moves, nor one that stopped: the full
         # redraw makes those anew)
-        if any((table is None) == self.moving[stem]
-               for stem, _, imgs, _, table in made if imgs is not None):
+        self.made = _in_place(self.moving, made_paintings(self.draw(), self.small)[0])
+        if self.made is None:
             return
-        self.made = [(stem, imgs) for stem, _, imgs, _, _ in made if imgs is not None]
         self.bigs = {}
         for stem, imgs in self.made:
             for c, data in imgs.items():

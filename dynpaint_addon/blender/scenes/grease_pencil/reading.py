@@ -146,18 +146,12 @@ def _points(layer):
     out, radii = [], []
     m = np.array(layer.matrix_local)
     for frame in layer.frames:
-        drawing = frame.drawing
-        n = drawing.attributes.domain_size("POINT")
-        if not n:
+        pos = attribute_values(frame.drawing, "position")
+        if pos is None or not len(pos):
             continue
-        pos = np.empty(n * 3, np.float32)
-        drawing.attributes["position"].data.foreach_get("vector", pos)
-        pos = pos.reshape(n, 3) @ m[:3, :3].T + m[:3, 3]
-        radius = np.full(n, 0.0, np.float32)
-        if "radius" in drawing.attributes:
-            drawing.attributes["radius"].data.foreach_get("value", radius)
-        out.append(pos)
-        radii.append(radius)
+        radius = attribute_values(frame.drawing, "radius")
+        out.append(pos @ m[:3, :3].T + m[:3, 3])
+        radii.append(np.zeros(len(pos), np.float32) if radius is None else radius)
     return np.concatenate(out), np.concatenate(radii)
 
 
@@ -177,12 +171,10 @@ def materials_used(layer):
     """The material slot indices a layer's strokes use, on any of its frames."""
     used = set()
     for frame in layer.frames:
-        attribute = frame.drawing.attributes.get("material_index")
-        if attribute is None:
+        values = attribute_values(frame.drawing, "material_index")
+        if values is None:
             used.add(0)
             continue
-        values = np.empty(len(attribute.data), np.int32)
-        attribute.data.foreach_get("value", values)
         used.update(int(v) for v in np.unique(values))
     return used
 
@@ -190,7 +182,19 @@ def materials_used(layer):
 # how each kind of attribute is read: (field, dtype, values per element)
 ATTRIBUTE_READS = {"FLOAT_VECTOR": ("vector", np.float32, 3), "FLOAT": ("value", np.float32, 1),
                    "INT": ("value", np.int32, 1), "BOOLEAN": ("value", np.bool_, 1),
-                   "FLOAT_COLOR": ("color", np.float32, 4)}
+                   "FLOAT_COLOR": ("color", np.float32, 4), "INT8": ("value", np.int8, 1)}
+
+
+def attribute_values(drawing, name):
+    """A drawing's attribute `name` as an array ((n,), or (n, k) for vectors and colours),
+    or None where it is absent or of a kind not read (ATTRIBUTE_READS)."""
+    attribute = drawing.attributes.get(name)
+    if attribute is None or attribute.data_type not in ATTRIBUTE_READS:
+        return None
+    field, dtype, size = ATTRIBUTE_READS[attribute.data_type]
+    values = np.empty(len(attribute.data) * size, dtype)
+    attribute.data.foreach_get(field, values)
+    return values.reshape(-1, size) if size > 1 else values
 
 
 def material_drawn():
@@ -236,13 +240,9 @@ def layer_digests(obj):
                             [list(r) for r in layer.matrix_local])).encode())
         for frame in layer.frames:
             digest.update(str(frame.frame_number).encode())
-            attributes = frame.drawing.attributes
             for name in STROKE_DRAWN:
-                attribute = attributes.get(name)
-                if attribute is not None and attribute.data_type in ATTRIBUTE_READS:
-                    field, dtype, size = ATTRIBUTE_READS[attribute.data_type]
-                    values = np.empty(len(attribute.data) * size, dtype)
-                    attribute.data.foreach_get(field, values)
+                values = attribute_values(frame.drawing, name)
+                if values is not None:
                     digest.update(values.tobytes())
         out[layer.name] = digest.hexdigest()
     for owner, partner in shadow_layers(obj).items():     # its shadow colours are its own

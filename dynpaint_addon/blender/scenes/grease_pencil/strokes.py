@@ -14,7 +14,7 @@ import numpy as np
 from ....core.colour import linear_to_srgb16
 from ....core.input_rules import ImageData
 from ....core.raster import over, polygon_coverage, stroke_coverage
-from .reading import (ATTRIBUTE_READS, material_drawn, materials_used, shadow_layers,
+from .reading import (attribute_values, material_drawn, materials_used, shadow_layers,
                       shadow_materials, shown_keyframes)
 
 POLY = 1               # Grease Pencil's curve_type of a polyline (what its draw tool makes)
@@ -24,7 +24,6 @@ DEFAULTS = {"radius": 0.01, "opacity": 1.0, "vertex_color": 0.0, "material_index
             "cyclic": False, "fill_color": 0.0, "fill_opacity": 1.0, "start_cap": ROUND,
             "end_cap": ROUND, "softness": 0.0, "curve_type": 0, "hide_stroke": False,
             "fill_id": 0}
-READS = {**ATTRIBUTE_READS, "INT8": ("value", np.int8, 1)}
 
 
 @dataclass
@@ -55,17 +54,6 @@ class Strokes:
     fill_opacity: np.ndarray
     filled: np.ndarray = None
     outlined: np.ndarray = None
-
-
-def _attribute(drawing, name, domain_size):
-    """A drawing's attribute `name` as an array (its default where it is absent)."""
-    attribute = drawing.attributes.get(name)
-    if attribute is None or attribute.data_type not in READS:
-        return None
-    field, dtype, size = READS[attribute.data_type]
-    values = np.empty(domain_size * size, dtype)
-    attribute.data.foreach_get(field, values)
-    return values.reshape(domain_size, size) if size > 1 else values
 
 
 def unsupported(obj, groups):
@@ -100,20 +88,19 @@ def unsupported(obj, groups):
 
 
 def _unsupported_strokes(drawing):
-    n = len(drawing.strokes)
-    if not n:
+    if not len(drawing.strokes):
         return None
-    kinds = _attribute(drawing, "curve_type", n)
+    kinds = attribute_values(drawing, "curve_type")
     if kinds is None or np.any(kinds != POLY):
         return "curves (not polylines)"
     for name in ("start_cap", "end_cap"):
-        caps = _attribute(drawing, name, n)
+        caps = attribute_values(drawing, name)
         if caps is not None and np.any(caps != ROUND):
             return "flat caps"
-    soft = _attribute(drawing, "softness", n)
+    soft = attribute_values(drawing, "softness")
     if soft is not None and np.any(soft != 0):
         return "soft lines"
-    fills = _attribute(drawing, "fill_id", n)       # (5.3: strokes sharing an id fill as one)
+    fills = attribute_values(drawing, "fill_id")       # (5.3: strokes sharing an id fill as one)
     if fills is not None and len(np.unique(fills[fills != 0])) < np.count_nonzero(fills):
         return "strokes that fill together"
     return None
@@ -159,12 +146,12 @@ def read_strokes(layer, frame_number):
     p = drawing.attributes.domain_size("POINT")
     offsets = np.empty(s + 1, np.int32)
     drawing.curve_offsets.foreach_get("value", offsets)
-    position = _attribute(drawing, "position", p).astype(np.float64)
+    position = attribute_values(drawing, "position").astype(np.float64)
     m = np.array(layer.matrix_local)
     position = position @ m[:3, :3].T + m[:3, 3]
 
     def get(name, size, shape=()):
-        got = _attribute(drawing, name, size)
+        got = attribute_values(drawing, name)
         return np.full((size, *shape), DEFAULTS[name]) if got is None else got
     # 5.3: each stroke says whether it is filled (fill_id 0: not) and outlined
     per_stroke = "show_fill" not in material_drawn()
