@@ -15,26 +15,33 @@ import numpy as np
 from .bake import QUALITY, quality_settings
 from .input_rules import image_channels, input_notes, silhouette_channel
 from .inputs import about
+from .layer_edits import ALL, box_of, changed_over, rays_meeting, solid_change
 from .pipeline import (normal_map_relief_px, prepare, render, shadow_term,
-                       silhouette_alpha, transparency_k)
+                       shadow_term_edited, silhouette_alpha, transparency_k)
 from .sampling import pixel_centres, resample_separable, sample_bilinear
-from .transmittance import Occluder, Placement, transmittance
+from .strokes import changed_box, grow, union
+from .transmittance import Occluder, Placement, light_points, transmittance
 
 # §15 for each quality level (§13): the resolution T is found at (receivers and occluders
 # alike, then resampled to each layer's pixels, as §13's bakes), the march's spacing along
 # a ray in pixels of the layer crossed at that resolution, how many points of a light's
 # disc a light with a size is sampled at (and at how many again where those disagree: a
-# penumbra, "Light size"), and the grid of rays (per side) across a pixel on a shadow's edge
-# (transmittance's antialias).
+# penumbra, "Light size"), the grid of rays (per side) across a pixel on a shadow's edge
+# (transmittance's antialias) and how many of the light's points each of those is sampled
+# at (edge_points; 0: all, the reference's).
 # The slab of a flat card is crossed in a few pixels, so few samples are exact enough; a
 # relief's slab takes one sample per `spacing` pixels of its crossing, at most `steps`.
 # A preview (a dragged light) leaves the penumbra alone: sampling it again there cost 2.5×
 # (a 5°-wide sun, 1024²), and the final follows when the light stops.
 LAYER_QUALITY = {
-    "draft": {"scale": 0.125, "spacing": 1.0, "disc": 4, "penumbra": 0, "antialias": 1},
-    "preview": {"scale": 0.5, "spacing": 1.0, "disc": 8, "penumbra": 0, "antialias": 2},
-    "final": {"scale": 1.0, "spacing": 1.0, "disc": 16, "penumbra": 64, "antialias": 4},
-    "reference": {"scale": 1.0, "spacing": 0.25, "disc": 64, "penumbra": 256, "antialias": 4},
+    "draft": {"scale": 0.125, "spacing": 1.0, "disc": 4, "penumbra": 0, "antialias": 1,
+              "edge_points": 0},
+    "preview": {"scale": 0.5, "spacing": 1.0, "disc": 8, "penumbra": 0, "antialias": 2,
+                "edge_points": 4},
+    "final": {"scale": 1.0, "spacing": 1.0, "disc": 16, "penumbra": 64, "antialias": 4,
+              "edge_points": 4},
+    "reference": {"scale": 1.0, "spacing": 0.25, "disc": 64, "penumbra": 256, "antialias": 4,
+                  "edge_points": 0},
 }
 MAX_LAYERS = 8           # documented limit: the web page draws up to 8 (issue 30)
 
@@ -140,7 +147,7 @@ class Scene:
     back layer's shape image's size); prepared: {index: its prepared inputs} of layers
     another Scene prepared already (the same images and parameters)."""
 
-    def __init__(self, layers, canvas=None, dtype=np.float32, prepared=None):
+    def __init__(self, layers, canvas=None, dtype=np.float32, prepared=None, before=None):
         if not layers:
             raise ValueError("a layered scene needs at least one layer")
         if len(layers) > MAX_LAYERS:
@@ -154,11 +161,20 @@ class Scene:
                        for i in self.order}
         self._occluders, self._origins = {}, {}
         self.own = {}            # the last bake's own terms (bake's `own`)
+        # per (layer, light name, level …): (the light's key, what the layer's full-size bake
+        # of it gave) — an edited copy of this scene (`before`) patches them (_Earlier)
+        self._throughs, self._owns = {}, {}
+        self._earlier = _Earlier.of(before, self)
 
     def occluder(self, k, scale=1.0):
-        """Layer k as the layers behind it meet it, its images at `scale` of its pixels."""
+        """Layer k as the layers behind it meet it, its images at `scale` of its pixels (an
+        earlier scene's where its inputs, place and thickness are the same: its maps kept)."""
         if (k, scale) not in self._occluders:
-            if scale == 1.0:
+            e = self._earlier
+            if scale == 1.0 and e is not None and e.ready[k] is self.ready[k] and \
+                    k in e.occluders and e.layers[k].thickness == self.layers[k].thickness:
+                self._occluders[k, scale] = e.occluders[k]
+            elif scale == 1.0:
                 tau = self.layers[k].thickness
                 self._occluders[k, scale] = _occluder(
                     self.ready[k], self.layers[k].p, self.places[k],
@@ -188,7 +204,7 @@ class Scene:
         writes images, which every backend enlarges alike: a drag then upsamples nothing."""
         out, own, self.own = [None] * len(self.layers), own or {}, {}
         for position, i in enumerate(self.order):
-            ready, p = self.ready[i], self.layers[i].p
+            p = self.layers[i].p
             if quality is not None or reduced != 1.0:
                 p = copy.deepcopy(p)
                 p.shadows.quality = quality or p.shadows.quality
@@ -197,8 +213,7 @@ class Scene:
                 p.shadows.steps, scale, _ = quality_settings(level)
                 p.shadows.quality, p.shadows.resolution = "custom", min(1.0, scale * reduced)
             seen = (self.own_lights(i, [light])[0], quality, reduced, own_size)
-            t_own = own[i][1] if i in own and own[i][0] == seen else \
-                shadow_term(ready.n, ready.z_px, ready.slopes, seen[0], p, own_size=own_size)
+            t_own = own[i][1] if i in own and own[i][0] == seen else self._own_term(i, seen, p)
             self.own[i] = (seen, t_own)
             through = self.through(i, [light], level, reduced, t_own.shape)
             out[i] = t_own if through is None else t_own * through[0].astype(t_own.dtype)
@@ -222,12 +237,112 @@ class Scene:
         if (i, q["scale"]) not in self._origins:         # a drag moves the light only
             self._origins[i, q["scale"]] = _origins(self.ready[i], self.places[i], q["scale"])
         origins = self._origins[i, q["scale"]]
-        return [resample_separable(
-                    transmittance(origins, lt, front, p.shadows.steps, canvas=self.canvas,
-                                  spacing=q["spacing"], disc=q["disc"], penumbra=q["penumbra"],
-                                  maps=level != "reference",
-                                  antialias=q["antialias"]).astype(np.float32), h, w)
-                for lt in lights]
+
+        def traced(lt, o):
+            return transmittance(o, lt, front, p.shadows.steps, canvas=self.canvas,
+                                 spacing=q["spacing"], disc=q["disc"], penumbra=q["penumbra"],
+                                 maps=level != "reference", antialias=q["antialias"],
+                                 edge_points=q["edge_points"]).astype(np.float32)
+        out = []
+        for lt in lights:
+            slot = (i, lt.name, level, q["scale"], p.shadows.steps)
+            t = self._patched(i, lt, slot, q, traced) if q["scale"] == 1.0 else None
+            t = traced(lt, origins) if t is None else t
+            if q["scale"] == 1.0:              # (what an edited copy of the scene patches)
+                self._throughs[slot] = (_light_key(lt), t)
+            out.append(resample_separable(t, h, w))
+        return out
+
+    def _patched(self, i, lt, slot, q, traced):
+        """T of layer i for one light patched from an earlier scene's (_Earlier: the scene
+        before an edit) at the same light and level: traced again only where a ray can meet
+        what the edit changed (core/layer_edits.py), the rest kept → (H, W), or None where
+        there is nothing to patch from or the change cannot be bounded."""
+        e = self._earlier
+        kept = None if e is None else e.throughs.get(slot)
+        if kept is None or kept[0] != _light_key(lt):
+            return None
+        before, origins = kept[1], self._origins[i, 1.0]
+        boxes = []
+        if e.ready[i] is not self.ready[i]:          # this layer's own surface moved
+            was = e.origins.get(i)
+            if was is None or was.shape != origins.shape:
+                return None
+            boxes.append(changed_over(was[..., 2], origins[..., 2]))
+        points = [pt for n in {1, q["disc"], q["penumbra"]}
+                  for pt in light_points(lt, self.canvas, n)]
+        meets = np.zeros(before.shape, bool)
+        for k in self.order[self.order.index(i) + 1:]:
+            change = solid_change(e.occluders.get(k), self.occluder(k))
+            if change is ALL:
+                return None
+            if change is not None:
+                meets |= rays_meeting(origins, points, change)
+        box = union(*boxes, box_of(meets))
+        if box is None:
+            return before
+        h, w = before.shape
+        # traced where rays changed and their neighbours (whose antialiasing compares T
+        # with theirs), from a block one pixel wider (those neighbours' own neighbours)
+        (r0, r1, c0, c1), (w0, w1, v0, v1) = grow(box, 2, h, w), grow(box, 1, h, w)
+        block = traced(lt, origins[r0:r1, c0:c1])
+        t = before.copy()
+        t[w0:w1, v0:v1] = block[w0 - r0:w1 - r0, v0 - c0:v1 - c0]
+        return t
+
+    def _own_term(self, i, seen, p):
+        """Layer i's own cos-θ term t_own (§6) of the light it sees (`seen`: bake's): an
+        earlier scene's where the layer is the same, patched from it where an edit changed
+        its shape (pipeline.shadow_term_edited), else baked."""
+        ready, slot = self.ready[i], (i, seen[0].name) + seen[1:]
+        light_key, e = _light_key(seen[0]), self._earlier
+        kept = None if e is None else e.owns.get(slot)
+        t = None
+        if kept is not None and kept[0] == light_key:
+            was = e.ready[i]
+            if was is ready:
+                t = kept[1]
+            elif repr(e.layers[i].p) == repr(self.layers[i].p) and was.size == ready.size \
+                    and (was.z_px is None) == (ready.z_px is None):
+                t = shadow_term_edited(
+                    ready.n, ready.z_px, ready.slopes, seen[0], p, kept[1],
+                    changed_box(was.n, ready.n),
+                    None if ready.z_px is None else changed_box(was.z_px, ready.z_px))
+        if t is None:
+            t = shadow_term(ready.n, ready.z_px, ready.slopes, seen[0], p, own_size=seen[3])
+        self._owns[slot] = (light_key, t)
+        return t
+
+
+def _light_key(light):
+    """What a light's bakes depend on (a Light compares by value but is no dict key)."""
+    return light.kind, light.vector, light.size
+
+
+@dataclass
+class _Earlier:
+    """What an edited copy of a scene takes from the scene before the edit (Scene's
+    `before`): its layers, prepared inputs, occluders, full-size origins and the terms
+    it baked — not the scene itself, nor what it kept of its own earlier one."""
+    layers: list
+    ready: dict
+    occluders: dict
+    origins: dict
+    throughs: dict
+    owns: dict
+
+    @classmethod
+    def of(cls, before, scene):
+        """The earlier scene's part, or None where it is none or another scene (other
+        layers, canvas or places)."""
+        if before is None or before.canvas != scene.canvas or before.places != scene.places \
+                or [la.name for la in before.layers] != [la.name for la in scene.layers]:
+            return None
+        # (list(…) copies at once: a worker may still be baking the earlier scene)
+        return cls(before.layers, before.ready,
+                   {k: o for (k, s), o in list(before._occluders.items()) if s == 1.0},
+                   {i: o for (i, s), o in list(before._origins.items()) if s == 1.0},
+                   dict(list(before._throughs.items())), dict(list(before._owns.items())))
 
 
 def render_scene(layers, lights, canvas=None, dtype=np.float32, progress=None):

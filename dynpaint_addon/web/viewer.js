@@ -528,6 +528,7 @@
       gl.uniform1i(loc("dp_steps"), state.steps);
       gl.uniform1f(loc("dp_spacing"), DATA.layer_quality.spacing);
       gl.uniform1i(loc("dp_antialias"), DATA.layer_quality.antialias);
+      gl.uniform1i(loc("dp_edge_points"), DATA.layer_quality.edge_points);
       gl.uniform1f(loc("dp_edge_step"), DATA.layer_quality.edge_step);
       // pass 1 reads no centres: its sampler shows the own term, never the target drawn
       const centreUnit = bind("dp_centre", own.tex, false);

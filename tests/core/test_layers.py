@@ -400,3 +400,38 @@ def test_a_drags_draft_at_its_own_size_is_as_near_the_final_as_the_full_sized_dr
         assert np.abs(enlarged - want).mean() <= 1.15 * np.abs(f - want).mean()
     assert all(np.array_equal(a, b) for a, b in zip(final, Scene(layers).bake(
         light, "final", own_size=True)))
+
+
+@pytest.mark.parametrize("light", [Light("sun", (0.45, -0.5, 0.74), size=0.05),
+                                   Light("point", (0.3, 0.2, 0.6), size=0.03)],
+                         ids=["sun", "point"])
+def test_a_scene_edited_in_a_box_patches_its_bake_and_equals_a_fresh_one(light, monkeypatch):
+    """Scene(before=) of a scene whose one layer an edit changed in a box (a stroke, issue 61):
+    its final bake equals a fresh scene's bit for bit — a dab inside the front layer's relief
+    (its slab kept), one that raises it (its slab moves: τ follows the tallest relief), one on
+    the middle layer — while only the pixels whose rays can meet the change are traced
+    again, and the edited layer's own term is patched, not baked whole."""
+    import dynpaint_addon.core.layers as core_layers
+    size = 64
+    layers = [Layer(images, p, name, depth)
+              for name, depth, images, p in builtin_scene_layers(size)]
+    first = Scene(layers)
+    first.bake(light, "final")
+    traced = []
+    whole = core_layers.transmittance
+    monkeypatch.setattr(core_layers, "transmittance",
+                        lambda o, *a, **k: traced.append(o.shape[0] * o.shape[1]) or
+                        whole(o, *a, **k))
+    for which, lift in ((2, -0.02), (2, 0.3), (1, 0.05)):
+        images = dict(layers[which].images)
+        px = images["shape"].pixels.copy()
+        px[34:38, 26:30] += lift
+        images["shape"] = ImageData(px, images["shape"].bits)
+        edited = list(layers)
+        edited[which] = Layer(images, layers[which].p, layers[which].name, layers[which].depth)
+        traced.clear()
+        patched = Scene(edited, prepared={i: first.ready[i] for i in range(len(layers))
+                                          if i != which}, before=first)
+        t = patched.bake(light, "final")
+        assert sum(traced) < 0.6 * size * size * which       # the layers behind: a part
+        assert all(np.array_equal(a, b) for a, b in zip(t, Scene(edited).bake(light, "final")))

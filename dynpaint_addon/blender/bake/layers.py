@@ -121,9 +121,10 @@ def core_scene(parent, mats, depsgraph=None, key=None, later=False):
     for layer in layers:
         layer.p.shadows.enabled = True
     prepared, name = {i: hit[1].ready[j] for i, j in kept.items()}, parent.name
+    before = None if hit is None else hit[1]
 
-    def made():
-        scene = Scene(layers, prepared=prepared)
+    def made():          # (an edit's bakes patch the scene's before it: core/layer_edits.py)
+        scene = Scene(layers, prepared=prepared, before=before)
         _SCENES[name] = (key, scene, keys)
         return scene
     return made if later else made()

@@ -8,7 +8,8 @@
 // sunflower spiral), and again at `dp_penumbra` where those disagree. A final pass
 // is drawn twice, as the core's transmittance antialiases: T at the pixels' centres alone
 // (dp_pass 1), then (dp_pass 2) T again as the mean over a dp_antialias² grid across each
-// pixel where it steps by more than dp_edge_step to a neighbour, times the own term. The
+// pixel where it steps by more than dp_edge_step to a neighbour (each of its rays at its
+// share of the light's points, dp_edge_points), times the own term. The
 // page's generator writes `dp_front()`, which calls dp_layer once per layer in front
 // (samplers are indexed by constants only in GLSL ES 3.00). Distances in canvas pixels, z
 // toward the viewer.
@@ -31,6 +32,7 @@ uniform float dp_spacing;      // samples this many pixels of the crossed layer 
 uniform int dp_pass;           // 0: own × T at the centre; 1: T at the centre; 2: own × T, edges refined
 uniform sampler2D dp_centre;   // pass 2: pass 1's T
 uniform int dp_antialias;      // pass 2: the grid's side across an edge's pixel
+uniform int dp_edge_points;   // pass 2: the light's points each ray of an edge's pixel takes (0: all)
 uniform float dp_edge_step;    // pass 2: T's step to a neighbour that makes an edge
 out vec4 dp_fragment;
 
@@ -80,16 +82,19 @@ void dp_basis(vec3 d, out vec3 u, out vec3 v)
     v = cross(d, u);
 }
 
-// The mean of T over n points of the light's disc from o; mixed: whether they disagreed.
-float dp_over_disc(vec3 o, int n, out bool mixed)
+// The mean of T from o over the points first, first + step, … of the n points of the
+// light's disc; mixed: whether they disagreed.
+float dp_over_disc(vec3 o, int n, int first, int step, out bool mixed)
 {
     vec3 u, v;
     vec3 centre = dp_light.xyz;
     // a point light's disc faces the canvas's centre (core/layers.light_points)
     dp_basis(normalize(dp_light.w > 0.5 ? centre - vec3(0.5 * dp_canvas, 0.0) : centre), u, v);
     float total = 0.0, low = 1.0, high = 0.0;
-    for (int j = 0; j < 256; j++) {
+    int count = 0;
+    for (int j = first; j < 256; j += step) {
         if (j >= n) break;
+        count++;
         vec2 e = dp_disc_point(j, n);
         vec3 d;
         float len;
@@ -107,7 +112,7 @@ float dp_over_disc(vec3 o, int n, out bool mixed)
         high = max(high, t);
     }
     mixed = low < high;
-    return total / float(max(n, 1));
+    return total / float(max(count, 1));
 }
 
 // T at a point of the layer (its own pixels), its rays starting `zs` above its plane: the
@@ -117,9 +122,23 @@ float dp_T(vec2 px, float zs)
 {
     vec3 o = vec3(dp_recv.xy + dp_recv.z * px, dp_recv.w + zs);
     bool mixed;
-    float t = dp_over_disc(o, dp_disc, mixed);
-    if (mixed && dp_penumbra > dp_disc && dp_disc > 1) t = dp_over_disc(o, dp_penumbra, mixed);
+    float t = dp_over_disc(o, dp_disc, 0, 1, mixed);
+    if (mixed && dp_penumbra > dp_disc && dp_disc > 1)
+        t = dp_over_disc(o, dp_penumbra, 0, 1, mixed);
     return t;
+}
+
+// T of an edge pixel's antialiasing ray j: at its share of the light's points where
+// dp_edge_points asks (every m-th from j mod m of the finer disc: core/transmittance's
+// _shared), else dp_T's.
+float dp_T_edge(vec2 px, float zs, int j)
+{
+    int n = dp_penumbra > dp_disc && dp_disc > 1 ? dp_penumbra : dp_disc;
+    if (dp_edge_points <= 0 || dp_edge_points >= dp_disc) return dp_T(px, zs);
+    vec3 o = vec3(dp_recv.xy + dp_recv.z * px, dp_recv.w + zs);
+    int m = max(1, n / dp_edge_points);
+    bool mixed;
+    return dp_over_disc(o, n, j - (j / m) * m, m, mixed);
 }
 
 // Whether pass 1's T steps by more than dp_edge_step from pixel c to a neighbour.
@@ -150,7 +169,7 @@ void main()
                 if (j >= dp_antialias * dp_antialias) break;
                 vec2 at = (vec2(float(j % dp_antialias), float(j / dp_antialias)) + 0.5)
                           / float(dp_antialias) - 0.5;
-                sum += dp_T(px + at * pixel, zs);
+                sum += dp_T_edge(px + at * pixel, zs, j);
             }
             t = sum / float(dp_antialias * dp_antialias);
         }

@@ -1,0 +1,119 @@
+"""What an edit of one layer changes in the shadows of a scene of layers (pipeline.md §15,
+issue 61): a stroke changes a box of one layer's images, and T changes only for the rays of
+the layers behind that pass through that box's part of its solid — the rest of T, baked
+before the edit for the same light, stays as it was.
+
+An occluder's change is the box of its pixels where its silhouette, relief or opacity moved by
+more than TOLERANCE (its slab as before), or, where its slab itself moved (a taller relief: τ
+follows the tallest, §15), the box of its solid before and after. A receiving pixel's rays
+toward any point of the light meet that box only if the part of them inside the slab passes
+over it (rays_meeting); those pixels, and their neighbours whose antialiasing reads them,
+are traced again (core/layers.Scene.through).
+
+Boxes of pixels are (r0, r1, c0, c1) as core/strokes.py's; a change is
+(x0, y0, x1, y1, z_bottom, z_top) in canvas pixels.
+
+>>> import numpy as np
+>>> from dynpaint_addon.core.transmittance import Occluder
+>>> flat = np.zeros((16, 16)); dab = flat.copy(); dab[4:6, 8:10] = 1.0
+>>> old = Occluder(np.ones((16, 16)), flat, 8.0, 2.0, np.ones((16, 16)))
+>>> new = Occluder(np.ones((16, 16)), dab, 8.0, 2.0, np.ones((16, 16)))
+>>> solid_change(old, new) is ALL        # the relief's top rose: its slab moved
+False
+>>> solid_change(old, old) is None
+True
+"""
+import numpy as np
+
+from .strokes import union
+
+ALL = "all"              # a change that cannot be bounded: trace every ray
+TOLERANCE = 1e-3         # α, ρ (unitless) and relief (canvas px): a change under it moves an
+                         # edge by under 1e-3 px, a pixel's shadow by under 1/255
+READ_PX = 2              # occluder pixels a changed pixel reaches in what T reads of it: the
+                         # bilinear samples (1) and the sun table's rows beside a line (1)
+
+
+def changed_over(before, after, tolerance=TOLERANCE):
+    """The smallest box holding every pixel where `after` differs from `before` by more than
+    `tolerance` (NaN against a number counts), or None where none does."""
+    with np.errstate(invalid="ignore"):
+        diff = ~(np.abs(after - before) <= tolerance)
+    diff &= ~(np.isnan(before) & np.isnan(after))
+    return box_of(diff)
+
+
+def box_of(mask):
+    """The smallest box holding every True pixel of `mask` (H, W), or None."""
+    rows = np.flatnonzero(mask.any(axis=1))
+    if rows.size == 0:
+        return None
+    cols = np.flatnonzero(mask[rows[0]:rows[-1] + 1].any(axis=0))
+    return int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
+
+
+def solid_change(before, after):
+    """Where occluder `after` differs from `before` (the same layer before an edit) → None
+    (nowhere), a change (x0, y0, x1, y1, z_bottom, z_top: the canvas box and the slab a ray
+    must cross to meet it), or ALL where the two cannot be compared (another size or place)."""
+    if before is after:
+        return None
+    if before is None or before.place != after.place or before.alpha.shape != after.alpha.shape:
+        return ALL
+    same_slab = before.uniform == after.uniform and all(
+        abs(a - b) <= TOLERANCE for a, b in ((before.z_px, after.z_px),
+                                             (before.thickness_px, after.thickness_px),
+                                             (before.top, after.top)))
+    grow = READ_PX * after.place.px
+    if same_slab:
+        box = union(changed_over(before.alpha, after.alpha),
+                     changed_over(before.relief_px, after.relief_px),
+                     changed_over(before.opacity, after.opacity))
+        if box is None:
+            return None
+        r0, r1, c0, c1 = box
+        x0, y0, _ = after.place.to_canvas(c0, r0, 0.0)
+        x1, y1, _ = after.place.to_canvas(c1, r1, 0.0)
+    else:                            # the slab moved under the whole solid, before and after
+        boxes = [k.box for k in (before, after) if k.box is not None]
+        if not boxes:
+            return None
+        x0, y0 = min(b[0] for b in boxes), min(b[1] for b in boxes)
+        x1, y1 = max(b[2] for b in boxes), max(b[3] for b in boxes)
+    return (x0 - grow, y0 - grow, x1 + grow, y1 + grow, min(before.bottom, after.bottom),
+            max(before.top, after.top))
+
+
+def rays_meeting(origins, points, change, margin=1.0):
+    """Which pixels' rays toward any of a light's `points` (transmittance.light_points') can
+    pass through a change's box within its slab → (H, W) bool. origins: (H, W, 3) canvas px;
+    margin: canvas px around each origin its antialiasing rays may start from.
+
+    Inside the slab z ∈ [z_bottom, z_top] a ray from o climbs s = z − o_z ≥ 0 and moves
+    s·g sideways, g = d_xy / d_z (a sun: one g per point; a point light at P: (P_xy − o_xy) /
+    (P_z − o_z), each end of P's box): its sideways reach is bounded by the corners of
+    [s_lo, s_hi] × [g_min, g_max]. A light at or below the slab's top: every pixel."""
+    x0, y0, x1, y1, zb, zt = change
+    ox, oy, oz = (origins[..., a].astype(np.float64) for a in range(3))
+    s_lo, s_hi = np.maximum(zb - oz, 0.0), zt - oz
+    vectors = np.array([v for _, v in points], np.float64)
+    if points[0][0] == "sun":
+        if vectors[:, 2].min() <= 1e-9:
+            return np.ones(oz.shape, bool)
+        g = vectors[:, :2] / vectors[:, 2:3]
+        ranges = [(g[:, a].min(), g[:, a].max()) for a in (0, 1)]
+    else:
+        if vectors[:, 2].min() <= zt:
+            return np.ones(oz.shape, bool)
+        rise = [vectors[:, 2].min() - oz, vectors[:, 2].max() - oz]
+        ranges = []
+        for a, o in ((0, ox), (1, oy)):
+            ends = [(p - o) / r for p in (vectors[:, a].min(), vectors[:, a].max())
+                    for r in rise]
+            ranges.append((np.minimum.reduce(ends), np.maximum.reduce(ends)))
+    meets = s_hi >= 0
+    for o, (g_min, g_max), lo_edge, hi_edge in ((ox, ranges[0], x0, x1), (oy, ranges[1], y0, y1)):
+        lo = o + np.minimum(s_lo * g_min, s_hi * g_min)
+        hi = o + np.maximum(s_lo * g_max, s_hi * g_max)
+        meets &= (hi >= lo_edge - margin) & (lo <= hi_edge + margin)
+    return meets
