@@ -36,3 +36,20 @@ def linear_to_srgb16(c):
         _SRGB16.append((np.round(grid * 65535) / 65535).astype(np.float32))
     index = (np.clip(np.asarray(c, np.float32), 0, 1) * np.float32(SRGB16_STEPS) + 0.5)
     return _SRGB16[0][index.astype(np.int32)]
+
+
+def scaled_srgb(c, factor, bits):
+    """sRGB values c of a `bits`-bit image (8 or 16) whose linear light is scaled by
+    `factor`, still sRGB (a painted image's shaded dark copy): each value read as its code
+    and looked up in a table of the codes' exact results — a drawing's million pixels in
+    ~10 ms, not ~120 (issue 61) → float32.
+
+    >>> c = np.array([0, 1, 32768, 65535]) / 65535              # 16-bit codes
+    >>> exact = linear_to_srgb(0.25 * srgb_to_linear(c))
+    >>> float(np.abs(scaled_srgb(c, 0.25, 16) - exact).max()) < 1e-7
+    True
+    """
+    top = (1 << bits) - 1
+    table = linear_to_srgb(float(factor) * srgb_to_linear(np.arange(top + 1) / top))
+    codes = np.clip(np.rint(np.asarray(c, np.float32) * np.float32(top)), 0, top)
+    return table.astype(np.float32)[codes.astype(np.int32)]

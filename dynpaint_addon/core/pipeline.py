@@ -37,7 +37,7 @@ from .bake import bake_edited, forget_reductions
 from .either_relief import both_reliefs, either_shadow
 from .shape import (default_preblur_px, height_field_px, normals_from_height_px, reach_of,
                     slopes_from_normals)
-from .strokes import height_shape_edited
+from .strokes import changed_box, height_shape_edited
 
 @dataclass
 class RenderResult:
@@ -241,9 +241,12 @@ class Prepared:
         return self.n.shape[:2]
 
 
-def prepare(images, p, dtype=np.float32):
+def prepare(images, p, dtype=np.float32, before=None):
     """The inputs of a render (§1, §2) → Prepared; raises ValueError for a painting that
-    cannot be rendered (no shape, no dark or bright image, no finite shape pixel)."""
+    cannot be rendered (no shape, no dark or bright image, no finite shape pixel).
+    before: the Prepared of the same painting, parameters and dtype before an edit of its
+    images (a stroke, issue 61): a height map decoded again only where it changed
+    (shape_normals_edited: the same arrays as a whole decode)."""
     warnings = []
     if "shape" not in images:
         raise ValueError("a painting needs a shape image (normal or height map)")
@@ -262,8 +265,23 @@ def prepare(images, p, dtype=np.float32):
         if name in PER_PIXEL_CHANNELS and img.pixels.shape[:2] != (hs, ws):
             img = ImageData(resample(img.pixels.astype(dtype), hs, ws), img.bits, img.name)
         imgs[name] = img
-    n, z_px, slopes = shape_normals(imgs["shape"], p, dtype, relief=p.shadows.enabled)
+    decoded = None if before is None else _decoded_again(imgs["shape"], p, dtype, before)
+    n, z_px, slopes = decoded or shape_normals(imgs["shape"], p, dtype,
+                                               relief=p.shadows.enabled)
     return Prepared(imgs, mask_channels(imgs, p), n, z_px, slopes, warnings)
+
+
+def _decoded_again(shape, p, dtype, before):
+    """prepare's decode of `shape` from the Prepared `before` it was edited, or None where
+    it must be decoded whole."""
+    was = before.imgs["shape"].pixels
+    if was.shape != shape.pixels.shape or before.n.dtype != dtype:
+        return None
+    box = changed_box(was, shape.pixels)
+    if box is None:
+        return before.n, before.z_px, before.slopes
+    edited = shape_normals_edited(shape, p, (before.n, before.z_px, before.slopes), box)
+    return None if edited is None else edited[0]
 
 
 def render(images, lights, p, dtype=np.float32, cache=None, keep_passes=True, *,

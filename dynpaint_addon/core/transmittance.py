@@ -551,19 +551,20 @@ def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=N
         step_x[2] = step_y[2] = 0.0
         shift = gx.reshape(-1, 1) * step_x + gy.reshape(-1, 1) * step_y
         rays = (o[edge][:, None, :] + shift[None].astype(o.dtype)).reshape(-1, 3)
+        n = antialias * antialias
         if 0 < edge_points < len(points):
-            t[edge] = _shared(rays, finer or points, antialias * antialias, edge_points,
+            t[edge] = _shared(rays.reshape(-1, n, 3), finer or points, n, edge_points,
                               over_disc)
         else:
-            t[edge] = through(rays).reshape(-1, antialias * antialias).mean(axis=1)
+            t[edge] = through(rays).reshape(-1, n).mean(axis=1)
     return t
 
 
 def _shared(rays, points, n, each, over_disc):
-    """T of edge pixels, the light's points shared among each pixel's n antialiasing rays:
-    ray j toward `each` of them, every m-th from j mod m (m = len(points) / each: with
-    64 points and 16 rays, each point once) → the mean over the n rays (N,)."""
-    rays = rays.reshape(-1, n, 3)
+    """T of edge pixels (rays (N, n, 3): each pixel's n antialiasing rays), the light's
+    points shared among a pixel's rays: ray j toward `each` of them, every m-th from j mod
+    m (m = len(points) / each: with 64 points and 16 rays, each point once) → the mean
+    over the n rays (N,)."""
     m, total = max(1, len(points) // each), np.zeros(len(rays))
     for j in range(n):
         total += over_disc(rays[:, j], points[j % m::m])[0]

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import params
-from ..core.colour import linear_to_srgb, srgb_to_linear
+from ..core.colour import linear_to_srgb, scaled_srgb, srgb_to_linear
 from ..core.frames import SheetGrid
 from ..core.input_rules import ImageData
 from ..core.layers import MAX_LAYERS, Layer, scene_notes
@@ -366,6 +366,8 @@ def shadow_colours(bright, drawn, shade):
 
 def shaded(img, shade):
     """A dark image for a painted one: `shade` × its linear colour, its alpha kept."""
+    if img.bits in (8, 16):                 # (by its codes: the same, 10× sooner)
+        return _with_alpha(img, scaled_srgb(img.rgb(), shade, img.bits), "shaded")
     return _like(img, _linear(img) * float(shade), "shaded")
 
 
@@ -377,7 +379,11 @@ def _linear(img):
 
 def _like(img, linear, what):
     """Linear colour stored as `img` stores its colour, with its alpha: ImageData."""
-    rgb = linear if img.bits == 32 else linear_to_srgb(linear)
+    return _with_alpha(img, linear if img.bits == 32 else linear_to_srgb(linear), what)
+
+
+def _with_alpha(img, rgb, what):
+    """Colour `rgb` stored as `img` stores its colour, with its alpha: ImageData."""
     alpha = img.alpha()
     px = rgb if alpha is None else np.dstack([rgb, alpha])
     return ImageData(px.astype(np.float32), img.bits, f"{img.name} ({what})")
