@@ -412,7 +412,7 @@ def test_a_scene_edited_in_a_box_patches_its_bake_and_equals_a_fresh_one(light, 
     the middle layer — while only the pixels whose rays can meet the change are traced
     again, and the edited layer's own term is patched, not baked whole."""
     import dynpaint_addon.core.layers as core_layers
-    size = 64
+    size = 48
     layers = [Layer(images, p, name, depth)
               for name, depth, images, p in builtin_scene_layers(size)]
     first = Scene(layers)
@@ -425,7 +425,7 @@ def test_a_scene_edited_in_a_box_patches_its_bake_and_equals_a_fresh_one(light, 
     for which, lift in ((2, -0.02), (2, 0.3), (1, 0.05)):
         images = dict(layers[which].images)
         px = images["shape"].pixels.copy()
-        px[34:38, 26:30] += lift
+        px[25:28, 19:22] += lift
         images["shape"] = ImageData(px, images["shape"].bits)
         edited = list(layers)
         edited[which] = Layer(images, layers[which].p, layers[which].name, layers[which].depth)
