@@ -93,27 +93,60 @@ def rays_meeting(origins, points, change, margin=1.0):
     s·g sideways, g = d_xy / d_z (a sun: one g per point; a point light at P: (P_xy − o_xy) /
     (P_z − o_z), each end of P's box): its sideways reach is bounded by the corners of
     [s_lo, s_hi] × [g_min, g_max]. A light at or below the slab's top: every pixel."""
-    x0, y0, x1, y1, zb, zt = change
-    ox, oy, oz = (origins[..., a].astype(np.float64) for a in range(3))
-    s_lo, s_hi = np.maximum(zb - oz, 0.0), zt - oz
+    zt = change[5]
     vectors = np.array([v for _, v in points], np.float64)
     if points[0][0] == "sun":
         if vectors[:, 2].min() <= 1e-9:
-            return np.ones(oz.shape, bool)
+            return np.ones(origins.shape[:2], bool)
         g = vectors[:, :2] / vectors[:, 2:3]
         ranges = [(g[:, a].min(), g[:, a].max()) for a in (0, 1)]
-    else:
-        if vectors[:, 2].min() <= zt:
-            return np.ones(oz.shape, bool)
-        rise = [vectors[:, 2].min() - oz, vectors[:, 2].max() - oz]
-        ranges = []
-        for a, o in ((0, ox), (1, oy)):
-            ends = [(p - o) / r for p in (vectors[:, a].min(), vectors[:, a].max())
-                    for r in rise]
-            ranges.append((np.minimum.reduce(ends), np.maximum.reduce(ends)))
+        # a sun's g is the same for every pixel: only pixels within the reach of the lowest
+        # and highest origins can meet it (a grid's rows and columns: a block to test)
+        rows, cols = _within(origins, change, ranges, margin)
+        meets = np.zeros(origins.shape[:2], bool)
+        meets[rows, cols] = _meeting(origins[rows, cols], change, ranges, margin)
+        return meets
+    if vectors[:, 2].min() <= zt:
+        return np.ones(origins.shape[:2], bool)
+    oz = origins[..., 2].astype(np.float64)
+    rise = [vectors[:, 2].min() - oz, vectors[:, 2].max() - oz]
+    ranges = []
+    for a in (0, 1):
+        o = origins[..., a].astype(np.float64)
+        ends = [(p - o) / r for p in (vectors[:, a].min(), vectors[:, a].max()) for r in rise]
+        ranges.append((np.minimum.reduce(ends), np.maximum.reduce(ends)))
+    return _meeting(origins, change, ranges, margin)
+
+
+def _meeting(origins, change, ranges, margin):
+    """rays_meeting's test of each pixel, its sideways reach per axis bounded by `ranges`
+    ((g_min, g_max) per axis: numbers, or arrays per pixel)."""
+    x0, y0, x1, y1, zb, zt = change
+    ox, oy, oz = (origins[..., a].astype(np.float64) for a in range(3))
+    s_lo, s_hi = np.maximum(zb - oz, 0.0), zt - oz
     meets = s_hi >= 0
     for o, (g_min, g_max), lo_edge, hi_edge in ((ox, ranges[0], x0, x1), (oy, ranges[1], y0, y1)):
         lo = o + np.minimum(s_lo * g_min, s_hi * g_min)
         hi = o + np.maximum(s_lo * g_max, s_hi * g_max)
         meets &= (hi >= lo_edge - margin) & (lo <= hi_edge + margin)
     return meets
+
+
+def _within(origins, change, ranges, margin):
+    """The rows and columns (slices) of a grid of origins whose rays toward a sun (g within
+    `ranges`) can reach the change at all, from the lowest or highest origin."""
+    x0, y0, x1, y1, zb, zt = change
+    z = origins[..., 2]
+    s_lo, s_hi = max(zb - float(z.max()), 0.0), zt - float(z.min())
+    if s_hi < 0:
+        return slice(0, 0), slice(0, 0)
+    out = []
+    for axis, centres, (g_min, g_max), lo_edge, hi_edge in (
+            (0, origins[0, :, 0], ranges[0], x0, x1), (1, origins[:, 0, 1], ranges[1], y0, y1)):
+        # an origin at c reaches [c + min(s·g), c + max(s·g)] over s, g in their ranges
+        reach_lo = min(s_lo * g_min, s_hi * g_min)
+        reach_hi = max(s_lo * g_max, s_hi * g_max)
+        keep = (centres + reach_hi >= lo_edge - margin) & (centres + reach_lo <= hi_edge + margin)
+        index = np.flatnonzero(keep)
+        out.append(slice(int(index[0]), int(index[-1]) + 1) if index.size else slice(0, 0))
+    return out[1], out[0]

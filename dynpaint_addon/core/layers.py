@@ -20,7 +20,8 @@ from .pipeline import (normal_map_relief_px, prepare, render, shadow_term,
                        shadow_term_edited, silhouette_alpha, transparency_k)
 from .sampling import pixel_centres, resample_separable, sample_bilinear
 from .strokes import changed_box, grow, union
-from .transmittance import Occluder, Placement, light_points, transmittance
+from .transmittance import (Occluder, Placement, light_points, tables_edited,
+                            transmittance)
 
 # §15 for each quality level (§13): the resolution T is found at (receivers and occluders
 # alike, then resampled to each layer's pixels, as §13's bakes), the march's spacing along
@@ -179,9 +180,14 @@ class Scene:
                 self._occluders[k, scale] = e.occluders[k]
             elif scale == 1.0:
                 tau = self.layers[k].thickness
-                self._occluders[k, scale] = _occluder(
-                    self.ready[k], self.layers[k].p, self.places[k],
-                    None if tau is None else float(tau) * self.canvas[1])
+                made = _occluder(self.ready[k], self.layers[k].p, self.places[k],
+                                 None if tau is None else float(tau) * self.canvas[1])
+                was = None if e is None else e.occluders.get(k)
+                if was is not None and was.alpha.shape == made.alpha.shape:
+                    # (an edited layer: its sun tables made again where the edit reads)
+                    tables_edited(was, made, union(changed_box(was.alpha, made.alpha),
+                                                   changed_box(was.relief_px, made.relief_px)))
+                self._occluders[k, scale] = made
             else:
                 self._occluders[k, scale] = _reduced(self.occluder(k), scale)
         return self._occluders[k, scale]

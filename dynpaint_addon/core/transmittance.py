@@ -308,8 +308,11 @@ class SunTable:
     they agree, and marched when they do not (a draft takes the nearer row's)."""
     STEP_U = 0.25
 
-    def __init__(self, k, direction):
-        self.k = k
+    def __init__(self, k, direction, before=None, box=None):
+        """before, box: the table of the same light on this layer before an edit that changed
+        its pixels in `box` (r0, r1, c0, c1; None: none), where it spans the same grid: only
+        its rows that read the box are made again (the others are the same, bit for bit)."""
+        self.k, self.direction = k, direction
         flat = float(np.hypot(direction[0], direction[1]))
         self.vertical = flat < 1e-9
         if self.vertical:
@@ -321,13 +324,42 @@ class SunTable:
         corners = np.array([[x0, y0], [x0, y1], [x1, y0], [x1, y1]])
         u, v = corners @ self.e, corners @ self.n
         self.u0, self.v0 = np.floor(u.min()) - 1, np.floor(v.min()) - 1
+        coarse = int(np.ceil(u.max() - self.u0)) + 2
+        rows = int(np.ceil(v.max() - self.v0)) + 2
+        if before is not None and not before.vertical and before.m == self.m and \
+                (before.u0, before.v0) == (self.u0, self.v0) and \
+                before.suffix.shape[0] == rows and before.coarse == coarse:
+            self.suffix = before.suffix.copy()
+            lo, hi = self._rows_reading(box, rows)
+            if hi > lo:
+                self.suffix[lo:hi] = self._suffix_rows(lo, hi, coarse)
+        else:
+            self.suffix = self._suffix_rows(0, rows, coarse)
+        self.coarse = coarse
+        # where a line may cross the plane and still meet the solid: its box, grown by how far
+        # a line travels sideways over the slab's heights (occluder px)
+        travel = (k.top - k.bottom) / self.m + 1.0
+        self.reach = (min(x0, x1) - travel, min(y0, y1) - travel, max(x0, x1) + travel,
+                      max(y0, y1) + travel)
+
+    def _rows_reading(self, box, rows):
+        """The rows [lo, hi) whose samples read a pixel of `box` (bilinear: a pixel round it)."""
+        if box is None:
+            return 0, 0
+        r0, r1, c0, c1 = box
+        corners = np.array([[c0 - 1, r0 - 1], [c0 - 1, r1 + 1], [c1 + 1, r0 - 1],
+                            [c1 + 1, r1 + 1]], np.float64)
+        v = corners @ self.n - self.v0
+        return max(0, int(np.floor(v.min())) - 1), min(rows, int(np.ceil(v.max())) + 2)
+
+    def _suffix_rows(self, lo, hi, coarse):
+        """Rows lo … hi − 1 of the table's suffix maxima (each row made on its own)."""
+        k = self.k
         # the silhouette and relief sampled a pixel apart along u, then interpolated to the
         # finer columns (sampling every column costs 1/STEP_U times more for the same picture)
         per = int(round(1 / self.STEP_U))
-        coarse = int(np.ceil(u.max() - self.u0)) + 2
-        rows = int(np.ceil(v.max() - self.v0)) + 2
         gu, gv = np.meshgrid(self.u0 + np.arange(coarse, dtype=np.float64),
-                             self.v0 + np.arange(rows, dtype=np.float64))
+                             self.v0 + np.arange(lo, hi, dtype=np.float64))
         x, y = gu * self.e[0] + gv * self.n[0], gu * self.e[1] + gv * self.n[1]
         lh, lw = k.alpha.shape
         on = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
@@ -342,12 +374,7 @@ class SunTable:
         gu = self.u0 + f.astype(np.float64)[None, :]
         h = np.where(cover >= 0.5, relief, -np.inf).astype(np.float32)
         g = h - (self.m * (gu - self.STEP_U / 2)).astype(np.float32)   # lowest over its width
-        self.suffix = np.maximum.accumulate(g[:, ::-1], axis=1)[:, ::-1]
-        # where a line may cross the plane and still meet the solid: its box, grown by how far
-        # a line travels sideways over the slab's heights (occluder px)
-        travel = (k.top - k.bottom) / self.m + 1.0
-        self.reach = (min(x0, x1) - travel, min(y0, y1) - travel, max(x0, x1) + travel,
-                      max(y0, y1) + travel)
+        return np.maximum.accumulate(g[:, ::-1], axis=1)[:, ::-1]
 
     def meets(self, x, y, rise, exact=True):
         """Whether the rays whose lines cross the occluder's plane at its pixels (x, y) meet
@@ -399,6 +426,15 @@ def sun_table(k, direction):
     """The SunTable of occluder k for a sun along `direction`, cached on the occluder."""
     return _kept(k, ("table", tuple(np.round(direction, 9))),
                  lambda: SunTable(k, np.asarray(direction, np.float64)))
+
+
+def tables_edited(before, after, box):
+    """Occluder `after` (the same layer as `before`, edited in `box` of its pixels: None,
+    nowhere) given the sun tables `before` kept, each made again only in the rows that read
+    the box (SunTable's `before`) — a stroke's bake then builds no table whole."""
+    for key, table in list(before.maps.items()):
+        if key[0] == "table" and key not in after.maps:
+            after.maps[key] = SunTable(after, table.direction, table, box)
 
 
 def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre, exact):
