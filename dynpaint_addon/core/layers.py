@@ -20,7 +20,7 @@ from .pipeline import (normal_map_relief_px, prepare, render, shadow_term,
                        shadow_term_edited, silhouette_alpha, transparency_k)
 from .sampling import pixel_centres, resample_separable, sample_bilinear
 from .strokes import changed_box, grow, union
-from .transmittance import (Occluder, Placement, light_points, tables_edited,
+from .transmittance import (Occluder, Placement, edited_from, light_points,
                             transmittance)
 
 # §15 for each quality level (§13): the resolution T is found at (receivers and occluders
@@ -185,8 +185,8 @@ class Scene:
                 was = None if e is None else e.occluders.get(k)
                 if was is not None and was.alpha.shape == made.alpha.shape:
                     # (an edited layer: its sun tables made again where the edit reads)
-                    tables_edited(was, made, union(changed_box(was.alpha, made.alpha),
-                                                   changed_box(was.relief_px, made.relief_px)))
+                    edited_from(was, made, union(changed_box(was.alpha, made.alpha),
+                                                 changed_box(was.relief_px, made.relief_px)))
                 self._occluders[k, scale] = made
             else:
                 self._occluders[k, scale] = _reduced(self.occluder(k), scale)
@@ -228,6 +228,10 @@ class Scene:
             out[i] = t_own if through is None else t_own * through[0].astype(t_own.dtype)
             if progress is not None:
                 progress((position + 1) / len(self.order))
+        e = self._earlier             # (every bake it had made again: let it go)
+        if e is not None and set(e.throughs) <= set(self._throughs) and \
+                set(e.owns) <= set(self._owns):
+            self._earlier = None
         return out
 
     def through(self, i, lights, quality=None, reduced=1.0, size=None):

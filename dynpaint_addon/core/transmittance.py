@@ -58,6 +58,7 @@ class Occluder:
     opacity: np.ndarray       # (H, W): ρ = 1 − k (§11's transparency): 1 opaque, 0 clear
     place: Placement = field(default_factory=Placement)
     maps: dict = field(default_factory=dict, repr=False)   # line_map's cache
+    edited: tuple = field(default=None, repr=False)        # (occluder, box): edited_from
 
     def __post_init__(self):
         self.alpha, self.relief_px, self.opacity = (
@@ -423,18 +424,25 @@ class SunTable:
 
 
 def sun_table(k, direction):
-    """The SunTable of occluder k for a sun along `direction`, cached on the occluder."""
-    return _kept(k, ("table", tuple(np.round(direction, 9))),
-                 lambda: SunTable(k, np.asarray(direction, np.float64)))
+    """The SunTable of occluder k for a sun along `direction`, cached on the occluder — made
+    from the same light's table of the occluder it was edited from, where there is one
+    (edited_from)."""
+    key = ("table", tuple(np.round(direction, 9)))
+
+    def make():
+        was, box = k.edited or (None, None)
+        table = None if was is None else was.maps.get(key)
+        return SunTable(k, np.asarray(direction, np.float64), table, box)
+    return _kept(k, key, make)
 
 
-def tables_edited(before, after, box):
-    """Occluder `after` (the same layer as `before`, edited in `box` of its pixels: None,
-    nowhere) given the sun tables `before` kept, each made again only in the rows that read
-    the box (SunTable's `before`) — a stroke's bake then builds no table whole."""
-    for key, table in list(before.maps.items()):
-        if key[0] == "table" and key not in after.maps:
-            after.maps[key] = SunTable(after, table.direction, table, box)
+def edited_from(before, after, box):
+    """Occluder `after` is `before` (the same layer) edited in `box` of its pixels (None:
+    nowhere): its sun tables are made from before's, again only in the rows that read the
+    box (SunTable's `before`) — a stroke's bake builds no table whole. (before's own
+    source is dropped: one edit back is kept, not a chain of them.)"""
+    before.edited = None
+    after.edited = (before, box)
 
 
 def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre, exact):
