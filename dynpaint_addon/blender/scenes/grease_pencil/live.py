@@ -130,8 +130,8 @@ def _made_anew(context, parent, obj, settings, painted=None, beside=False):
 
 def _write_redraw(context, parent, mats, made, obj, settings, source, digests, beside=False,
                   rgba=None):
-    """The made paintings written into the lit copy's images in place (packed) and its
-    record updated, or the lit copy made anew where they cannot be (made None, or an image
+    """The made paintings written into the lit copy's images in place (packed when the file
+    is saved: handlers.pack_edited_images) and its record updated, or the lit copy made anew where they cannot be (made None, or an image
     of another size or kind) → the parent. The group is baked now, or `beside` the UI: at
     its own quality in a worker thread (final_bake_due); rgba: {(layer, channel): the RGBA
     buffer written} made there already."""
@@ -139,9 +139,9 @@ def _write_redraw(context, parent, mats, made, obj, settings, source, digests, b
     for name, imgs in made or ():
         for channel, data in imgs.items():
             img = getattr(mats[name].dynamic_painting, f"image_{channel}")
-            # beside the UI: packed when the file is saved (handlers.pack_edited_images), the
-            # RGBA made by the worker (_Redraw) — what Blender is held for is the copy alone
-            if img is None or not refill_packed_image(img, data, pack=not beside,
+            # not packed here (75–260 ms a 1024² image: a stroke's final waited for it), the
+            # RGBA beside the UI made by the worker (_Redraw) — Blender is held for the copy
+            if img is None or not refill_packed_image(img, data, pack=False,
                                                       rgba=(rgba or {}).get((name, channel))):
                 made = None
                 break
