@@ -41,7 +41,7 @@ from .scenes.grease_pencil.live import (draft_lit_drawing, forget_drafts, redraw
 from .state.edits import note_edited
 from .state.frame_sampling import only_reading_lights
 from .state.frames import forget_frames, moves
-from .state.images import forget_enlarged, forget_frames_made
+from .state.images import PACK_ON_SAVE, forget_enlarged, forget_frames_made
 from .state.lights import concerns, touched_by
 from .state.painted import forget_painted, painted_layers, watched_images
 from .state.settings import channel_images
@@ -243,12 +243,15 @@ def pack_edited_images(*_):
     the layers of painted shapes that strokes changed, and a lit drawing's images that a
     redraw wrote without packing (a 1024² image takes 75–260 ms to pack: not while the
     artist draws) — a packed image saves the pixels it was packed with: the strokes would
-    be lost."""
+    be lost; and the images a lit drawing made anew beside the UI left unpacked."""
     for mat in bpy.data.materials:
         s = mat.dynamic_painting
         for img in {*painted_layers(s), *channel_images(s).values()}:
             try:
-                if img.packed_file is not None and img.is_dirty:
+                if img.packed_file is None and img.get(PACK_ON_SAVE):
+                    img.pack()                       # (made unpacked: packed_image)
+                    del img[PACK_ON_SAVE]
+                elif img.packed_file is not None and img.is_dirty:
                     img.pack()
             except RuntimeError as exc:          # never stop a save
                 report(mat, f"could not pack {img.name}: {exc}")

@@ -442,26 +442,27 @@ def forget_enlarged(names=None):
         _ENLARGED.pop(name, None)
 
 
-def packed_image(name, data, channel):
+def packed_image(name, data, channel, pack=True):
     """An image numpy holds (core ImageData: a layer of an .ora file, a shaded copy) → a new
     image packed into the .blend, as the channel reads it (§0): 8- and 16-bit values stay
-    file values (sRGB codes for colour), floats are linear or data."""
+    file values (sRGB codes for colour), floats are linear or data. pack=False: packed when
+    the file is saved (_packed_later)."""
     rgba = image_rgba(data)
     if data.bits == 32:
-        return made_shape_image(name, rgba)
+        return made_shape_image(name, rgba, pack)
     h, w = rgba.shape[:2]
     img = bpy.data.images.new(name, w, h, alpha=True)
     prepare_channel_image(img, channel)
     img.pixels.foreach_set(np.ascontiguousarray(rgba).ravel())
     img.file_format = "PNG"
-    img.pack()
+    _packed_later(img, pack)
     return img
 
 
-def made_shape_image(name, rgba):
+def made_shape_image(name, rgba, pack=True):
     """A shape image numpy made (Make Shape) → a new float image packed into the .blend: undo
     removes it with the rest of the step, and no file appears beside the artist's images
-    (Image › Save As keeps one)."""
+    (Image › Save As keeps one). pack=False: packed when the file is saved."""
     h, w = rgba.shape[:2]
     img = bpy.data.images.new(name, w, h, alpha=True, float_buffer=True, is_data=True)
     img.colorspace_settings.name = "Non-Color"
@@ -469,5 +470,18 @@ def made_shape_image(name, rgba):
     img.use_half_precision = False
     img.pixels.foreach_set(np.ascontiguousarray(rgba, dtype=np.float32).ravel())
     img.file_format = "OPEN_EXR"
-    img.pack()
+    _packed_later(img, pack)
     return img
+
+
+PACK_ON_SAVE = "dynamic_painting_pack_on_save"   # an image made unpacked: pack it on save
+
+
+def _packed_later(img, pack):
+    """Pack `img` now, or (pack False: a lit drawing made again while the artist draws —
+    packing a 1024² image takes 75–260 ms) mark it to be packed when the file is saved
+    (handlers.pack_edited_images)."""
+    if pack:
+        img.pack()
+    else:
+        img[PACK_ON_SAVE] = True

@@ -141,7 +141,10 @@ def light_drawing(context, obj, settings, progress=None, lights=None, painted=No
                                                                        settings, progress)
     layers, tables, images = [], {}, {}
     for name, depth, imgs, p, table in made:
-        images[name] = {c: packed_image(f"{obj.name} {name} {c}", img, c)
+        # (beside the UI, packed when the file is saved: a lit copy made anew while the
+        # artist draws holds Blender only to make it)
+        images[name] = {c: packed_image(f"{obj.name} {name} {c}", img, c,
+                                        pack=bake != "live")
                         for c, img in imgs.items()}
         if table is not None:
             tables[name] = {"": {**table, "start": frames[0]}}
