@@ -193,8 +193,8 @@ toward the camera (its layer's translation), else *Spacing* apart (0.05 of its w
 inflated by parts from its alpha with a low *Relief* (0.1 of a hemisphere: a drawing's layers
 lie close), but a backdrop (a fill to the drawing's bounds: a sky, a wall) stays a flat card;
 the layers in front shadow those behind. With a UI the lit copy shows its shadows as a draft
-at once and the final ones from a worker thread (1.4 s at 1024² here until it shows; a script
-waits for the final bake, 4.3 s). The drawing is hidden, not changed: unhide it and draw on, and the
+at once and the final ones from a worker thread (1.2 s at 1024² here until it shows; a script
+waits for the final bake, 4.0 s). The drawing is hidden, not changed: unhide it and draw on, and the
 lit copy follows — each change of the drawing (a stroke, a keyframe, a material's colour)
 shows at once as a draft (the changed layer drawn 128 px across, made a painting there and
 enlarged where it changed, its shadows from the layers made as small: under 0.1 s at 1024²
@@ -202,12 +202,12 @@ here) and is drawn in full in place once no stroke has come for 1 s — with a U
 painting and final shadows are made in worker threads and Blender is held only to write
 them (at most ~70 ms at 1024² here; the images so written are packed when the file is
 saved); at once in scripts and renders, after a depsgraph evaluation. The final shadows
-after a stroke trace again only the rays that can meet what it changed (0.7 s for a dab of
-its own at 1024² here, 2.2 s for one that re-inflates a figure: its whole shadow). A layer added or
+after a stroke trace again only the rays that can meet what it changed (0.54 s for a dab of
+its own at 1024² here, 2.0 s for one that re-inflates a figure: its whole shadow). A layer added or
 removed, or a stroke past the drawing's bounds (its draft shows it as far as the lit copy
 reaches), makes the lit copy anew — with a UI, from paintings made in a worker while the old
 one shows, its shadows a draft at once and final in a worker (building the new copy holds
-Blender ~0.7 s at 1024²). Where Blender's renderer draws the drawing, it draws each layer at the
+Blender ~0.6 s at 1024²). Where Blender's renderer draws the drawing, it draws each layer at the
 scene's Grease Pencil anti-aliasing samples (*Render Properties › Grease Pencil*, 8 unless
 set), as F12 would. Scene frames that show the same drawing share one bake: a frame where the
 drawing holds costs milliseconds.
