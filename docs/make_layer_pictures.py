@@ -202,8 +202,8 @@ here) and is drawn in full in place once no stroke has come for 1 s — with a U
 painting and final shadows are made in worker threads and Blender is held only to write
 them (at most ~70 ms at 1024² here; the images so written are packed when the file is
 saved); at once in scripts and renders, after a depsgraph evaluation. The final shadows
-after a stroke trace again only the rays that can meet what it changed (0.54 s for a dab of
-its own at 1024² here, 2.0 s for one that re-inflates a figure: its whole shadow). A layer added or
+after a stroke trace again only the rays that can meet what it changed (0.54–0.65 s for a dab
+of its own at 1024² here, 2.0 s for one that re-inflates a figure: its whole shadow). A layer added or
 removed, or a stroke past the drawing's bounds (its draft shows it as far as the lit copy
 reaches), makes the lit copy anew — with a UI, from paintings made in a worker while the old
 one shows, its shadows a draft at once and final in a worker (building the new copy holds

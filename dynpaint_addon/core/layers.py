@@ -248,7 +248,11 @@ class Scene:
             return None
         h, w = size or self.ready[i].size
         if (i, q["scale"]) not in self._origins:         # a drag moves the light only
-            self._origins[i, q["scale"]] = _origins(self.ready[i], self.places[i], q["scale"])
+            e = self._earlier            # (a layer an edit left alone: its surface as it was)
+            same = e is not None and q["scale"] == 1.0 and e.ready[i] is self.ready[i] \
+                and i in e.origins
+            self._origins[i, q["scale"]] = e.origins[i] if same else \
+                _origins(self.ready[i], self.places[i], q["scale"])
         origins = self._origins[i, q["scale"]]
 
         def traced(lt, o):
