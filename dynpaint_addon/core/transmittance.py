@@ -431,7 +431,9 @@ def sun_table(k, direction):
 
     def make():
         was, box = k.edited or (None, None)
-        table = None if was is None else was.maps.get(key)
+        # (taken from the earlier occluder: a 4096² layer's table is hundreds of MB, and the
+        # earlier scene is done with — a bake of it still running holds its own reference)
+        table = None if was is None else was.maps.pop(key, None)
         return SunTable(k, np.asarray(direction, np.float64), table, box)
     return _kept(k, key, make)
 
