@@ -17,8 +17,6 @@ import sys
 import time
 import tomllib
 
-import numpy as np
-
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 
@@ -31,6 +29,7 @@ from dynpaint_addon.blender import register_once  # noqa: E402
 from dynpaint_addon.blender.bake.layers import group_materials, settle  # noqa: E402
 from dynpaint_addon.blender.scenes.grease_pencil.reading import drawn_layers  # noqa: E402
 from dynpaint_addon.blender.scenes.grease_pencil.strokes import unsupported  # noqa: E402
+from dynpaint_addon.inputs.imageio import image_data_from_blender  # noqa: E402
 from testkit.grease_pencil import figure_on_a_hill_in_the_sun  # noqa: E402
 
 FETCH_LIST = os.path.join(HERE, "artists_drawings.toml")
@@ -58,10 +57,8 @@ def lit(obj, size):
     terms = []
     for mat in group_materials(bpy.context.object):
         for item in mat.dynamic_painting.lights:
-            img = item.shadow
-            px = np.empty(img.size[0] * img.size[1] * 4, np.float32)
-            img.pixels.foreach_get(px)
-            terms.append((mat.name, float(px[0::4].min()), float(px[0::4].max())))
+            t = image_data_from_blender(item.shadow).pixels[..., 0]
+            terms.append((mat.name, float(t.min()), float(t.max())))
     return seconds, terms
 
 

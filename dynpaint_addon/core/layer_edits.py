@@ -25,7 +25,7 @@ True
 """
 import numpy as np
 
-from .strokes import union
+from .strokes import box_of, union
 
 ALL = "all"              # a change that cannot be bounded: trace every ray
 TOLERANCE = 1e-3         # α, ρ (unitless) and relief (canvas px): a change under it moves an
@@ -41,15 +41,6 @@ def changed_over(before, after, tolerance=TOLERANCE):
         diff = ~(np.abs(after - before) <= tolerance)
     diff &= ~(np.isnan(before) & np.isnan(after))
     return box_of(diff)
-
-
-def box_of(mask):
-    """The smallest box holding every True pixel of `mask` (H, W), or None."""
-    rows = np.flatnonzero(mask.any(axis=1))
-    if rows.size == 0:
-        return None
-    cols = np.flatnonzero(mask[rows[0]:rows[-1] + 1].any(axis=0))
-    return int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
 
 
 def solid_change(before, after):

@@ -15,11 +15,11 @@ import numpy as np
 from .bake import QUALITY, quality_settings
 from .input_rules import image_channels, input_notes, silhouette_channel
 from .inputs import about
-from .layer_edits import ALL, box_of, changed_over, rays_meeting, solid_change
+from .layer_edits import ALL, changed_over, rays_meeting, solid_change
 from .pipeline import (normal_map_relief_px, prepare, render, shadow_term,
                        shadow_term_edited, silhouette_alpha, transparency_k)
 from .sampling import pixel_centres, resample_separable, sample_bilinear
-from .strokes import changed_box, grow, union
+from .strokes import box_of, changed_box, grow, union
 from .transmittance import (Occluder, Placement, edited_from, light_points,
                             transmittance)
 
@@ -319,7 +319,7 @@ class Scene:
             was = e.ready[i]
             if was is ready:
                 t = kept[1]
-            elif repr(e.layers[i].p) == repr(self.layers[i].p) and was.size == ready.size \
+            elif _same_painting(e.layers[i], self.layers[i]) and was.size == ready.size \
                     and (was.z_px is None) == (ready.z_px is None):
                 t = shadow_term_edited(
                     ready.n, ready.z_px, ready.slopes, seen[0], p, kept[1],
@@ -332,13 +332,18 @@ class Scene:
 
 
 def _edited_from(before, layers, i):
-    """The Prepared of layer i in the scene `before` an edit, where it is the same layer with
-    the same parameters (prepare decodes its shape again where it changed), else None."""
+    """The Prepared of layer i in the scene `before` an edit, where it is the same painting
+    (prepare decodes its shape again where it changed), else None."""
     if before is None or len(before.layers) != len(layers) or \
-            before.layers[i].name != layers[i].name or \
-            repr(before.layers[i].p) != repr(layers[i].p):
+            not _same_painting(before.layers[i], layers[i]):
         return None
     return before.ready[i]
+
+
+def _same_painting(a, b):
+    """Whether Layers a and b are one painting with the same parameters (its images may
+    differ: an edit)."""
+    return a.name == b.name and repr(a.p) == repr(b.p)
 
 
 def _light_key(light):

@@ -33,12 +33,17 @@ def changed_box(before, after):
     view = {4: np.uint32, 8: np.uint64, 2: np.uint16}.get(before.dtype.itemsize)
     a, b = (before, after) if view is None or after.dtype != before.dtype else \
         (before.view(view), after.view(view))
-    diff = a != b
-    h = diff.shape[0]
-    rows = np.flatnonzero(diff.reshape(h, -1).any(axis=1))   # a row's channels: one run
+    return box_of(a != b)
+
+
+def box_of(mask):
+    """The smallest box holding every True pixel of `mask` ((H, W), or (H, W, C): a pixel
+    whose any channel is True), or None."""
+    h = mask.shape[0]
+    rows = np.flatnonzero(mask.reshape(h, -1).any(axis=1))   # a row's channels: one run
     if rows.size == 0:
         return None
-    band = diff[rows[0]:rows[-1] + 1].any(axis=0)
+    band = mask[rows[0]:rows[-1] + 1].any(axis=0)
     cols = np.flatnonzero(band if band.ndim == 1 else band.any(axis=1))
     return int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
 

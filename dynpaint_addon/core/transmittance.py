@@ -549,8 +549,8 @@ def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=N
         many of the light's points (the finer disc's, shared among the pixel's rays: the
         pixel and the disc integrated together, as a render's samples do) rather than at
         every point (0). 4 with 16 rays: 64 rays a pixel, not 16 × (16 + 64) — 1.7–3.3×
-        faster bakes at 512², their mean error against the reference 0–12 % more
-        (benchmarks/layers_speed.py).
+        faster bakes at 512², their mean error against the reference 0–12 % more, against
+        Cycles within every goal (docs/pipeline.md §15 "Edges", docs/layers-truth.md).
 
     Returns
     -------

@@ -297,17 +297,15 @@ def image_rgba(data):
                           axis=2).astype(np.float32)
 
 
-def refill_packed_image(img, data, pack=True, rgba=None):
+def refill_packed_image(img, data, rgba=None):
     """Write ImageData into an image packed_image made from data of the same size and kind,
-    packed again (unless not `pack`: a draft the next write replaces, or pixels packed when
-    the file is saved, handlers.pack_edited_images) → whether it could (False: another size
-    or bit depth); rgba: image_rgba(data) where it is made already (a worker thread's)."""
+    not packed (packing a 1024² image takes 75–260 ms): the file's save packs it
+    (handlers.pack_edited_images) → whether it could (False: another size or bit depth);
+    rgba: image_rgba(data) where it is made already (a worker thread's)."""
     h, w = data.pixels.shape[:2]
     if tuple(img.size) != (w, h) or img.is_float != (data.bits == 32):
         return False
     img.pixels.foreach_set((image_rgba(data) if rgba is None else rgba).ravel())
-    if pack:
-        img.pack()
     return True
 
 

@@ -131,17 +131,17 @@ def _made_anew(context, parent, obj, settings, painted=None, beside=False):
 def _write_redraw(context, parent, mats, made, obj, settings, source, digests, beside=False,
                   rgba=None):
     """The made paintings written into the lit copy's images in place (packed when the file
-    is saved: handlers.pack_edited_images) and its record updated, or the lit copy made anew where they cannot be (made None, or an image
-    of another size or kind) → the parent. The group is baked now, or `beside` the UI: at
-    its own quality in a worker thread (final_bake_due); rgba: {(layer, channel): the RGBA
-    buffer written} made there already."""
+    is saved: handlers.pack_edited_images) and its record updated, or the lit copy made anew
+    where they cannot be (made None, or an image of another size or kind) → the parent. The
+    group is baked now, or `beside` the UI: at its own quality in a worker thread
+    (final_bake_due); rgba: {(layer, channel): the RGBA buffer written} made there
+    already."""
     written = []
     for name, imgs in made or ():
         for channel, data in imgs.items():
             img = getattr(mats[name].dynamic_painting, f"image_{channel}")
-            # not packed here (75–260 ms a 1024² image: a stroke's final waited for it), the
-            # RGBA beside the UI made by the worker (_Redraw) — Blender is held for the copy
-            if img is None or not refill_packed_image(img, data, pack=False,
+            # (beside the UI its RGBA made by the worker, _Redraw: Blender is held to copy)
+            if img is None or not refill_packed_image(img, data,
                                                       rgba=(rgba or {}).get((name, channel))):
                 made = None
                 break
@@ -251,7 +251,8 @@ def warm_first_draft(context, parent, bigs=None):
     refill_enlarged told what each image shows (`bigs`: {(layer stem, channel): its RGBA};
     the others kept from the last, or read from Blender now) and what each derived image
     shows (read now), the group's small scene prepared with its own draft terms
-    (bake/layers.warm_drafts) — so the first draft costs what the next ones do (issue 61). Where numpy does not draw the drawing, or a layer moves, nothing is made
+    (bake/layers.warm_drafts) — so the first draft costs what the next ones do (issue 61).
+    Where numpy does not draw the drawing, or a layer moves, nothing is made
     ready (the draft does it all). → the worker thread, or None."""
     found = _source(parent)
     if found is None:
