@@ -38,7 +38,7 @@ from .material.tree import rebuild_tree, tree_is_stale
 from .scenes.grease_pencil.lit_copy import drawing_of, stale_lit_copies
 from .scenes.grease_pencil.live import (draft_lit_drawing, forget_drafts, redrawing,
                                          redrawing_now, refresh_lit_drawing)
-from .state.edits import note_edited
+from .state.edits import artists_edits, note_edited
 from .state.frame_sampling import only_reading_lights
 from .state.frames import forget_frames, moves
 from .state.images import PACK_ON_SAVE, forget_enlarged, forget_frames_made
@@ -70,8 +70,8 @@ def on_depsgraph_update(scene, depsgraph):
     if only_reading_lights():
         return
     redraw_lit_drawings(scene, depsgraph)
-    images = {getattr(u.id, "original", u.id).name for u in depsgraph.updates
-              if isinstance(u.id, bpy.types.Image)}
+    images = artists_edits({getattr(u.id, "original", u.id).name for u in depsgraph.updates
+                            if isinstance(u.id, bpy.types.Image)})
     watched = any(isinstance(u.id, WATCHED) for u in depsgraph.updates)
     if not images and not watched:
         return

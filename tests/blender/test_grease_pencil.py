@@ -567,15 +567,16 @@ def assert_what_a_fresh_lit_copy_makes(drawing, back, front, resolution=96):
     assert np.abs(t - image_data_from_blender(fresh_back.lights[0].shadow).pixels).max() <= 1e-6
 
 
-def test_a_stroke_beyond_the_drawings_bounds_makes_the_lit_copy_anew_beside_the_ui(drawing,
-                                                                                  tmp_path):
+def test_a_stroke_beyond_the_drawings_bounds_frames_the_lit_copy_anew_beside_the_ui(drawing,
+                                                                                    tmp_path):
     """A stroke past the drawing's bounds changes every layer's framing and the images'
     sizes: with a UI, its draft shows the stroke as far as the lit copy's framing reaches;
     once the strokes stop Blender draws the layers and the lit copy stays as it was while a
-    worker makes the paintings; finish_redraws then makes the lit copy anew from them, its
-    shadows a draft at once and final in a worker (as a dragged light's) — then what a fresh
-    From Grease Pencil makes, bit for bit, its shadows within 1e-6; its images made unpacked,
-    packed by a save."""
+    worker makes the paintings; finish_redraws then frames the lit copy anew in place (the
+    same objects, materials and images, resized: live._reframed), its shadows drafted in a
+    worker from the images written (the same draft a bake reading them from Blender makes)
+    and final after — then what a fresh From Grease Pencil makes, bit for bit, its shadows
+    within 1e-6; a save packs the pixels written."""
     sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
     bpy.context.scene.collection.objects.link(sun)
     sun.rotation_euler = (np.radians(50), 0, np.radians(30))
@@ -594,24 +595,33 @@ def test_a_stroke_beyond_the_drawings_bounds_makes_the_lit_copy_anew_beside_the_
     assert job.anew is not None and stale_lit_copies(scene, {drawing.name}) == [parent]
     assert np.array_equal(image_data_from_blender(front.image_bright).pixels, shown)
     job.thread.join()
+    objects = {o.name for o in bpy.data.objects}
     assert live.finish_redraws() is None
     (lit,) = [o for o in scene.objects if o.get(SOURCE)]
-    assert lit.name == name and not stale_lit_copies(scene, {drawing.name})
+    assert lit == parent and {o.name for o in bpy.data.objects} == objects
+    assert not stale_lit_copies(scene, {drawing.name})
     assert json.loads(lit[SOURCE])["bounds"][1] > bounds[1] + 0.1
-    assert name in group_bakes._FINAL_DUE                 # a draft now, the final in a worker
-    made_back, made_front = (m.dynamic_painting for m in group_materials(lit))
-    drafted = made_back.lights[0].shadow
-    assert drafted is not None and any(getattr(n, "image", None) == drafted
-                                       for n in group_materials(lit)[0].node_tree.nodes)
+    assert tuple(front.image_bright.size) != shown.shape[1::-1]
+    assert name in group_bakes._FINAL_DUE and name not in group_bakes._RUNNING
+    # the UI's depsgraph update after the timer: its handler bakes live, for each layer
+    assert group_bakes.bake_group_live(lit) == group_bakes.bake_group_live(lit) == 0.0
+    draft = group_bakes._RUNNING[name]        # a draft in a worker (once), the final after
+    assert draft.quality == "draft"
+    drafted = back.lights[0].shadow
+    draft.thread.join()
+    assert group_bakes._final_bakes() is not None            # written, the final started
+    assert group_bakes._RUNNING[name].quality is None
+    assert "|draft|" in back.lights[0].bake_key and back.lights[0].shadow == drafted
+    made_draft = image_data_from_blender(drafted).pixels.copy()
+    group_bakes.bake_group(lit, quality="draft", force=True)      # read from Blender
+    assert np.abs(made_draft - image_data_from_blender(drafted).pixels).max() <= 1e-6
     group_bakes.settle()
-    assert "|own|" in made_back.lights[0].bake_key and made_back.lights[0].shadow == drafted
-    assert_what_a_fresh_lit_copy_makes(drawing, made_back, made_front)
-    # made unpacked (packing costs 75–260 ms a 1024² image): a save packs them, pixels kept
-    bright = made_front.image_bright
+    assert "|own|" in back.lights[0].bake_key and back.lights[0].shadow == drafted
+    assert_what_a_fresh_lit_copy_makes(drawing, back, front)
+    # written unpacked (packing costs 75–260 ms a 1024² image): a save packs them, pixels kept
+    bright = front.image_bright
     made = image_data_from_blender(bright).pixels.copy()
-    assert bright.packed_file is None and bright.get(PACK_ON_SAVE)
     bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "anew.blend"), copy=True)
-    assert bright.packed_file is not None and not bright.get(PACK_ON_SAVE)
     bright.reload()
     assert np.array_equal(image_data_from_blender(bright).pixels, made)
 
@@ -835,6 +845,9 @@ def test_a_stroke_never_holds_blender_longer_than_a_blink(tmp_path):
     with with_a_ui():
         assert bpy.ops.dynpaint.add_grease_pencil(resolution=512) == {"FINISHED"}
         parent = bpy.context.object
+        # made beside the UI, its images unpacked (75–260 ms each): packed when saved
+        unpacked = [m.dynamic_painting.image_bright for m in group_materials(parent)]
+        assert all(img.packed_file is None and img.get(PACK_ON_SAVE) for img in unpacked)
         main.run()                   # its final bake and first draft made ready, beside
         main.held.clear()
         for thread in threading.enumerate():          # (the warm-up's worker)
@@ -856,6 +869,7 @@ def test_a_stroke_never_holds_blender_longer_than_a_blink(tmp_path):
     assert bright.is_dirty
     bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "drawn.blend"), copy=True)
     assert not bright.is_dirty
+    assert all(img.packed_file is not None and not img.get(PACK_ON_SAVE) for img in unpacked)
     bright.reload()                                       # (from its packed file)
     assert np.array_equal(image_data_from_blender(bright).pixels, shown)
     assert_what_a_fresh_lit_copy_makes(obj, back, front, resolution=512)

@@ -102,13 +102,24 @@ def layer_keys(mats):
                   tuple(shown_frame(m, c) for c in LAYER_CHANNELS))) for m in mats]
 
 
-def core_scene(parent, mats, depsgraph=None, key=None, later=False):
+def core_scene(parent, mats, depsgraph=None, key=None, later=False, images=None):
     """The core Scene of a layered group, made once per group key (its layers' inputs read
     from Blender and prepared once: a moving light reuses them; a layer whose own inputs did
     not change keeps its prepared ones when another is edited, layer_keys); key: group_key's,
     when the caller has it; later: → a function that makes it (numpy alone: a worker
     thread prepares the changed layers, issue 61 — 0.1 s at 1024² on Blender's main
-    thread), its inputs read now."""
+    thread), its inputs read now; images: {material name: {channel: ImageData}} just
+    written into the group's images (draft_group_beside): read from these, not from
+    Blender, for a scene made once and not kept."""
+    if images is not None:     # (a layer they do not cover whole is read from Blender)
+        kept = {}
+        for mat in mats:
+            given = images.get(mat.name, {})
+            if {c for c in channel_images(mat.dynamic_painting) if c in LAYER_CHANNELS} \
+                    <= set(given):
+                kept[mat.name] = {c: img for c, img in given.items() if c in LAYER_CHANNELS}
+        layers = _shadowed(group_layers(mats, depsgraph, LAYER_CHANNELS, kept=kept))
+        return (lambda: Scene(layers)) if later else Scene(layers)
     key = key or group_key(mats, depsgraph)
     hit = _SCENES.get(parent.name)
     if hit is not None and hit[0] == key:
@@ -116,10 +127,9 @@ def core_scene(parent, mats, depsgraph=None, key=None, later=False):
     keys = layer_keys(mats)
     before = {} if hit is None else {k: i for i, k in enumerate(hit[2])}
     kept = {i: before[k] for i, k in enumerate(keys) if k in before}
-    layers = group_layers(mats, depsgraph, LAYER_CHANNELS,
-                          kept={mats[i].name: hit[1].layers[j].images for i, j in kept.items()})
-    for layer in layers:
-        layer.p.shadows.enabled = True
+    layers = _shadowed(group_layers(
+        mats, depsgraph, LAYER_CHANNELS,
+        kept={mats[i].name: hit[1].layers[j].images for i, j in kept.items()}))
     prepared, name = {i: hit[1].ready[j] for i, j in kept.items()}, parent.name
     before = None if hit is None else hit[1]
 
@@ -128,6 +138,13 @@ def core_scene(parent, mats, depsgraph=None, key=None, later=False):
         _SCENES[name] = (key, scene, keys)
         return scene
     return made if later else made()
+
+
+def _shadowed(layers):
+    """The group's layers as its bake reads them: each casting and receiving shadows."""
+    for layer in layers:
+        layer.p.shadows.enabled = True
+    return layers
 
 
 def group_layers(mats, depsgraph=None, channels=None, f=None, kept=None):
@@ -155,6 +172,7 @@ def forget_group(name):
     _SMALL.pop(name, None)
     _WARM.pop(name, None)
     _KEPT.pop(name, None)
+    _BESIDE.pop(name, None)
 
 
 def forget_scenes():
@@ -163,6 +181,7 @@ def forget_scenes():
     _SMALL.clear()
     _WARM.clear()
     _KEPT.clear()
+    _BESIDE.clear()
     _FINAL_DUE.clear()
     _RUNNING.clear()              # (a running bake's results are dropped: its group is gone)
 
@@ -253,9 +272,9 @@ def _write_shadows(mats, results, key_of):
         mat.dynamic_painting.shadows_stale = False
 
 
-def _group_job(parent, depsgraph=None, quality=None, force=False):
+def _group_job(parent, depsgraph=None, quality=None, force=False, images=None):
     """A _GroupBake of what is out of date in the group (its images' keys against this bake's;
-    all with `force`), or None where nothing is."""
+    all with `force`), or None where nothing is; images: core_scene's."""
     mats = group_materials(parent)
     if not mats:
         return None
@@ -273,7 +292,7 @@ def _group_job(parent, depsgraph=None, quality=None, force=False):
          if ts is not None}
     # (a group whose every light's bake is kept reads no scene: a frame come round again)
     scene = None if len(kept) == len(todo) else core_scene(parent, mats, depsgraph, group,
-                                                            later=True)
+                                                            later=True, images=images)
     return _GroupBake(parent, mats, group, quality, todo, scene, kept)
 
 
@@ -462,11 +481,39 @@ _FINAL_DUE = {}    # parent name → when its lights were last moved (a final ba
 
 def bake_group_live(parent, depsgraph=None):
     """A light moved interactively: the group at draft quality now, its own quality once the
-    light has been still for DEBOUNCE_S (in a worker thread: _final_bakes)."""
+    light has been still for DEBOUNCE_S (in a worker thread: _final_bakes) — where images
+    were just written from numpy arrays (draft_group_beside), the draft made from those in a
+    worker, and not again here while it is made."""
+    images, running = _BESIDE.pop(parent.name, None), _RUNNING.get(parent.name)
+    if images is not None and running is None:
+        running = _group_job(parent, depsgraph, "draft", images=images)
+        if running is not None:
+            running.start()
+            _RUNNING[parent.name] = running
+        final_bake_due(parent)
+    if running is not None and running.quality == "draft" and \
+            running.group == group_key(group_materials(parent), depsgraph):
+        return 0.0
     ms = bake_group(parent, depsgraph, quality="draft")
     if ms:
         final_bake_due(parent, DEBOUNCE_S)
     return ms
+
+
+# parent name → {material name: {channel: ImageData}} just written into the group's images
+# (draft_group_beside): its next live bake drafts from them in a worker
+_BESIDE = {}
+
+
+def draft_group_beside(parent, images):
+    """The group's images were just written from `images` ({material name: {channel:
+    ImageData}}) and its planes moved (a lit copy framed anew, issue 61: a draft read back
+    and baked on Blender's main thread held it 0.4 s at 1024²): its next live bake — the
+    depsgraph update that follows, once it has noted those edits — drafts it in a worker
+    thread from them (nothing read back from Blender), written by _final_bakes, its final
+    bake after it; the final is due meanwhile (where no update follows: a script)."""
+    _BESIDE[parent.name] = images
+    final_bake_due(parent)
 
 
 def final_bake_due(parent, after=0.0):
@@ -494,6 +541,7 @@ def _final_bakes():
         if now - since < DEBOUNCE_S or name in _RUNNING:
             continue
         del _FINAL_DUE[name]
+        _BESIDE.pop(name, None)           # (its final starts: no draft before it now)
         parent = bpy.data.objects.get(name)
         try:
             job = _group_job(parent) if parent is not None else None

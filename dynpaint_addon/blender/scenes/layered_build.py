@@ -89,13 +89,7 @@ def build_layered(context, stem, layers, lights, messages, size=1.0, parallax=Tr
             plane.parent = parent
             plane.matrix_parent_inverse = Matrix.Identity(4)
             plane.rotation_euler = (0.0, 0.0, 0.0)
-            x, y, z = offset[0] * size, offset[1] * size, depth * size
-            k = 1.0
-            if camera is not None and camera[2] > z:       # keep the composition (§15)
-                k = (camera[2] - z) / camera[2]
-                x, y = camera[0] + (x - camera[0]) * k, camera[1] + (y - camera[1]) * k
-            plane.location = (x, y, z)
-            plane.scale = (size * scale * k,) * 3
+            plane.location, plane.scale = layer_place(depth, offset, scale, size, camera)
             with batch():
                 mat.dynamic_painting.layer_thickness = thickness or 0.0
             if progress is not None:
@@ -122,6 +116,18 @@ def build_layered(context, stem, layers, lights, messages, size=1.0, parallax=Tr
         remove_objects(planes + [parent])
         raise
     return parent, messages
+
+
+def layer_place(depth, offset, scale, size, camera=None):
+    """A layer's plane under its parent → (location, scale): at its depth and offset (§15,
+    image widths of a `size` wide scene), and — with `camera`, where it lies in the parent's
+    space — moved and scaled toward it so the composition holds from there (parallax)."""
+    x, y, z = offset[0] * size, offset[1] * size, depth * size
+    k = 1.0
+    if camera is not None and camera[2] > z:       # keep the composition (§15)
+        k = (camera[2] - z) / camera[2]
+        x, y = camera[0] + (x - camera[0]) * k, camera[1] + (y - camera[1]) * k
+    return (x, y, z), (size * scale * k,) * 3
 
 
 def remove_objects(objects, images=False):

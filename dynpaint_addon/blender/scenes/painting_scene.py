@@ -28,17 +28,28 @@ from ..state.settings import frames_to_settings, params_to_settings
 FACE_CAMERA = "Dynamic Painting: face camera"
 
 
+def _corners(width_px, height_px):
+    """A quad's corners one image width wide, the image's aspect high (§0)."""
+    ar = height_px / width_px
+    return [(-0.5, -0.5 * ar, 0), (0.5, -0.5 * ar, 0), (0.5, 0.5 * ar, 0), (-0.5, 0.5 * ar, 0)]
+
+
 def plane_mesh(name, width_px, height_px):
     """A quad one image width wide with UVs spanning [0, 1]² (pixel centres line up)."""
-    ar = height_px / width_px
-    verts = [(-0.5, -0.5 * ar, 0), (0.5, -0.5 * ar, 0), (0.5, 0.5 * ar, 0), (-0.5, 0.5 * ar, 0)]
     mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata(verts, [], [(0, 1, 2, 3)])
+    mesh.from_pydata(_corners(width_px, height_px), [], [(0, 1, 2, 3)])
     uv = mesh.uv_layers.new(name="UVMap")
     for loop, (u, v) in zip(uv.data, ((0, 0), (1, 0), (1, 1), (0, 1))):
         loop.uv = (u, v)
     mesh.update()
     return mesh
+
+
+def reshape_plane(mesh, width_px, height_px):
+    """plane_mesh's quad given another image size's aspect, in place (its UVs as they are)."""
+    mesh.vertices.foreach_set("co", [v for corner in _corners(width_px, height_px)
+                                     for v in corner])
+    mesh.update()
 
 
 @contextmanager

@@ -11,6 +11,7 @@ image the add-on removes counts as edited too (state/images.remove_images): one 
 under its name is not the one a key remembers.
 """
 _VERSIONS = {}       # image name → how many times its pixels were seen edited this session
+_RESIZED = set()     # images the add-on resized: the next Image update of each is its own
 
 
 def version(img):
@@ -22,6 +23,22 @@ def note_edited(names):
     """Images named `names` were edited (an Image update came): bump their versions."""
     for name in names:
         _VERSIONS[name] = _VERSIONS.get(name, 0) + 1
+
+
+def note_resized(names):
+    """Images named `names` were resized by the add-on, which writes them and notes that edit
+    itself (a lit copy framed anew): the Image update Blender sends for a resize (writing
+    pixels sends none) is that edit, not an artist's — were it counted again, every derived
+    image of the group would be made twice (70–210 ms at 1024²)."""
+    _RESIZED.update(names)
+
+
+def artists_edits(names):
+    """Of the images named `names` (an Image update came for each), those edited by someone
+    else than the add-on (note_resized's come once)."""
+    own = _RESIZED & set(names)
+    _RESIZED.difference_update(own)
+    return set(names) - own
 
 
 def key_name(img):

@@ -104,11 +104,10 @@ def float_image(name, rgba):
     """A float RGBA image holding `rgba` (y-up (H, W, 4)), reused when the name exists."""
     h, w = rgba.shape[:2]
     img = bpy.data.images.get(name)
-    if img is not None and tuple(img.size) != (w, h) and img.source == "GENERATED" and \
-            img.use_generated_float:
+    if img is not None and img.source == "GENERATED" and img.use_generated_float:
         # resized in place: the nodes that show it keep it (a cos-θ image changes size between
         # a live draft and the final bake, shadow_images.write_shadow)
-        img.generated_width, img.generated_height = w, h
+        resized_image(img, w, h)
     if img is None or tuple(img.size) != (w, h) or not img.is_float:
         if img is not None:
             bpy.data.images.remove(img)
@@ -295,6 +294,22 @@ def image_rgba(data):
     return np.concatenate([px[..., :1].repeat(3, -1) if px.shape[2] < 3 else px[..., :3],
                            px[..., -1:] if data.has_alpha else np.ones(px.shape[:2] + (1,))],
                           axis=2).astype(np.float32)
+
+
+def resized_image(img, w, h):
+    """`img` made to hold w × h pixels in place (the nodes and settings that show it keep it;
+    its pixels to be written over): a generated image regenerated at that size (1–4 ms at
+    1024²) — one packed_image packed is made generated again (scaling it decodes the packed
+    file first: 26–75 ms; it is packed again on save, handlers.pack_edited_images) — another
+    scaled → whether it holds that size now."""
+    if tuple(img.size) != (w, h):
+        if img.source == "FILE" and img.packed_file is not None and not img.filepath:
+            img.source = "GENERATED"
+        if img.source == "GENERATED":
+            img.generated_width, img.generated_height = w, h
+        else:
+            img.scale(w, h)
+    return tuple(img.size) == (w, h)
 
 
 def refill_packed_image(img, data, rgba=None):

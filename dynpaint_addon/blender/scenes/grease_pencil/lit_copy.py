@@ -149,8 +149,7 @@ def light_drawing(context, obj, settings, progress=None, lights=None, painted=No
         if table is not None:
             tables[name] = {"": {**table, "start": frames[0]}}
         layers.append((name, depth, (0.0, 0.0), 1.0, None, images[name], p))
-    place = obj.matrix_world @ Matrix.Translation(((x0 + x1) / 2, 0.0, (z0 + z1) / 2)) @ \
-        Matrix.Rotation(math.pi / 2, 4, "X")      # where the drawing is: its XZ plane
+    place = drawing_place(obj, (x0, x1, z0, z1))
     with unchanged_images_on_failure():           # (its images are packed copies)
         parent, messages = build_layered(context, obj.name, layers, lights or [default_sun()],
                                          notes, x1 - x0, parallax=False, add_lights=True,
@@ -164,6 +163,14 @@ def light_drawing(context, obj, settings, progress=None, lights=None, painted=No
     obj.hide_render = True
     obj.hide_set(True)
     return parent, [m for m in messages if NO_CAMERA not in m]
+
+
+def drawing_place(obj, bounds):
+    """A lit copy's parent's world matrix: at the middle of the drawing's `bounds` (x0, x1,
+    z0, z1), facing as its XZ plane does."""
+    x0, x1, z0, z1 = bounds
+    return obj.matrix_world @ Matrix.Translation(((x0 + x1) / 2, 0.0, (z0 + z1) / 2)) @ \
+        Matrix.Rotation(math.pi / 2, 4, "X")
 
 
 def drawing_of(parent):

@@ -2,10 +2,11 @@
 final after): a stroke's draft (the changed layers drawn small, enlarged into their images,
 the shadows drafted), then once the strokes stop the full redraw (the changed layers read,
 a worker thread draws them at full size and makes them paintings, finish_redraws writes
-them), or the lit copy made anew where the drawing's layers, bounds or frames are no longer
-its own. With a UI (issue 61) Blender's main thread only reads and writes: drafts, full
-redraws and their shadows are made in worker threads, and the first stroke's draft is made
-ready after each full redraw (warm_first_draft).
+them), the lit copy framed anew in place where only the drawing's bounds moved (_reframed),
+or made anew where its layers or frames are no longer its own. With a UI (issue 61)
+Blender's main thread only reads and writes: drafts, full redraws and their shadows are
+made in worker threads, and the first stroke's draft is made ready after each full redraw
+(warm_first_draft).
 """
 import contextlib
 import json
@@ -14,22 +15,25 @@ import threading
 import numpy as np
 
 import bpy
+from mathutils import Matrix
 
 from ....inputs.imageio import image_data_from_blender
-from ...bake.layers import GroupDraft, final_bake_due, group_materials, warm_drafts
+from ...bake.layers import (GroupDraft, draft_group_beside, final_bake_due, forget_group,
+                            group_materials, warm_drafts)
 from ...bake.live_bake import rendering
 from ...material.sync import update
-from ...state.edits import note_edited
+from ...state.edits import note_edited, note_resized
 from ...state.frames import forget_frames, moves
 from ...state.images import (derived_shown, enlarged, enlarged_kept, forget_enlarged,
                              image_rgba, keep_derived_enlarged, keep_enlarged,
-                             refill_packed_image)
+                             refill_packed_image, resized_image)
 from ...state.painting_state import read_state
 from ...state.settings import channel_images
 from ...state.status import report
-from ..layered_build import remove_objects
-from .lit_copy import (LAYER, LIT_SETTINGS, SOURCE, drawn_paintings, light_drawing,
-                       lit_defaults, made_paintings, read_images)
+from ..layered_build import layer_place, remove_objects
+from ..painting_scene import reshape_plane
+from .lit_copy import (LAYER, LIT_SETTINGS, SOURCE, drawing_place, drawn_paintings,
+                       light_drawing, lit_defaults, made_paintings, read_images)
 from .reading import drawn_layers, framing, layer_digests, layer_stem
 from .strokes import unsupported
 
@@ -86,12 +90,12 @@ def refresh_lit_drawing(context, parent, beside=None):
     """Redraw the lit copy `parent` from its drawing as it is now: the layers that changed
     (layer_digests) drawn again and their images written in place where the layers, the
     drawing's bounds, sizes and frames are as before (their edits noted, so the group bakes
-    again), else the lit copy made anew → the parent (a new one then). beside (default:
-    with a UI, rendering() not): the layers are read now (all of them where the lit copy is
-    made anew) and a worker thread draws them and makes them paintings (read_images: where
-    numpy cannot draw the drawing, Blender's renderer draws them now); finish_redraws
-    writes them once made, or makes the lit copy anew from them, if the drawing is still as
-    drawn."""
+    again), framed anew in place where only the bounds moved (_reframed), else the lit copy
+    made anew → the parent (a new one then). beside (default: with a UI, rendering() not):
+    the layers are read now (all of them where the lit copy is framed or made anew) and a
+    worker thread draws them and makes them paintings (read_images: where numpy cannot draw
+    the drawing, Blender's renderer draws them now); finish_redraws writes them once made,
+    or frames or makes the lit copy anew from them, if the drawing is still as drawn."""
     found = _source(parent)
     if found is None:
         return parent
@@ -107,9 +111,54 @@ def refresh_lit_drawing(context, parent, beside=None):
         if not bpy.app.timers.is_registered(finish_redraws):
             bpy.app.timers.register(finish_redraws, first_interval=POLL_S)
         return parent
-    made = None if mats is None else _in_place(
-        _moving(mats), drawn_paintings(context.scene, obj, settings, only=changed)[0])
+    if mats is None:            # other bounds (a stroke past them), layers or frames
+        painted = drawn_paintings(context.scene, obj, settings)
+        return _reframed(context, parent, obj, settings, source, digests, painted) or \
+            _made_anew(context, parent, obj, settings, painted)
+    made = _in_place(_moving(mats),
+                     drawn_paintings(context.scene, obj, settings, only=changed)[0])
     return _write_redraw(context, parent, mats, made, obj, settings, source, digests)
+
+
+def _reframed(context, parent, obj, settings, source, digests, painted, beside=False,
+              rgba=None):
+    """The lit copy framed anew in place where only the drawing's bounds moved (a stroke
+    past them; its layers, their kinds and frames as before): the parent placed where the
+    drawing now is, each plane at its depth for the new width (as light_drawing places
+    them) and shaped to the images' new size, the images resized and written
+    (_write_redraw) — no new objects, materials or node trees (made anew, the lit copy held
+    Blender 0.7 s at 1024²); beside the UI its shadows drafted in a worker from the images
+    written (draft_group_beside), final after. painted: drawn_paintings' of every layer;
+    rgba: _write_redraw's. → the parent, or None where it cannot be framed in place."""
+    made, bounds, frames, _ = painted
+    mats = _layer_materials(obj, parent, source, settings, bounds=False)
+    moving = None if mats is None else _moving(mats)
+    written = None if mats is None or frames is not None or any(moving.values()) \
+        else _in_place(moving, made)
+    if written is None or len(written) != len(mats):
+        return None
+    images = [(getattr(mats[name].dynamic_painting, f"image_{c}"), data)
+              for name, imgs in written for c, data in imgs.items()]
+    sizes = {data.pixels.shape[1::-1] for _, data in images}
+    if len(sizes) != 1 or any(img is None or img.is_float != (data.bits == 32)
+                              for img, data in images):
+        return None
+    (w, h), = sizes
+    note_resized([img.name for img, data in images if tuple(img.size) != (w, h)])
+    if not all([resized_image(img, w, h) for img, _ in images]):
+        return None
+    parent.matrix_world = drawing_place(obj, bounds)
+    for name, depth, _, _, _ in made:   # (world matrices: read at once, no update between)
+        plane = mats[name].dynamic_painting.plane
+        location, scale = layer_place(depth, (0.0, 0.0), 1.0, bounds[1] - bounds[0])
+        plane.matrix_world = parent.matrix_world @ Matrix.LocRotScale(location, None, scale)
+        reshape_plane(plane.data, w, h)
+    forget_group(parent.name)           # (its scene and drafts were of the old framing)
+    parent = _write_redraw(context, parent, mats, written, obj, settings,
+                           {**source, "bounds": list(bounds)}, digests, beside, rgba)
+    if beside:
+        draft_group_beside(parent, {mats[name].name: imgs for name, imgs in written})
+    return parent
 
 
 def _made_anew(context, parent, obj, settings, painted=None, beside=False):
@@ -189,7 +238,7 @@ class _Redraw:
     where numpy does not draw the drawing: lit_copy.read_images) and made paintings in a
     worker thread (the inflation of a changed part at full size takes a second at 1024²)
     while the UI goes on.
-    anew: (bounds, frames, notes) of read_images where the lit copy is made anew from them
+    anew: (bounds, frames, notes) of read_images where the lit copy is framed or made anew
     (a stroke beyond the drawing's bounds: every layer drawn again), else None."""
 
     def __init__(self, digests, draw, settings, anew=None):
@@ -210,8 +259,9 @@ class _Redraw:
 
 def finish_redraws():
     """Timer: the full redraws whose paintings are made written into their lit copies
-    (_write_redraw) or made their lit copies anew (_made_anew, its shadows baked as a
-    dragged light's: a draft now, final in a worker), where the drawing is still as Blender
+    (_write_redraw), framed them anew (_reframed: its shadows drafted in a worker, final
+    after) or made them anew (_made_anew, its shadows baked as a dragged light's: a draft
+    now, final in a worker), where the drawing is still as Blender
     drew it — else dropped: the strokes since are drafted, and their own full redraw
     follows. → seconds to the next call (None: none left)."""
     for name, job in list(_REDRAWS.items()):
@@ -232,9 +282,10 @@ def finish_redraws():
         try:
             with redrawing(name):
                 if job.anew is not None:
-                    bounds, frames, notes = job.anew
-                    _made_anew(bpy.context, parent, obj, settings,
-                               (job.made, bounds, frames, notes), beside=True)
+                    painted = (job.made, *job.anew)
+                    _reframed(bpy.context, parent, obj, settings, source, job.digests,
+                              painted, beside=True, rgba=job.rgba) or \
+                        _made_anew(bpy.context, parent, obj, settings, painted, beside=True)
                 else:
                     _write_redraw(bpy.context, parent, mats,
                                   _in_place(_moving(mats), job.made), obj, settings, source,
@@ -313,7 +364,7 @@ def draft_lit_drawing(context, parent, beside=False):
     a pixel) and made paintings there (their relief inflated at that size), enlarged into
     their images (state/images.enlarged) and the group's shadows drafted from its layers
     made as small (bake/layers.GroupDraft), in the lit copy's framing (a stroke past the
-    drawing's bounds shows as far as they reach: the full redraw makes the lit copy anew).
+    drawing's bounds shows as far as they reach: the full redraw frames the lit copy anew).
     Nothing is packed and the lit copy's record is left as it was: refresh_lit_drawing
     draws them at full size once the strokes stop. beside (a UI: issue 61): what Blender
     holds is read now, the draft made in a worker thread and written by finish_drafts (a
