@@ -230,6 +230,25 @@ def enlarged_box(box, size, new_size):
     return r0, r1, c0, c1
 
 
+def laid_into(img, old, new, fill=1.0):
+    """An image (y-up (H, W, ...)) spanning the rectangle `old` (x0, x1, y0, y1, in any units)
+    laid into one spanning `new` at its own pixel size, `fill` where it does not reach (each
+    pixel whole: placed to the nearest pixel, not resampled).
+
+    >>> laid_into(np.zeros((2, 2)), (0, 1, 0, 1), (0, 2, -0.5, 1)).tolist()
+    [[1.0, 1.0, 1.0, 1.0], [0.0, 0.0, 1.0, 1.0], [0.0, 0.0, 1.0, 1.0]]
+    """
+    h, w = img.shape[:2]
+    dx, dy = (old[1] - old[0]) / w, (old[3] - old[2]) / h
+    size = (max(1, round((new[3] - new[2]) / dy)), max(1, round((new[1] - new[0]) / dx)))
+    out = np.full(size + img.shape[2:], fill, img.dtype)
+    r, c = round((old[2] - new[2]) / dy), round((old[0] - new[0]) / dx)
+    r0, c0, r1, c1 = max(r, 0), max(c, 0), min(r + h, size[0]), min(c + w, size[1])
+    if r1 > r0 and c1 > c0:
+        out[r0:r1, c0:c1] = img[r0 - r:r1 - r, c0 - c:c1 - c]
+    return out
+
+
 def gaussian_radius(sigma_px):
     """Pixels gaussian_blur reads on each side of a pixel (its kernel's reach, 3σ up)."""
     return max(1, int(np.ceil(3 * sigma_px)))

@@ -39,6 +39,7 @@ from dynpaint_addon.blender.state.edits import version  # noqa: E402
 from dynpaint_addon.blender.state.frames import frame_data, moves  # noqa: E402
 from dynpaint_addon.blender.state.images import PACK_ON_SAVE  # noqa: E402
 from dynpaint_addon.core.layers import MAX_LAYERS  # noqa: E402
+from dynpaint_addon.core.sampling import laid_into  # noqa: E402
 from testkit.grease_pencil import (add_fill, card_and_disc, disc, figure_on_a_hill,  # noqa: E402
                                    figure_on_a_hill_in_the_sun, fill_material, inked,
                                    rectangle, rolling_disc)
@@ -573,9 +574,10 @@ def test_a_stroke_beyond_the_drawings_bounds_frames_the_lit_copy_anew_beside_the
     sizes: with a UI, its draft shows the stroke as far as the lit copy's framing reaches;
     once the strokes stop Blender draws the layers and the lit copy stays as it was while a
     worker makes the paintings; finish_redraws then frames the lit copy anew in place (the
-    same objects, materials and images, resized: live._reframed), its shadows drafted in a
-    worker from the images written (the same draft a bake reading them from Blender makes)
-    and final after — then what a fresh From Grease Pencil makes, bit for bit, its shadows
+    same objects, materials and images, resized: live._reframed), a layer a tick (each
+    one's shadows laid where they were till the draft; the group's bakes held), its shadows
+    drafted in a worker from the images written (the same draft a bake reading them from
+    Blender makes) and final after — then what a fresh From Grease Pencil makes, bit for bit, its shadows
     within 1e-6; a save packs the pixels written."""
     sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
     bpy.context.scene.collection.objects.link(sun)
@@ -596,7 +598,16 @@ def test_a_stroke_beyond_the_drawings_bounds_frames_the_lit_copy_anew_beside_the
     assert np.array_equal(image_data_from_blender(front.image_bright).pixels, shown)
     job.thread.join()
     objects = {o.name for o in bpy.data.objects}
-    assert live.finish_redraws() is None
+    t = image_data_from_blender(back.lights[0].shadow).pixels[..., 0].copy()
+    assert live.finish_redraws() is not None                 # a layer a tick: the back's
+    assert tuple(back.image_bright.size) != tuple(front.image_bright.size)
+    assert group_bakes.bake_group_live(parent) == 0.0 and name not in group_bakes._RUNNING
+    # the back's shadows where they were (not stretched over the wider framing), lit beyond
+    laid = image_data_from_blender(back.lights[0].shadow).pixels[..., 0]
+    assert np.array_equal(laid, laid_into(t, bounds, job.anew[0]))
+    assert laid.shape[1] > t.shape[1] and laid[:, -3:].min() == 1.0 and laid.min() < 0.9
+    while live.finish_redraws() is not None:
+        pass
     (lit,) = [o for o in scene.objects if o.get(SOURCE)]
     assert lit == parent and {o.name for o in bpy.data.objects} == objects
     assert not stale_lit_copies(scene, {drawing.name})
@@ -829,12 +840,13 @@ HELD_BUDGET_S = 0.1       # issue 61: Blender's main thread never held longer wh
 
 
 def test_a_stroke_never_holds_blender_longer_than_a_blink(tmp_path):
-    """Issue 61: a stroke on a three-layer drawing lit at 512 px, driven as Blender's UI
-    drives it (testkit/ui_loop.py: the depsgraph update after the stroke — its draft — then
-    each timer when due: the full redraw after the pause in the strokes, its worker's
-    painting written, the group's final bake started and written), every call on the main
-    thread timed: none holds it over HELD_BUDGET_S; the lit copy ends up as a fresh From
-    Grease Pencil makes it (its images; the record of the drawing it shows)."""
+    """Issue 61: a stroke on a three-layer drawing lit at 512 px, then one past its bounds,
+    driven as Blender's UI drives them (testkit/ui_loop.py: the depsgraph update after the
+    stroke — its draft — then each timer when due: the full redraw after the pause in the
+    strokes, its worker's painting written or the lit copy framed anew a layer a tick, the
+    group's draft and final bakes started and written), every call on the main thread
+    timed: none holds it over HELD_BUDGET_S; the lit copy ends up as a fresh From Grease
+    Pencil makes it (its images; the record of the drawing it shows)."""
     from testkit.ui_loop import MainThread, with_a_ui
     bpy.ops.wm.read_homefile(use_empty=True)
     blender.register_once()
@@ -853,13 +865,18 @@ def test_a_stroke_never_holds_blender_longer_than_a_blink(tmp_path):
         for thread in threading.enumerate():          # (the warm-up's worker)
             if thread.daemon and thread is not threading.current_thread():
                 thread.join(timeout=30)
-        main.edit(lambda: add_fill(figure, disc(0.5, -0.3, 0.05), 2))
-        assert handlers._PENDING                           # drafted; the full redraw waits
-        handlers._PENDING[parent.name] -= handlers.STROKES_QUIET_S   # (the pause, not waited)
-        main.run()
+        bounds = json.loads(parent[SOURCE])["bounds"]
+        # a stroke inside the drawing, then one past its bounds (the lit copy framed anew)
+        for dab in (disc(0.5, -0.3, 0.05), disc(bounds[1] + 0.02, 0.0, 0.05)):
+            main.edit(lambda: add_fill(figure, dab, 2))
+            assert handlers._PENDING                       # drafted; the full redraw waits
+            handlers._PENDING[parent.name] -= handlers.STROKES_QUIET_S   # (not waited)
+            main.run()
     what, longest = main.longest()
     assert longest <= HELD_BUDGET_S, (what, longest, main.held)
     assert {"depsgraph update", "finish_redraws", "_final_bakes"} <= {w for w, _ in main.held}
+    assert [o for o in scene.objects if o.get(SOURCE)] == [parent]
+    assert json.loads(parent[SOURCE])["bounds"][1] > bounds[1] + 0.05
     assert not stale_lit_copies(scene, {obj.name})
     back, _, front = (m.dynamic_painting for m in group_materials(parent))
     assert back.lights[0].bake_key not in ("", DRAFTED)

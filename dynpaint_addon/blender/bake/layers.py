@@ -484,6 +484,8 @@ def bake_group_live(parent, depsgraph=None):
     light has been still for DEBOUNCE_S (in a worker thread: _final_bakes) — where images
     were just written from numpy arrays (draft_group_beside), the draft made from those in a
     worker, and not again here while it is made."""
+    if _BESIDE.get(parent.name) is _HOLD:
+        return 0.0
     images, running = _BESIDE.pop(parent.name, None), _RUNNING.get(parent.name)
     if images is not None and running is None:
         running = _group_job(parent, depsgraph, "draft", images=images)
@@ -501,8 +503,16 @@ def bake_group_live(parent, depsgraph=None):
 
 
 # parent name → {material name: {channel: ImageData}} just written into the group's images
-# (draft_group_beside): its next live bake drafts from them in a worker
+# (draft_group_beside): its next live bake drafts from them in a worker; or _HOLD
 _BESIDE = {}
+_HOLD = "hold"
+
+
+def hold_group(parent):
+    """The group's live and final bakes wait (bake_group_live, _final_bakes) until
+    draft_group_beside or forget_group: its layers are being framed anew a slice at a time
+    (scenes/grease_pencil/reframing.py), and a bake of them half framed is thrown away."""
+    _BESIDE[parent.name] = _HOLD
 
 
 def draft_group_beside(parent, images):
@@ -538,7 +548,7 @@ def _final_bakes():
             del _RUNNING[name]
             _written(name, job)
     for name, since in list(_FINAL_DUE.items()):
-        if now - since < DEBOUNCE_S or name in _RUNNING:
+        if now - since < DEBOUNCE_S or name in _RUNNING or _BESIDE.get(name) is _HOLD:
             continue
         del _FINAL_DUE[name]
         _BESIDE.pop(name, None)           # (its final starts: no draft before it now)

@@ -15,26 +15,25 @@ import threading
 import numpy as np
 
 import bpy
-from mathutils import Matrix
 
 from ....inputs.imageio import image_data_from_blender
 from ...bake.layers import (GroupDraft, draft_group_beside, final_bake_due, forget_group,
-                            group_materials, warm_drafts)
+                            group_materials, hold_group, warm_drafts)
 from ...bake.live_bake import rendering
 from ...material.sync import update
-from ...state.edits import note_edited, note_resized
+from ...state.edits import note_edited
 from ...state.frames import forget_frames, moves
 from ...state.images import (derived_shown, enlarged, enlarged_kept, forget_enlarged,
                              image_rgba, keep_derived_enlarged, keep_enlarged,
-                             refill_packed_image, resized_image)
+                             refill_packed_image)
 from ...state.painting_state import read_state
 from ...state.settings import channel_images
 from ...state.status import report
-from ..layered_build import layer_place, remove_objects
-from ..painting_scene import reshape_plane
-from .lit_copy import (LAYER, LIT_SETTINGS, SOURCE, drawing_place, drawn_paintings,
-                       light_drawing, lit_defaults, made_paintings, read_images)
+from ..layered_build import remove_objects
+from .lit_copy import (LAYER, LIT_SETTINGS, SOURCE, drawn_paintings, light_drawing,
+                       lit_defaults, made_paintings, read_images)
 from .reading import drawn_layers, framing, layer_digests, layer_stem
+from .reframing import Reframe
 from .strokes import unsupported
 
 DRAFT_WIDTH = 128      # px: a stroke's draft drawing (Blender's draw costs its pixels here)
@@ -123,42 +122,67 @@ def refresh_lit_drawing(context, parent, beside=None):
 def _reframed(context, parent, obj, settings, source, digests, painted, beside=False,
               rgba=None):
     """The lit copy framed anew in place where only the drawing's bounds moved (a stroke
-    past them; its layers, their kinds and frames as before): the parent placed where the
-    drawing now is, each plane at its depth for the new width (as light_drawing places
-    them) and shaped to the images' new size, the images resized and written
-    (_write_redraw) — no new objects, materials or node trees (made anew, the lit copy held
-    Blender 0.7 s at 1024²); beside the UI its shadows drafted in a worker from the images
-    written (draft_group_beside), final after. painted: drawn_paintings' of every layer;
-    rgba: _write_redraw's. → the parent, or None where it cannot be framed in place."""
+    past them; its layers, their kinds and frames as before: reframing.Reframe) — beside
+    the UI a layer a tick (finish_redraws: _framing), its group's bakes held meanwhile, then
+    its shadows drafted in a worker from the images written (draft_group_beside), final
+    after; else at once, baked now. painted: drawn_paintings' of every layer; rgba:
+    _write_redraw's. → the parent, or None where it cannot be framed in place."""
     made, bounds, frames, _ = painted
     mats = _layer_materials(obj, parent, source, settings, bounds=False)
-    moving = None if mats is None else _moving(mats)
-    written = None if mats is None or frames is not None or any(moving.values()) \
-        else _in_place(moving, made)
-    if written is None or len(written) != len(mats):
+    job = None if mats is None or frames is not None or any(_moving(mats).values()) else \
+        Reframe.of(parent, obj, mats, made, bounds, source["bounds"], rgba)
+    if job is None:
         return None
-    images = [(getattr(mats[name].dynamic_painting, f"image_{c}"), data)
-              for name, imgs in written for c, data in imgs.items()]
-    sizes = {data.pixels.shape[1::-1] for _, data in images}
-    if len(sizes) != 1 or any(img is None or img.is_float != (data.bits == 32)
-                              for img, data in images):
-        return None
-    (w, h), = sizes
-    note_resized([img.name for img, data in images if tuple(img.size) != (w, h)])
-    if not all([resized_image(img, w, h) for img, _ in images]):
-        return None
-    parent.matrix_world = drawing_place(obj, bounds)
-    for name, depth, _, _, _ in made:   # (world matrices: read at once, no update between)
-        plane = mats[name].dynamic_painting.plane
-        location, scale = layer_place(depth, (0.0, 0.0), 1.0, bounds[1] - bounds[0])
-        plane.matrix_world = parent.matrix_world @ Matrix.LocRotScale(location, None, scale)
-        reshape_plane(plane.data, w, h)
-    forget_group(parent.name)           # (its scene and drafts were of the old framing)
-    parent = _write_redraw(context, parent, mats, written, obj, settings,
-                           {**source, "bounds": list(bounds)}, digests, beside, rgba)
-    if beside:
-        draft_group_beside(parent, {mats[name].name: imgs for name, imgs in written})
+    record = {**source, "bounds": list(bounds), "layers": digests}
+    if not beside:
+        for _ in job.steps(context.scene):
+            pass
+        _framed(context, job, record, beside=False)
+        return parent
+    hold_group(parent)
+    _REFRAMES[parent.name] = (job, job.steps(context.scene), record, settings)
+    _framing(parent.name)                 # (its first slice now)
     return parent
+
+
+_REFRAMES = {}         # lit copy's name → (Reframe, its steps, its record, its settings)
+_DONE = object()
+
+
+def _framing(name):
+    """The next slice of lit copy `name`'s Reframe (one per tick: finish_redraws); after its
+    last, the lit copy's record, its shadows' draft in a worker (final after) and its first
+    stroke's draft made ready. A slice that fails: the lit copy made anew, the error said."""
+    job, steps, record, settings = _REFRAMES[name]
+    try:
+        with redrawing(name):
+            if next(steps, _DONE) is _DONE:
+                del _REFRAMES[name]
+                _framed(bpy.context, job, record, beside=True)
+    except Exception as exc:        # never into Blender's timer loop
+        _REFRAMES.pop(name, None)
+        forget_group(name)
+        report(name, exc)
+        try:
+            _made_anew(bpy.context, job.parent, job.obj, settings, beside=True)
+        except Exception as again:
+            report(name, again)
+
+
+def _framed(context, job, record, beside):
+    """A Reframe's every slice done: the lit copy's record, its group's scenes and drafts of
+    the old framing dropped; its shadows baked now, or `beside` the UI drafted in a worker
+    from the images written (final after) and its first stroke's draft made ready."""
+    parent = job.parent
+    forget_frames()
+    forget_group(parent.name)
+    parent[SOURCE] = json.dumps(record)
+    if not beside:
+        for _, mat, _, _ in job.layers:      # (the first bakes the group)
+            update(mat, context.scene, bake="now")
+        return
+    draft_group_beside(parent, {mat.name: imgs for _, mat, _, imgs in job.layers})
+    warm_first_draft(context, parent, job.rgba)
 
 
 def _made_anew(context, parent, obj, settings, painted=None, beside=False):
@@ -264,8 +288,10 @@ def finish_redraws():
     now, final in a worker), where the drawing is still as Blender
     drew it — else dropped: the strokes since are drafted, and their own full redraw
     follows. → seconds to the next call (None: none left)."""
+    for name in list(_REFRAMES):
+        _framing(name)
     for name, job in list(_REDRAWS.items()):
-        if job.thread.is_alive():
+        if job.thread.is_alive() or name in _REFRAMES:     # (a lit copy being framed: after)
             continue
         del _REDRAWS[name]
         parent = bpy.data.objects.get(name)
@@ -292,7 +318,7 @@ def finish_redraws():
                                   job.digests, beside=True, rgba=job.rgba)
         except Exception as exc:        # never into Blender's timer loop
             report(name, exc)
-    return POLL_S if _REDRAWS else None
+    return POLL_S if _REDRAWS or _REFRAMES else None
 
 
 def warm_first_draft(context, parent, bigs=None):
@@ -356,6 +382,7 @@ def forget_drafts():
     _DRAFTED.clear()
     _REDRAWS.clear()
     _DRAFTS.clear()
+    _REFRAMES.clear()
 
 
 def draft_lit_drawing(context, parent, beside=False):
@@ -371,6 +398,8 @@ def draft_lit_drawing(context, parent, beside=False):
     stroke meanwhile is drafted after it). → whether it drew, or started to (False: nothing
     new, or other layers or frames, or a layer that moves: those wait for the full
     redraw)."""
+    if parent.name in _REFRAMES:                # (being framed anew: its redraw follows)
+        return False
     running = _DRAFTS.get(parent.name)
     if beside and running is not None:          # one at a time: this stroke's comes next
         running.again = True
@@ -444,7 +473,7 @@ class _Draft:
         """The draft written where the lit copy still shows what it showed when read (a full
         redraw written since is newer) → whether it wrote."""
         parent = bpy.data.objects.get(self.parent_name)
-        if self.made is None or parent is None or \
+        if self.made is None or parent is None or self.parent_name in _REFRAMES or \
                 json.loads(parent[SOURCE]).get("layers", {}) != self.recorded:
             return False
         written = []
