@@ -239,8 +239,9 @@ def parts(labels, count, where):
     h, w = labels.shape
     flat = labels.ravel()
     kept = np.bincount(flat, where.ravel(), count) > 0
-    rows = np.broadcast_to(np.arange(h)[:, None], labels.shape).ravel()
-    cols = np.broadcast_to(np.arange(w)[None, :], labels.shape).ravel()
+    # (only the kept labels' pixels: a figure is a part of the image, and ufunc.at is slow)
+    at = np.flatnonzero(kept[flat])
+    flat, (rows, cols) = flat[at], np.divmod(at, w)
     box = np.zeros((count, 4), np.int64)
     box[:, 0], box[:, 2] = h, w
     np.minimum.at(box[:, 0], flat, rows)

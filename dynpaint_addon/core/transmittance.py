@@ -128,7 +128,7 @@ def _toward(o, kind, vector):
     lengths (a sun's never end)."""
     if kind == "sun":
         return np.broadcast_to(vector, o.shape), np.full(len(o), np.inf)
-    to = vector[None, :] - o
+    to = vector - o
     length = np.linalg.norm(to, axis=-1)
     return to / np.maximum(length, 1e-12)[:, None], length
 
@@ -448,8 +448,8 @@ def edited_from(before, after, box):
 
 
 def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre, exact):
-    """(v, ρ) of occluder k for rays from o (N, 3) toward one light point (r: _receiver(o, k)).
-    With `maps`: a sun over a layer of one opacity by its SunTable, every ray that starts
+    """(v, ρ) of occluder k for rays from o (N, 3) toward one light point (r: _receiver(o, k);
+    vector (3,), or (N, 3): each ray's own point of the light, _shared). With `maps`: a sun over a layer of one opacity by its SunTable, every ray that starts
     under the slab's top; otherwise the line map toward the light's centre point (`centre`),
     read where a ray crosses the occluder's plane, for rays that start below the slab and
     whose light lies above it; the rest by a march of each ray. (For a point of a light's
@@ -459,26 +459,31 @@ def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre, exact):
     the table or map cannot decide (the solid's edge passes between its samples) is marched;
     without (a draft), the table's nearer row or the map's ½ decides it."""
     hit, rho = np.zeros(len(o), bool), np.zeros(len(o), np.float32)
+    vector = np.asarray(vector, np.float64)
+    under = np.flatnonzero(r.under)
+
+    def of(rays):                   # the light point's coordinates for these rays
+        return vector if vector.ndim == 1 else vector[rays]
     table = maps and kind == "sun" and k.uniform is not None
     if table:                       # every ray under the top
         by_line = np.ones(len(r.x), bool)
-    elif maps and (kind == "sun" or vector[2] > k.top):
-        by_line = r.below
+    elif maps:
+        by_line = r.below if kind == "sun" else r.below & (of(under)[..., 2] > k.top)
     else:
         by_line = np.zeros(len(r.x), bool)
-    under = np.flatnonzero(r.under)
     if by_line.any():               # where each line crosses the occluder's plane (its px)
         rx, ry, rise = r.x[by_line], r.y[by_line], r.rise[by_line]
-        if kind == "sun":
-            along = rise * np.float32(1 / (vector[2] * k.place.px))
-            x = rx + along * np.float32(vector[0])
-            y = ry + along * np.float32(vector[1])
-        else:
-            reach = rise / (np.float32(vector[2] - k.z_px) + rise)
-            lx, ly = k.place.to_layer(vector[0], vector[1])
-            x = rx + reach * (np.float32(lx) - rx)
-            y = ry + reach * (np.float32(ly) - ry)
         where = under[by_line]
+        v = of(where)
+        if kind == "sun":
+            along = rise * np.asarray(1 / (v[..., 2] * k.place.px), np.float32)
+            x = rx + along * v[..., 0].astype(np.float32)
+            y = ry + along * v[..., 1].astype(np.float32)
+        else:
+            reach = rise / (np.asarray(v[..., 2] - k.z_px, np.float32) + rise)
+            lx, ly = k.place.to_layer(v[..., 0], v[..., 1])
+            x = rx + reach * (np.asarray(lx, np.float32) - rx)
+            y = ry + reach * (np.asarray(ly, np.float32) - ry)
     rest = np.zeros(len(o), bool)
     rest[under[~by_line]] = True
     if table and by_line.any():
@@ -500,7 +505,7 @@ def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre, exact):
         if exact:
             rest[where[~got & (cover > np.float32(1e-6))]] = True
     if rest.any():
-        d, length = _toward(o[rest], kind, vector)
+        d, length = _toward(o[rest], kind, of(rest))
         hit[rest], rho[rest] = _march(o[rest], d, length, k, spacing, steps)
     return hit, rho
 
@@ -585,7 +590,7 @@ def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=N
     def through(rays):
         t, mixed = over_disc(rays, points)
         if finer is not None and mixed.any():
-            t[mixed] = over_disc(rays[mixed], finer)[0]
+            t[mixed] = _each_point(rays[mixed], finer, over_disc)
         return t
 
     t = through(o.reshape(-1, 3)).reshape(shape)
@@ -610,11 +615,43 @@ def _shared(rays, points, n, each, over_disc):
     """T of edge pixels (rays (N, n, 3): each pixel's n antialiasing rays), the light's
     points shared among a pixel's rays: ray j toward `each` of them, every m-th from j mod
     m (m = len(points) / each: with 64 points and 16 rays, each point once) → the mean
-    over the n rays (N,)."""
+    over the n rays (N,). The n rays of SHARED_PIXELS pixels go together, each toward its
+    own point (a stroke's few edges cost the per-call work of numpy 16 times less: issue
+    61), the same numbers as one ray j at a time."""
     m, total = max(1, len(points) // each), np.zeros(len(rays))
-    for j in range(n):
-        total += over_disc(rays[:, j], points[j % m::m])[0]
+    if m * each != len(points):            # (some rays would take one point more)
+        for j in range(n):
+            total += over_disc(rays[:, j], points[j % m::m])[0]
+        return total / n
+    table, j = np.array([v for _, v in points]), np.arange(n) % m
+    for p0 in range(0, len(rays), SHARED_PIXELS):
+        chunk = rays[p0:p0 + SHARED_PIXELS]
+        own = [(points[0][0], np.tile(table[j + i * m], (len(chunk), 1))) for i in range(each)]
+        t = over_disc(chunk.reshape(-1, 3), own)[0].reshape(len(chunk), n)
+        for jj in range(n):                 # (summed in ray order, as one at a time)
+            total[p0:p0 + SHARED_PIXELS] += t[:, jj]
     return total / n
+
+
+SHARED_PIXELS = 1024    # edge pixels whose rays _shared traces together (16 rays each)
+
+
+def _each_point(rays, points, over_disc):
+    """T of rays (N, 3) averaged over `points`, as over_disc(rays, points) gives it, with
+    every (ray, point) pair a ray toward its own point: PAIRS of them in one call (a
+    penumbra's few rays at 64 points cost the per-call work of numpy 64 times less)."""
+    table, total = np.array([v for _, v in points]), np.zeros(len(rays))
+    step = max(1, PAIRS // len(points))
+    for a in range(0, len(rays), step):
+        chunk = rays[a:a + step]
+        own = [(points[0][0], np.tile(table, (len(chunk), 1)))]
+        t = over_disc(np.repeat(chunk, len(points), axis=0), own)[0].reshape(len(chunk), -1)
+        for i in range(len(points)):        # (summed in point order, as over_disc sums them)
+            total[a:a + step] += t[:, i]
+    return total / len(points)
+
+
+PAIRS = 1 << 14         # (ray, light point) pairs _each_point traces together
 
 
 EDGE_STEP = 0.25        # T's step between neighbouring pixels that antialiasing resolves

@@ -14,6 +14,7 @@ import numpy as np
 from ....core.colour import linear_to_srgb16
 from ....core.input_rules import ImageData
 from ....core.raster import over, polygon_coverage, stroke_coverage
+from ....core.strokes import box_of
 from .reading import (attribute_values, material_drawn, materials_used, shadow_layers,
                       shadow_materials, shown_keyframes)
 
@@ -289,9 +290,14 @@ def _draw_strokes(rgba, st, styles_, bounds):
 def straight_srgb(rgba):
     """Linear premultiplied RGBA → ImageData as Blender writes a 16-bit PNG of it with the
     Standard view transform: colour divided by alpha, sRGB-encoded, both quantised."""
-    a = np.minimum(rgba[..., 3], 1.0)
-    out = np.empty_like(rgba)
-    out[..., 3] = np.round(a * 65535) / 65535
-    inverse = np.divide(1.0, a, out=np.zeros_like(a), where=out[..., 3] > 0)   # none: black
-    out[..., :3] = linear_to_srgb16(rgba[..., :3] * inverse[..., None])
+    out = np.zeros_like(rgba)                   # (where nothing is drawn: clear black)
+    box = box_of(rgba[..., 3] > 0)
+    if box is not None:                         # (a layer's strokes cover a part of it)
+        r0, r1, c0, c1 = box
+        part = rgba[r0:r1, c0:c1]
+        a = np.minimum(part[..., 3], 1.0)
+        alpha = out[r0:r1, c0:c1, 3]
+        alpha[:] = np.round(a * 65535) / 65535
+        inverse = np.divide(1.0, a, out=np.zeros_like(a), where=alpha > 0)   # none: black
+        out[r0:r1, c0:c1, :3] = linear_to_srgb16(part[..., :3] * inverse[..., None])
     return ImageData(out, bits=16)
