@@ -15,7 +15,8 @@ redraws, and its frames.
   the depsgraph update, then each timer when due; the pause before the full redraw not
   waited) — until its final shadows are written, and the longest Blender's main thread was
   held meanwhile (≤ 100 ms);
-- a stroke past the drawing's bounds (the lit copy made anew);
+- a stroke past the drawing's bounds (the lit copy framed anew: its images resized, its
+  planes placed — a layer a tick with a UI);
 - frames: a frame change where the drawing holds (≤ 50 ms), and 12 frames of a drawing
   redrawn on every frame under a sun that turns, stepped as a render steps them (each
   frame's final bake; ≤ 60 s).
@@ -72,7 +73,7 @@ STROKE_COAT = ("the same, a dab on the figure's coat (its part inflated again: t
                "shadow traced again whole)")
 STROKE_UI = "a stroke with a UI: until its final shadows are written (the pause not waited)"
 HELD = "the longest Blender's main thread was held meanwhile"
-ANEW = "a stroke past the drawing's bounds: the lit copy made anew (as a script does)"
+ANEW = "a stroke past the drawing's bounds: the lit copy framed anew (as a script does)"
 ANEW_HELD = "the same with a UI: the longest Blender's main thread was held"
 HELD_FRAME = "a frame change where the drawing holds"
 FRAMES = "12 frames, the figure redrawn on each, a sun that turns: stepped as a render does"
@@ -122,7 +123,7 @@ def measure(size, runs):
         page_mb = os.path.getsize(page) / 1e6
     figure = obj.data.layers["Figure"]
     parent = bpy.context.object                    # the lit copy
-    name = parent.name                  # (a lit copy made anew is another object of it)
+    name = parent.name                  # (a lit copy made anew would be another object)
 
     def strokes(x, y, step):
         """Dabs `step` apart from (x, y), each drafted as a UI shows a stroke (handlers)."""

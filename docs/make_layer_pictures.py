@@ -202,14 +202,15 @@ here) and is drawn in full in place once no stroke has come for 1 s — with a U
 painting and final shadows are made in worker threads and Blender is held only to write
 them (at most ~70 ms at 1024² here; the images so written are packed when the file is
 saved); at once in scripts and renders, after a depsgraph evaluation. The final shadows
-after a stroke trace again only the rays that can meet what it changed (0.54–0.65 s for a dab
-of its own at 1024² here, 2.0 s for one that re-inflates a figure: its whole shadow). A layer added or
-removed, or a stroke past the drawing's bounds (its draft shows it as far as the lit copy
-reaches), makes the lit copy anew — with a UI, from paintings made in a worker while the old
-one shows, its shadows a draft at once and final in a worker (building the new copy holds
-Blender ~0.6 s at 1024²). Where Blender's renderer draws the drawing, it draws each layer at the
-scene's Grease Pencil anti-aliasing samples (*Render Properties › Grease Pencil*, 8 unless
-set), as F12 would. Scene frames that show the same drawing share one bake: a frame where the
+after a stroke trace again only the rays that can meet what it changed (0.34–0.59 s for a dab
+of its own at 1024² here, 1.1–1.8 s for one that re-inflates a figure: its whole shadow). A stroke
+past the drawing's bounds (its draft shows it as far as the lit copy reaches) frames the lit
+copy anew in place — the same objects and materials, each layer's images resized, its plane
+placed and shaped for the new bounds, a layer at a time with a UI (Blender held at most
+65–80 ms at 1024² here), each layer's shadows kept where they were until the group's draft
+comes from a worker, then the final. A layer added or removed makes the lit copy anew.
+Where Blender's renderer draws the drawing, it draws each layer at the scene's Grease Pencil
+anti-aliasing samples (*Render Properties › Grease Pencil*, 8 unless set), as F12 would. Scene frames that show the same drawing share one bake: a frame where the
 drawing holds costs milliseconds.
 An animated
 drawing (a layer with more than one keyframe, or animated data) is drawn on every frame of
