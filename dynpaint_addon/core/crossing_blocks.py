@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .crossing_search import table_levels
-from .sampling import pixel_centres, sample_bilinear, sample_bilinear_extend
+from .sampling import pixel_centres, sample_extend
 from .shadow import BakeCancelled
 from .strokes import inside
 
@@ -57,7 +57,7 @@ def start_points(normals, d, heights_px, where):
     nx, ny, nz = n[..., 0], n[..., 1], n[..., 2]
     x0, y0, z0 = x - f32(d) * nx, y - f32(d) * ny, zs - f32(d) * nz
     if heights_px is not None:
-        delta0, h0 = lookup(heights_px.astype(f32, copy=False), x0, y0) - z0, None
+        delta0, h0 = sample_extend(heights_px.astype(f32, copy=False), x0, y0) - z0, None
     else:
         delta0, h0 = f32(d) / nz, f32(d) * (nx * nx + ny * ny) / nz
     return nx, ny, nz, x0, y0, z0, delta0, h0
@@ -280,10 +280,3 @@ def table_groups(sizes):
         groups[-1].append(b)
         total += size
     return groups
-
-
-def lookup(img, x, y):
-    """Bilinear "extend" lookups (the flat-gather version where the image allows)."""
-    if min(img.shape[:2]) >= 2 and img.ndim == 2:
-        return sample_bilinear_extend(img, x, y)
-    return sample_bilinear(img, np.asarray(x, img.dtype), np.asarray(y, img.dtype), "extend")

@@ -32,9 +32,10 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from . import crossing_blocks
-from .crossing_blocks import BlockGrid, Rays, lookup, start_points, table_groups
+from .crossing_blocks import BlockGrid, Rays, start_points, table_groups
 from .crossing_search import inside_length, row_value, search_tables
 from .shadow import cos_theta_shadow, exit_distance, inside_box, vertical_cos_theta
+from .sampling import sample_extend
 from .strokes import grow, union
 
 SUN_BLOCKS, SUN_BLOCK_ROWS = 8, 160   # _SunGrid's blocks of rows: at most 8, ≥ 160 rows
@@ -203,9 +204,9 @@ class _SunGrid(BlockGrid):
         gx = (self.cx + gu * self.ex).astype(f32)[None, :] - (v * self.ey).astype(f32)
         gy = (self.cy + gu * self.ey).astype(f32)[None, :] + (v * self.ex).astype(f32)
         if hz is not None:
-            return search_tables(lookup(hz, gx, gy) - (self.m * gu).astype(f32)), None
+            return search_tables(sample_extend(hz, gx, gy) - (self.m * gu).astype(f32)), None
         # the running integral (trapezoids) of the slope is the height along the row
-        su = lookup(sz, gx, gy).astype(np.float64)
+        su = sample_extend(sz, gx, gy).astype(np.float64)
         z = np.zeros(su.shape)
         np.cumsum((su[:, 1:] + su[:, :-1]) / 2, axis=1, out=z[:, 1:])
         return search_tables((z - self.m * gu[None, :]).astype(f32)), z
@@ -437,10 +438,10 @@ class _PointGrid(BlockGrid):
         inv = (1 / np.maximum(rho, POINT_RHO_MIN)).astype(f32)
         rho_cols = self.rho_max / self.col_step - c0
         if hz is not None:
-            return search_tables((lookup(hz, gx, gy) - f32(self.zl)) * inv[None, :], rho_cols), None
+            return search_tables((sample_extend(hz, gx, gy) - f32(self.zl)) * inv[None, :], rho_cols), None
         # toward F the slope along the row is −(s·(cos φ, sin φ)); its running integral
         # (trapezoids, col_step px a column) is the height along the row
-        su = -(lookup(sxy[0], gx, gy) * cos + lookup(sxy[1], gx, gy) * sin)
+        su = -(sample_extend(sxy[0], gx, gy) * cos + sample_extend(sxy[1], gx, gy) * sin)
         z = np.zeros(su.shape)
         np.cumsum((su[:, 1:] + su[:, :-1]) * (self.col_step / 2), axis=1, out=z[:, 1:])
         return search_tables(((z - self.zl) * inv[None, :]).astype(f32), rho_cols,

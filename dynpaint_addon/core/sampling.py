@@ -94,6 +94,15 @@ def sample_bilinear_extend(img, x, y):
     return top
 
 
+def sample_extend(img, x, y):
+    """Bilinear "extend" lookups of a 2D or multi-channel image at finite x, y: the flat
+    gathers of sample_bilinear_extend where the image allows (2D, at least 2×2), else
+    sample_bilinear's."""
+    if min(img.shape[:2]) >= 2 and img.ndim == 2:
+        return sample_bilinear_extend(img, x, y)
+    return sample_bilinear(img, np.asarray(x, img.dtype), np.asarray(y, img.dtype), "extend")
+
+
 def pixel_centres(height, width, dtype=np.float32):
     """x, y pixel-centre coordinates (pixel units, origin at the bottom-left corner)."""
     x = (np.arange(width, dtype=dtype) + dtype(0.5))[None, :]

@@ -14,7 +14,7 @@ import numpy as np
 
 from .lights import light_vectors
 from .path_bounds import BOUNDS, PATH_SEGMENTS
-from .sampling import pixel_centres, sample_bilinear
+from .sampling import pixel_centres, sample_bilinear, sample_extend
 
 OCCUPANCIES = ("linear", "midpoint")
 MAX_STEPS_PER_PIXEL = 4  # more steps than this per pixel of march length add nothing (bilinear H)
@@ -280,16 +280,19 @@ def _march_band(c, r, k_eff, occupancy, cancel):
         delta_start = delta
         a = ell / f(k_eff)
         ax, ay, az = a * lx, a * ly, a * lz
+        # (each slope alone: a 2D image's lookups gather by flat index, about twice as fast)
+        gx, gy = (None, None) if c.zs is not None else \
+            (np.ascontiguousarray(c.slopes[..., i]) for i in (0, 1))
         for k in range(1, k_eff + 1):
             if cancel is not None and cancel():
                 raise BakeCancelled()
             px = x0 + f(k) * ax
             py = y0 + f(k) * ay
             if c.zs is not None:
-                h_here = sample_bilinear(c.zs, px, py, "extend")
+                h_here = sample_extend(c.zs, px, py)
             else:
-                g = sample_bilinear(c.slopes, px - f(0.5) * ax, py - f(0.5) * ay, "extend")
-                h_rec = h_rec + g[..., 0] * ax + g[..., 1] * ay
+                mx, my = px - f(0.5) * ax, py - f(0.5) * ay
+                h_rec = h_rec + sample_extend(gx, mx, my) * ax + sample_extend(gy, mx, my) * ay
                 h_here = h_rec
             new_delta = h_here - (z0 + f(k) * az)
             inside += occupancy_fraction(delta, new_delta, occupancy) * a
