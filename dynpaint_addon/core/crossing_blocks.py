@@ -16,6 +16,7 @@ from .strokes import inside
 MAX_TABLE_BYTES = 1.5 * 2**30   # tables built at once (larger grids: in groups of blocks)
 THREADS = max(1, min(4, os.cpu_count() or 1))
 RAY_BAND_PIXELS = 1 << 17       # rays searched together (see crossings._bake)
+EDIT_RAYS_IN_THREADS = 1 << 14  # an edit's rays from here on searched in the threads
 TRACE_PIXELS = 1 << 21          # rays whose starts are held at once (BlockGrid.trace)
 
 
@@ -246,7 +247,9 @@ class BlockGrid:
         def search_part(part):
             sel, spec = part
             r_h[sel] = self._search_block(spec, self._profile(spec, *inputs), ray, sel)
-        list(pool.map(search_part, parts.values()))
+        # (side by side where it pays: a stroke's few rays cost less than the handoffs)
+        run = pool.map if len(parts) > 1 and idx.size > EDIT_RAYS_IN_THREADS else map
+        list(run(search_part, parts.values()))
         done = self.finish(ray, r_h, d)
         out = t.copy()
         out.reshape(-1)[idx] = np.clip(np.where(np.isfinite(done), done, 0), 0, 1)
