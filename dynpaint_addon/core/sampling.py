@@ -278,6 +278,13 @@ def gaussian_blur(img, sigma_px, extension="extend"):
     out = img
     for axis in (0, 1):
         n = out.shape[axis]
+        if offsets.size > n:      # wider than the image: the weights folded onto its n pixels
+            src = wrap_index(np.arange(n)[:, None] + offsets[None, :], n, extension)
+            fold = np.zeros((n, n), img.dtype)
+            np.add.at(fold, (np.repeat(np.arange(n), offsets.size), src.ravel()),
+                      np.tile(kernel, n))
+            out = np.moveaxis(np.tensordot(fold, out, axes=([1], [axis])), 0, axis)
+            continue
         # Padding by index mapping is exact for every extension, even when radius > n.
         padded = out.take(wrap_index(np.arange(-radius, n + radius), n, extension), axis=axis)
         acc = np.zeros_like(out)
