@@ -637,6 +637,32 @@ def test_a_stroke_beyond_the_drawings_bounds_frames_the_lit_copy_anew_beside_the
     assert np.array_equal(image_data_from_blender(bright).pixels, made)
 
 
+def test_a_stroke_removed_at_the_drawings_edge_frames_the_lit_copy_smaller(drawing):
+    """A stroke that held the drawing's bounds out, removed: the bounds shrink and the lit
+    copy is framed anew in place (its shadows laid into the smaller framing, cropped, till
+    the draft), then what a fresh From Grease Pencil makes, its shadows within 1e-6."""
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    bpy.context.scene.collection.objects.link(sun)
+    sun.rotation_euler = (np.radians(50), 0, np.radians(30))
+    figure = drawing.data.layers["Figure"]
+    add_fill(figure, disc(1.1, -0.4, 0.15), 1)                  # past the card's right edge
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=96) == {"FINISHED"}
+    parent = bpy.context.object
+    bounds = json.loads(parent[SOURCE])["bounds"]
+    strokes = figure.frames[0].drawing
+    strokes.remove_strokes(indices=[len(strokes.strokes) - 1])
+    assert refresh_lit_drawing(bpy.context, parent, beside=True) is parent
+    live._REDRAWS[parent.name].thread.join()
+    while live.finish_redraws() is not None:
+        pass
+    group_bakes.settle()
+    assert [o for o in bpy.context.scene.objects if o.get(SOURCE)] == [parent]
+    assert json.loads(parent[SOURCE])["bounds"][1] < bounds[1] - 0.2
+    back, front = (m.dynamic_painting for m in group_materials(parent))
+    assert "|own|" in back.lights[0].bake_key
+    assert_what_a_fresh_lit_copy_makes(drawing, back, front)
+
+
 def test_a_full_redraw_is_made_beside_the_ui_and_one_the_drawing_outran_is_dropped(drawing):
     """With a UI the full redraw has Blender draw the changed layer and a worker thread make
     it a painting (refresh_lit_drawing, beside); finish_redraws (the UI's timer, called
