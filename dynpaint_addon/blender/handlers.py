@@ -38,7 +38,7 @@ from .material.tree import rebuild_tree, tree_is_stale
 from .scenes.grease_pencil.lit_copy import drawing_of, stale_lit_copies
 from .scenes.grease_pencil.live import (draft_lit_drawing, forget_drafts, redrawing,
                                          redrawing_now, refresh_lit_drawing)
-from .state.edits import artists_edits, note_edited
+from .state.edits import artists_edits, forget_resized, note_edited
 from .state.frame_sampling import only_reading_lights
 from .state.frames import forget_frames, moves
 from .state.images import PACK_ON_SAVE, forget_enlarged, forget_frames_made
@@ -220,6 +220,7 @@ def remake_generated_images(*_):
     forget_frames_made()
     forget_enlarged()
     forget_drafts()
+    forget_resized()
     forget_solved_parts()
     forget_painted()
     forget_scenes()

@@ -33,6 +33,12 @@ def note_resized(names):
     _RESIZED.update(names)
 
 
+def forget_resized():
+    """Another file is open, or undo: a resize whose Image update never came is not one of
+    its images'."""
+    _RESIZED.clear()
+
+
 def artists_edits(names):
     """Of the images named `names` (an Image update came for each), those edited by someone
     else than the add-on (note_resized's come once)."""
