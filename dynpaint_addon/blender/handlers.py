@@ -36,8 +36,8 @@ from .bake.shadow_images import forget_cached_shapes
 from .material.sync import invalidate_generated, update
 from .material.tree import rebuild_tree, tree_is_stale
 from .scenes.grease_pencil.lit_copy import drawing_of, stale_lit_copies
-from .scenes.grease_pencil.live import (draft_lit_drawing, forget_drafts, redrawing,
-                                         redrawing_now, refresh_lit_drawing)
+from .scenes.grease_pencil.live import (draft_lit_drawing, forget_drafts, frame_all_now,
+                                         redrawing, redrawing_now, refresh_lit_drawing)
 from .state.edits import artists_edits, forget_resized, note_edited
 from .state.frame_sampling import only_reading_lights
 from .state.frames import forget_frames, moves
@@ -188,8 +188,13 @@ def on_frame_change(scene, depsgraph):
 
 @persistent
 def on_render_pre(scene, *_):
-    """Before a render: a painting whose optional image was deleted is rebuilt without it;
-    anything that cannot be mended is reported, once per render, and never raised."""
+    """Before a render: a lit drawing being framed anew is framed whole (its shadows baked);
+    a painting whose optional image was deleted is rebuilt without it; anything that cannot
+    be mended is reported, once per render, and never raised."""
+    try:
+        frame_all_now(bpy.context)
+    except Exception as exc:
+        report(scene.name, exc)
     for mat in paintings(scene):
         try:
             if tree_is_stale(mat) and mat.dynamic_painting.image_shape is not None:

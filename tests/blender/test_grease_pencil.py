@@ -663,6 +663,25 @@ def test_a_stroke_removed_at_the_drawings_edge_frames_the_lit_copy_smaller(drawi
     assert_what_a_fresh_lit_copy_makes(drawing, back, front)
 
 
+def test_a_render_starting_while_the_lit_copy_is_framed_anew_frames_it_whole(drawing):
+    """A render that starts between two of a reframe's slices (a layer a tick) finds the lit
+    copy framed whole and its shadows baked (handlers.on_render_pre): it renders no
+    half-framed lit copy."""
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=96) == {"FINISHED"}
+    parent, scene = bpy.context.object, bpy.context.scene
+    bounds = json.loads(parent[SOURCE])["bounds"]
+    add_fill(drawing.data.layers["Figure"], disc(1.0, 0.2, 0.2), 1)      # past x = 1.05
+    refresh_lit_drawing(bpy.context, parent, beside=True)
+    live._REDRAWS[parent.name].thread.join()
+    assert live.finish_redraws() is not None and parent.name in live._REFRAMES   # one slice
+    handlers.on_render_pre(scene)
+    assert not live._REFRAMES and not stale_lit_copies(scene, {drawing.name})
+    assert json.loads(parent[SOURCE])["bounds"][1] > bounds[1] + 0.1
+    back, front = (m.dynamic_painting for m in group_materials(parent))
+    assert "|own|" in back.lights[0].bake_key
+    assert_what_a_fresh_lit_copy_makes(drawing, back, front)
+
+
 def test_a_full_redraw_is_made_beside_the_ui_and_one_the_drawing_outran_is_dropped(drawing):
     """With a UI the full redraw has Blender draw the changed layer and a worker thread make
     it a painting (refresh_lit_drawing, beside); finish_redraws (the UI's timer, called

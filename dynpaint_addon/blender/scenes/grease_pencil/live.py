@@ -169,6 +169,20 @@ def _framing(name):
             report(name, again)
 
 
+def frame_all_now(context):
+    """A render is about to start: the lit copies being framed anew a layer a tick are
+    framed whole now, their shadows baked now (a render shows no half-framed lit copy)."""
+    for name in list(_REFRAMES):
+        job, steps, record, _ = _REFRAMES.pop(name)
+        try:
+            with redrawing(name):
+                for _ in steps:
+                    pass
+                _framed(context, job, record, beside=False)
+        finally:
+            forget_group(name)          # (its bakes held no longer, whatever happened)
+
+
 def _framed(context, job, record, beside):
     """A Reframe's every slice done: the lit copy's record, its group's scenes and drafts of
     the old framing dropped; its shadows baked now, or `beside` the UI drafted in a worker
