@@ -74,7 +74,10 @@ def imports(name, path, known):
     return out
 
 
+@functools.lru_cache(maxsize=None)
 def graph():
+    """(modules(), {module: [(imported module of the package, inside a function, line)]}),
+    made once for every test (they only read it)."""
     known = modules()
     edges = {}
     for name, path in known.items():
@@ -171,7 +174,7 @@ def test_no_single_letter_module_aliases():
     known = modules()
     short = []
     for name, path in known.items():
-        for node in ast.walk(ast.parse(open(path, encoding="utf-8").read())):
+        for node in ast.walk(parsed(path)[0]):
             if isinstance(node, (ast.Import, ast.ImportFrom)):
                 short += [f"{name}:{node.lineno} {a.name} as {a.asname}" for a in node.names
                           if a.asname and len(a.asname) == 1]
