@@ -14,7 +14,7 @@ Boxes of pixels are (r0, r1, c0, c1) as core/strokes.py's; a change is
 (x0, y0, x1, y1, z_bottom, z_top) in canvas pixels.
 
 >>> import numpy as np
->>> from dynpaint_addon.core.transmittance import Occluder
+>>> from dynpaint_addon.core.occluders import Occluder
 >>> flat = np.zeros((16, 16)); dab = flat.copy(); dab[4:6, 8:10] = 1.0
 >>> old = Occluder(np.ones((16, 16)), flat, 8.0, 2.0, np.ones((16, 16)))
 >>> new = Occluder(np.ones((16, 16)), dab, 8.0, 2.0, np.ones((16, 16)))

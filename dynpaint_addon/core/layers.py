@@ -4,7 +4,7 @@ Each layer is a whole painting on the plane z = z_i of one shared canvas, placed
 and a scale (`Placement`). It is shaded by §2–§11 in its own pixels, except that its cos-θ
 term is t = t_own·T, where T is what the layers in front let through along the ray from
 each pixel's surface point toward the light (core/transmittance.py, each layer in front an
-`Occluder`); the scene is then composited back to front (`render_scene`), and `scene_notes`
+`Occluder`, core/occluders.py); the scene is then composited back to front (`render_scene`), and `scene_notes`
 says what an artist should know of it.
 """
 import copy
@@ -16,12 +16,12 @@ from .bake import QUALITY, quality_settings
 from .input_rules import image_channels, input_notes, silhouette_channel
 from .inputs import about
 from .layer_edits import ALL, changed_over, rays_meeting, solid_change
+from .occluders import Occluder, Placement, edited_from
 from .pipeline import (normal_map_relief_px, prepare, render, shadow_term,
                        shadow_term_edited, silhouette_alpha, transparency_k)
 from .sampling import pixel_centres, resample_separable, sample_bilinear
 from .strokes import box_of, changed_box, grow, union
-from .transmittance import (Occluder, Placement, edited_from, light_points,
-                            transmittance)
+from .transmittance import light_points, transmittance
 
 # §15 for each quality level (§13): the resolution T is found at (receivers and occluders
 # alike, then resampled to each layer's pixels, as §13's bakes), the march's spacing along

@@ -7,83 +7,24 @@ S_k = {(x, y, z): α_k(x, y) ≥ ½, z_k − τ_k ≤ z ≤ z_k + relief_k(x, y)
 through S_k. A light with a size (a sun's angular diameter, a point light's radius) replaces
 v_k by the share of its disc whose rays do. Distances here are pixels of the canvas, z toward
 the viewer from the plane of depth 0. Three ways find v_k, fastest first: a sun's table over
-a layer of one opacity (`SunTable`), a line map marched once on the occluder's own pixels
-(`line_map`), the reference march (`_march`); core/layers.py makes the scene they serve.
+a layer of one opacity (core/occluders.py), a line map marched once on the occluder's own pixels (`line_map`), the
+reference march (`_march`); core/layers.py makes the scene they serve.
 
     >>> import numpy as np
     >>> from dynpaint_addon.core.lights import Light
+    >>> from dynpaint_addon.core.occluders import Occluder
     >>> card = Occluder(alpha=np.ones((8, 8)), relief_px=np.zeros((8, 8)), z_px=4.0,
     ...                 thickness_px=1.0, opacity=np.ones((8, 8)))
     >>> origins = np.zeros((8, 8, 3)); origins[..., 0] = 4.5; origins[..., 1] = 4.5
     >>> float(transmittance(origins, Light("sun", (0, 0, 1)), [card]).max())
     0.0
 """
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from .sampling import pixel_centres, sample_bilinear_extend
-
-MAPS_KEPT = 4            # line maps an occluder keeps (per light point; a drag makes new ones)
-
-
-@dataclass(frozen=True)
-class Placement:
-    """Where a layer's pixels lie on the canvas (§15): canvas pixel = corner + px × layer
-    pixel (x right, y up), its plane at depth z (canvas pixels toward the viewer)."""
-    corner: tuple = (0.0, 0.0)
-    px: float = 1.0
-    z: float = 0.0
-
-    def to_canvas(self, x, y, z):
-        return (self.corner[0] + self.px * x, self.corner[1] + self.px * y, self.z + self.px * z)
-
-    def to_layer(self, x, y):
-        return (x - self.corner[0]) / self.px, (y - self.corner[1]) / self.px
-
-    @property
-    def identity(self):
-        return self.corner == (0.0, 0.0) and self.px == 1.0
-
-
-@dataclass
-class Occluder:
-    """A layer in front, as the rays of the layers behind it meet it (§15 "Occluders").
-    alpha, relief_px and opacity are images of its own pixels; relief_px, z_px and
-    thickness_px are canvas pixels; place maps canvas x, y to its pixels."""
-    alpha: np.ndarray         # (H, W): its silhouette's alpha; the solid is where α ≥ ½
-    relief_px: np.ndarray     # (H, W): its relief above its plane (0 for a flat card)
-    z_px: float               # its plane's depth
-    thickness_px: float       # τ: how far the solid reaches behind its plane
-    opacity: np.ndarray       # (H, W): ρ = 1 − k (§11's transparency): 1 opaque, 0 clear
-    place: Placement = field(default_factory=Placement)
-    maps: dict = field(default_factory=dict, repr=False)   # line_map's cache
-    edited: tuple = field(default=None, repr=False)        # (occluder, box): edited_from
-
-    def __post_init__(self):
-        self.alpha, self.relief_px, self.opacity = (
-            _at_least_2x2(np.asarray(a, np.float32)) for a in (self.alpha, self.relief_px,
-                                                                self.opacity))
-        self.top = self.z_px + float(np.max(self.relief_px, initial=0.0))
-        self.bottom = self.z_px - self.thickness_px
-        # the canvas box of its solid (where α ≥ ½): rays that miss it skip the layer
-        solid = np.asarray(self.alpha) >= 0.5
-        rows, cols = np.nonzero(solid)
-        # one opacity over the whole solid (no transparency map): ρ needs no first hit
-        inside = self.opacity[solid]
-        self.uniform = float(inside[0]) if inside.size and np.all(inside == inside[0]) \
-            else None
-        if rows.size:
-            x0, y0, _ = self.place.to_canvas(cols.min(), rows.min(), 0.0)
-            x1, y1, _ = self.place.to_canvas(cols.max() + 1.0, rows.max() + 1.0, 0.0)
-            self.box = (x0, y0, x1, y1)
-        else:
-            self.box = None
-
-
-def _at_least_2x2(img):
-    """The fast sampler reads 2×2 neighbours: a 1-pixel-wide image is repeated."""
-    return np.pad(img, [(0, max(0, 2 - img.shape[0])), (0, max(0, 2 - img.shape[1]))], "edge")
+from .occluders import kept_on, sample_layer, sun_table
+from .sampling import pixel_centres
 
 
 def disc_points(n):
@@ -194,21 +135,15 @@ def _march_part(o, d, a, b, k, spacing, steps, todo, idx, hit, rho):
         p = o[group, None, :] + s[..., None] * d[group, None, :]
         x, y = k.place.to_layer(p[..., 0], p[..., 1])
         over = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
-        over[over] = _sample(k.alpha, x[over], y[over]) >= 0.5
-        over[over] = p[..., 2][over] <= k.z_px + _sample(k.relief_px, x[over], y[over])
+        over[over] = sample_layer(k.alpha, x[over], y[over]) >= 0.5
+        over[over] = p[..., 2][over] <= k.z_px + sample_layer(k.relief_px, x[over], y[over])
         inside = over.any(axis=1)
         first = np.argmax(over[inside], axis=1)     # the first point inside, from below
         rows = np.flatnonzero(inside)
         hit[idx[group[inside]]] = True
-        rho[idx[group[inside]]] = _sample(k.opacity, x[rows, first], y[rows, first])
+        rho[idx[group[inside]]] = sample_layer(k.opacity, x[rows, first], y[rows, first])
         missed.append(group[~inside])
     return np.concatenate(missed) if missed else todo
-
-
-def _sample(img, x, y):
-    """An occluder's image (float32, at least 2×2) at layer pixels x, y (finite): bilinear,
-    edges extended."""
-    return sample_bilinear_extend(img, x.astype(np.float32), y.astype(np.float32))
 
 
 def line_map(k, kind, vector, spacing, steps):
@@ -218,21 +153,8 @@ def line_map(k, kind, vector, spacing, steps):
     slab and ends above it is decided by its line alone, so one march on the occluder's own
     pixels serves every pixel of every layer behind it (a shadow map of the solid, cached
     on the occluder per light point)."""
-    return _kept(k, (kind, tuple(np.round(vector, 9)), spacing, steps),
+    return kept_on(k, (kind, tuple(np.round(vector, 9)), spacing, steps),
                  lambda: _line_map(k, kind, vector, spacing, steps))
-
-
-def _kept(k, key, make):
-    """What `make()` makes for occluder k, kept on it under `key` (line maps, sun tables):
-    the newest MAPS_KEPT (a dragged light makes new ones at every step). (Two scenes baking
-    in two threads may share an occluder: what is made is returned, not read back.)"""
-    made = k.maps.get(key)
-    if made is None:
-        made = make()
-        if len(k.maps) >= MAPS_KEPT:
-            k.maps.clear()
-        k.maps[key] = made
-    return made
 
 
 def _line_map(k, kind, vector, spacing, steps):
@@ -295,162 +217,10 @@ def _receiver(o, k):
                      y.astype(np.float32), (k.z_px - o[under, 2]).astype(np.float32))
 
 
-class SunTable:
-    """Which lines along a sun meet occluder k's solid, for any line at once (§15): the
-    solid's relief H resampled on a grid whose rows run along the light's horizontal
-    direction e (u along it, v across, one occluder pixel apart; H = −∞ outside the
-    silhouette), G = H − m·u (m: the line's rise per pixel of u) and its suffix maximum
-    S(u) = max_{u' ≥ u} G(u'). The line crossing the occluder's plane at (u_q, v_q) rises
-    from z_k − τ at u_q − τ/m toward the light: it meets the solid where some
-    H(u') ≥ m·(u' − u_q) with u' ≥ u_q − τ/m, i.e. S(u_q − τ/m) ≥ −m·u_q — one lookup per
-    ray. Columns are STEP_U pixels apart and each stands for its whole width (the line's
-    lowest point over it), so a card thinner than a column is never stepped over; edges
-    move by at most half a column along e. Across, a line between two rows is theirs when
-    they agree, and marched when they do not (a draft takes the nearer row's)."""
-    STEP_U = 0.25
-
-    def __init__(self, k, direction, before=None, box=None):
-        """before, box: the table of the same light on this layer before an edit that changed
-        its pixels in `box` (r0, r1, c0, c1; None: none), where it spans the same grid: only
-        its rows that read the box are made again (the others are the same, bit for bit)."""
-        self.k, self.direction = k, direction
-        flat = float(np.hypot(direction[0], direction[1]))
-        self.vertical = flat < 1e-9
-        if self.vertical:
-            return
-        self.e = np.array(direction[:2]) / flat
-        self.n = np.array([-self.e[1], self.e[0]])
-        self.m = direction[2] / flat * k.place.px   # canvas px of rise per occluder px of u
-        (x0, y0), (x1, y1) = (k.place.to_layer(*k.box[:2]), k.place.to_layer(*k.box[2:]))
-        corners = np.array([[x0, y0], [x0, y1], [x1, y0], [x1, y1]])
-        u, v = corners @ self.e, corners @ self.n
-        self.u0, self.v0 = np.floor(u.min()) - 1, np.floor(v.min()) - 1
-        coarse = int(np.ceil(u.max() - self.u0)) + 2
-        rows = int(np.ceil(v.max() - self.v0)) + 2
-        if before is not None and not before.vertical and before.m == self.m and \
-                (before.u0, before.v0) == (self.u0, self.v0) and \
-                before.suffix.shape[0] == rows and before.coarse == coarse:
-            self.suffix = before.suffix.copy()
-            lo, hi = self._rows_reading(box, rows)
-            if hi > lo:
-                self.suffix[lo:hi] = self._suffix_rows(lo, hi, coarse)
-        else:
-            self.suffix = self._suffix_rows(0, rows, coarse)
-        self.coarse = coarse
-        # where a line may cross the plane and still meet the solid: its box, grown by how far
-        # a line travels sideways over the slab's heights (occluder px)
-        travel = (k.top - k.bottom) / self.m + 1.0
-        self.reach = (min(x0, x1) - travel, min(y0, y1) - travel, max(x0, x1) + travel,
-                      max(y0, y1) + travel)
-
-    def _rows_reading(self, box, rows):
-        """The rows [lo, hi) whose samples read a pixel of `box` (bilinear: a pixel round it)."""
-        if box is None:
-            return 0, 0
-        r0, r1, c0, c1 = box
-        corners = np.array([[c0 - 1, r0 - 1], [c0 - 1, r1 + 1], [c1 + 1, r0 - 1],
-                            [c1 + 1, r1 + 1]], np.float64)
-        v = corners @ self.n - self.v0
-        return max(0, int(np.floor(v.min())) - 1), min(rows, int(np.ceil(v.max())) + 2)
-
-    def _suffix_rows(self, lo, hi, coarse):
-        """Rows lo … hi − 1 of the table's suffix maxima (each row made on its own)."""
-        k = self.k
-        # the silhouette and relief sampled a pixel apart along u, then interpolated to the
-        # finer columns (sampling every column costs 1/STEP_U times more for the same picture)
-        per = int(round(1 / self.STEP_U))
-        gu, gv = np.meshgrid(self.u0 + np.arange(coarse, dtype=np.float64),
-                             self.v0 + np.arange(lo, hi, dtype=np.float64))
-        x, y = gu * self.e[0] + gv * self.n[0], gu * self.e[1] + gv * self.n[1]
-        lh, lw = k.alpha.shape
-        on = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
-        cover, relief = np.zeros(x.shape, np.float32), np.zeros(x.shape, np.float32)
-        cover[on] = _sample(k.alpha, x[on], y[on])
-        relief[on] = _sample(k.relief_px, x[on], y[on])
-        f = (np.arange((coarse - 1) * per + 1) / per).astype(np.float32)
-        j = np.minimum(f.astype(np.int64), coarse - 2)
-        w = f - j
-        cover = cover[:, j] * (1 - w) + cover[:, j + 1] * w
-        relief = relief[:, j] * (1 - w) + relief[:, j + 1] * w
-        gu = self.u0 + f.astype(np.float64)[None, :]
-        h = np.where(cover >= 0.5, relief, -np.inf).astype(np.float32)
-        g = h - (self.m * (gu - self.STEP_U / 2)).astype(np.float32)   # lowest over its width
-        return np.maximum.accumulate(g[:, ::-1], axis=1)[:, ::-1]
-
-    def meets(self, x, y, rise, exact=True):
-        """Whether the rays whose lines cross the occluder's plane at its pixels (x, y) meet
-        it, each starting `rise` canvas px below the plane (negative: inside the slab, above
-        the plane: only the part of its line beyond its start counts) → (hit, doubt): with
-        `exact`, doubt where the table's two rows beside a line disagree — the solid's edge
-        runs between them, closer than a pixel, and the ray is to be marched; without, the
-        nearer row's answer (a draft's: edges move by up to half a pixel across the light, in
-        dots along them)."""
-        k = self.k
-        out, doubt = np.zeros(len(x), bool), np.zeros(len(x), bool)
-        if self.vertical:
-            lh, lw = k.alpha.shape
-            on = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
-            # straight up: the solid over it, above the start
-            out[on] = (_sample(k.alpha, x[on], y[on]) >= 0.5) & \
-                (rise[on] >= -_sample(k.relief_px, x[on], y[on]))
-            return out, doubt
-        # only lines that cross the plane within the slab's sideways reach of the solid
-        x0, y0, x1, y1 = self.reach
-        near = np.flatnonzero((x >= x0) & (x <= x1) & (y >= y0) & (y <= y1))
-        if near.size:
-            out[near], doubt[near] = self._meets(x[near], y[near], rise[near], exact)
-        return out, doubt
-
-    def _meets(self, x, y, rise, exact):
-        k = self.k
-        uq = x * self.e[0] + y * self.e[1]
-        vq = x * self.n[0] + y * self.n[1]
-        rows, cols = self.suffix.shape
-        behind = np.minimum(np.float32(k.thickness_px), rise)       # the slab's or the start's
-        start = uq - behind / np.float32(self.m) - self.STEP_U / 2   # columns reaching it
-        c = np.ceil((start - self.u0) / self.STEP_U - 1e-6).astype(np.int64)
-        c = np.maximum(c, 0)
-
-        def row_meets(r):
-            ok = (r >= 0) & (r < rows) & (c < cols)
-            out = np.zeros(len(x), bool)
-            out[ok] = self.suffix[r[ok], c[ok]] >= -self.m * uq[ok]
-            return out
-        if not exact:
-            return row_meets(np.rint(vq - self.v0).astype(np.int64)), np.zeros(len(x), bool)
-        below = np.floor(vq - self.v0).astype(np.int64)
-        lower, upper = row_meets(below), row_meets(below + 1)
-        return lower & upper, lower != upper
-
-
-def sun_table(k, direction):
-    """The SunTable of occluder k for a sun along `direction`, cached on the occluder — made
-    from the same light's table of the occluder it was edited from, where there is one
-    (edited_from)."""
-    key = ("table", tuple(np.round(direction, 9)))
-
-    def make():
-        was, box = k.edited or (None, None)
-        # (taken from the earlier occluder: a 4096² layer's table is hundreds of MB, and the
-        # earlier scene is done with — a bake of it still running holds its own reference)
-        table = None if was is None else was.maps.pop(key, None)
-        return SunTable(k, np.asarray(direction, np.float64), table, box)
-    return _kept(k, key, make)
-
-
-def edited_from(before, after, box):
-    """Occluder `after` is `before` (the same layer) edited in `box` of its pixels (None:
-    nowhere): its sun tables are made from before's, again only in the rows that read the
-    box (SunTable's `before`) — a stroke's bake builds no table whole. (before's own
-    source is dropped: one edit back is kept, not a chain of them.)"""
-    before.edited = None
-    after.edited = (before, box)
-
-
 def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre, exact):
     """(v, ρ) of occluder k for rays from o (N, 3) toward one light point (r: _receiver(o, k);
-    vector (3,), or (N, 3): each ray's own point of the light, _shared). With `maps`: a sun over a layer of one opacity by its SunTable, every ray that starts
-    under the slab's top; otherwise the line map toward the light's centre point (`centre`),
+    vector (3,), or (N, 3): each ray's own point of the light, _shared). With `maps`: a sun
+    over a layer of one opacity by its SunTable, every ray that starts under the slab's top; otherwise the line map toward the light's centre point (`centre`),
     read where a ray crosses the occluder's plane, for rays that start below the slab and
     whose light lies above it; the rest by a march of each ray. (For a point of a light's
     disc the centre's table or map stands in for its own: the lines differ in slope by at
@@ -495,12 +265,12 @@ def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre, exact):
         lh, lw = hmap.shape
         on = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
         cover = np.zeros(len(x), np.float32)
-        cover[on] = _sample(hmap, x[on], y[on])
+        cover[on] = sample_layer(hmap, x[on], y[on])
         # a line among the map's lines that all meet the solid meets it, one among lines that
         # all miss misses it; between them (the solid's edge) the ray is marched
         got = cover >= np.float32(1 - 1e-6 if exact else 0.5)
         r_got = np.zeros(len(x), np.float32)
-        r_got[got] = _sample(rmap, x[got], y[got]) / cover[got]   # ρ of the covering lines
+        r_got[got] = sample_layer(rmap, x[got], y[got]) / cover[got]   # ρ of the covering lines
         hit[where], rho[where] = got, r_got
         if exact:
             rest[where[~got & (cover > np.float32(1e-6))]] = True

@@ -10,7 +10,8 @@ from dynpaint_addon.core.layers import Layer, Scene, placement, render_scene, sc
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.pipeline import render
 from dynpaint_addon.core.sampling import pixel_centres, resample_separable
-from dynpaint_addon.core.transmittance import Occluder, transmittance
+from dynpaint_addon.core.occluders import Occluder
+from dynpaint_addon.core.transmittance import transmittance
 from dynpaint_addon.inputs.recipe import load_images, load_recipe
 from dynpaint_addon.inputs.samples import recipe_path
 from dynpaint_addon.inputs.testpainting import builtin_scene_layers
