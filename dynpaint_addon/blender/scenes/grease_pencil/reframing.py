@@ -24,15 +24,14 @@ from .lit_copy import drawing_place
 
 
 class Reframe:
-    """The slices of one lit copy framed anew: `layers` [(material, depth, {channel:
-    ImageData})] back to front, the drawing's `bounds` now and `old` ones, rgba:
+    """The slices of one lit copy framed anew: `layers` [(layer stem, material, depth,
+    {channel: ImageData})] back to front, the drawing's `bounds` now and `old` ones, rgba:
     {(layer stem, channel): its RGBA} made in a worker already."""
 
     def __init__(self, parent, obj, layers, bounds, old, rgba):
         self.parent, self.obj, self.layers = parent, obj, layers
         self.bounds, self.old, self.rgba = tuple(bounds), tuple(old), rgba or {}
         self.size = next(iter(layers[0][3].values())).pixels.shape[1::-1]   # (w, h)
-        self.written = []
 
     @classmethod
     def of(cls, parent, obj, mats, made, bounds, old, rgba=None):
@@ -74,7 +73,6 @@ class Reframe:
         names = [img.name for img in images.values()]
         forget_enlarged(names)
         note_edited(names)
-        self.written += names
         self._place(s.plane, depth)
         reshape_plane(s.plane.data, w, h)
         for item in s.lights:          # (read back: a stroke's draft may have written it)
@@ -87,9 +85,9 @@ class Reframe:
     def place_parent(self):
         """The parent at the drawing's new middle, each plane kept where write_layer put it
         (world matrices: read at once, no depsgraph update between)."""
-        worlds = [(mat.dynamic_painting.plane, depth) for _, mat, depth, _ in self.layers]
+        planes = [(mat.dynamic_painting.plane, depth) for _, mat, depth, _ in self.layers]
         self.parent.matrix_world = drawing_place(self.obj, self.bounds)
-        for plane, depth in worlds:
+        for plane, depth in planes:
             self._place(plane, depth)
 
     def _place(self, plane, depth):
