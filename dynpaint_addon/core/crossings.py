@@ -34,8 +34,8 @@ import numpy as np
 from . import crossing_blocks
 from .crossing_blocks import BlockGrid, Rays, start_points, table_groups
 from .crossing_search import inside_length, row_value, search_tables
-from .shadow import cos_theta_shadow, exit_distance, inside_box, vertical_cos_theta
 from .sampling import sample_extend
+from .shadow import cos_theta_shadow, exit_distance, inside_box, vertical_cos_theta
 from .strokes import grow, union
 
 SUN_BLOCKS, SUN_BLOCK_ROWS = 8, 160   # _SunGrid's blocks of rows: at most 8, ≥ 160 rows
@@ -438,7 +438,8 @@ class _PointGrid(BlockGrid):
         inv = (1 / np.maximum(rho, POINT_RHO_MIN)).astype(f32)
         rho_cols = self.rho_max / self.col_step - c0
         if hz is not None:
-            return search_tables((sample_extend(hz, gx, gy) - f32(self.zl)) * inv[None, :], rho_cols), None
+            return search_tables((sample_extend(hz, gx, gy) - f32(self.zl)) * inv[None, :],
+                                 rho_cols), None
         # toward F the slope along the row is −(s·(cos φ, sin φ)); its running integral
         # (trapezoids, col_step px a column) is the height along the row
         su = -(sample_extend(sxy[0], gx, gy) * cos + sample_extend(sxy[1], gx, gy) * sin)

@@ -4,8 +4,8 @@ Each layer is a whole painting on the plane z = z_i of one shared canvas, placed
 and a scale (`Placement`). It is shaded by §2–§11 in its own pixels, except that its cos-θ
 term is t = t_own·T, where T is what the layers in front let through along the ray from
 each pixel's surface point toward the light (core/transmittance.py, each layer in front an
-`Occluder`, core/occluders.py); the scene is then composited back to front (`render_scene`), and `scene_notes`
-says what an artist should know of it.
+`Occluder`, core/occluders.py); the scene is then composited back to front
+(`render_scene`), and `scene_notes` says what an artist should know of it.
 """
 import copy
 from dataclasses import dataclass, replace

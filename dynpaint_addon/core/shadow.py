@@ -281,7 +281,7 @@ def _march_band(c, r, k_eff, occupancy, cancel):
         a = ell / f(k_eff)
         ax, ay, az = a * lx, a * ly, a * lz
         # (each slope alone: a 2D image's lookups gather by flat index, about twice as fast)
-        gx, gy = (None, None) if c.zs is not None else \
+        slope_x, slope_y = (None, None) if c.zs is not None else \
             (np.ascontiguousarray(c.slopes[..., i]) for i in (0, 1))
         for k in range(1, k_eff + 1):
             if cancel is not None and cancel():
@@ -292,7 +292,8 @@ def _march_band(c, r, k_eff, occupancy, cancel):
                 h_here = sample_extend(c.zs, px, py)
             else:
                 mx, my = px - f(0.5) * ax, py - f(0.5) * ay
-                h_rec = h_rec + sample_extend(gx, mx, my) * ax + sample_extend(gy, mx, my) * ay
+                h_rec = h_rec + sample_extend(slope_x, mx, my) * ax + \
+                    sample_extend(slope_y, mx, my) * ay
                 h_here = h_rec
             new_delta = h_here - (z0 + f(k) * az)
             inside += occupancy_fraction(delta, new_delta, occupancy) * a

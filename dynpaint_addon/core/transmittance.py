@@ -7,8 +7,9 @@ S_k = {(x, y, z): α_k(x, y) ≥ ½, z_k − τ_k ≤ z ≤ z_k + relief_k(x, y)
 through S_k. A light with a size (a sun's angular diameter, a point light's radius) replaces
 v_k by the share of its disc whose rays do. Distances here are pixels of the canvas, z toward
 the viewer from the plane of depth 0. Three ways find v_k, fastest first: a sun's table over
-a layer of one opacity (core/occluders.py), a line map marched once on the occluder's own pixels (`line_map`), the
-reference march (`_march`); core/layers.py makes the scene they serve.
+a layer of one opacity (`SunTable`, core/occluders.py), a line map marched once on the
+occluder's own pixels (`line_map`), the reference march (`_march`); core/layers.py makes the
+scene they serve.
 
     >>> import numpy as np
     >>> from dynpaint_addon.core.lights import Light

@@ -135,9 +135,7 @@ def _reframed(context, parent, obj, settings, source, digests, painted, beside=F
         return None
     record = {**source, "bounds": list(bounds), "layers": digests}
     if not beside:
-        for _ in job.steps(context.scene):
-            pass
-        _framed(context, job, record, beside=False)
+        _framed_whole(context, job, job.steps(context.scene), record)
         return parent
     hold_group(parent)
     _REFRAMES[parent.name] = (job, job.steps(context.scene), record, settings)
@@ -176,11 +174,16 @@ def frame_all_now(context):
         job, steps, record, _ = _REFRAMES.pop(name)
         try:
             with redrawing(name):
-                for _ in steps:
-                    pass
-                _framed(context, job, record, beside=False)
+                _framed_whole(context, job, steps, record)
         finally:
             forget_group(name)          # (its bakes held no longer, whatever happened)
+
+
+def _framed_whole(context, job, steps, record):
+    """A Reframe's slices left (`steps`, its generator) all run now, its shadows baked now."""
+    for _ in steps:
+        pass
+    _framed(context, job, record, beside=False)
 
 
 def _framed(context, job, record, beside):
