@@ -3,12 +3,14 @@ issue 61): a stroke changes a box of one layer's images, and T changes only for 
 the layers behind that pass through that box's part of its solid — the rest of T, baked
 before the edit for the same light, stays as it was.
 
-An occluder's change is the box of its pixels where its silhouette, relief or opacity moved by
-more than TOLERANCE (its slab as before), or, where its slab itself moved (a taller relief: τ
-follows the tallest, §15), the box of its solid before and after. A receiving pixel's rays
-toward any point of the light meet that box only if the part of them inside the slab passes
-over it (rays_meeting); those pixels, and their neighbours whose antialiasing reads them,
-are traced again (core/layers.Scene.through).
+An occluder's change (SolidChange) is the box of its pixels where its silhouette, relief or
+opacity moved by more than TOLERANCE, and the box where they moved by less or where its
+slab's faces moved a little (a part inflated again: τ follows the tallest relief, §15) — the
+whole solid where they moved far. A receiving pixel's rays toward any point of the light
+meet a box only if the part of them inside the slab passes over it (rays_meeting); of the
+rays that meet what moved a little, only those on the edge of the shadow before can change
+(rays_changed: a ray that grazes the solid). Those pixels, and their neighbours whose
+antialiasing reads them, are traced again (core/layers.Scene.through).
 
 Boxes of pixels are (r0, r1, c0, c1) as core/strokes.py's; a change is
 (x0, y0, x1, y1, z_bottom, z_top) in canvas pixels.
@@ -23,15 +25,20 @@ False
 >>> solid_change(old, old) is None
 True
 """
+from dataclasses import dataclass
+
 import numpy as np
 
-from .strokes import box_of, union
+from .strokes import box_of, stepped, union, widened
 
 ALL = "all"              # a change that cannot be bounded: trace every ray
 TOLERANCE = 1e-3         # α, ρ (unitless) and relief (canvas px): a change under it moves an
                          # edge by under 1e-3 px, a pixel's shadow by under 1/255
 READ_PX = 2              # occluder pixels a changed pixel reaches in what T reads of it: the
                          # bilinear samples (1) and the sun table's rows beside a line (1)
+SLAB_SHIFT = 0.25        # canvas px: a relief or a slab's faces moved by more: every ray
+                         # through it traced (by less: those that graze it)
+MAX_GRAZE_PX = 4         # receiving pixels: a graze reaching further traces every ray it meets
 
 
 def changed_over(before, after, tolerance=TOLERANCE):
@@ -43,36 +50,114 @@ def changed_over(before, after, tolerance=TOLERANCE):
     return box_of(diff)
 
 
+@dataclass
+class SolidChange:
+    """How an edit changed one occluder's solid. moved: a change holding every pixel whose
+    α or ρ moved by more than TOLERANCE or its relief by more than SLAB_SHIFT (None: none
+    did); grazed: one holding every pixel that moved by less, or the whole solid where its
+    slab's faces moved (a part inflated again moves its heights by hundredths of a pixel
+    far from the stroke, and τ follows the tallest), None where nothing did; shift: how far
+    (canvas px) that moved a face at most. A ray whose answer so small a move changes grazes the solid: it lies on
+    the edge of its shadow (rays_changed)."""
+    moved: tuple = None
+    grazed: tuple = None
+    shift: float = 0.0
+
+
 def solid_change(before, after):
     """Where occluder `after` differs from `before` (the same layer before an edit) → None
-    (nowhere), a change (x0, y0, x1, y1, z_bottom, z_top: the canvas box and the slab a ray
-    must cross to meet it), or ALL where the two cannot be compared (another size or place)."""
+    (nowhere), a SolidChange, or ALL where the two cannot be compared (another size or
+    place)."""
     if before is after:
         return None
     if before is None or before.place != after.place or before.alpha.shape != after.alpha.shape:
         return ALL
-    same_slab = before.uniform == after.uniform and all(
-        abs(a - b) <= TOLERANCE for a, b in ((before.z_px, after.z_px),
-                                             (before.thickness_px, after.thickness_px),
-                                             (before.top, after.top)))
+    shift = max(abs(a - b) for a, b in ((before.z_px, after.z_px),
+                                        (before.thickness_px, after.thickness_px),
+                                        (before.top, after.top)))
+    if before.uniform != after.uniform:       # (its rays decided another way: all of them)
+        shift = np.inf
+    pairs = [(before.alpha, after.alpha), (before.relief_px, after.relief_px),
+             (before.opacity, after.opacity)]
+    # a relief that moved by up to SLAB_SHIFT moves rays' answers only where they graze it
+    moved = union(*(changed_over(a, b, t) for (a, b), t in zip(pairs, (TOLERANCE, SLAB_SHIFT,
+                                                                        TOLERANCE))))
+    with np.errstate(invalid="ignore"):
+        lifted = np.nanmax(np.abs(after.relief_px - before.relief_px), initial=0.0)
+    shift = max(shift, min(float(lifted), SLAB_SHIFT))
+    if shift > SLAB_SHIFT:                # the slab moved far: the whole solid, as moved
+        moved, grazed = _solids_box(before, after), None
+    elif shift > 0 and (before.top != after.top or before.bottom != after.bottom):
+        grazed = _solids_box(before, after)
+    else:
+        grazed = union(*(changed_over(a, b, 0.0) for a, b in pairs))
+        grazed = None if grazed == moved else _change(after, grazed)
+    if moved is not None and shift <= SLAB_SHIFT:
+        moved = _change(after, moved)
+    if moved is None and grazed is None:
+        return None
     grow = READ_PX * after.place.px
-    if same_slab:
-        box = union(changed_over(before.alpha, after.alpha),
-                     changed_over(before.relief_px, after.relief_px),
-                     changed_over(before.opacity, after.opacity))
-        if box is None:
-            return None
-        r0, r1, c0, c1 = box
-        x0, y0, _ = after.place.to_canvas(c0, r0, 0.0)
-        x1, y1, _ = after.place.to_canvas(c1, r1, 0.0)
-    else:                            # the slab moved under the whole solid, before and after
-        boxes = [k.box for k in (before, after) if k.box is not None]
-        if not boxes:
-            return None
-        x0, y0 = min(b[0] for b in boxes), min(b[1] for b in boxes)
-        x1, y1 = max(b[2] for b in boxes), max(b[3] for b in boxes)
-    return (x0 - grow, y0 - grow, x1 + grow, y1 + grow, min(before.bottom, after.bottom),
-            max(before.top, after.top))
+    return SolidChange(*(None if c is None else
+                         (c[0] - grow, c[1] - grow, c[2] + grow, c[3] + grow,
+                          min(before.bottom, after.bottom), max(before.top, after.top))
+                         for c in (moved, grazed)), max(shift, TOLERANCE))
+
+
+def _change(k, box):
+    """A box of occluder k's pixels (r0, r1, c0, c1) → its canvas box (x0, y0, x1, y1)."""
+    r0, r1, c0, c1 = box
+    x0, y0, _ = k.place.to_canvas(c0, r0, 0.0)
+    x1, y1, _ = k.place.to_canvas(c1, r1, 0.0)
+    return x0, y0, x1, y1
+
+
+def _solids_box(before, after):
+    """The canvas box of the solid before and after (None: neither has one)."""
+    boxes = [k.box for k in (before, after) if k.box is not None]
+    if not boxes:
+        return None
+    return (min(b[0] for b in boxes), min(b[1] for b in boxes),
+            max(b[2] for b in boxes), max(b[3] for b in boxes))
+
+
+def rays_changed(origins, points, change, before, px=1.0):
+    """The pixels whose T an occluder's `change` (SolidChange) can change → (H, W) bool:
+    those whose rays can meet what moved (rays_meeting), and of those whose rays can meet
+    what grazed, the ones within reach of an edge of `before` (their T before the edit) —
+    a move of `shift` moves a ray's crossing of a face by shift·g sideways (g: the steepest
+    slope of the rays, per unit of height), so a shadow's edge by as much; px: canvas px a
+    pixel of the receiving layer spans. A reach over MAX_GRAZE_PX pixels: all of them."""
+    meets = np.zeros(origins.shape[:2], bool)
+    if change.moved is not None:
+        meets |= rays_meeting(origins, points, change.moved)
+    if change.grazed is not None:
+        grazing = rays_meeting(origins, points, change.grazed)
+        reach = 1 + int(np.ceil(change.shift * _steepest(origins, points, change.grazed[5])
+                                / px))
+        meets |= grazing if reach > MAX_GRAZE_PX else grazing & near_edges(before, reach)
+    return meets
+
+
+def near_edges(t, reach):
+    """The pixels within `reach` pixels of a step of `t` (H, W) between neighbours."""
+    return widened(stepped(t), reach)
+
+
+def _steepest(origins, points, top):
+    """The largest sideways move per unit of height of the rays from `origins` toward the
+    light's points (a sun's one per point; a point light's from the farthest corner of the
+    origins' box), inf where a point light is not above `top`."""
+    vectors = np.array([v for _, v in points], np.float64)
+    if points[0][0] == "sun":
+        return float(np.max(np.hypot(vectors[:, 0], vectors[:, 1]) /
+                            np.maximum(vectors[:, 2], 1e-12)))
+    rise = vectors[:, 2] - max(float(origins[..., 2].max()), top)
+    if rise.min() <= 0:
+        return np.inf
+    xs, ys = origins[..., 0], origins[..., 1]
+    far = np.max([np.hypot(vectors[:, 0] - x, vectors[:, 1] - y)
+                  for x in (xs.min(), xs.max()) for y in (ys.min(), ys.max())], axis=0)
+    return float(np.max(far / rise))
 
 
 def rays_meeting(origins, points, change, margin=1.0):

@@ -15,12 +15,12 @@ import numpy as np
 from .bake import QUALITY, quality_settings
 from .input_rules import image_channels, input_notes, silhouette_channel
 from .inputs import about
-from .layer_edits import ALL, changed_over, rays_meeting, solid_change
+from .layer_edits import ALL, changed_over, near_edges, rays_changed, solid_change
 from .occluders import Occluder, Placement, edited_from
 from .pipeline import (normal_map_relief_px, prepare, render, shadow_term,
                        shadow_term_edited, silhouette_alpha, transparency_k)
 from .sampling import pixel_centres, resample_separable, sample_bilinear
-from .strokes import box_of, changed_box, grow, union
+from .strokes import changed_box, union, widened
 from .transmittance import light_points, transmittance
 
 # §15 for each quality level (§13): the resolution T is found at (receivers and occluders
@@ -255,11 +255,11 @@ class Scene:
                 _origins(self.ready[i], self.places[i], q["scale"])
         origins = self._origins[i, q["scale"]]
 
-        def traced(lt, o):
+        def traced(lt, o, only=None):
             return transmittance(o, lt, front, p.shadows.steps, canvas=self.canvas,
                                  spacing=q["spacing"], disc=q["disc"], penumbra=q["penumbra"],
                                  maps=level != "reference", antialias=q["antialias"],
-                                 edge_points=q["edge_points"]).astype(np.float32)
+                                 edge_points=q["edge_points"], only=only).astype(np.float32)
         out = []
         for lt in lights:
             slot = (i, lt.name, level, q["scale"], p.shadows.steps)
@@ -280,31 +280,31 @@ class Scene:
         if kept is None or kept[0] != _light_key(lt):
             return None
         before, origins = kept[1], self._origins[i, 1.0]
-        boxes = []
+        points = [pt for n in {1, q["disc"], q["penumbra"]}
+                  for pt in light_points(lt, self.canvas, n)]
+        changed = np.zeros(before.shape, bool)
         if e.ready[i] is not self.ready[i]:          # this layer's own surface moved
             was = e.origins.get(i)
             if was is None or was.shape != origins.shape:
                 return None
-            boxes.append(changed_over(was[..., 2], origins[..., 2]))
-        points = [pt for n in {1, q["disc"], q["penumbra"]}
-                  for pt in light_points(lt, self.canvas, n)]
-        meets = np.zeros(before.shape, bool)
+            moved = changed_over(was[..., 2], origins[..., 2])
+            if moved is not None:
+                changed[moved[0]:moved[1], moved[2]:moved[3]] = True
+            # (a start moved a little: its ray moves as little, and can change where it grazes)
+            changed |= (was[..., 2] != origins[..., 2]) & near_edges(before, 1)
         for k in self.order[self.order.index(i) + 1:]:
             change = solid_change(e.occluders.get(k), self.occluder(k))
             if change is ALL:
                 return None
             if change is not None:
-                meets |= rays_meeting(origins, points, change)
-        box = union(*boxes, box_of(meets))
-        if box is None:
+                changed |= rays_changed(origins, points, change, before, self.places[i].px)
+        if not changed.any():
             return before
-        h, w = before.shape
-        # traced where rays changed and their neighbours (whose antialiasing compares T
-        # with theirs), from a block one pixel wider (those neighbours' own neighbours)
-        (r0, r1, c0, c1), (w0, w1, v0, v1) = grow(box, 2, h, w), grow(box, 1, h, w)
-        block = traced(lt, origins[r0:r1, c0:c1])
+        # traced where rays changed and at their neighbours (whose antialiasing compares T
+        # with theirs)
+        changed = widened(changed)
         t = before.copy()
-        t[w0:w1, v0:v1] = block[w0 - r0:w1 - r0, v0 - c0:v1 - c0]
+        t[changed] = traced(lt, origins, changed)[changed]
         return t
 
     def _own_term(self, i, seen, p):

@@ -62,6 +62,33 @@ def grow(box, margin, h, w):
     return max(0, r0 - m), min(h, r1 + m), max(0, c0 - m), min(w, c1 + m)
 
 
+def widened(mask, r=1):
+    """`mask` (H, W) bool grown by r pixels (a square: every pixel within r rows and r
+    columns of a True one)."""
+    out = mask.copy()
+    for axis in (0, 1):
+        src = out.copy()
+        for s in range(1, min(r, out.shape[axis] - 1) + 1):
+            lo, hi = [slice(None)] * 2, [slice(None)] * 2
+            lo[axis], hi[axis] = slice(0, -s), slice(s, None)
+            out[tuple(lo)] |= src[tuple(hi)]
+            out[tuple(hi)] |= src[tuple(lo)]
+    return out
+
+
+def stepped(t, over=0.0):
+    """The pixels of `t` (H, W) on either side of a step larger than `over` to a neighbour
+    (a row's or a column's; NaN steps none)."""
+    edge = np.zeros(t.shape, bool)
+    for axis in (0, 1):
+        step = np.abs(np.diff(t, axis=axis)) > over
+        lo, hi = [slice(None)] * 2, [slice(None)] * 2
+        lo[axis], hi[axis] = slice(0, -1), slice(1, None)
+        edge[tuple(lo)] |= step
+        edge[tuple(hi)] |= step
+    return edge
+
+
 def union(*boxes):
     """The smallest box holding every box given (None: none given)."""
     boxes = [b for b in boxes if b is not None]
