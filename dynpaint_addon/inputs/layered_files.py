@@ -286,8 +286,11 @@ def painting_of(fl, shade=DEFAULT_SHADE, relief=DEFAULT_RELIEF, effects=None):
 # A layer whose figure spans BACKDROP_SPAN of the canvas both ways and fills BACKDROP_FILL of
 # that box is a backdrop (a sky, a wall; a Grease Pencil fill drawn to the drawing's bounds
 # leaves only the drawing's margin clear): a flat card — inflated, its border would fall
-# off as a pillow's, and a shadow cast on it would bend where the scene has no edge
-BACKDROP_SPAN, BACKDROP_FILL = 0.9, 0.9
+# off as a pillow's, and a shadow cast on it would bend where the scene has no edge. The
+# span is lenient: a stroke drawn past a drawing's sky card (a moon, a figure walking out)
+# widens the canvas, and the sky is no less a backdrop for it (at 0.9, a moon 0.2 of the
+# card's width beyond its edge turned the sky into a pillow and moved every shadow on it)
+BACKDROP_SPAN, BACKDROP_FILL = 0.6, 0.9
 
 
 def backdrop_share(img):
@@ -297,6 +300,8 @@ def backdrop_share(img):
     >>> a = np.zeros((100, 100, 4), np.float32); a[2:98, 2:98, 3] = 1
     >>> round(backdrop_share(ImageData(a, 8)), 2)               # a sky within a margin
     0.92
+    >>> a[:, 70:, 3] = 0; round(backdrop_share(ImageData(a, 8)), 2)   # drawn past its edge
+    0.65
     >>> a[:, 50:, 3] = 0; backdrop_share(ImageData(a, 8)) is None     # a card on the left
     True
     """

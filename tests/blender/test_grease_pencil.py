@@ -24,7 +24,7 @@ from dynpaint_addon.blender.bake.layers import (DRAFTED, forget_scenes,  # noqa:
 from dynpaint_addon.blender.scenes.grease_pencil import live  # noqa: E402
 from dynpaint_addon.blender.scenes.grease_pencil.drawing import render_layers  # noqa: E402
 from dynpaint_addon.blender.scenes.grease_pencil.lit_copy import (  # noqa: E402
-    LAYER, SOURCE, drawn_images, lit_defaults, stale_lit_copies)
+    LAYER, SOURCE, SPACING_WIDTH, drawn_images, lit_defaults, stale_lit_copies)
 from dynpaint_addon.blender.scenes.grease_pencil.live import (  # noqa: E402
     DRAFT_WIDTH, draft_lit_drawing, forget_drafts, refresh_lit_drawing)
 from dynpaint_addon.blender.scenes.grease_pencil.reading import (  # noqa: E402
@@ -32,7 +32,7 @@ from dynpaint_addon.blender.scenes.grease_pencil.reading import (  # noqa: E402
 from dynpaint_addon.blender.scenes.grease_pencil.strokes import (  # noqa: E402
     read_drawing, unsupported)
 from dynpaint_addon.core.colour import linear_to_srgb, srgb_to_linear  # noqa: E402
-from dynpaint_addon.inputs.layered_files import DEFAULT_SHADE  # noqa: E402
+from dynpaint_addon.inputs.layered_files import DEFAULT_SHADE, DEFAULT_SPACING  # noqa: E402
 from dynpaint_addon.inputs.imageio import image_data_from_blender, read_image  # noqa: E402
 from dynpaint_addon.blender.material.sync import update  # noqa: E402
 from dynpaint_addon.blender.state.edits import version  # noqa: E402
@@ -553,19 +553,32 @@ def test_a_lit_copy_follows_its_drawing(drawing):
     assert sorted(len(group_materials(o)) for o in lit) == [3, 3]
 
 
-def assert_what_a_fresh_lit_copy_makes(drawing, back, front, resolution=96):
+def assert_what_a_fresh_lit_copy_makes(drawing, back, front, resolution=96, parent=None):
     """A lit copy's back and front layers (their dynamic_painting) are what a fresh From
     Grease Pencil makes of the drawing as it is now: the front's images bit for bit, the
-    back's shadows within 1e-6."""
+    back's shadows within 1e-6. parent: a lit copy framed anew since it was made, whose
+    layers lie as far apart as they did (its Spacing, of the drawing's width then)."""
     t = image_data_from_blender(back.lights[0].shadow).pixels.copy()
+    spacing = DEFAULT_SPACING
+    if parent is not None:
+        record = json.loads(parent[SOURCE])
+        spacing *= record[SPACING_WIDTH] / (record["bounds"][1] - record["bounds"][0])
     drawing.hide_set(False)
     bpy.context.view_layer.objects.active = drawing
-    assert bpy.ops.dynpaint.add_grease_pencil(resolution=resolution) == {"FINISHED"}
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=resolution, spacing=spacing) == \
+        {"FINISHED"}
     fresh_back, *_, fresh = (m.dynamic_painting for m in group_materials(bpy.context.object))
     for c in ("shape", "dark", "bright"):
         assert np.array_equal(image_data_from_blender(getattr(front, f"image_{c}")).pixels,
                               image_data_from_blender(getattr(fresh, f"image_{c}")).pixels)
     assert np.abs(t - image_data_from_blender(fresh_back.lights[0].shadow).pixels).max() <= 1e-6
+
+
+def depth_between(back, front):
+    """How far (scene units) a lit copy's front layer's plane lies in front of its back's."""
+    normal = front.plane.parent.matrix_world.to_3x3() @ Vector((0.0, 0.0, 1.0))
+    return (front.plane.matrix_world.translation -
+            back.plane.matrix_world.translation).dot(normal.normalized())
 
 
 def test_a_stroke_beyond_the_drawings_bounds_frames_the_lit_copy_anew_beside_the_ui(drawing,
@@ -587,6 +600,7 @@ def test_a_stroke_beyond_the_drawings_bounds_frames_the_lit_copy_anew_beside_the
     name, bounds = parent.name, json.loads(parent[SOURCE])["bounds"]
     back, front = (m.dynamic_painting for m in group_materials(parent))
     alpha = image_data_from_blender(front.image_bright).pixels[..., 3]
+    gap = depth_between(back, front)
     add_fill(drawing.data.layers["Figure"], disc(1.0, 0.2, 0.2), 1)     # past x = 1.05
     assert draft_lit_drawing(bpy.context, parent)                       # inside the frame
     shown = image_data_from_blender(front.image_bright).pixels.copy()
@@ -628,7 +642,9 @@ def test_a_stroke_beyond_the_drawings_bounds_frames_the_lit_copy_anew_beside_the
     assert np.abs(made_draft - image_data_from_blender(drafted).pixels).max() <= 1e-6
     group_bakes.settle()
     assert "|own|" in back.lights[0].bake_key and back.lights[0].shadow == drafted
-    assert_what_a_fresh_lit_copy_makes(drawing, back, front)
+    assert depth_between(back, front) == pytest.approx(gap, abs=1e-6)  # its shadows stay put
+    assert image_data_from_blender(back.image_shape).pixels[..., :3].max() == 0   # flat still
+    assert_what_a_fresh_lit_copy_makes(drawing, back, front, parent=lit)
     # written unpacked (packing costs 75–260 ms a 1024² image): a save packs them, pixels kept
     bright = front.image_bright
     made = image_data_from_blender(bright).pixels.copy()
@@ -660,7 +676,7 @@ def test_a_stroke_removed_at_the_drawings_edge_frames_the_lit_copy_smaller(drawi
     assert json.loads(parent[SOURCE])["bounds"][1] < bounds[1] - 0.2
     back, front = (m.dynamic_painting for m in group_materials(parent))
     assert "|own|" in back.lights[0].bake_key
-    assert_what_a_fresh_lit_copy_makes(drawing, back, front)
+    assert_what_a_fresh_lit_copy_makes(drawing, back, front, parent=parent)
 
 
 def test_a_render_starting_while_the_lit_copy_is_framed_anew_frames_it_whole(drawing):
@@ -679,7 +695,7 @@ def test_a_render_starting_while_the_lit_copy_is_framed_anew_frames_it_whole(dra
     assert json.loads(parent[SOURCE])["bounds"][1] > bounds[1] + 0.1
     back, front = (m.dynamic_painting for m in group_materials(parent))
     assert "|own|" in back.lights[0].bake_key
-    assert_what_a_fresh_lit_copy_makes(drawing, back, front)
+    assert_what_a_fresh_lit_copy_makes(drawing, back, front, parent=parent)
 
 
 def test_a_full_redraw_is_made_beside_the_ui_and_one_the_drawing_outran_is_dropped(drawing):
@@ -942,7 +958,7 @@ def test_a_stroke_never_holds_blender_longer_than_a_blink(tmp_path):
     assert all(img.packed_file is not None and not img.get(PACK_ON_SAVE) for img in unpacked)
     bright.reload()                                       # (from its packed file)
     assert np.array_equal(image_data_from_blender(bright).pixels, shown)
-    assert_what_a_fresh_lit_copy_makes(obj, back, front, resolution=512)
+    assert_what_a_fresh_lit_copy_makes(obj, back, front, resolution=512, parent=parent)
 
 
 def test_a_stroke_drafted_beside_the_ui_while_one_is_under_way_is_drafted_after_it(drawing):

@@ -40,6 +40,7 @@ LIT_SETTINGS = ("resolution", "spacing", "shade", "relief", "animation", "merge"
                 *(o.name for o in LAYER_EFFECTS))
 SOURCE = "dynamic_painting_grease_pencil"    # a lit copy's parent: its drawing and settings
 LAYER = "dynamic_painting_grease_pencil_layer"   # a lit layer's material: its layer's name
+SPACING_WIDTH = "spacing_width"     # a lit copy's record: the drawing's width its Spacing is of
 
 
 def drawing_frames(scene, obj, settings):
@@ -59,8 +60,9 @@ def read_images(scene, obj, settings, only=None, samples=None, bounds=None):
     frames = drawing_frames(scene, obj, settings)
     layers, notes = drawn_layers(obj, settings["merge"])
     bounds = framing(obj) if bounds is None else tuple(bounds)
-    depths = layer_depths([group[0] for group in layers], bounds[1] - bounds[0],
-                          settings["spacing"])     # a merged group lies where its back one is
+    width = bounds[1] - bounds[0]          # (a merged group lies where its back one is)
+    depths = layer_depths([group[0] for group in layers], width,
+                          settings["spacing"] * spacing_width(settings, width) / width)
     names = [layer_stem(i, group) for i, group in enumerate(layers)]
     why = unsupported(obj, layers)
     if why is None:
@@ -159,10 +161,19 @@ def light_drawing(context, obj, settings, progress=None, lights=None, painted=No
         bright = mat.dynamic_painting.image_bright
         mat[LAYER] = next(n for n, imgs in images.items() if imgs["bright"] == bright)
     parent[SOURCE] = json.dumps({"object": obj.name, **settings, "layers": layer_digests(obj),
-                                 "bounds": [x0, x1, z0, z1]})
+                                 "bounds": [x0, x1, z0, z1],
+                                 SPACING_WIDTH: spacing_width(settings, x1 - x0)})
     obj.hide_render = True
     obj.hide_set(True)
     return parent, [m for m in messages if NO_CAMERA not in m]
+
+
+def spacing_width(settings, width):
+    """The drawing's width its lit copy's Spacing was given in: the width it had when the lit
+    copy was made (kept in its record, SPACING_WIDTH), so that a stroke past its bounds
+    frames it anew with its layers as far apart as they were — their shadows where they
+    were — rather than moved apart with the drawing's width; `width` for a new one."""
+    return settings.get(SPACING_WIDTH) or width
 
 
 def drawing_place(obj, bounds):

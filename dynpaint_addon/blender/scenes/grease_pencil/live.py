@@ -30,8 +30,8 @@ from ...state.painting_state import read_state
 from ...state.settings import channel_images
 from ...state.status import report
 from ..layered_build import remove_objects
-from .lit_copy import (LAYER, LIT_SETTINGS, SOURCE, drawn_paintings, light_drawing,
-                       lit_defaults, made_paintings, read_images)
+from .lit_copy import (LAYER, LIT_SETTINGS, SOURCE, SPACING_WIDTH, drawn_paintings,
+                       light_drawing, lit_defaults, made_paintings, read_images)
 from .reading import drawn_layers, framing, layer_digests, layer_stem
 from .reframing import Reframe
 from .strokes import unsupported
@@ -74,8 +74,8 @@ def _source(parent):
     obj = bpy.data.objects.get(source["object"])
     if obj is None or obj.type != "GREASEPENCIL":
         return None
-    return obj, {**lit_defaults(), **{k: source[k] for k in LIT_SETTINGS if k in source}}, \
-        source
+    return obj, {**lit_defaults(), **{k: source[k] for k in (*LIT_SETTINGS, SPACING_WIDTH)
+                                       if k in source}}, source
 
 
 def _changed(obj, recorded):
