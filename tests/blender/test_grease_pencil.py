@@ -653,6 +653,23 @@ def test_a_stroke_beyond_the_drawings_bounds_frames_the_lit_copy_anew_beside_the
     assert np.array_equal(image_data_from_blender(bright).pixels, made)
 
 
+def test_a_lit_copy_recorded_before_its_spacings_width_keeps_its_layers_apart(drawing):
+    """A lit copy saved before its record held the width its Spacing is of (spacing_width):
+    a stroke past its bounds keeps its layers where they were placed (the width they were
+    placed for is its recorded bounds'), and its record holds that width from then on."""
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=64) == {"FINISHED"}
+    parent = bpy.context.object
+    record = json.loads(parent[SOURCE])
+    width = record.pop(SPACING_WIDTH)
+    parent[SOURCE] = json.dumps(record)
+    back, front = (m.dynamic_painting for m in group_materials(parent))
+    gap = depth_between(back, front)
+    add_fill(drawing.data.layers["Figure"], disc(1.0, 0.2, 0.2), 1)      # past x = 1.05
+    assert refresh_lit_drawing(bpy.context, parent, beside=False) is parent
+    assert depth_between(back, front) == pytest.approx(gap, abs=1e-6)
+    assert json.loads(parent[SOURCE])[SPACING_WIDTH] == pytest.approx(width)
+
+
 def test_a_stroke_removed_at_the_drawings_edge_frames_the_lit_copy_smaller(drawing):
     """A stroke that held the drawing's bounds out, removed: the bounds shrink and the lit
     copy is framed anew in place (its shadows laid into the smaller framing, cropped, till

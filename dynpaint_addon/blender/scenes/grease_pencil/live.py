@@ -74,8 +74,11 @@ def _source(parent):
     obj = bpy.data.objects.get(source["object"])
     if obj is None or obj.type != "GREASEPENCIL":
         return None
-    return obj, {**lit_defaults(), **{k: source[k] for k in (*LIT_SETTINGS, SPACING_WIDTH)
-                                       if k in source}}, source
+    settings = {**lit_defaults(), **{k: source[k] for k in LIT_SETTINGS if k in source}}
+    # (a lit copy recorded before its Spacing's width was: the width its layers were placed for)
+    x0, x1 = source["bounds"][:2]
+    settings[SPACING_WIDTH] = source.get(SPACING_WIDTH, x1 - x0)
+    return obj, settings, source
 
 
 def _changed(obj, recorded):
@@ -133,7 +136,8 @@ def _reframed(context, parent, obj, settings, source, digests, painted, beside=F
         Reframe.of(parent, obj, mats, made, bounds, source["bounds"], rgba)
     if job is None:
         return None
-    record = {**source, "bounds": list(bounds), "layers": digests}
+    record = {**source, "bounds": list(bounds), "layers": digests,
+              SPACING_WIDTH: settings[SPACING_WIDTH]}
     if not beside:
         _framed_whole(context, job, job.steps(context.scene), record)
         return parent
