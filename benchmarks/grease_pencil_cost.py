@@ -69,8 +69,8 @@ DRAFTS = (f"a stroke's draft (drawn {DRAFT_WIDTH} px across; a dab of its own)",
           f"its part inflated again)")
 STROKE = ("a stroke's final lit result as a script waits for it (redrawn, baked in place; "
           "a dab of its own)")
-STROKE_COAT = ("the same, a dab on the figure's coat (its part inflated again: the figure's "
-               "shadow traced again whole)")
+STROKE_COAT = ("the same, a dab on the figure's coat (its part inflated again: the edges of "
+               "the figure's shadow traced again)")
 STROKE_UI = "a stroke with a UI: until its final shadows are written (the pause not waited)"
 HELD = "the longest Blender's main thread was held meanwhile"
 ANEW = "a stroke past the drawing's bounds: the lit copy framed anew (as a script does)"
@@ -272,9 +272,11 @@ def main(argv=None):
               "A stroke's final lit result waits for the group's final bake (the shadows the "
               "layers cast on each other, at the layers' quality), patched from the bake "
               "before the stroke: only the rays that can meet what the stroke changed are "
-              "traced again (core/layer_edits.py) — the dab's own box, or where a dab "
-              "re-inflates a figure (its tallest relief, and so its thickness, changes) the "
-              "figure's whole shadow. With a UI Blender is held only for the draft and the "
+              "traced again (core/layer_edits.py) — the dab's own box, and where a dab "
+              "re-inflates a figure (its heights move by hundredths of a pixel far from the "
+              "dab, its thickness follows the tallest) the rays that graze it: the pixels on "
+              "the edges of the figure's shadow, each traced with its 16 rays at 4 of the "
+              "sun's points. With a UI Blender is held only for the draft and the "
               "writes; the drawing, its paintings and the final bake run in worker "
               "threads."]
     publish(lines, args.out)
