@@ -189,7 +189,8 @@ materials), by **Blender's own Grease Pencil renderer**, a note saying why. Insi
 figure the two agree within 1/255; at the edges numpy's coverage is the exact area where
 Blender's anti-aliasing spreads an edge over ~2 px. The layers are then built as a folder of
 layers is (below): a plane per layer where the drawing is — at the depth the artist moved it
-toward the camera (its layer's translation), else *Spacing* apart (0.05 of its width) — each
+toward the camera (its layer's translation), else *Spacing* apart ({DEFAULT_SPACING:g} of its width when
+the lit copy was made: a stroke past its bounds does not move the layers apart) — each
 inflated by parts from its alpha with a low *Relief* (0.1 of a hemisphere: a drawing's layers
 lie close), but a backdrop (a fill to the drawing's bounds: a sky, a wall) stays a flat card;
 the layers in front shadow those behind. With a UI the lit copy shows its shadows as a draft
@@ -287,8 +288,9 @@ shading only (middle), and with the shadows the figure and the hill cast on the 
   copy (*Dark Shade*, 0.35 of its linear colour by default), its shape its silhouette inflated
   (*Make Shape › Inflate*); an opaque layer (a background) is a flat card, and so is a
   backdrop: a layer whose figure spans at least {BACKDROP_SPAN:.0%} of the canvas both ways and
-  fills {BACKDROP_FILL:.0%} of that box (a sky drawn to a Grease Pencil drawing's bounds, only its margin clear) —
-  inflated, its border would fall off like a pillow's and shadows cast on it would bend.
+  fills {BACKDROP_FILL:.0%} of that box (a sky drawn to a Grease Pencil drawing's bounds, only its margin
+  clear; or with a moon drawn beyond it) — inflated, its border would fall off like a
+  pillow's and shadows cast on it would bend.
 - **A group holds one layer's channels** (an OpenRaster stack, a subfolder), matched by their
   names as *From Images* matches files: `figure_dark`, `figure_bright`, `figure_normal`, …
 - **Depths** follow the stack: the back layer at 0, each next one *Spacing* image widths
