@@ -57,8 +57,8 @@ class SolidChange:
     did); grazed: one holding every pixel that moved by less, or the whole solid where its
     slab's faces moved (a part inflated again moves its heights by hundredths of a pixel
     far from the stroke, and τ follows the tallest), None where nothing did; shift: how far
-    (canvas px) that moved a face at most. A ray whose answer so small a move changes grazes the solid: it lies on
-    the edge of its shadow (rays_changed)."""
+    (canvas px) that moved a face at most. A ray whose answer so small a move changes
+    grazes the solid: it lies on the edge of its shadow (rays_changed)."""
     moved: tuple = None
     grazed: tuple = None
     shift: float = 0.0
@@ -79,21 +79,21 @@ def solid_change(before, after):
         shift = np.inf
     pairs = [(before.alpha, after.alpha), (before.relief_px, after.relief_px),
              (before.opacity, after.opacity)]
-    # a relief that moved by up to SLAB_SHIFT moves rays' answers only where they graze it
-    moved = union(*(changed_over(a, b, t) for (a, b), t in zip(pairs, (TOLERANCE, SLAB_SHIFT,
-                                                                        TOLERANCE))))
     with np.errstate(invalid="ignore"):
         lifted = np.nanmax(np.abs(after.relief_px - before.relief_px), initial=0.0)
     shift = max(shift, min(float(lifted), SLAB_SHIFT))
-    if shift > SLAB_SHIFT:                # the slab moved far: the whole solid, as moved
+    if shift > SLAB_SHIFT:                    # the slab moved far: the whole solid, as moved
         moved, grazed = _solids_box(before, after), None
-    elif shift > 0 and (before.top != after.top or before.bottom != after.bottom):
-        grazed = _solids_box(before, after)
     else:
-        grazed = union(*(changed_over(a, b, 0.0) for a, b in pairs))
-        grazed = None if grazed == moved else _change(after, grazed)
-    if moved is not None and shift <= SLAB_SHIFT:
-        moved = _change(after, moved)
+        # a relief that moved by up to SLAB_SHIFT changes rays' answers only where they graze
+        moved = union(*(changed_over(a, b, t)
+                        for (a, b), t in zip(pairs, (TOLERANCE, SLAB_SHIFT, TOLERANCE))))
+        if shift > 0 and (before.top != after.top or before.bottom != after.bottom):
+            grazed = _solids_box(before, after)
+        else:
+            grazed = union(*(changed_over(a, b, 0.0) for a, b in pairs))
+            grazed = None if grazed == moved else _canvas_box(after, grazed)
+        moved = None if moved is None else _canvas_box(after, moved)
     if moved is None and grazed is None:
         return None
     grow = READ_PX * after.place.px
@@ -103,7 +103,7 @@ def solid_change(before, after):
                          for c in (moved, grazed)), max(shift, TOLERANCE))
 
 
-def _change(k, box):
+def _canvas_box(k, box):
     """A box of occluder k's pixels (r0, r1, c0, c1) → its canvas box (x0, y0, x1, y1)."""
     r0, r1, c0, c1 = box
     x0, y0, _ = k.place.to_canvas(c0, r0, 0.0)

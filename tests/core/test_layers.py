@@ -443,3 +443,29 @@ def test_a_scene_edited_in_a_box_patches_its_bake_and_equals_a_fresh_one(light, 
         t = patched.bake(light, "final")
         assert sum(traced) < share * size * size * which       # the layers behind: a part
         assert all(np.array_equal(a, b) for a, b in zip(t, Scene(edited).bake(light, "final")))
+
+
+def test_an_occluders_change_is_moved_where_it_moved_far_and_grazed_where_it_moved_little():
+    """core/layer_edits.solid_change (§15 "An edited scene"): a relief raised by more than
+    ¼ px in a box is `moved` there (every ray meeting it traced); heights that moved by
+    less everywhere (a part inflated again; τ follows the tallest) graze the whole solid;
+    a layer moved ½ px in depth moves the whole solid; and only the pixels near an edge of
+    T before the edit are traced for a graze (near_edges)."""
+    from dynpaint_addon.core.layer_edits import SLAB_SHIFT, near_edges, solid_change
+    y, x = np.mgrid[0:32, 0:32]
+    dome = np.clip(8 - np.hypot(x - 16, y - 16) / 2, 0, None).astype(np.float32)
+    alpha, ones = (dome > 0).astype(np.float32), np.ones((32, 32), np.float32)
+    old = Occluder(alpha, dome, 40.0, 8.0, ones)
+    assert solid_change(old, Occluder(alpha, dome.copy(), 40.0, 8.0, ones)) is None
+    bumped = dome.copy()
+    bumped[20:23, 10:12] += 0.5                         # below the top: the slab kept
+    change = solid_change(old, Occluder(alpha, bumped, 40.0, 8.0, ones))
+    assert change.grazed is None and change.moved[:4] == (8.0, 18.0, 14.0, 25.0)
+    swollen = solid_change(old, Occluder(alpha, dome * np.float32(1.0003), 40.0, 8.0024, ones))
+    assert swollen.moved is None and swollen.shift <= SLAB_SHIFT
+    assert swollen.grazed[:4] == (-1.0, -1.0, 34.0, 34.0)      # the whole solid, grown
+    deeper = solid_change(old, Occluder(alpha, dome, 40.5, 8.0, ones))
+    assert deeper.grazed is None and deeper.moved[:4] == (-1.0, -1.0, 34.0, 34.0)
+    t = np.ones((12, 12))
+    t[:, 6:] = 0.0                                      # a shadow's edge between columns 5, 6
+    assert np.flatnonzero(near_edges(t, 2).any(axis=0)).tolist() == [3, 4, 5, 6, 7, 8]
