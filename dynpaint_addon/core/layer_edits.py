@@ -44,10 +44,17 @@ MAX_GRAZE_PX = 4         # receiving pixels: a graze reaching further traces eve
 def changed_over(before, after, tolerance=TOLERANCE):
     """The smallest box holding every pixel where `after` differs from `before` by more than
     `tolerance` (NaN against a number counts), or None where none does."""
+    return box_of(_moves(before, after) > tolerance)
+
+
+def _moves(before, after):
+    """|after − before| per pixel: inf where one is NaN and the other not, 0 where both are."""
     with np.errstate(invalid="ignore"):
-        diff = ~(np.abs(after - before) <= tolerance)
-    diff &= ~(np.isnan(before) & np.isnan(after))
-    return box_of(diff)
+        moves = np.abs(after - before)
+    odd = np.isnan(moves)
+    if odd.any():
+        moves[odd] = np.where(np.isnan(before[odd]) & np.isnan(after[odd]), 0.0, np.inf)
+    return moves
 
 
 @dataclass
@@ -77,21 +84,21 @@ def solid_change(before, after):
                                         (before.top, after.top)))
     if before.uniform != after.uniform:       # (its rays decided another way: all of them)
         shift = np.inf
-    pairs = [(before.alpha, after.alpha), (before.relief_px, after.relief_px),
-             (before.opacity, after.opacity)]
-    with np.errstate(invalid="ignore"):
-        lifted = np.nanmax(np.abs(after.relief_px - before.relief_px), initial=0.0)
-    shift = max(shift, min(float(lifted), SLAB_SHIFT))
+    # (α, relief, ρ), and how far each may move before every ray meeting it is traced: a
+    # relief that moved by up to SLAB_SHIFT changes rays' answers only where they graze it
+    moves = [(_moves(b, a), t) for b, a, t in ((before.alpha, after.alpha, TOLERANCE),
+                                               (before.relief_px, after.relief_px, SLAB_SHIFT),
+                                               (before.opacity, after.opacity, TOLERANCE))]
+    lifted = moves[1][0]
+    shift = max(shift, min(float(lifted[np.isfinite(lifted)].max(initial=0.0)), SLAB_SHIFT))
     if shift > SLAB_SHIFT:                    # the slab moved far: the whole solid, as moved
         moved, grazed = _solids_box(before, after), None
     else:
-        # a relief that moved by up to SLAB_SHIFT changes rays' answers only where they graze
-        moved = union(*(changed_over(a, b, t)
-                        for (a, b), t in zip(pairs, (TOLERANCE, SLAB_SHIFT, TOLERANCE))))
+        moved = union(*(box_of(m > t) for m, t in moves))
         if shift > 0 and (before.top != after.top or before.bottom != after.bottom):
             grazed = _solids_box(before, after)
         else:
-            grazed = union(*(changed_over(a, b, 0.0) for a, b in pairs))
+            grazed = union(*(box_of(m > 0) for m, _ in moves))
             grazed = None if grazed == moved else _canvas_box(after, grazed)
         moved = None if moved is None else _canvas_box(after, moved)
     if moved is None and grazed is None:

@@ -168,6 +168,7 @@ class Scene:
         # per (layer, light name, level …): (the light's key, what the layer's full-size bake
         # of it gave) — an edited copy of this scene (`before`) patches them (_Earlier)
         self._throughs, self._owns = {}, {}
+        self._changes = {}       # layer k → how an edit changed its solid (solid_change)
         self._earlier = _Earlier.of(before, self)
 
     def occluder(self, k, scale=1.0):
@@ -293,7 +294,9 @@ class Scene:
             # (a start moved a little: its ray moves as little, and can change where it grazes)
             changed |= (was[..., 2] != origins[..., 2]) & near_edges(before, 1)
         for k in self.order[self.order.index(i) + 1:]:
-            change = solid_change(e.occluders.get(k), self.occluder(k))
+            if k not in self._changes:        # (every layer behind k compares the same two)
+                self._changes[k] = solid_change(e.occluders.get(k), self.occluder(k))
+            change = self._changes[k]
             if change is ALL:
                 return None
             if change is not None:
