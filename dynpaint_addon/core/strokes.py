@@ -64,7 +64,12 @@ def grow(box, margin, h, w):
 
 def widened(mask, r=1):
     """`mask` (H, W) bool grown by r pixels (a square: every pixel within r rows and r
-    columns of a True one)."""
+    columns of a True one).
+
+    >>> dot = np.zeros((5, 5), bool); dot[2, 2] = True
+    >>> int(widened(dot).sum()), int(widened(dot, 2).sum())
+    (9, 25)
+    """
     out = mask.copy()
     for axis in (0, 1):
         src = out.copy()
@@ -78,7 +83,11 @@ def widened(mask, r=1):
 
 def stepped(t, over=0.0):
     """The pixels of `t` (H, W) on either side of a step larger than `over` to a neighbour
-    (a row's or a column's; NaN steps none)."""
+    (a row's or a column's; NaN steps none).
+
+    >>> stepped(np.array([[1.0, 1.0, 0.0, 0.0]])).astype(int).tolist()
+    [[0, 1, 1, 0]]
+    """
     edge = np.zeros(t.shape, bool)
     for axis in (0, 1):
         step = np.abs(np.diff(t, axis=axis)) > over
