@@ -204,12 +204,14 @@ painting and final shadows are made in worker threads and Blender is held only t
 them (at most ~70 ms at 1024² here; the images so written are packed when the file is
 saved); at once in scripts and renders, after a depsgraph evaluation. The final shadows
 after a stroke trace again only the rays that can meet what it changed (0.34–0.59 s for a dab
-of its own at 1024² here, 1.1–1.8 s for one that re-inflates a figure: its whole shadow). A stroke
+of its own at 1024² here, 1.4–2.0 s for one that re-inflates a figure: its shadow's edges). A stroke
 past the drawing's bounds (its draft shows it as far as the lit copy reaches) frames the lit
 copy anew in place — the same objects and materials, each layer's images resized, its plane
 placed and shaped for the new bounds, a layer at a time with a UI (Blender held at most
 65–80 ms at 1024² here), each layer's shadows kept where they were until the group's draft
-comes from a worker, then the final. A layer added or removed makes the lit copy anew.
+comes from a worker, then the final. A layer added or removed makes the lit copy anew,
+keeping what you changed on it: each layer's settings but its shape, its keyframes, its
+plane's visibility, and any object you parented to it.
 Where Blender's renderer draws the drawing, it draws each layer at the scene's Grease Pencil
 anti-aliasing samples (*Render Properties › Grease Pencil*, 8 unless set), as F12 would. Scene frames that show the same drawing share one bake: a frame where the
 drawing holds costs milliseconds.

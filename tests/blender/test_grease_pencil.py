@@ -553,6 +553,45 @@ def test_a_lit_copy_follows_its_drawing(drawing):
     assert sorted(len(group_materials(o)) for o in lit) == [3, 3]
 
 
+def test_a_lit_copy_made_anew_keeps_what_the_artist_changed(drawing):
+    """A layer added to the drawing makes its lit copy anew (live._made_anew): what the artist
+    changed on it is kept (artist_changes.py) — a layer's painting settings (its diffuse
+    curve's ends, keyframed), its plane hidden from renders, and an object parented to the
+    lit copy, where it was in the world; nothing of the old lit copy is left behind."""
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    bpy.context.scene.collection.objects.link(sun)
+    assert bpy.ops.dynpaint.add_grease_pencil(resolution=64) == {"FINISHED"}
+    parent = bpy.context.object
+    back, front = (m.dynamic_painting for m in group_materials(parent))
+    front.diffuse.t0 = 0.3
+    for frame, t1 in ((1, 0.9), (9, 0.6)):
+        front.diffuse.t1 = t1
+        front.diffuse.keyframe_insert("t1", frame=frame)
+    back.plane.hide_render = True
+    camera = bpy.data.objects.new("Follows", bpy.data.cameras.new("Follows"))
+    bpy.context.scene.collection.objects.link(camera)
+    camera.parent = parent
+    camera.location = (0.2, -3.0, 0.1)
+    bpy.context.view_layer.update()
+    where = camera.matrix_world.copy()
+    counts = len(bpy.data.objects), len(bpy.data.materials), len(bpy.data.meshes)
+    add_fill(drawing.data.layers.new("Prop"), disc(0.5, 0.4, 0.1), 1)     # a layer added
+    drawing.data.update_tag()
+    bpy.context.view_layer.update()
+    (lit,) = [o for o in bpy.context.scene.objects if o.get(SOURCE)]
+    # made anew: one plane more, nothing of the old lit copy left
+    assert (len(bpy.data.objects), len(bpy.data.materials), len(bpy.data.meshes)) == \
+        tuple(n + 1 for n in counts)
+    planes = {o.active_material[LAYER]: o for o in lit.children if o.active_material}
+    assert sorted(planes) == ["01_Back", "02_Figure", "03_Prop"]
+    figure = planes["02_Figure"].active_material
+    assert figure.dynamic_painting.diffuse.t0 == pytest.approx(0.3)
+    bpy.context.scene.frame_set(9)                     # its keyframes play on
+    assert figure.dynamic_painting.diffuse.t1 == pytest.approx(0.6)
+    assert planes["01_Back"].hide_render and not planes["03_Prop"].hide_render
+    assert camera.parent is lit and np.allclose(camera.matrix_world, where, atol=1e-6)
+
+
 def assert_what_a_fresh_lit_copy_makes(drawing, back, front, resolution=96, parent=None):
     """A lit copy's back and front layers (their dynamic_painting) are what a fresh From
     Grease Pencil makes of the drawing as it is now: the front's images bit for bit, the

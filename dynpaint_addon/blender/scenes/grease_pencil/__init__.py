@@ -24,5 +24,6 @@ One module per step, each importing only those above it in this list:
 - strokes.py: numpy draws each layer (read_drawing, then ReadDrawing.draw in any thread),
   and what it does not draw (unsupported);
 - lit_copy.py: the lit copy made (light_drawing; From Grease Pencil, the command line);
+- artist_changes.py: what the artist changed on a lit copy, kept when it is made anew;
 - live.py: the lit copy follows its drawing (a stroke's draft, the full redraw after).
 """

@@ -30,6 +30,7 @@ from ...state.painting_state import read_state
 from ...state.settings import channel_images
 from ...state.status import report
 from ..layered_build import remove_objects
+from .artist_changes import ArtistChanges
 from .lit_copy import (LAYER, LIT_SETTINGS, SOURCE, SPACING_WIDTH, drawn_paintings,
                        light_drawing, lit_defaults, made_paintings, read_images)
 from .reading import drawn_layers, framing, layer_digests, layer_stem
@@ -208,14 +209,17 @@ def _framed(context, job, record, beside):
 
 def _made_anew(context, parent, obj, settings, painted=None, beside=False):
     """The lit copy `parent` removed (its images too) and made again from its drawing (its
-    bounds, layers, sizes or frames are no longer those it was made from) → the new parent.
+    bounds, layers, sizes or frames are no longer those it was made from), what the artist
+    changed on it kept (artist_changes.py) → the new parent.
     painted: light_drawing's; beside the UI, its shadows baked as a dragged light's: a
     draft now, the final in a worker thread (bake_group_live)."""
     hidden = obj.hide_get()
-    remove_objects(list(parent.children) + [parent], images=True)
+    changes = ArtistChanges.of(parent)             # (nothing of the artist's lost)
+    remove_objects(changes.own(parent) + [parent], images=True)
     obj.hide_set(False)
     parent, _ = light_drawing(context, obj, settings, painted=painted,
                               bake="live" if beside else "now")
+    changes.given_to(context, parent, bake="live" if beside else "now")
     obj.hide_set(hidden or obj.hide_get())
     if beside:
         warm_first_draft(context, parent)
