@@ -11,6 +11,7 @@ from .... import params
 from ...material.sync import batch, update
 from ...state.settings import params_to_settings, settings_to_params
 from .lit_copy import LAYER
+from .reading import stem_layers
 
 # the sections the lit copy draws again from the drawing: the artist's own are the others
 DRAWN = ("shape",)
@@ -75,11 +76,11 @@ class ArtistChanges:
 
 
 def _layer_of(obj):
-    """The drawing's layer a lit copy's plane shows (its material's LAYER, without the place
-    in the stack it starts with: a layer added behind it moves that), else None."""
+    """The drawing's layer a lit copy's plane shows (its material's LAYER, without its place
+    in the stack: reading.stem_layers), else None."""
     mat = obj.active_material
     stem = None if mat is None else mat.get(LAYER)
-    return None if stem is None else stem.split("_", 1)[-1]
+    return None if stem is None else stem_layers(stem)
 
 
 def _differ(a, b):

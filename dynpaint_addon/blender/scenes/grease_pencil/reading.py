@@ -100,6 +100,12 @@ def layer_stem(i, group):
     return f"{i + 1:02d}_{bpy.path.clean_name('+'.join(layer.name for layer in group))}"
 
 
+def stem_layers(stem):
+    """A layer_stem without its place in the stack (NN_): what it draws, whatever its place
+    (a layer added behind it moves that)."""
+    return stem.split("_", 1)[-1]
+
+
 def framing(obj, margin=MARGIN):
     """The bounds the drawing's layers are drawn in (drawing_bounds): of every layer that
     draws, hidden ones too — hiding one keeps the others in place."""
