@@ -3,8 +3,9 @@
 One field per *structural* parameter of params.py (named by `Param.feature_name`: shape.kind
 → shape_kind, specular.enabled → specular), generated from the table, plus what the painting's
 images and lights decide (size, channels, light kinds, lookup sizes). Equal features build the
-same tree, so a painting's tree is rebuilt exactly when its features change, and a new
-structural parameter needs no code here.
+same tree, so a painting's tree is rebuilt exactly when its features change — but the size,
+which a node tree reads as a value set in place (TREE_VALUES) — and a new structural
+parameter needs no code here.
 
     >>> f = Features(size=(64, 48), shape_kind="height", shadows=True)
     >>> f.shape_kind, f.specular, f.image_channels() >= {"height", "shadow_0"}
@@ -36,6 +37,8 @@ def _relief(relief, channels, alpha_channels):
 
 RESOLVE = {"transparency.amount": _transparency, "silhouette.source": _silhouette,
            "shadows.relief": _relief}
+# fields a built node tree reads as values, set in place (graph.image_size), not its structure
+TREE_VALUES = ("size",)
 DEFAULT_CHANNELS = frozenset({"shape", "dark", "bright"})
 STRUCTURAL = tuple(p for p in params.PARAMS if p.structural)
 
@@ -67,10 +70,17 @@ class _FeaturesMethods:
                                              ("environment", "background") if c in channels)),
                    **values)
 
-    def key(self):
-        """A stable text form (repr of a frozenset changes order between processes)."""
-        fields = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+    def key(self, but=()):
+        """A stable text form (repr of a frozenset changes order between processes), of every
+        field but those in `but`."""
+        fields = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)
+                  if f.name not in but}
         return repr({k: (sorted(v) if isinstance(v, frozenset) else v) for k, v in fields.items()})
+
+    def nodes_key(self):
+        """key() but the fields a node tree takes as values (TREE_VALUES): equal keys, the
+        same nodes and links."""
+        return self.key(but=TREE_VALUES)
 
     @property
     def albedo(self):

@@ -8,6 +8,7 @@ in shader and compositor trees (blender-notes.md). Only a few operations are bac
 and are written as pseudo nodes with a `dp.` prefix:
 
   dp.uv       the painting's UV (u, v, 0), u, v ∈ [0, 1] over the painting
+  dp.size     the shape image's width and height in pixels (Values set in place vs numbers)
   dp.sample   an input image looked up at a UV (Image Texture vs Map UV)  → color, alpha
   dp.param    a parameter of params.py, or one component of it (a driven Value vs a group input)
   dp.light    a light's vector in the painting frame and its k·c weight (§5)
@@ -143,6 +144,13 @@ class Graph:
     # -- pseudo nodes (backend specific) ------------------------------------------------
     def uv(self):
         return Ref(self.add("dp.uv", label="UV").id, 0)
+
+    def image_size(self):
+        """The shape image's (width, height) in pixels → two float refs. A value of the built
+        tree, not its structure: a painting framed anew at another size keeps its tree
+        (blender/material/tree.rebuild_tree sets them in place)."""
+        n = self.add("dp.size")          # (a backend labels its two values)
+        return Ref(n.id, "width"), Ref(n.id, "height")
 
     def sample(self, channel, uv=None, extension="EXTEND", label="", interpolation="Linear"):
         """Look `channel` up at uv (default: the pixel's own UV) → (color, alpha) refs."""

@@ -40,7 +40,7 @@ class Build:
     uv: object
     u: object
     v: object
-    aspect: float
+    size: tuple                    # the shape image's (width, height) refs
     normal: object = None
     surface: object = None
     colour: object = (0.0, 0.0, 0.0)
@@ -49,6 +49,14 @@ class Build:
     c_spec: object = (1.0, 1.0, 1.0)
     acc_s: object = (0.0, 0.0, 0.0)
     passes: dict = field(default_factory=dict)
+    _aspect: object = None
+
+    def aspect(self):
+        """The painting's aspect W/H (v per image width along y) → a ref, made where a term
+        first needs it."""
+        if self._aspect is None:
+            self._aspect = self.g.math("DIVIDE", *self.size, label="aspect W/H")
+        return self._aspect
 
 
 TERMS = []
@@ -61,22 +69,23 @@ def term(fn):
     return fn
 
 
-def _shape(g, f, uv, u, v, aspect, z_min):
+def _shape(g, f, uv, u, v, size, z_min):
     """§2: the pixel's unit normal and its surface point P_S (image widths from the painting's
     centre, the frame point lights live in, §0) → (normal, surface)."""
-    width, height = f.size
+    width, height = size
     with g.section("Shape (§2)"):
         surface_z = 0.0
         if f.shape_kind == "height":
-            du, dv = 1.0 / width, 1.0 / height
+            across = g.combine(g.math("DIVIDE", 1.0, width), label="one texel across")
+            up = g.combine(0.0, g.math("DIVIDE", 1.0, height), label="one texel up")
             hs = {}
-            for name, off in (("Left", (-du, 0.0)), ("Right", (du, 0.0)), ("Down", (0.0, -dv)),
-                              ("Up", (0.0, dv))):
-                at = g.vmath("ADD", uv, (off[0], off[1], 0.0), label=f"{name} texel")
+            for name, op, off in (("Left", "SUBTRACT", across), ("Right", "ADD", across),
+                                  ("Down", "SUBTRACT", up), ("Up", "ADD", up)):
+                at = g.vmath(op, uv, off, label=f"{name} texel")
                 hs[name] = g.sample("height", at, "EXTEND", label=f"height {name.lower()}")[0]
             hs = {k: g.separate(c)[0] for k, c in hs.items()}
             h_scale = g.param("shape.height_scale")
-            slope = g.math("MULTIPLY", h_scale, float(width), label="h·W")
+            slope = g.math("MULTIPLY", h_scale, width, label="h·W")
             normal = g.group(subgraphs.height_gradient(), {**hs, "Slope Scale": slope,
                                                            "Z Min": z_min})
             centre_h = g.separate(g.sample("height", None, "EXTEND", label="height")[0])[0]
@@ -87,27 +96,29 @@ def _shape(g, f, uv, u, v, aspect, z_min):
                                                       "Flip Green": g.param("shape.flip_green"),
                                                       "Z Min": z_min})
         surface = g.combine(g.math("SUBTRACT", u, 0.5),
-                            g.math("MULTIPLY", g.math("SUBTRACT", v, 0.5), 1.0 / aspect),
+                            g.math("MULTIPLY", g.math("SUBTRACT", v, 0.5),
+                                   g.math("DIVIDE", height, width, label="H/W")),
                             surface_z, label="P_S")
     return normal["Normal"], surface
 
 
 def _inputs(g, f):
-    """The pixel's UV and its parts, the painting's aspect (v per image width along y) and
-    the §2 smallest N.z."""
+    """The pixel's UV and its parts, the shape image's (width, height) and the §2 smallest
+    N.z."""
     with g.section("Inputs"):
         uv = g.uv()
         u, v, _ = g.separate(uv)
+        size = g.image_size()
         z_min = g.param("shape.z_min")
-    return uv, u, v, f.size[0] / f.size[1], z_min
+    return uv, u, v, size, z_min
 
 
 def describe(f):
     """Features → Graph of the whole pipeline, with only the branches the scene needs (§12)."""
     g = Graph("Dynamic Painting")
-    uv, u, v, aspect, z_min = _inputs(g, f)
-    normal, surface = _shape(g, f, uv, u, v, aspect, z_min)
-    b = Build(g, f, uv, u, v, aspect, normal, surface)
+    uv, u, v, size, z_min = _inputs(g, f)
+    normal, surface = _shape(g, f, uv, u, v, size, z_min)
+    b = Build(g, f, uv, u, v, size, normal, surface)
     for graph_term in TERMS:
         graph_term(b)
     g.output(b.colour, b.alpha, {"W": b.passes.get("W", (0.0, 0.0, 0.0)), "s": b.s_mix,
@@ -121,8 +132,8 @@ def describe_shadow(f, kind):
     'point', the graph's light 0) at each pixel: grey (t, t, t), alpha 1. The web page draws
     it into a texture when that light moves, and its frame reads it like a baked image."""
     g = Graph("Dynamic Painting cos-θ")
-    uv, u, v, aspect, z_min = _inputs(g, f)
-    normal, _ = _shape(g, f, uv, u, v, aspect, z_min)
+    uv, u, v, size, z_min = _inputs(g, f)
+    normal, _ = _shape(g, f, uv, u, v, size, z_min)
     vec, _ = g.light(0, kind)
     t = g.shadow_term(0, kind, normal, vec)
     g.output(g.combine(t, t, t, label="t"), 1.0, {})
@@ -203,7 +214,7 @@ def _placed_lookup(b, channel, sized_as, section, u, v):
     g = b.g
     inv_scale = g.math("DIVIDE", 1.0, g.param(f"{section}.scale"), label="1 / scale")
     cu = g.math("ADD", g.param(f"{section}.offset", index=0), 0.5, label="centre u")
-    cv = g.math("MULTIPLY_ADD", g.param(f"{section}.offset", index=1), b.aspect, 0.5,
+    cv = g.math("MULTIPLY_ADD", g.param(f"{section}.offset", index=1), b.aspect(), 0.5,
                 label="centre v")
     pu = g.math("MULTIPLY_ADD", g.math("SUBTRACT", u, cu), inv_scale, 0.5, label="placed u")
     pv = g.math("MULTIPLY_ADD", g.math("SUBTRACT", v, cv), inv_scale, 0.5, label="placed v")
@@ -215,9 +226,10 @@ def _placed_lookup(b, channel, sized_as, section, u, v):
 def transparency(b):
     """§8–§11: reflection of E and refraction of B by UV warps, mixed by Fresnel (G), the
     highlight added (C2′ = clip(G + s·C_spec)) and shown by k: C = (1 − k)·C_s + k·C2′."""
-    g, f, u, v, aspect, normal = b.g, b.f, b.u, b.v, b.aspect, b.normal
+    g, f, u, v, normal = b.g, b.f, b.u, b.v, b.normal
     if not f.has_lookups:
         return
+    aspect = b.aspect()
     with g.section("Reflection & Refraction (§8–§10)"):
         c_m = c_t = None
         a_m = a_t = 0.0

@@ -72,7 +72,7 @@ class Emitter:
     """Turns one Graph's nodes into statements (a function body or the main body).
 
     A subclass names its language's words and writes the pseudo nodes (op_dp_uv, op_dp_sample,
-    op_dp_param, op_dp_light, op_dp_output)."""
+    op_dp_param, op_dp_light, op_dp_output); op_dp_size is the same in every language."""
     VEC = "vector"          # the 3-vector type, also its constructor
 
     def __init__(self, graph, program):
@@ -123,6 +123,8 @@ class Emitter:
         if not isinstance(value, Ref):
             return isinstance(value, (int, float)) and value > 0
         node = self.graph.nodes[value.node]
+        if node.op == "dp.size":
+            return True
         if node.op != "ShaderNodeMath":
             return False
         op, a, b = node.props["operation"], node.inputs.get(0, 0.0), node.inputs.get(1, 0.0)
@@ -179,6 +181,11 @@ class Emitter:
                         f"dp_vmix({a}, {b}, clamp({f}, {self.vec('0.0')}, {self.vec('1.0')}))")
 
     # -- structure ----------------------------------------------------------------------
+    def op_dp_size(self, n):
+        """The image size as numbers: a shader's text is written for one size."""
+        for output, value in zip(("width", "height"), self.program.features.size):
+            self.bind(n, output, FLOAT, num(float(value)))
+
     def op_dp_group_input(self, n):
         for name, kind in self.graph.inputs:
             self.bind(n, name, kind, ident(name))

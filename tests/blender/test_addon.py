@@ -15,7 +15,9 @@ from dynpaint_addon.blender.scenes.painting_scene import FACE_CAMERA  # noqa: E4
 from dynpaint_addon.blender.state.lights import linked_lights, painting_frame_light  # noqa: E402
 from dynpaint_addon.blender.state.settings import channel_images, settings_to_params  # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render  # noqa: E402
-from dynpaint_addon.inputs.imageio import read_image  # noqa: E402
+from dynpaint_addon.blender.material.sync import update  # noqa: E402
+from dynpaint_addon.blender.nodes.shader_backend import IMAGE_SIZE_NODES  # noqa: E402
+from dynpaint_addon.inputs.imageio import read_image, write_png  # noqa: E402
 from dynpaint_addon.inputs.recipe import load_images, load_recipe  # noqa: E402
 from dynpaint_addon.inputs.testpainting import write_test_painting  # noqa: E402
 
@@ -96,6 +98,30 @@ def test_live_value_changes_rebuild_nothing_and_render_right(empty_scene, folder
     assert np.abs(got - want)[1:-1, 1:-1].max() <= 1e-3
     s.specular.enabled = True
     assert s.signature != signature and len(mat.node_tree.nodes) > len(tree_nodes)
+
+
+def test_images_of_another_size_keep_the_tree_and_render_right(empty_scene, folder, tmp_path):
+    """A painting's images made anew at another size (a lit drawing drawn past its bounds,
+    issue 61) keep its node tree — the size is a value set in place (ShaderBackend.size), not
+    a rebuild (20–30 ms of Blender's main thread at 512²) — and it renders as the core at the
+    new size (a height map: its texel steps and slope scale are of the size)."""
+    add(folder, "height16.png", "dark.png", "bright.png")
+    plane = bpy.context.object
+    mat = plane.active_material
+    nodes = [n.as_pointer() for n in mat.node_tree.nodes]
+    for img in channel_images(mat.dynamic_painting).values():
+        data = read_image(bpy.path.abspath(img.filepath))
+        path = str(tmp_path / os.path.basename(img.filepath))
+        write_png(path, data.pixels[3:27, 4:36], data.bits)         # 40×30 → 32×24
+        img.filepath = path
+        img.reload()
+    update(mat, empty_scene)                           # (as the lit drawing's reframe does)
+    assert [n.as_pointer() for n in mat.node_tree.nodes] == nodes
+    assert [mat.node_tree.nodes[name].outputs[0].default_value
+            for name in IMAGE_SIZE_NODES] == [32.0, 24.0]
+    got = render_cycles(empty_scene, plane, str(tmp_path / "a.exr"))
+    want = core_of(mat, empty_scene)
+    assert got.shape[:2] == (24, 32) and np.abs(got - want)[1:-1, 1:-1].max() <= 1e-3
 
 
 def test_keyframed_parameter_animates(empty_scene, folder, tmp_path):

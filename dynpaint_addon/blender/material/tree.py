@@ -4,15 +4,15 @@ drivers (nodes/shader_backend.py), so changing one rebuilds nothing."""
 from . import osl
 from ...nodegraph.pipeline_graph import describe
 from ..nodes import build
-from ..nodes.shader_backend import ShaderBackend
+from ..nodes.shader_backend import ShaderBackend, set_image_size
 from ..state.painting_state import read_state
 
 
 def signature(features, lights, images):
-    """What the tree is built from — features, lights, the images its nodes sample: equal
-    signatures, equal trees."""
+    """What the tree's nodes and links are built from — features but the values set in place
+    (the image size), lights, the images its nodes sample: equal signatures, equal trees."""
     sampled = sorted((c, images[c].name) for c in features.image_channels() if c in images)
-    return repr((features.key(), [o.name for o in lights], sampled))
+    return repr((features.nodes_key(), [o.name for o in lights], sampled))
 
 
 def sync_light_items(s, lights):
@@ -40,7 +40,8 @@ def tree_images(s, inputs):
 
 
 def rebuild_tree(mat, scene, force=False, state=None):
-    """Rebuild the node tree if its features or lights changed (or `force`). → True if rebuilt.
+    """Rebuild the node tree if its features or lights changed (or `force`), else set its image
+    size in place (a painting framed anew: 20–30 ms of rebuild saved). → True if rebuilt.
     state: the PaintingState of this update (read now if not given)."""
     s = mat.dynamic_painting
     state = state or read_state(mat, scene)
@@ -52,7 +53,10 @@ def rebuild_tree(mat, scene, force=False, state=None):
         # the OSL shader reads its images from files: a moving painting's drawing is written
         # to files of its own (§16), read by a shader set up for them
         sig += repr(state.frame)
-    if not force and sig == s.signature and len(mat.node_tree.nodes):
+    if f.shadow_source == "osl":
+        sig += repr(f.size)           # (the shader's text is written for one size)
+    if not force and sig == s.signature and len(mat.node_tree.nodes) and \
+            set_image_size(mat.node_tree, f.size):
         return False
     missing = f.image_channels() - images.keys()
     if missing:
@@ -60,7 +64,7 @@ def rebuild_tree(mat, scene, force=False, state=None):
     tree = mat.node_tree
     tree.animation_data_clear()
     tree.nodes.clear()
-    build.build(tree, describe(f), ShaderBackend(mat, images, lights))
+    build.build(tree, describe(f), ShaderBackend(mat, images, lights, f.size))
     if f.shadow_source == "osl":
         # Cycles renders the OSL shader (in-shader march); EEVEE keeps the node material.
         eevee_out = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")

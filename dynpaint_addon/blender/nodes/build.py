@@ -15,7 +15,7 @@ from ...nodegraph.graph import FLOAT, Ref
 SOCKET_TYPES = {FLOAT: "NodeSocketFloat", "VECTOR": "NodeSocketVector"}
 COLUMN_WIDTH, ROW_HEIGHT = 220, 190
 GROUP_VERSION_KEY = "dp_group_signature"
-BACKEND_OPS = ("uv", "sample", "param", "light", "output")
+BACKEND_OPS = ("uv", "size", "sample", "param", "light", "output")
 
 
 def find_socket(sockets, key):
@@ -90,7 +90,6 @@ def build(tree, graph, backend):
     """
     made = {}        # graph node id → bpy node
     outputs = {}     # graph node id → {output key: socket} for pseudo nodes
-    links = tree.links
 
     def out_socket(ref):
         if ref.node in outputs:
@@ -99,8 +98,8 @@ def build(tree, graph, backend):
 
     def connect(node, key, value):
         sock = find_socket(node.inputs, key)
-        if isinstance(value, Ref):
-            links.new(out_socket(value), sock)
+        if isinstance(value, Ref):          # (a backend may answer a pseudo node by a number)
+            link_or_set(tree, out_socket(value), sock)
         elif value is not None:
             set_constant(sock, value)
 

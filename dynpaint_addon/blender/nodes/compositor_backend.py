@@ -42,9 +42,10 @@ def param_inputs(param, value):
 class CompositorBackend:
     prefix = "Compositor "      # node groups are typed: keep them apart from the material's
 
-    def __init__(self, silhouette="", light_kinds=()):
+    def __init__(self, silhouette="", light_kinds=(), size=(1, 1)):
         self.silhouette = silhouette        # 'shape' or 'dark': whose alpha cuts out
         self.light_kinds = light_kinds
+        self.image_size = size              # the shape image's (width, height)
         self._inputs = None
         self._uv = None
 
@@ -81,6 +82,11 @@ class CompositorBackend:
         tree.links.new(self._image(tree, "shape"), coords.inputs["Image"])
         self._uv = coords.outputs["Normalized"]
         return [coords], {0: self._uv}
+
+    def size(self, tree, node, inputs):
+        """The image size as numbers: a group is built for one size (its features)."""
+        width, height = (float(n) for n in self.image_size)
+        return [], {"width": width, "height": height}
 
     def sample(self, tree, node, inputs):
         channel = node.props["channel"]

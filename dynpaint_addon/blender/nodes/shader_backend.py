@@ -18,6 +18,7 @@ SETTINGS = "dynamic_painting"     # Material.dynamic_painting (blender/propertie
 # the direction toward the light, L of §0.
 SUN_AXIS_EXPRESSIONS = ("2*(x*z+w*y)", "2*(y*z-w*x)", "1-2*(x*x+y*y)")
 POINT_POWER_UNIT = 1000.0   # a 1000 W point light (Blender's default) has strength k = 1
+IMAGE_SIZE_NODES = ("Image width", "Image height")     # the Values of dp.size, by name
 
 
 def _driver(socket, index=-1):
@@ -68,6 +69,18 @@ def drive_location(combine, obj):
         var.targets[0].transform_space = "WORLD_SPACE"
 
 
+def set_image_size(tree, size):
+    """A built tree's image size (ShaderBackend.size) set to (width, height) → whether the tree
+    has it (one built before it did not)."""
+    values = [tree.nodes.get(name) for name in IMAGE_SIZE_NODES]
+    if None in values:
+        return False
+    for value, number in zip(values, size):
+        if value.outputs[0].default_value != number:        # (a write updates the material)
+            value.outputs[0].default_value = float(number)
+    return True
+
+
 def light_strength_expression(kind):
     """k_i of §5 from the Blender light's power: a sun's strength as is, a point light's watts
     over 1000 (its default), so both default lights give k = 1."""
@@ -78,14 +91,26 @@ class ShaderBackend:
     """Builds the pseudo nodes into a material's node tree."""
     prefix = ""
 
-    def __init__(self, material, images, lights):
+    def __init__(self, material, images, lights, size=(1, 1)):
         self.material = material
         self.images = images      # channel → bpy Image
         self.lights = lights      # light objects, in the order of Features.lights
+        self.image_size = size    # the shape image's (width, height)
 
     def uv(self, tree, node, inputs):
         tc = tree.nodes.new("ShaderNodeTexCoord")
         return [tc], {0: tc.outputs["UV"]}
+
+    def size(self, tree, node, inputs):
+        """The image's width and height as two Values named IMAGE_SIZE_NODES (set_image_size
+        sets them when the painting is framed anew)."""
+        values = []
+        for name, number in zip(IMAGE_SIZE_NODES, self.image_size):
+            value = tree.nodes.new("ShaderNodeValue")
+            value.name = value.label = name
+            value.outputs[0].default_value = float(number)
+            values.append(value)
+        return values, {"width": values[0].outputs[0], "height": values[1].outputs[0]}
 
     def sample(self, tree, node, inputs):
         channel = node.props["channel"]

@@ -30,7 +30,7 @@ GROUP_NAME = "Dynamic Painting"
 def build_group(features, name=GROUP_NAME):
     """A compositor node group for `features` (a new one; an existing name gets a suffix)."""
     group = bpy.data.node_groups.new(name, "CompositorNodeTree")
-    backend = CompositorBackend(features.silhouette, features.lights)
+    backend = CompositorBackend(features.silhouette, features.lights, features.size)
     build.build(group, describe(features), backend)
     group["dp_features"] = features.key()
     return group

@@ -6,8 +6,9 @@ the lit copy held Blender's main thread 0.7 s at 1024².
 
 The work comes in slices of one layer (Reframe.steps), each well under the 100 ms a UI may
 be held at 1024²: a layer's images resized and written, its plane placed and shaped, its
-shadows kept where they were (core/sampling.laid_into) — then its derived images and node tree
-made again (sync.update; the depsgraph update between may do it first). Meanwhile the
+shadows kept where they were (core/sampling.laid_into) — then its derived images made again
+and its node tree given the new size (sync.update, no rebuild; the depsgraph update between
+may do it first). Meanwhile the
 group's bakes wait (bake/layers.hold_group); once every layer is framed the lit copy's
 parent moves to the drawing's new middle.
 """
