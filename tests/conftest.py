@@ -9,6 +9,7 @@ With DYNPAINT_NO_BPY=1 importing bpy fails, which proves that they need no Blend
 import base64
 import dataclasses
 import os
+import signal
 import subprocess
 import sys
 
@@ -59,11 +60,22 @@ def flat_normals(h, w, dtype=np.float32):
     return n
 
 
-def run_cli(*args, cwd=None):
-    """Run `python -m dynpaint_addon ARGS` in a fresh process → CompletedProcess (text)."""
-    return subprocess.run([sys.executable, "-m", "dynpaint_addon", *map(str, args)],
-                          cwd=cwd or REPO, capture_output=True, text=True, timeout=600,
-                          env={**os.environ, "PYTHONPATH": REPO})
+def run_cli(*args, cwd=None, timeout=600):
+    """Run `python -m dynpaint_addon ARGS` in a fresh process → CompletedProcess (text). A run
+    past `timeout` seconds fails with where each of its threads was (faulthandler's dump on
+    SIGABRT): a hang says where it hangs."""
+    proc = subprocess.Popen([sys.executable, "-m", "dynpaint_addon", *map(str, args)],
+                            cwd=cwd or REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, env={**os.environ, "PYTHONPATH": REPO,
+                                            "PYTHONFAULTHANDLER": "1"})
+    try:
+        out, err = proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        proc.send_signal(signal.SIGABRT)
+        out, err = proc.communicate()
+        raise AssertionError(f"`dynpaint {' '.join(map(str, args))}` ran past {timeout} s; "
+                             f"its threads then:\n{err[-8000:]}") from None
+    return subprocess.CompletedProcess(proc.args, proc.returncode, out, err)
 
 
 @pytest.fixture

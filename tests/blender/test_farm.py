@@ -47,7 +47,9 @@ def painting(tmp_path_factory):
 
 def submitted(farm, *args):
     """`dynpaint farm submit …` → (job id, its output folder)."""
-    r = run_cli("farm", "submit", *args, "--manager", farm.url)
+    # (seconds here; once a submit hung 10 min before it reached the Manager, and the farm's
+    # idle workers timed out under the tests after it: failed at 3 min, it says where)
+    r = run_cli("farm", "submit", *args, "--manager", farm.url, timeout=180)
     assert r.returncode == 0, r.stderr
     job = re.search(r"job ([0-9a-f-]{36})", r.stdout).group(1)
     output = re.search(r"its frames and video go to (.+)", r.stdout).group(1).strip()
