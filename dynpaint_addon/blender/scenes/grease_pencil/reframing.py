@@ -8,9 +8,8 @@ The work comes in slices of one layer (Reframe.steps), each well under the 100 m
 be held at 1024²: a layer's images resized and written, its plane placed and shaped, its
 shadows kept where they were (core/sampling.laid_into) — then its derived images made again
 and its node tree given the new size (sync.update, no rebuild; the depsgraph update between
-may do it first). Meanwhile the
-group's bakes wait (bake/layers.hold_group); once every layer is framed the lit copy's
-parent moves to the drawing's new middle.
+may do it first). Meanwhile the group's bakes wait (bake/layers.hold_group); once every
+layer is framed the lit copy's parent moves to the drawing's new middle.
 """
 from mathutils import Matrix
 
