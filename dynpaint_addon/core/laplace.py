@@ -134,9 +134,28 @@ def _prolong(e, shape):
     return fine[:shape[0], :shape[1]]
 
 
+def _coarsest_inverse(grid):
+    """The (pseudo-)inverse of a small grid's operator (n ≤ 256 pixels, dense). Where every
+    connected part of its unknowns holds a Dirichlet pixel, the operator on them is positive
+    definite: their block's inverse, in place in an n × n zero matrix — the pseudo-inverse
+    but for rounding, 4–6× cheaper at 200–256 unknowns (4 against 16 ms; a stroke's draft
+    inflates a part at each dab). A part with none (free edges: heights up to a constant)
+    is singular: the pseudo-inverse."""
+    a = grid.dense().astype(np.float64)
+    free = grid.free.ravel()
+    labels, count = components(grid.wx > 0, grid.wy > 0)
+    parts_of_unknowns = labels.ravel()[free]
+    pinned = np.bincount(parts_of_unknowns, grid.dirichlet.ravel()[free] > 0, count) > 0
+    if not free.any() or not pinned[parts_of_unknowns].all():
+        return np.linalg.pinv(a, hermitian=True)
+    out = np.zeros_like(a)
+    out[np.ix_(free, free)] = np.linalg.inv(a[np.ix_(free, free)])
+    return out
+
+
 class Multigrid:
     """A V-cycle for a Grid: damped Jacobi smoothing, block (aggregation) coarse levels down to
-    ≤ 256 pixels solved by a pseudo-inverse. Symmetric, so it preconditions CG (`solve`)."""
+    ≤ 256 pixels solved by a (pseudo-)inverse. Symmetric, so it preconditions CG (`solve`)."""
 
     SMOOTH, OMEGA, OVERCORRECT = 2, 0.8, 1.8
 
@@ -144,8 +163,7 @@ class Multigrid:
         self.levels = [grid]
         while self.levels[-1].shape[0] * self.levels[-1].shape[1] > 256:
             self.levels.append(_coarse(self.levels[-1]))
-        self.coarsest = np.linalg.pinv(self.levels[-1].dense().astype(np.float64),
-                                       hermitian=True)
+        self.coarsest = _coarsest_inverse(self.levels[-1])
 
     def __call__(self, r, level=0):
         grid = self.levels[level]

@@ -12,7 +12,7 @@ from dynpaint_addon import params
 from dynpaint_addon.core.inflate import PROFILES, RESHAPED, inflate
 from dynpaint_addon.core.input_rules import ImageData
 from dynpaint_addon.core.integrate import components, integrate
-from dynpaint_addon.core.laplace import Grid, poisson_neumann, solve
+from dynpaint_addon.core.laplace import Grid, _coarsest_inverse, poisson_neumann, solve
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.occlusion import ambient_occlusion
 from dynpaint_addon.core.photometric import (normals_from_profiles, normals_from_rg_photo,
@@ -411,7 +411,7 @@ def test_the_command_line_is_generated_from_the_one_table():
 
 
 def test_a_grids_matrix_is_what_it_does_to_each_unit_vector_bit_for_bit():
-    """Grid.dense (the multigrid's coarsest level, solved by a pseudo-inverse) is built from
+    """Grid.dense (the multigrid's coarsest level, solved by a (pseudo-)inverse) is built from
     the weights at once; it is, byte for byte, what apply gives each unit vector (the
     heights inflated before it came are the same to the last bit), cut edges, odd sizes,
     Dirichlet pixels and single rows and columns included."""
@@ -424,3 +424,30 @@ def test_a_grids_matrix_is_what_it_does_to_each_unit_vector_bit_for_bit():
             by_apply = np.array([grid.apply(e.reshape(grid.shape)).ravel()
                                  for e in np.eye(h * w, dtype=grid.dtype)])
             assert grid.dense().tobytes() == by_apply.tobytes()
+
+
+def test_the_coarsest_level_is_inverted_where_every_part_is_held():
+    """The multigrid's coarsest level (laplace._coarsest_inverse): where every connected part
+    of its unknowns holds a Dirichlet pixel, the inverse of their block (4× cheaper) — the
+    pseudo-inverse but for rounding; with a free part (heights up to a constant) the
+    pseudo-inverse itself. A pixel with no edge and no Dirichlet term is no unknown."""
+    rng = np.random.default_rng(3)
+    for held_right in (True, False):
+        wx, wy = rng.random((12, 15)) + 0.1, rng.random((11, 16)) + 0.1
+        wx[:, 7] = 0                                  # two parts, columns 0–7 and 8–15
+        wx[11, 14], wy[10, 15] = 0, 0                 # pixel (11, 15) joined to nothing
+        d = np.zeros((12, 16))
+        d[0, 0] = 0.5
+        d[5, 12] = 0.3 if held_right else 0.0
+        grid = Grid(wx, wy, d)
+        a = grid.dense()
+        pinv = np.linalg.pinv(a, hermitian=True)
+        got = _coarsest_inverse(grid)
+        if held_right:
+            assert np.abs(got - pinv).max() <= 1e-10 * np.abs(pinv).max()
+            free = grid.free.ravel()
+            assert not free[11 * 16 + 15] and not got[11 * 16 + 15].any()
+            np.testing.assert_allclose((got @ a)[np.ix_(free, free)], np.eye(free.sum()),
+                                       atol=1e-10)
+        else:
+            assert got.tobytes() == pinv.tobytes()
