@@ -66,8 +66,13 @@ def fetch(entry):
         else:
             url = (f"https://raw.githubusercontent.com/{entry['repo']}/{entry['commit']}/"
                    + urllib.request.quote(path))
-            with urllib.request.urlopen(url, timeout=60) as response:
-                data = response.read()
+            try:
+                with urllib.request.urlopen(url, timeout=60) as response:
+                    data = response.read()
+            except OSError as exc:       # (URLError is one): offline, no mirror — say so
+                raise SystemExit(f"artists_files: {entry['name']}: {path} could not be "
+                                 f"fetched ({exc}); it needs the network or a git mirror "
+                                 f"of {entry['repo']} under {MIRRORS} (DYNPAINT_MIRRORS)")
         with open(os.path.join(folder, name), "wb") as fh:
             fh.write(data)
     return folder
