@@ -10,6 +10,7 @@ import sys
 import time
 
 import bpy
+import gpu
 
 from . import register_once
 from ..core.layers import render_scene
@@ -74,6 +75,18 @@ def render_recipe(recipe, engine, out, frame=None, notes=None, drawing_width=Non
         output_settings(scene, part)
         bpy.ops.render.render(write_still=True)
     return time.perf_counter() - t
+
+
+def drawn_on(engine):
+    """What drew this process's EEVEE renders, as OpenGL names it (a GPU's name, or a software
+    renderer's such as llvmpipe: EEVEE is slow there), for a command's last line; '' for
+    Cycles (the CPU) or where nothing was drawn yet."""
+    if engine != "eevee":
+        return ""
+    try:
+        return gpu.platform.renderer_get()
+    except SystemError:          # (background Blender before its first GPU drawing)
+        return ""
 
 
 def open_blend(path):

@@ -27,3 +27,13 @@ def figure_note(name, source):
         "its luminance" if source in ("luminance", "grey") else \
         f"its {source} channel (a mask painted in {source})"
     return f"{name}: the figure is where {where} is above ½"
+
+
+def on_words(renderer):
+    """' on RENDERER' for a command's result line where it knows what drew it (EEVEE's GPU, or
+    a software renderer), else ''.
+
+    >>> on_words("NVIDIA H200/PCIe/SSE2"), on_words("")
+    (' on NVIDIA H200/PCIe/SSE2', '')
+    """
+    return f" on {renderer}" if renderer else ""

@@ -15,7 +15,7 @@ from ..inputs.layered_files import is_layered_file, load_layered
 from ..inputs.painting_frames import PaintingFrames
 from ..inputs.recipe import load_recipe, no_drawing
 from ..inputs.samples import recipe_help
-from .notes import print_notes
+from .notes import on_words, print_notes
 
 
 ENGINES = ("numpy", "cycles", "eevee")
@@ -121,10 +121,11 @@ def _render_blender(args, recipe):
                            "(and --width to a drawing's recipe: its layers' width in pixels)")
     if os.path.splitext(args.out)[1].lower() not in (".png", ".exr"):
         raise CommandError(f"{args.out}: unsupported output format (use .png or .exr)")
-    from ..blender.headless import render_recipe     # Blender only when asked for
+    from ..blender.headless import drawn_on, render_recipe     # Blender only when asked for
     seconds = render_recipe(recipe, args.engine, args.out, args.frame, notes=print_notes,
                             drawing_width=args.width)
-    print(f"rendered with {args.engine} in {seconds * 1000:.0f} ms → {args.out}")
+    print(f"rendered with {args.engine}{on_words(drawn_on(args.engine))} in "
+          f"{seconds * 1000:.0f} ms → {args.out}")
 
 
 def _render_grease_pencil(args):
@@ -135,15 +136,15 @@ def _render_grease_pencil(args):
                            "--engine; not --max-size or --float64")
     if os.path.splitext(args.out)[1].lower() not in (".png", ".exr"):
         raise CommandError(f"{args.out}: unsupported output format (use .png or .exr)")
-    from ..blender.headless import render_grease_pencil     # Blender only when asked for
+    from ..blender.headless import drawn_on, render_grease_pencil  # Blender only when asked for
     try:
         seconds = render_grease_pencil(args.recipe, args.grease_pencil, args.engine, args.out,
                                        args.frame, args.width)
     except ValueError as exc:
         raise CommandError(str(exc)) from exc
     shown = f" (frame {args.frame})" if args.frame is not None else ""
-    print(f"rendered {args.grease_pencil}{shown}, lit, with {args.engine} in "
-          f"{seconds * 1000:.0f} ms → {args.out}")
+    print(f"rendered {args.grease_pencil}{shown}, lit, with {args.engine}"
+          f"{on_words(drawn_on(args.engine))} in {seconds * 1000:.0f} ms → {args.out}")
 
 
 def add_parser(sub):

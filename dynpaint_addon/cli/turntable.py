@@ -8,7 +8,7 @@ from ..inputs import memory
 from ..inputs.layered_files import is_layered_file
 from ..inputs.recipe import load_recipe
 from ..inputs.samples import recipe_help
-from .notes import print_notes
+from .notes import on_words, print_notes
 
 
 def video_size_fits(width, height):
@@ -77,7 +77,7 @@ def cmd_turntable(args):
     else:
         recipe = load_recipe(args.recipe)
         print_notes(recipe.notes)
-    from ..blender.headless import render_turntable  # Blender only when asked for
+    from ..blender.headless import drawn_on, render_turntable  # Blender only when asked for
     try:
         seconds, samples = render_turntable(
             recipe, args.out, args.frames, args.engine, args.size, args.elevation, args.light,
@@ -89,8 +89,8 @@ def cmd_turntable(args):
     count = chunk[1] - chunk[0] + 1
     what = f"frames {chunk[0]}–{chunk[1]} of {args.frames}" if count < args.frames else \
         f"{args.frames} frames"
-    print(f"turntable: {what} with {args.engine}, {samples} sample"
-          f"{'s' if samples > 1 else ''} a pixel, in {seconds:.1f} s "
+    print(f"turntable: {what} with {args.engine}{on_words(drawn_on(args.engine))}, "
+          f"{samples} sample{'s' if samples > 1 else ''} a pixel, in {seconds:.1f} s "
           f"({seconds / count:.2f} s/frame) → {args.out}")
 
 

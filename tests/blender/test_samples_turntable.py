@@ -2,6 +2,7 @@
 import importlib.util
 import math
 import os
+import re
 import subprocess
 import sys
 
@@ -109,6 +110,19 @@ def test_sample_generator_reproduces_the_committed_samples(tmp_path):
 # parity promise of 3e-3 (test_material_parity.py).
 SAMPLE_TOLERANCE = {"cycles": {"p99.9": 1e-3, "mean": 1e-4, "max": 1.0},
                     "eevee": {"p99.9": 2e-3, "mean": 1e-3, "max": 3e-3}}
+# EEVEE on a GPU: its texture units filter a lookup between texels with fixed-point weights
+# (NVIDIA's: 8 bits of fraction, CUDA C++ Programming Guide, "Linear Filtering"), so it is
+# off by up to 1/256 of the step between them; a painting drawn at another scale than its
+# pixels (the window sample's layers at depths) shows it — on an NVIDIA H200, max 4.2e-3 and
+# p99.9 2.8e-3, where software OpenGL, filtering in floats, gives 1.2e-3 and 8.6e-4
+# (docs/on-a-gpu.md)
+GPU_FILTERED = {"p99.9": 4e-3, "mean": 1e-3, "max": 6e-3}
+
+
+def drawn_by_software(stdout):
+    """Whether a command's EEVEE render was drawn by software OpenGL (its result line says
+    what drew it: cli.notes.on_words)."""
+    return bool(re.search(r"with eevee on .*(llvmpipe|softpipe)", stdout))
 
 
 @pytest.fixture(scope="module")
@@ -138,8 +152,10 @@ def test_each_sample_renders_as_the_core_renders_it(sample, engine, core_renders
     err = np.abs(got - want)[1:-1, 1:-1]
     measured = {"p99.9": float(np.percentile(err, 99.9)), "mean": float(err.mean()),
                 "max": float(err.max())}
-    assert all(measured[k] <= bound for k, bound in SAMPLE_TOLERANCE[engine].items()), \
-        (sample, engine, measured)
+    assert engine != "eevee" or "with eevee on " in res.stdout, res.stdout
+    bounds = GPU_FILTERED if engine == "eevee" and not drawn_by_software(res.stdout) else \
+        SAMPLE_TOLERANCE[engine]
+    assert all(measured[k] <= bound for k, bound in bounds.items()), (sample, engine, measured)
 
 
 class MenuLayout:
@@ -309,7 +325,10 @@ def test_turntable_command_writes_a_video_with_progress(engine, sample, tmp_path
     assert res.returncode == 0, res.stderr[-2000:]
     progress = [ln for ln in res.stdout.splitlines() if ln.startswith("frame ")]
     assert [ln.split()[1] for ln in progress] == ["1/3", "2/3", "3/3"], res.stdout
-    assert f"turntable: 3 frames with {engine}, 1 sample a pixel" in res.stdout
+    # (EEVEE's line names what drew it: a GPU, or software OpenGL where EEVEE is slow)
+    drawn = "on .+?" if engine == "eevee" else ""
+    assert re.search(rf"turntable: 3 frames with {engine} ?{drawn}, 1 sample a pixel",
+                     res.stdout), res.stdout
     assert "Video append" not in res.stdout      # Blender's log stays off our progress lines
     clip = bpy.data.movieclips.load(str(out))
     assert clip.frame_duration == 3 and tuple(clip.size) == (64, 48)
