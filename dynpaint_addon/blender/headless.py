@@ -85,7 +85,7 @@ def drawn_on(engine):
         return ""
     try:
         return gpu.platform.renderer_get()
-    except SystemError:          # (background Blender before its first GPU drawing)
+    except (SystemError, RuntimeError):   # (background Blender before its first drawing)
         return ""
 
 
