@@ -41,6 +41,7 @@ from report import best, command_line, met, publish, size_and_runs  # noqa: E402
 
 from dynpaint_addon.blender import handlers, register_once  # noqa: E402
 from dynpaint_addon.blender.bake.layers import settle  # noqa: E402
+from dynpaint_addon.blender.headless import software_renderer  # noqa: E402
 from dynpaint_addon.blender.scenes.grease_pencil.drawing import (  # noqa: E402
     drawn_size, render_layers)
 from dynpaint_addon.blender.scenes.grease_pencil.lit_copy import (  # noqa: E402
@@ -242,7 +243,7 @@ def frames(size, runs):
 def gpu_words():
     """What the renderer Blender drew with says about the drawing's cost."""
     renderer = gpu.platform.renderer_get()
-    if "llvmpipe" in renderer.lower() or "softpipe" in renderer.lower():
+    if software_renderer(renderer):
         return (f"this machine has no GPU, so Blender's Grease Pencil renderer runs on "
                 f"software OpenGL ({renderer}).")
     return f"drawn on {renderer}."

@@ -77,6 +77,15 @@ def render_recipe(recipe, engine, out, frame=None, notes=None, drawing_width=Non
     return time.perf_counter() - t
 
 
+SOFTWARE_RENDERERS = ("llvmpipe", "softpipe")      # Mesa's OpenGL drawn on the CPU
+
+
+def software_renderer(name):
+    """Whether OpenGL's renderer `name` draws on the CPU (SOFTWARE_RENDERERS): EEVEE and
+    Blender's Grease Pencil renderer are slow there, and it filters textures in floats."""
+    return any(s in name.lower() for s in SOFTWARE_RENDERERS)
+
+
 def drawn_on(engine):
     """What drew this process's EEVEE renders, as OpenGL names it (a GPU's name, or a software
     renderer's such as llvmpipe: EEVEE is slow there), for a command's last line; '' for

@@ -122,7 +122,8 @@ GPU_FILTERED = {"p99.9": 4e-3, "mean": 1e-3, "max": 6e-3}
 def drawn_by_software(stdout):
     """Whether a command's EEVEE render was drawn by software OpenGL (its result line says
     what drew it: cli.notes.on_words)."""
-    return bool(re.search(r"with eevee on .*(llvmpipe|softpipe)", stdout))
+    found = re.search(r"with eevee on (.+) in \d+ ms", stdout)
+    return found is not None and headless.software_renderer(found.group(1))
 
 
 @pytest.fixture(scope="module")
