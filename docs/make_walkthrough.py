@@ -21,10 +21,12 @@ from dynpaint_addon.inputs.imageio import read_image, write_png        # noqa: E
 from dynpaint_addon.core.lights import Light          # noqa: E402
 from dynpaint_addon.core.pipeline import render as core_render        # noqa: E402
 from dynpaint_addon.inputs.recipe import load_images, load_recipe        # noqa: E402
+from dynpaint_addon.params import defaults          # noqa: E402
 from testkit.chromium import find_chromium           # noqa: E402
 from testkit.sprite_sets import sprite_illuminator   # noqa: E402
 
 PX = 256
+OFFSET = defaults().shadows.offset
 DYNPAINT = os.path.join(os.path.dirname(sys.executable), "dynpaint")
 
 
@@ -191,7 +193,11 @@ makes them, `benchmarks/artists_files.py` measures public ones):
 
 A map read the other way from what your tool meant: set `shape.flip_green` in the recipe (a
 `note:` says when the map fits the other way better). A flat look (the light changing
-nothing): `diffuse.ambient = 1`. Two hand-painted images, dark and lit (the paper's way), are
+nothing): `diffuse.ambient = 1`. Fine relief that looks soft (lettering, bevels a pixel or two wide):
+with shadows on, the light is the cos-θ term, which smooths relief finer than its offset
+(`shadows.offset`, {OFFSET:g} image widths: {OFFSET * 640:.1f} px on a 640-px card; the paper's subsurface look):
+lower it for crisper relief ([artists-files.md](artists-files.md) measures half of it on every set).
+Two hand-painted images, dark and lit (the paper's way), are
 mixed by the light instead ([the next section](#your-own-painting-from-a-folder-of-files-to-a-web-page-command-line)).
 
 # Your own painting, from a folder of files to a web page (command line)
