@@ -82,8 +82,8 @@ def test_a_dragged_lights_final_bake_runs_beside_the_ui_and_never_writes_a_stale
         empty_scene, recipe):
     """After a drag (bake_group_live: draft now) the final bake starts in a worker thread once
     the light is still (layers._final_bakes, the UI's timer, called here) and is written by
-    the timer when done: each layer's shadows then equal a fresh core bake. A bake the scene
-    outran (its light or a layer moved meanwhile) is dropped, not written."""
+    the timer when done: each layer's shadows then equal a fresh core bake, and an update that
+    moves nothing bakes nothing again. A bake the scene outran (its light or a layer moved meanwhile) is dropped, not written."""
     parent = add_layered(recipe)
     name, mats = parent.name, group_materials(parent)
     key = bpy.data.objects["Key"]
@@ -100,6 +100,10 @@ def test_a_dragged_lights_final_bake_runs_beside_the_ui_and_never_writes_a_stale
     assert layers._final_bakes() is None                              # written
     assert all("|own|" in m.dynamic_painting.lights[0].bake_key for m in mats)
     consistent(name)
+    # an update where nothing moved (a setting the bake does not read): its final stands —
+    # no draft on the main thread, no final again
+    assert bake_group_live(parent) == 0 and name not in layers._FINAL_DUE
+    assert all("|own|" in m.dynamic_painting.lights[0].bake_key for m in mats)
     job = drag_then_start()
     turn(key, 0.1)                                   # the light moves on: its bake is dropped
     job.thread.join()

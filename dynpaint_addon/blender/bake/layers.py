@@ -280,10 +280,14 @@ def _group_job(parent, depsgraph=None, quality=None, force=False, images=None):
         return None
     group = group_key(mats, depsgraph)
     key = group + f"|{quality or 'own'}"
+    # (a draft is not made where the group's bake at its own quality shows: it is finer —
+    # an update that changes no bake input drafted it again on the main thread, 87 ms at
+    # 1024², and then baked its final again)
+    shown = {key} | ({group + "|own"} if quality == "draft" else set())
     lights = group_lights(mats, depsgraph)
     todo = {item.object.name: lights[item.object.name] for _, item in _linked(mats)
             if force or item.shadow is None or
-            item.bake_key != _key(key, lights[item.object.name])}
+            item.bake_key not in {_key(k, lights[item.object.name]) for k in shown}}
     if not todo:
         return None
     cache = _KEPT.get(parent.name)
