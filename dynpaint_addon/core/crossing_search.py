@@ -76,14 +76,14 @@ def _range_min(tables, rows, lo, hi):
     levels, nrows, stride = tables.shape
     k, back, too_long = _windows(stride, levels)
     span = hi - lo
-    first = np.take(k, span)
+    first = k.take(span)
     first *= nrows * stride           # the level's plane in the flat tables
     first += lo
-    second = np.take(back, span)
+    second = back.take(span)
     second += first
     flat = tables.reshape(-1)
     low = np.minimum(rows.at(flat, first), rows.at(flat, second))
-    np.copyto(low, -np.inf, where=np.take(too_long, span))
+    np.copyto(low, -np.inf, where=too_long.take(span))
     return rows.bend_bound(low, lo, hi, upper=False)
 
 
@@ -107,8 +107,8 @@ def _descend(tables, rows, start, c, upper):
     for k in range(levels - 1, -1, -1):
         flat = tables[k].reshape(-1)
         # (buffers and no bounds checks: this loop is the bake's hottest)
-        np.take(flat, i, out=a, mode="clip")
-        np.take(flat[stride:], i, out=b, mode="clip")     # row1, one row further
+        flat.take(i, out=a, mode="clip")
+        flat[stride:].take(i, out=b, mode="clip")     # row1, one row further
         b -= a
         b *= rows.w
         b += a
@@ -194,8 +194,8 @@ class _Rows:
 
     def at(self, flat, k):
         i = self.b0 + k
-        a = np.take(flat, i)
-        b = np.take(flat[self.stride:], i)      # row1; a + (b − a)·w, in place
+        a = flat.take(i)
+        b = flat[self.stride:].take(i)      # row1; a + (b − a)·w, in place
         b -= a
         b *= self.w
         b += a
