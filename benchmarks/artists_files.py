@@ -103,7 +103,7 @@ def try_set(name, tool, folder, green, frames, work):
     recipe = load_recipe(os.path.join(copy, "painting.toml"))
     read_down = bool(recipe.params.shape.flip_green)
     shown = [1, frames // 2 + 1] if frames > 1 else [1]
-    verdicts, wrong, unshadowed, finer = [], [], [], []
+    verdicts, wrong, unshadowed, finer, picture = [], [], [], [], None
     for frame in shown:
         out = os.path.join(work, f"{name}_{frame}.exr")
         took, _ = dynpaint("render", copy, "--out", out, *(["--frame", frame] if frames > 1
@@ -116,10 +116,18 @@ def try_set(name, tool, folder, green, frames, work):
         full = alpha is None or alpha.min() > 0.99
         n = true_normals(recipe, frame, green)
         got = read_image(out).pixels
-        verdicts.append(sprite_sets.judge(got, rgba, n, None if full else alpha, LIGHT))
-        wrong.append(other_way(recipe, frame, rgba, n, None if full else alpha))
-        unshadowed.append(shadows_off(recipe, frame, rgba, n, None if full else alpha))
-        finer.append(half_offset(recipe, frame, rgba, n, None if full else alpha))
+
+        def judged(render_rgba):
+            return sprite_sets.judge(render_rgba, rgba, n, None if full else alpha, LIGHT)
+        half = half_offset(recipe, frame)
+        verdicts.append(judged(got))
+        wrong.append(judged(other_way(recipe, frame)).pearson)
+        unshadowed.append(judged(shadows_off(recipe, frame)).pearson)
+        finer.append(judged(half).pearson)
+        if picture is None:
+            ambient = recipe.params.diffuse.ambient
+            picture = [n @ LIGHT] + [sprite_sets.light_received(px, rgba, ambient)
+                                     for px in (got, half)]
     worst = min(verdicts, key=lambda v: (v.passes(), -1 if v.pearson is None else v.pearson))
     return {"name": name, "tool": tool, "size": f"{got.shape[1]}×{got.shape[0]}",
             "frames": frames, "read": "down" if read_down else "up", "true": green,
@@ -127,7 +135,37 @@ def try_set(name, tool, folder, green, frames, work):
             "unshadowed_r": None if None in unshadowed else min(unshadowed),
             "finer_r": None if None in finer else min(finer),
             "offset": recipe.params.shadows.offset, "width": got.shape[1],
-            "seconds": seconds}
+            "picture": picture, "seconds": seconds}
+
+
+def where_it_varies(ndl, rows=40, cols=200):
+    """The window (rows × cols at most) of a true N·L image where it varies most → slices."""
+    def band(spread, n):
+        n = min(n, spread.size)
+        sums = np.convolve(spread, np.ones(n), "valid")
+        start = int(np.argmax(sums))
+        return slice(start, start + n)
+    ys = band(np.nanvar(ndl, axis=1), rows)
+    xs = band(np.nanvar(ndl[ys], axis=0), cols)
+    return ys, xs
+
+
+def write_picture(path, tiles, zoom=3):
+    """Tiles (y-up greys: the true N·L, the light received at d and at ½d), cut where N·L
+    varies most, enlarged `zoom` times, stacked top to bottom with a white gap."""
+    ys, xs = where_it_varies(tiles[0])
+    gap = np.ones((2, (xs.stop - xs.start) * zoom, 3))
+    parts = []
+    for tile in tiles:             # (y-up: the first tile last, so that it shows on top)
+        cut = tile[ys, xs]
+        rgb = np.where(np.isnan(cut)[..., None], UNMEASURED,
+                       np.clip(np.nan_to_num(cut), 0, 1)[..., None])
+        parts = [rgb.repeat(zoom, 0).repeat(zoom, 1), gap] + parts
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    write_png(path, np.concatenate(parts[:-1], 0))
+
+
+UNMEASURED = (0.85, 0.35, 0.3)     # a picture's pixels whose colour is too dark to tell
 
 
 def _px(row):
@@ -139,33 +177,31 @@ def _r(value):
     return "— (flat)" if value is None else f"{value:.2f}"
 
 
-def r_of_variant(recipe, frame, rgba, n, coverage, section, key, value):
-    """The recipe's render with one setting changed, judged the same → its r."""
+def variant(recipe, frame, section, key, value):
+    """The recipe's render of `frame` with one setting changed → premultiplied RGBA."""
     p = getattr(recipe.params, section)
     kept = getattr(p, key)
     setattr(p, key, value)
     images = PaintingFrames(recipe.slots()).images(frame)
     result = render(images, [Light("sun", tuple(LIGHT))], recipe.params, keep_passes=False)
     setattr(p, key, kept)
-    return sprite_sets.judge(result.rgba, rgba, n, coverage, LIGHT).pearson
+    return result.rgba
 
 
-def other_way(recipe, frame, rgba, n, coverage):
+def other_way(recipe, frame):
     """Baseline: the recipe's render with the map read the other way."""
-    return r_of_variant(recipe, frame, rgba, n, coverage, "shape", "flip_green",
-                        not recipe.params.shape.flip_green)
+    return variant(recipe, frame, "shape", "flip_green", not recipe.params.shape.flip_green)
 
 
-def shadows_off(recipe, frame, rgba, n, coverage):
+def shadows_off(recipe, frame):
     """The reading alone: the render without its cast shadows (§6 off)."""
-    return r_of_variant(recipe, frame, rgba, n, coverage, "shadows", "enabled", False)
+    return variant(recipe, frame, "shadows", "enabled", False)
 
 
-def half_offset(recipe, frame, rgba, n, coverage):
+def half_offset(recipe, frame):
     """The cos-θ term's softness (§6: rays start d below the surface, so relief finer than d
     is smoothed): the recipe's render with half its offset d."""
-    return r_of_variant(recipe, frame, rgba, n, coverage, "shadows", "offset",
-                        recipe.params.shadows.offset / 2)
+    return variant(recipe, frame, "shadows", "offset", recipe.params.shadows.offset / 2)
 
 
 # Sets made from fetched ones, as artists also hand them over: (name, what it is, the set it
@@ -260,6 +296,16 @@ def main(argv=None):
                   f"{sum((r['finer_r'] or 0) >= (r['verdict'].pearson or 0) for r in rows)} of "
                   f"{len(rows)} sets r is as high or higher with it, but d is the artist's "
                   f"softness and every shadow number of the project is measured at the default)."]
+        if args.out:
+            lines += ["", "Where their N·L varies most (3× enlarged): the true N·L, the light "
+                      "the render received, and the light with half the offset (red: a colour "
+                      "too dark to tell) — the letters' lit and shaded rims blurred at d, "
+                      "sharper at ½d.", "",
+                      "| set | N·L, received at d, at ½d |", "|---|---|"]
+            for r in short:
+                picture = f"img/artists-files/{r['name']}.png"
+                write_picture(os.path.join(os.path.dirname(args.out), picture), r["picture"])
+                lines.append(f"| {r['name']} | ![]({picture}) |")
     publish(lines, args.out)
     return 0 if passed == len(rows) else 1
 

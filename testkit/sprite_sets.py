@@ -253,26 +253,36 @@ class Verdict:
             self.shadowed <= 0.15
 
 
+def light_received(render_rgba, colour_rgba, ambient=0.2):
+    """The light each pixel of a render (premultiplied linear RGBA, y-up) of a colour image
+    (display values) got: W = (render/colour − a)/(1 − a) (§1) → (H, W), NaN where the
+    colour is too dark to tell (under 0.03 linear)."""
+    alpha = render_rgba[..., 3]
+    colour = srgb_to_linear(np.asarray(colour_rgba[..., :3], np.float64))
+    straight = render_rgba[..., :3] / np.maximum(alpha, 1e-6)[..., None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = (straight / colour).mean(-1)
+    return np.where(colour.min(-1) > 0.03, (ratio - ambient) / (1 - ambient), np.nan)
+
+
 def judge(render_rgba, colour_rgba, normals, coverage, light, ambient=0.2):
     """How a render (premultiplied linear RGBA, y-up) of a colour image (display values,
     straight alpha) follows the true normals under a sun `light` (unit vector toward it): the
-    light each pixel got is W = (render/colour − a)/(1 − a) (§1), its shadow where W falls
+    light each pixel got (light_received) against the true N·L, its shadow where it falls
     under half the true N·L."""
     alpha = render_rgba[..., 3]
     figure = np.ones(alpha.shape, bool) if coverage is None else coverage > 0.99
-    colour = srgb_to_linear(np.asarray(colour_rgba[..., :3], np.float64))
-    straight = render_rgba[..., :3] / np.maximum(alpha, 1e-6)[..., None]
-    ok = figure & (colour.min(-1) > 0.03)
-    ratio = (straight[ok] / colour[ok]).mean(-1)
+    received = light_received(render_rgba, colour_rgba, ambient)
+    ok = figure & np.isfinite(received)
+    w = received[ok]
     ndl = np.asarray(normals)[ok] @ np.asarray(light, np.float64)
     pearson = None if ndl.std() < FLAT_SPREAD else \
-        float(np.corrcoef(ratio, ndl)[0, 1]) if ratio.std() > 0 else 0.0
+        float(np.corrcoef(w, ndl)[0, 1]) if w.std() > 0 else 0.0
     if coverage is None:
         iou = 1.0 if np.all(alpha > 0.5) else float(np.mean(alpha > 0.5))
     else:
         want, got = colour_rgba[..., 3] > 0.5, alpha > 0.5
         iou = float(np.sum(want & got) / max(np.sum(want | got), 1))
-    w = (ratio - ambient) / (1 - ambient)
     facing = ndl >= 0.6
     shadowed = float(np.mean(w[facing] < 0.5 * ndl[facing])) if facing.any() else 0.0
     return Verdict(pearson, iou, shadowed)
