@@ -202,7 +202,8 @@ PARAMS = (
       "custom uses your K and resolution", choices=QUALITIES,
       spec="§13", bake=True),
     P("shadows", "offset", float, 0.01, "d: how deep below the surface each shadow ray starts; "
-      "larger = softer, more translucent look", unit="image widths", min=0.0, max=1.0, spec="§6",
+      "relief finer than d is smoothed: larger = softer, more translucent look, smaller = "
+      "crisper fine relief", unit="image widths", min=0.0, max=1.0, spec="§6",
       label="Offset (d)", bake=True),
     P("shadows", "steps", int, 64, "K: march steps per pixel (more = more accurate, slower; "
       "custom quality)", min=0, max=100000, spec="§6", label="Steps (K)", bake=True),
