@@ -277,9 +277,10 @@ def main(argv=None):
               "before the stroke: only the rays that can meet what the stroke changed are "
               "traced again (core/layer_edits.py) — the dab's own box, and where a dab "
               "re-inflates a figure (its heights move by hundredths of a pixel far from the "
-              "dab, its thickness follows the tallest) the rays that graze it: the pixels on "
-              "the edges of the figure's shadow, each traced with its 16 rays at 4 of the "
-              "sun's points. With a UI Blender is held only for the draft and the "
+              "dab) the rays that graze it: the pixels on the edges of that part's shadow, "
+              "each traced with its 16 rays at 4 of the sun's points (the slab's faces sit "
+              "on a ¼-pixel lattice, so the layer's other parts keep their rays unless its "
+              "tallest point crosses a step). With a UI Blender is held only for the draft and the "
               "writes; the drawing, its paintings and the final bake run in worker "
               "threads."]
     publish(lines, args.out)

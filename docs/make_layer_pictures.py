@@ -204,7 +204,7 @@ painting and final shadows are made in worker threads and Blender is held only t
 them (at most ~70 ms at 1024² here; the images so written are packed when the file is
 saved); at once in scripts and renders, after a depsgraph evaluation. The final shadows
 after a stroke trace again only the rays that can meet what it changed (0.34–0.59 s for a dab
-of its own at 1024² here, 1.4–2.0 s for one that re-inflates a figure: its shadow's edges). A stroke
+of its own at 1024² here, 1.0–1.5 s for one that re-inflates a figure: the edges of that part's shadow). A stroke
 past the drawing's bounds (its draft shows it as far as the lit copy reaches) frames the lit
 copy anew in place — the same objects and materials, each layer's images resized, its plane
 placed and shaped for the new bounds, a layer at a time with a UI (Blender held at most

@@ -16,7 +16,7 @@ from .bake import QUALITY, quality_settings
 from .input_rules import image_channels, input_notes, silhouette_channel
 from .inputs import about
 from .layer_edits import ALL, changed_over, near_edges, rays_changed, solid_change
-from .occluders import Occluder, Placement, edited_from
+from .occluders import Occluder, Placement, edited_from, on_faces_lattice
 from .pipeline import (normal_map_relief_px, prepare, render, shadow_term,
                        shadow_term_edited, silhouette_alpha, transparency_k)
 from .sampling import pixel_centres, resample_separable, sample_bilinear
@@ -138,7 +138,7 @@ def _occluder(ready, p, place, thickness):
     alpha = silhouette_alpha(ready.imgs, p)
     alpha = np.ones(ready.size) if alpha is None else alpha.astype(np.float64)
     if thickness is None:           # §15's default: its tallest relief, at least a pixel
-        thickness = max(float(np.max(relief, initial=0.0)), place.px)
+        thickness = max(on_faces_lattice(float(np.max(relief, initial=0.0))), place.px)
     return Occluder(alpha, relief, place.z, thickness, 1.0 - transparency_k(ready, p), place)
 
 

@@ -18,6 +18,19 @@ import numpy as np
 from .sampling import sample_bilinear_extend
 
 MAPS_KEPT = 4            # line maps an occluder keeps (per light point; a drag makes new ones)
+FACE_STEP = 0.25         # canvas px: the slab's top and default depth sit on this lattice, so that
+                         # an edit that moves the tallest relief by hundredths of a pixel (a part
+                         # inflated again) moves no face — and no ray through the rest of the
+                         # layer need be traced again (core/layer_edits.py)
+
+
+def on_faces_lattice(height):
+    """A height (canvas px, ≥ 0) rounded up to FACE_STEP: the slab's faces (§15).
+
+    >>> on_faces_lattice(9.833), on_faces_lattice(9.886), on_faces_lattice(0.0)
+    (10.0, 10.0, 0.0)
+    """
+    return float(np.ceil(height / FACE_STEP) * FACE_STEP)
 
 
 @dataclass(frozen=True)
@@ -57,7 +70,7 @@ class Occluder:
         self.alpha, self.relief_px, self.opacity = (
             _at_least_2x2(np.asarray(a, np.float32)) for a in (self.alpha, self.relief_px,
                                                                 self.opacity))
-        self.top = self.z_px + float(np.max(self.relief_px, initial=0.0))
+        self.top = self.z_px + on_faces_lattice(float(np.max(self.relief_px, initial=0.0)))
         self.bottom = self.z_px - self.thickness_px
         # the canvas box of its solid (where α ≥ ½): rays that miss it skip the layer
         solid = np.asarray(self.alpha) >= 0.5

@@ -448,10 +448,12 @@ def test_a_scene_edited_in_a_box_patches_its_bake_and_equals_a_fresh_one(light, 
 def test_an_occluders_change_is_moved_where_it_moved_far_and_grazed_where_it_moved_little():
     """core/layer_edits.solid_change (§15 "An edited scene"): a relief raised by more than
     ¼ px in a box is `moved` there (every ray meeting it traced); heights that moved by
-    less everywhere (a part inflated again; τ follows the tallest) graze the whole solid;
+    less everywhere with a thickness that moved graze the whole solid, where τ is its
+    default (the tallest relief on the faces' lattice) and stays, only the part that moved;
     a layer moved ½ px in depth moves the whole solid; and only the pixels near an edge of
     T before the edit are traced for a graze (near_edges)."""
     from dynpaint_addon.core.layer_edits import SLAB_SHIFT, near_edges, solid_change
+    from dynpaint_addon.core.occluders import on_faces_lattice
     y, x = np.mgrid[0:32, 0:32]
     dome = np.clip(8 - np.hypot(x - 16, y - 16) / 2, 0, None).astype(np.float32)
     alpha, ones = (dome > 0).astype(np.float32), np.ones((32, 32), np.float32)
@@ -466,6 +468,21 @@ def test_an_occluders_change_is_moved_where_it_moved_far_and_grazed_where_it_mov
     assert swollen.grazed[:4] == (-1.0, -1.0, 34.0, 34.0)      # the whole solid, grown
     deeper = solid_change(old, Occluder(alpha, dome, 40.5, 8.0, ones))
     assert deeper.grazed is None and deeper.moved[:4] == (-1.0, -1.0, 34.0, 34.0)
+    # a part of a layer of two inflated again, its tallest point moving by hundredths of a
+    # pixel under the faces' lattice (τ its default, FACE_STEP): the slab's faces kept, only
+    # that part grazed, not the other part (x 38–44)
+    y, x = np.mgrid[0:32, 0:48]
+    two = np.clip(7.9 - np.hypot(x - 16, y - 16) / 2, 0, None).astype(np.float32)
+    two[4:12, 38:44] = 1.0
+    alpha2, ones2 = (two > 0).astype(np.float32), np.ones(two.shape, np.float32)
+
+    def layer(relief):
+        return Occluder(alpha2, relief, 40.0, on_faces_lattice(float(relief.max())), ones2)
+    swelled = two.copy()
+    swelled[:, :34] *= np.float32(1.003)
+    part = solid_change(layer(two), layer(swelled))
+    assert layer(two).top == layer(swelled).top and part.moved is None
+    assert part.grazed[:4] == (-1.0, -1.0, 34.0, 34.0) and layer(two).box[2] == 44.0
     t = np.ones((12, 12))
     t[:, 6:] = 0.0                                      # a shadow's edge between columns 5, 6
     assert np.flatnonzero(near_edges(t, 2).any(axis=0)).tolist() == [3, 4, 5, 6, 7, 8]
