@@ -103,6 +103,7 @@ def try_set(name, tool, folder, green, frames, work):
     recipe = load_recipe(os.path.join(copy, "painting.toml"))
     read_down = bool(recipe.params.shape.flip_green)
     shown = [1, frames // 2 + 1] if frames > 1 else [1]
+    ambient = recipe.params.diffuse.ambient     # (what the render lit the colour with, §1)
     verdicts, wrong, unshadowed, finer, picture = [], [], [], [], None
     for frame in shown:
         out = os.path.join(work, f"{name}_{frame}.exr")
@@ -118,14 +119,14 @@ def try_set(name, tool, folder, green, frames, work):
         got = read_image(out).pixels
 
         def judged(render_rgba):
-            return sprite_sets.judge(render_rgba, rgba, n, None if full else alpha, LIGHT)
+            return sprite_sets.judge(render_rgba, rgba, n, None if full else alpha, LIGHT,
+                                     ambient)
         half = half_offset(recipe, frame)
         verdicts.append(judged(got))
         wrong.append(judged(other_way(recipe, frame)).pearson)
         unshadowed.append(judged(shadows_off(recipe, frame)).pearson)
         finer.append(judged(half).pearson)
         if picture is None:
-            ambient = recipe.params.diffuse.ambient
             picture = [n @ LIGHT] + [sprite_sets.light_received(px, rgba, ambient)
                                      for px in (got, half)]
     worst = min(verdicts, key=lambda v: (v.passes(), -1 if v.pearson is None else v.pearson))
