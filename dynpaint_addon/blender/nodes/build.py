@@ -30,13 +30,23 @@ def find_socket(sockets, key):
 
 def set_constant(socket, value):
     """A constant into a socket: vectors and colours padded (alpha 1), a scalar spread over
-    a colour's RGB."""
-    if hasattr(socket.default_value, "__len__"):
-        n = len(socket.default_value)
+    a colour's RGB; written only where it differs (assign)."""
+    current = socket.default_value
+    if hasattr(current, "__len__"):
+        n = len(current)
         vec = tuple(value) if isinstance(value, (tuple, list)) else (value,) * min(n, 3)
-        socket.default_value = (vec + (1.0,) * n)[:n]
-    else:
+        value = (vec + (1.0,) * n)[:n]
+        current = tuple(current)
+    if current != value:
         socket.default_value = value
+
+
+def assign(node, key, value):
+    """node.key = value where it differs. Every write through RNA updates the whole tree
+    (about 1 µs per node in it: building a tree is quadratic in its size), and of a
+    material's 214 settings and 146 constants 125 and 54 are the node's defaults already."""
+    if getattr(node, key) != value:
+        setattr(node, key, value)
 
 
 def link_or_set(tree, value, socket):
@@ -125,7 +135,7 @@ def build(tree, graph, backend):
         else:
             node = tree.nodes.new(n.op)
             for key, value in n.props.items():
-                setattr(node, key, value)
+                assign(node, key, value)
             for key, value in n.inputs.items():
                 connect(node, key, value)
         if n.label and node is not None:
