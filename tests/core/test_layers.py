@@ -10,7 +10,7 @@ from dynpaint_addon.core.layers import Layer, Scene, placement, render_scene, sc
 from dynpaint_addon.core.lights import Light
 from dynpaint_addon.core.pipeline import render
 from dynpaint_addon.core.sampling import pixel_centres, resample_separable
-from dynpaint_addon.core.occluders import Occluder
+from dynpaint_addon.core.occluders import Occluder, on_faces_lattice
 from dynpaint_addon.core.transmittance import transmittance
 from dynpaint_addon.inputs.recipe import load_images, load_recipe
 from dynpaint_addon.inputs.samples import recipe_path
@@ -453,7 +453,6 @@ def test_an_occluders_change_is_moved_where_it_moved_far_and_grazed_where_it_mov
     a layer moved ½ px in depth moves the whole solid; and only the pixels near an edge of
     T before the edit are traced for a graze (near_edges)."""
     from dynpaint_addon.core.layer_edits import SLAB_SHIFT, near_edges, solid_change
-    from dynpaint_addon.core.occluders import on_faces_lattice
     y, x = np.mgrid[0:32, 0:32]
     dome = np.clip(8 - np.hypot(x - 16, y - 16) / 2, 0, None).astype(np.float32)
     alpha, ones = (dome > 0).astype(np.float32), np.ones((32, 32), np.float32)
