@@ -9,8 +9,12 @@ slab's faces moved a little (a part inflated again: τ follows the tallest relie
 whole solid where they moved far. A receiving pixel's rays toward any point of the light
 meet a box only if the part of them inside the slab passes over it (rays_meeting); of the
 rays that meet what moved a little, only those on the edge of the shadow before can change
-(rays_changed: a ray that grazes the solid). Those pixels, and their neighbours whose
-antialiasing reads them, are traced again (core/layers.Scene.through).
+(rays_changed: a ray that grazes the solid). Where the slab stayed, a bake that kept each
+pixel's clearance (CLEARANCE) tells more: a relief that moved by at most δ where a pixel's
+rays read it changes none of their answers if its clearance exceeds δ (rays_lifted) — of a
+part inflated again, only the few rays that pass within hundredths of a pixel of its relief.
+Those pixels, and their neighbours whose antialiasing reads them, are traced again
+(core/layers.Scene.through).
 
 Boxes of pixels are (r0, r1, c0, c1) as core/strokes.py's; a change is
 (x0, y0, x1, y1, z_bottom, z_top) in canvas pixels.
@@ -39,6 +43,11 @@ READ_PX = 2              # occluder pixels a changed pixel reaches in what T rea
 SLAB_SHIFT = 0.25        # canvas px: a relief or a slab's faces moved by more: every ray
                          # through it traced (by less: those that graze it)
 MAX_GRAZE_PX = 4         # receiving pixels: a graze reaching further traces every ray it meets
+LIFT_STEPS = tuple(4.0 ** -np.arange(6))   # canvas px (1 … 0.001): the tiers a relief's moves are
+                         # bounded by, the rays that meet only the smaller moves told apart
+CLEARANCE = TOLERANCE    # canvas px: a ray's clearance (transmittance's: the least |height −
+                         # relief| where it crosses a solid's silhouette) must exceed the move
+                         # by this much (float32 margins) for its answer to be kept
 
 
 def changed_over(before, after, tolerance=TOLERANCE):
@@ -65,10 +74,19 @@ class SolidChange:
     slab's faces moved (a part inflated again moves its heights by hundredths of a pixel
     far from the stroke, and τ follows the tallest), None where nothing did; shift: how far
     (canvas px) that moved a face at most. A ray whose answer so small a move changes
-    grazes the solid: it lies on the edge of its shadow (rays_changed)."""
+    grazes the solid: it lies on the edge of its shadow (rays_changed). Where the slab stayed
+    (rays_lifted): cover_moved and cover_grazed, the same of α and ρ alone, and lifts, the
+    relief's moves as nested changes, each (change, δ): every move over the next one's δ
+    lies in its box, none over its own δ (None: the slab moved); grew: +1 where α only
+    grew (a stroke that paints), −1 where it only shrank (one that erases), 0 else or where
+    the solid is not of one opacity."""
     moved: tuple = None
     grazed: tuple = None
     shift: float = 0.0
+    cover_moved: tuple = None
+    cover_grazed: tuple = None
+    lifts: list = None
+    grew: int = 0
 
 
 def solid_change(before, after):
@@ -104,14 +122,43 @@ def solid_change(before, after):
     if moved is None and grazed is None:
         return None
     grow = READ_PX * after.place.px
-    return SolidChange(*(None if c is None else
-                         (c[0] - grow, c[1] - grow, c[2] + grow, c[3] + grow,
-                          min(before.bottom, after.bottom), max(before.top, after.top))
-                         for c in (moved, grazed)), max(shift, TOLERANCE))
+
+    def change(box):              # a box of after's pixels → its change (None: none)
+        return None if box is None else (box[0] - grow, box[1] - grow, box[2] + grow,
+                                         box[3] + grow, min(before.bottom, after.bottom),
+                                         max(before.top, after.top))
+    out = SolidChange(change(moved), change(grazed), max(shift, TOLERANCE))
+    slab_kept = (before.z_px, before.thickness_px, before.top, before.uniform) == \
+        (after.z_px, after.thickness_px, after.top, after.uniform)
+    if slab_kept and np.isfinite(lifted).all():
+        cover = np.maximum(moves[0][0], moves[2][0])
+
+        def under(box):   # (a ray above the relief there meets no pixel whose α or ρ moved)
+            if box is None:
+                return None
+            r0, r1, c0, c1 = (max(0, box[0] - READ_PX), box[1] + READ_PX,
+                              max(0, box[2] - READ_PX), box[3] + READ_PX)
+            tallest = max(float(k.relief_px[r0:r1, c0:c1].max()) for k in (before, after))
+            return change(_canvas_box(after, box))[:5] + (
+                min(after.top, after.z_px + tallest + TOLERANCE),)
+        out.cover_moved = under(box_of(cover > TOLERANCE))
+        if out.cover_moved is not None and after.uniform is not None:   # (ρ kept: one)
+            grown = after.alpha - before.alpha
+            out.grew = 1 if grown.min() >= 0 else -1 if grown.max() <= 0 else 0
+        grazed = under(box_of(cover > 0))
+        out.cover_grazed = None if grazed == out.cover_moved else grazed
+        most = float(lifted.max(initial=0.0))
+        bounds = [most] + [b for b in LIFT_STEPS if b < most]
+        out.lifts = [(change(_canvas_box(after, box_of(lifted > low))), bound)
+                     for bound, low in zip(bounds, bounds[1:] + [0.0]) if most > 0]
+    return out
 
 
 def _canvas_box(k, box):
-    """A box of occluder k's pixels (r0, r1, c0, c1) → its canvas box (x0, y0, x1, y1)."""
+    """A box of occluder k's pixels (r0, r1, c0, c1) → its canvas box (x0, y0, x1, y1)
+    (None: None)."""
+    if box is None:
+        return None
     r0, r1, c0, c1 = box
     x0, y0, _ = k.place.to_canvas(c0, r0, 0.0)
     x1, y1, _ = k.place.to_canvas(c1, r1, 0.0)
@@ -143,6 +190,35 @@ def rays_changed(origins, points, change, before, px=1.0):
                                 / px))
         meets |= grazing if reach > MAX_GRAZE_PX else grazing & near_edges(before, reach)
     return meets
+
+
+def rays_lifted(origins, points, change, before, clear, px=1.0):
+    """Of an occluder whose slab stayed (`change.lifts` not None), the pixels whose T the
+    change can change, told by their clearance (`clear`, the bake before's: transmittance's
+    `clearance`) → (H, W) bool, and how far (canvas px) the relief moved at most where each
+    pixel's rays read it ((H, W) float32; inf where α or ρ moved a little: a clearance kept
+    there no longer holds). Traced: the pixels whose rays meet where α or ρ moved
+    (rays_changed's rule), and those whose rays meet a relief moved by δ and whose clearance
+    is not over δ + CLEARANCE. A relief moved by at most δ moves every height a ray compares
+    by at most δ (bilinear samples, the sun table's running maxima), so a ray whose every
+    comparison is further than that keeps its answer, and a pixel all of whose rays keep
+    theirs keeps its T. Where α only grew, a pixel in the shadow of all its rays (T = 0)
+    keeps it (more solid only adds to what each ray meets, and of one opacity: at the
+    same ρ); where it only shrank, one none of whose rays meets a solid (T = 1)."""
+    lifted = np.zeros(origins.shape[:2], np.float32)
+    for box, bound in reversed(change.lifts):      # the largest box, the smallest move, first
+        lifted[rays_meeting(origins, points, box)] = bound
+    keeps = clear > lifted + CLEARANCE                          # (NaN: not known, traced)
+    may = (lifted > 0) & ~keeps
+    cover = SolidChange(change.cover_moved, change.cover_grazed, TOLERANCE)
+    if cover.moved is not None or cover.grazed is not None:
+        covered = rays_changed(origins, points, cover, before, px)
+        if change.grew:
+            covered &= ~(keeps & (before == (0.0 if change.grew > 0 else 1.0)))
+        may |= covered
+    if cover.grazed is not None:
+        lifted[rays_meeting(origins, points, cover.grazed)] = np.inf
+    return may, lifted
 
 
 def near_edges(t, reach):

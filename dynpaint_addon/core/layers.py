@@ -8,6 +8,9 @@ each pixel's surface point toward the light (core/transmittance.py, each layer i
 (`render_scene`), and `scene_notes` says what an artist should know of it.
 """
 import copy
+import os
+import threading
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -15,7 +18,7 @@ import numpy as np
 from .bake import QUALITY, quality_settings
 from .input_rules import image_channels, input_notes, silhouette_channel
 from .inputs import about
-from .layer_edits import ALL, changed_over, near_edges, rays_changed, solid_change
+from .layer_edits import ALL, changed_over, near_edges, rays_changed, rays_lifted, solid_change
 from .occluders import Occluder, Placement, edited_from, on_faces_lattice
 from .pipeline import (normal_map_relief_px, prepare, render, shadow_term,
                        shadow_term_edited, silhouette_alpha, transparency_k)
@@ -47,6 +50,9 @@ LAYER_QUALITY = {
                   "edge_points": 0},
 }
 MAX_LAYERS = 8           # documented limit: the web page draws up to 8 (issue 30)
+BAKE_THREADS = os.cpu_count() or 1    # layers a bake works on at once (numpy lets go of
+                                      # Python's lock in its loops: a stroke's two layers
+                                      # behind are traced again side by side)
 
 
 @dataclass
@@ -170,10 +176,15 @@ class Scene:
         self._throughs, self._owns = {}, {}
         self._changes = {}       # layer k → how an edit changed its solid (solid_change)
         self._earlier = _Earlier.of(before, self)
+        self._making = threading.RLock()    # (occluders are made once, by one of bake's threads)
 
     def occluder(self, k, scale=1.0):
         """Layer k as the layers behind it meet it, its images at `scale` of its pixels (an
         earlier scene's where its inputs, place and thickness are the same: its maps kept)."""
+        with self._making:
+            return self._occluder(k, scale)
+
+    def _occluder(self, k, scale):
         if (k, scale) not in self._occluders:
             e = self._earlier
             if scale == 1.0 and e is not None and e.ready[k] is self.ready[k] and \
@@ -211,9 +222,11 @@ class Scene:
         light it saw and the level are this bake's, not marched again; this bake's entries
         are left in `self.own`. own_size: a layer's t at a reduced level at the size its own
         term was baked at (core/bake.bake's own_size; T resampled to it), for a caller that
-        writes images, which every backend enlarges alike: a drag then upsamples nothing."""
+        writes images, which every backend enlarges alike: a drag then upsamples nothing.
+        Up to BAKE_THREADS layers are baked at once (progress is called from this thread)."""
         out, own, self.own = [None] * len(self.layers), own or {}, {}
-        for position, i in enumerate(self.order):
+
+        def layer(i):
             p = self.layers[i].p
             if quality is not None or reduced != 1.0:
                 p = copy.deepcopy(p)
@@ -226,9 +239,12 @@ class Scene:
             t_own = own[i][1] if i in own and own[i][0] == seen else self._own_term(i, seen, p)
             self.own[i] = (seen, t_own)
             through = self.through(i, [light], level, reduced, t_own.shape)
-            out[i] = t_own if through is None else t_own * through[0].astype(t_own.dtype)
-            if progress is not None:
-                progress((position + 1) / len(self.order))
+            return t_own if through is None else t_own * through[0].astype(t_own.dtype)
+        with ThreadPoolExecutor(min(BAKE_THREADS, len(self.order))) as pool:
+            for position, (i, t) in enumerate(zip(self.order, pool.map(layer, self.order))):
+                out[i] = t
+                if progress is not None:
+                    progress((position + 1) / len(self.order))
         e = self._earlier             # (every bake it had made again: let it go)
         if e is not None and set(e.throughs) <= set(self._throughs) and \
                 set(e.owns) <= set(self._owns):
@@ -256,34 +272,40 @@ class Scene:
                 _origins(self.ready[i], self.places[i], q["scale"])
         origins = self._origins[i, q["scale"]]
 
-        def traced(lt, o, only=None):
-            return transmittance(o, lt, front, p.shadows.steps, canvas=self.canvas,
-                                 spacing=q["spacing"], disc=q["disc"], penumbra=q["penumbra"],
-                                 maps=level != "reference", antialias=q["antialias"],
-                                 edge_points=q["edge_points"], only=only).astype(np.float32)
+        def traced(lt, o, only=None, clearance=False):
+            got = transmittance(o, lt, front, p.shadows.steps, canvas=self.canvas,
+                                spacing=q["spacing"], disc=q["disc"], penumbra=q["penumbra"],
+                                maps=level != "reference", antialias=q["antialias"],
+                                edge_points=q["edge_points"], only=only, clearance=clearance)
+            return (got[0].astype(np.float32), got[1]) if clearance else \
+                got.astype(np.float32)
         out = []
         for lt in lights:
             slot = (i, lt.name, level, q["scale"], p.shadows.steps)
-            t = self._patched(i, lt, slot, q, traced) if q["scale"] == 1.0 else None
-            t = traced(lt, origins) if t is None else t
-            if q["scale"] == 1.0:              # (what an edited copy of the scene patches)
-                self._throughs[slot] = (_light_key(lt), t)
+            if q["scale"] == 1.0:     # (kept with its clearance: an edited copy patches it)
+                t, clear = self._patched(i, lt, slot, q, traced) or \
+                    traced(lt, origins, clearance=True)
+                self._throughs[slot] = (_light_key(lt), t, clear)
+            else:
+                t = traced(lt, origins)
             out.append(resample_separable(t, h, w))
         return out
 
     def _patched(self, i, lt, slot, q, traced):
         """T of layer i for one light patched from an earlier scene's (_Earlier: the scene
         before an edit) at the same light and level: traced again only where a ray can meet
-        what the edit changed (core/layer_edits.py), the rest kept → (H, W), or None where
-        there is nothing to patch from or the change cannot be bounded."""
+        what the edit changed (core/layer_edits.py), the rest kept → (T (H, W), its
+        clearance), or None where there is nothing to patch from or the change cannot be
+        bounded. A kept pixel's clearance shrinks by how far the relief its rays read
+        moved (rays_lifted); one no rule tells (a start moved, a slab moved) becomes 0."""
         e = self._earlier
         kept = None if e is None else e.throughs.get(slot)
         if kept is None or kept[0] != _light_key(lt):
             return None
-        before, origins = kept[1], self._origins[i, 1.0]
+        (before, clear), origins = kept[1:], self._origins[i, 1.0]
         points = [pt for n in {1, q["disc"], q["penumbra"]}
                   for pt in light_points(lt, self.canvas, n)]
-        changed = np.zeros(before.shape, bool)
+        changed, clear = np.zeros(before.shape, bool), clear.copy()
         if e.ready[i] is not self.ready[i]:          # this layer's own surface moved
             was = e.origins.get(i)
             if was is None or was.shape != origins.shape:
@@ -292,23 +314,36 @@ class Scene:
             if moved is not None:
                 changed[moved[0]:moved[1], moved[2]:moved[3]] = True
             # (a start moved a little: its ray moves as little, and can change where it grazes)
-            changed |= (was[..., 2] != origins[..., 2]) & near_edges(before, 1)
+            started = was[..., 2] != origins[..., 2]
+            changed |= started & near_edges(before, 1)
+            clear[started] = 0.0
         for k in self.order[self.order.index(i) + 1:]:
             if k not in self._changes:        # (every layer behind k compares the same two)
                 self._changes[k] = solid_change(e.occluders.get(k), self.occluder(k))
             change = self._changes[k]
             if change is ALL:
                 return None
-            if change is not None:
-                changed |= rays_changed(origins, points, change, before, self.places[i].px)
+            if change is None:
+                continue
+            may = rays_changed(origins, points, change, before, self.places[i].px)
+            if change.lifts is None:
+                clear[:] = 0.0
+            else:
+                lifted_may, lifted = rays_lifted(origins, points, change, before, clear,
+                                                 self.places[i].px)
+                may &= lifted_may
+                with np.errstate(invalid="ignore"):      # (inf − inf: not known, NaN)
+                    clear -= lifted
+            changed |= may
         if not changed.any():
-            return before
+            return before, clear
         # traced where rays changed and at their neighbours (whose antialiasing compares T
         # with theirs)
         changed = widened(changed)
         t = before.copy()
-        t[changed] = traced(lt, origins, changed)[changed]
-        return t
+        new_t, new_clear = traced(lt, origins, changed, clearance=True)
+        t[changed], clear[changed] = new_t[changed], new_clear[changed]
+        return t, clear
 
     def _own_term(self, i, seen, p):
         """Layer i's own cos-θ term t_own (§6) of the light it sees (`seen`: bake's): an

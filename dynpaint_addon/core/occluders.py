@@ -11,6 +11,7 @@ what an edit of one changed.
     >>> card.top, card.bottom, card.box, card.uniform
     (4.0, 3.0, (0.0, 0.0, 8.0, 8.0), 1.0)
 """
+import threading
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -65,6 +66,7 @@ class Occluder:
     place: Placement = field(default_factory=Placement)
     maps: dict = field(default_factory=dict, repr=False)   # line_map's cache
     edited: tuple = field(default=None, repr=False)        # (occluder, box): edited_from
+    making: threading.Lock = field(default_factory=threading.Lock, repr=False, compare=False)
 
     def __post_init__(self):
         self.alpha, self.relief_px, self.opacity = (
@@ -100,14 +102,16 @@ def sample_layer(img, x, y):
 
 def kept_on(k, key, make):
     """What `make()` makes for occluder k, kept on it under `key` (line maps, sun tables):
-    the newest MAPS_KEPT (a dragged light makes new ones at every step). (Two scenes baking
-    in two threads may share an occluder: what is made is returned, not read back.)"""
-    made = k.maps.get(key)
-    if made is None:
-        made = make()
-        if len(k.maps) >= MAPS_KEPT:
-            k.maps.clear()
-        k.maps[key] = made
+    the newest MAPS_KEPT (a dragged light makes new ones at every step). Made once: a thread
+    that needs what another is making waits for it (a scene's layers bake side by side, and
+    two scenes in two threads may share an occluder)."""
+    with k.making:
+        made = k.maps.get(key)
+        if made is None:
+            made = make()
+            if len(k.maps) >= MAPS_KEPT:
+                k.maps.clear()
+            k.maps[key] = made
     return made
 
 
@@ -196,26 +200,32 @@ class SunTable:
     def meets(self, x, y, rise, exact=True):
         """Whether the rays whose lines cross the occluder's plane at its pixels (x, y) meet
         it, each starting `rise` canvas px below the plane (negative: inside the slab, above
-        the plane: only the part of its line beyond its start counts) → (hit, doubt): with
-        `exact`, doubt where the table's two rows beside a line disagree — the solid's edge
-        runs between them, closer than a pixel, and the ray is to be marched; without, the
-        nearer row's answer (a draft's: edges move by up to half a pixel across the light, in
-        dots along them)."""
+        the plane: only the part of its line beyond its start counts) → (hit, doubt,
+        clearance): with `exact`, doubt where the table's two rows beside a line disagree —
+        the solid's edge runs between them, closer than a pixel, and the ray is to be
+        marched; without, the nearer row's answer (a draft's: edges move by up to half a
+        pixel across the light, in dots along them). Clearance: how far the relief may move
+        before a row's answer can change — the least |S − threshold| of the rows read (a
+        relief moved by δ everywhere moves every S by at most δ; inf: no row reads the
+        solid)."""
         k = self.k
         out, doubt = np.zeros(len(x), bool), np.zeros(len(x), bool)
+        clear = np.full(len(x), np.inf, np.float32)
         if self.vertical:
             lh, lw = k.alpha.shape
             on = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
+            on[on] = sample_layer(k.alpha, x[on], y[on]) >= 0.5
             # straight up: the solid over it, above the start
-            out[on] = (sample_layer(k.alpha, x[on], y[on]) >= 0.5) & \
-                (rise[on] >= -sample_layer(k.relief_px, x[on], y[on]))
-            return out, doubt
+            relief = sample_layer(k.relief_px, x[on], y[on])
+            out[on], clear[on] = rise[on] >= -relief, np.abs(rise[on] + relief)
+            return out, doubt, clear
         # only lines that cross the plane within the slab's sideways reach of the solid
         x0, y0, x1, y1 = self.reach
         near = np.flatnonzero((x >= x0) & (x <= x1) & (y >= y0) & (y <= y1))
         if near.size:
-            out[near], doubt[near] = self._meets(x[near], y[near], rise[near], exact)
-        return out, doubt
+            out[near], doubt[near], clear[near] = self._meets(x[near], y[near], rise[near],
+                                                              exact)
+        return out, doubt, clear
 
     def _meets(self, x, y, rise, exact):
         k = self.k
@@ -229,14 +239,17 @@ class SunTable:
 
         def row_meets(r):
             ok = (r >= 0) & (r < rows) & (c < cols)
-            out = np.zeros(len(x), bool)
-            out[ok] = self.suffix[r[ok], c[ok]] >= -self.m * uq[ok]
-            return out
+            out, clear = np.zeros(len(x), bool), np.full(len(x), np.inf, np.float32)
+            suffix, threshold = self.suffix[r[ok], c[ok]], -self.m * uq[ok]
+            out[ok] = suffix >= threshold
+            clear[ok] = np.abs(suffix - threshold)     # (−inf: no silhouette, inf)
+            return out, clear
         if not exact:
-            return row_meets(np.rint(vq - self.v0).astype(np.int64)), np.zeros(len(x), bool)
+            out, clear = row_meets(np.rint(vq - self.v0).astype(np.int64))
+            return out, np.zeros(len(x), bool), clear
         below = np.floor(vq - self.v0).astype(np.int64)
-        lower, upper = row_meets(below), row_meets(below + 1)
-        return lower & upper, lower != upper
+        (lower, c_lower), (upper, c_upper) = row_meets(below), row_meets(below + 1)
+        return lower & upper, lower != upper, np.minimum(c_lower, c_upper)
 
 
 def sun_table(k, direction):

@@ -77,16 +77,19 @@ def _toward(o, kind, vector):
 
 
 def _march(o, d, length, k, spacing, steps):
-    """(v, ρ) of one occluder for rays (N, 3) from o along d up to length, marched: whether
-    each ray passes through its solid, and the opacity where it first does."""
+    """(v, ρ, clearance) of one occluder for rays (N, 3) from o along d up to length,
+    marched: whether each ray passes through its solid, the opacity where it first does, and
+    how far its relief may move (canvas px, up or down, everywhere) before that can change
+    (CLEARANCE)."""
     hit, rho = np.zeros(len(o), bool), np.zeros(len(o), np.float32)
+    clear = np.full(len(o), np.inf, np.float32)
     with np.errstate(divide="ignore", invalid="ignore"):
         s0 = np.where(d[:, 2] > 0, (k.bottom - o[:, 2]) / d[:, 2], np.inf)
         s1 = np.where(d[:, 2] > 0, (k.top - o[:, 2]) / d[:, 2], -np.inf)
     s0, s1 = np.maximum(s0, 0.0), np.minimum(s1, length)
     live = s1 > s0
     if k.box is None or not live.any():
-        return hit, rho
+        return hit, rho, clear
     # rays whose crossing of the slab misses the solid's box never meet it
     ends = [o[:, :2] + np.where(live, s, 0.0)[:, None] * d[:, :2] for s in (s0, s1)]
     lo, hi = np.minimum(*ends), np.maximum(*ends)
@@ -94,7 +97,7 @@ def _march(o, d, length, k, spacing, steps):
     live &= (hi[:, 0] >= x0) & (lo[:, 0] <= x1) & (hi[:, 1] >= y0) & (lo[:, 1] <= y1)
     idx = np.flatnonzero(live)
     if not idx.size:
-        return hit, rho
+        return hit, rho, clear
     o, d, s0, s1 = o[idx], d[idx], s0[idx], s1[idx]
     # The slab in two parts, each sampled on its own: the card below the plane (τ thin: a
     # march over the whole slab could step over it) and the relief above it, each with one
@@ -104,20 +107,21 @@ def _march(o, d, length, k, spacing, steps):
         s_plane = np.clip((k.z_px - o[:, 2]) / d[:, 2], s0, s1)
     todo = np.arange(idx.size)       # the rays not yet inside, as positions into idx
     for a, b in ((s0, s_plane), (s_plane, s1)):
-        todo = _march_part(o, d, a, b, k, spacing, steps, todo, idx, hit, rho)
+        todo = _march_part(o, d, a, b, k, spacing, steps, todo, idx, hit, rho, clear)
         if not todo.size:
             break
-    return hit, rho
+    return hit, rho, clear
 
 
 MARCH_POINTS = 1 << 20     # a march's points sampled together (≈ 80 MB of arrays at most)
 
 
-def _march_part(o, d, a, b, k, spacing, steps, todo, idx, hit, rho):
+def _march_part(o, d, a, b, k, spacing, steps, todo, idx, hit, rho, clear):
     """March rays `todo` (positions into idx) over [a, b] of their crossing, from below: n
     points from end to end sample the silhouette, the relief only where it covers; the first
-    point inside marks the ray hit, its ρ the opacity there (arrays over all rays, indexed by
-    idx) → the rays still not inside. Every point of a group of rays at once (MARCH_POINTS
+    point inside marks the ray hit, its ρ the opacity there, and the least |height − relief|
+    of the points up to it (of all, for a ray that misses) bounds its clearance (arrays over
+    all rays, indexed by idx) → the rays still not inside. Every point of a group of rays at once (MARCH_POINTS
     at a time): a loop over the points paid Python's overhead at each (a preview 2.3× slower)."""
     todo = todo[b[todo] > a[todo]]
     if not todo.size:
@@ -138,10 +142,15 @@ def _march_part(o, d, a, b, k, spacing, steps, todo, idx, hit, rho):
         x, y = k.place.to_layer(p[..., 0], p[..., 1])
         over = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
         over[over] = sample_layer(k.alpha, x[over], y[over]) >= 0.5
-        over[over] = p[..., 2][over] <= k.z_px + sample_layer(k.relief_px, x[over], y[over])
+        surface = k.z_px + sample_layer(k.relief_px, x[over], y[over])
+        gap = np.full(over.shape, np.inf, np.float32)   # |height − relief| on the silhouette
+        gap[over] = np.abs(p[..., 2][over] - surface)
+        over[over] = p[..., 2][over] <= surface
         inside = over.any(axis=1)
         first = np.argmax(over[inside], axis=1)     # the first point inside, from below
         rows = np.flatnonzero(inside)
+        gap[rows] = np.where(np.arange(n)[None, :] <= first[:, None], gap[rows], np.inf)
+        clear[idx[group]] = np.minimum(clear[idx[group]], gap.min(axis=1))
         hit[idx[group[inside]]] = True
         rho[idx[group[inside]]] = sample_layer(k.opacity, x[rows, first], y[rows, first])
         missed.append(group[~inside])
@@ -173,7 +182,7 @@ def _line_map(k, kind, vector, spacing, steps):
             back = np.where(d[:, 2] > 0, (k.z_px - k.bottom) / d[:, 2], 0.0)
             length = np.where(d[:, 2] > 0, (k.top - k.bottom) / d[:, 2], 0.0)
         start = q - back[:, None] * d                 # where the line enters the slab
-        hit, rho = _march(start - 1e-9 * d, d, length + 2e-9, k, spacing, steps)
+        hit, rho, _ = _march(start - 1e-9 * d, d, length + 2e-9, k, spacing, steps)
         shape = (rows.stop - rows.start, cols.stop - cols.start)
         hmap[rows, cols], rmap[rows, cols] = hit.reshape(shape), rho.reshape(shape)
     return hmap, rmap
@@ -220,7 +229,7 @@ def _receiver(o, k):
 
 
 def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre, exact):
-    """(v, ρ) of occluder k for rays from o (N, 3) toward one light point (r: _receiver(o, k);
+    """(v, ρ, clearance) of occluder k for rays from o (N, 3) toward one light point (r: _receiver(o, k);
     vector (3,), or (N, 3): each ray's own point of the light, _shared). With `maps`: a sun
     over a layer of one opacity by its SunTable, every ray that starts under the slab's top; otherwise the line map toward the light's centre point (`centre`),
     read where a ray crosses the occluder's plane, for rays that start below the slab and
@@ -229,8 +238,10 @@ def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre, exact):
     most half the light's angle, which moves where they cross a slab of thickness τ by
     τ·tan(β/2) — the light-size filtering of a shadow map.) With `exact`, a ray whose line
     the table or map cannot decide (the solid's edge passes between its samples) is marched;
-    without (a draft), the table's nearer row or the map's ½ decides it."""
+    without (a draft), the table's nearer row or the map's ½ decides it. Clearance
+    (CLEARANCE): the table's and the march's own; a line map's lines are not told apart (0)."""
     hit, rho = np.zeros(len(o), bool), np.zeros(len(o), np.float32)
+    clear = np.full(len(o), np.inf, np.float32)
     vector = np.asarray(vector, np.float64)
     under = np.flatnonzero(r.under)
 
@@ -259,7 +270,7 @@ def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre, exact):
     rest = np.zeros(len(o), bool)
     rest[under[~by_line]] = True
     if table and by_line.any():
-        got, doubt = sun_table(k, centre).meets(x, y, rise, exact)
+        got, doubt, clear[where] = sun_table(k, centre).meets(x, y, rise, exact)
         hit[where], rho[where] = got, np.float32(k.uniform) * got
         rest[where[doubt]] = True
     elif by_line.any():
@@ -274,16 +285,19 @@ def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre, exact):
         r_got = np.zeros(len(x), np.float32)
         r_got[got] = sample_layer(rmap, x[got], y[got]) / cover[got]   # ρ of the covering lines
         hit[where], rho[where] = got, r_got
+        clear[where[on]] = 0.0
         if exact:
             rest[where[~got & (cover > np.float32(1e-6))]] = True
     if rest.any():
         d, length = _toward(o[rest], kind, of(rest))
-        hit[rest], rho[rest] = _march(o[rest], d, length, k, spacing, steps)
-    return hit, rho
+        hit[rest], rho[rest], marched = _march(o[rest], d, length, k, spacing, steps)
+        clear[rest] = np.minimum(clear[rest], marched)
+    return hit, rho, clear
 
 
 def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=None, disc=16,
-                  penumbra=0, maps=True, antialias=1, edge_points=0, only=None):
+                  penumbra=0, maps=True, antialias=1, edge_points=0, only=None,
+                  clearance=False):
     """T (H, W) of §15: what `occluders` (the layers in front) let through along each ray.
 
     Parameters
@@ -332,12 +346,18 @@ def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=N
         Trace these pixels alone (a scene patched after an edit, core/layers.py), their
         neighbours' centres too (the edge test compares them): each equals the whole bake's
         pixel bit for bit (every ray is traced on its own).
+    clearance : bool
+        Return each pixel's clearance from each occluder too (CLEARANCE).
 
     Returns
     -------
     ndarray (H, W)
         T in [0, 1]: 1 where nothing in front is met, Π (1 − ρ_k) over the layers met,
-        averaged over the light's disc; NaN outside `only`.
+        averaged over the light's disc; NaN outside `only`. With `clearance`, (T, (H, W)
+        float32): how far any occluder's relief may move (canvas px, up or down, everywhere
+        a pixel's rays read it) before a ray that decided the pixel's T can change — the
+        least over its rays of |ray height − relief| where they cross a solid's silhouette
+        (inf: none does; NaN outside `only`), core/layer_edits.py's CLEARANCE.
     """
     o = np.asarray(origins)
     o = o if o.dtype in (np.float32, np.float64) else o.astype(np.float64)
@@ -349,32 +369,36 @@ def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=N
     _, centre = light_points(light, canvas, 1)[0]
 
     def over_disc(rays, points):
-        """T of rays (N, 3) averaged over `points`, and whether the points disagreed."""
+        """T of rays (N, 3) averaged over `points`, whether the points disagreed, and the
+        rays' clearance (N,)."""
         receivers = [_receiver(rays, k) for k in occluders]
         total, low, high = np.zeros(len(rays)), np.ones(len(rays)), np.zeros(len(rays))
+        clear = np.full(len(rays), np.inf, np.float32)
         for kind, vector in points:
             t = np.ones(len(rays))
             for k, r in zip(occluders, receivers):
-                hit, rho = _through_one(rays, r, kind, vector, k, gap, steps, maps, centre,
-                                        exact=antialias > 1)
+                hit, rho, c = _through_one(rays, r, kind, vector, k, gap, steps, maps, centre,
+                                           exact=antialias > 1)
                 t *= 1.0 - np.clip(rho, 0.0, 1.0) * hit
+                np.minimum(clear, c, out=clear)
             total += t
             np.minimum(low, t, out=low)
             np.maximum(high, t, out=high)
-        return total / len(points), low < high
+        return total / len(points), low < high, clear
 
     def through(rays):
-        t, mixed = over_disc(rays, points)
+        t, mixed, clear = over_disc(rays, points)
         if finer is not None and mixed.any():
-            t[mixed] = _each_point(rays[mixed], finer, over_disc)
-        return t
+            t[mixed], c = _each_point(rays[mixed], finer, over_disc)
+            clear[mixed] = np.minimum(clear[mixed], c)
+        return t, clear
 
     if only is None:
-        t = through(o.reshape(-1, 3)).reshape(shape)
+        t, clear = (a.reshape(shape) for a in through(o.reshape(-1, 3)))
     else:
         near = widened(only)
-        t = np.full(shape, np.nan)
-        t[near] = through(o[near])
+        t, clear = np.full(shape, np.nan), np.full(shape, np.nan, np.float32)
+        t[near], clear[near] = through(o[near])
     edge = _edges(t) if antialias > 1 and min(shape) >= 2 else None
     if edge is not None and only is not None:
         edge &= only
@@ -387,13 +411,16 @@ def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=N
         rays = (o[edge][:, None, :] + shift[None].astype(o.dtype)).reshape(-1, 3)
         n = antialias * antialias
         if 0 < edge_points < len(points):
-            t[edge] = _shared(rays.reshape(-1, n, 3), finer or points, n, edge_points,
-                              over_disc)
+            t[edge], c = _shared(rays.reshape(-1, n, 3), finer or points, n, edge_points,
+                                 over_disc)
         else:
-            t[edge] = through(rays).reshape(-1, n).mean(axis=1)
+            t_rays, c = through(rays)
+            t[edge], c = t_rays.reshape(-1, n).mean(axis=1), c.reshape(-1, n).min(axis=1)
+        clear[edge] = np.minimum(clear[edge], c)
     if only is not None:
         t[~only] = np.nan
-    return t
+        clear[~only] = np.nan
+    return (t, clear) if clearance else t
 
 
 def _shared(rays, points, n, each, over_disc):
@@ -402,20 +429,26 @@ def _shared(rays, points, n, each, over_disc):
     m (m = len(points) / each: with 64 points and 16 rays, each point once) → the mean
     over the n rays (N,). The n rays of SHARED_PIXELS pixels go together, each toward its
     own point (a stroke's few edges cost the per-call work of numpy 16 times less: issue
-    61), the same numbers as one ray j at a time."""
+    61), the same numbers as one ray j at a time; and each pixel's clearance (its rays'
+    least)."""
     m, total = max(1, len(points) // each), np.zeros(len(rays))
+    clear = None
     if m * each != len(points):            # (some rays would take one point more)
         for j in range(n):
-            total += over_disc(rays[:, j], points[j % m::m])[0]
-        return total / n
+            t, _, c = over_disc(rays[:, j], points[j % m::m])
+            total += t
+            clear = c if clear is None else np.minimum(clear, c)
+        return total / n, clear
     table, j = np.array([v for _, v in points]), np.arange(n) % m
     for p0 in range(0, len(rays), SHARED_PIXELS):
         chunk = rays[p0:p0 + SHARED_PIXELS]
         own = [(points[0][0], np.tile(table[j + i * m], (len(chunk), 1))) for i in range(each)]
-        t = over_disc(chunk.reshape(-1, 3), own)[0].reshape(len(chunk), n)
+        t, _, c = over_disc(chunk.reshape(-1, 3), own)
+        t, c = t.reshape(len(chunk), n), c.reshape(len(chunk), n).min(axis=1)
+        clear = c if clear is None else np.concatenate([clear, c])
         for jj in range(n):                 # (summed in ray order, as one at a time)
             total[p0:p0 + SHARED_PIXELS] += t[:, jj]
-    return total / n
+    return total / n, clear
 
 
 SHARED_PIXELS = 1024    # edge pixels whose rays _shared traces together (16 rays each)
@@ -424,16 +457,19 @@ SHARED_PIXELS = 1024    # edge pixels whose rays _shared traces together (16 ray
 def _each_point(rays, points, over_disc):
     """T of rays (N, 3) averaged over `points`, as over_disc(rays, points) gives it, with
     every (ray, point) pair a ray toward its own point: PAIRS of them in one call (a
-    penumbra's few rays at 64 points cost the per-call work of numpy 64 times less)."""
+    penumbra's few rays at 64 points cost the per-call work of numpy 64 times less); and
+    each ray's clearance (its pairs' least)."""
     table, total = np.array([v for _, v in points]), np.zeros(len(rays))
-    step = max(1, PAIRS // len(points))
+    clear, step = [], max(1, PAIRS // len(points))
     for a in range(0, len(rays), step):
         chunk = rays[a:a + step]
         own = [(points[0][0], np.tile(table, (len(chunk), 1)))]
-        t = over_disc(np.repeat(chunk, len(points), axis=0), own)[0].reshape(len(chunk), -1)
+        t, _, c = over_disc(np.repeat(chunk, len(points), axis=0), own)
+        t = t.reshape(len(chunk), -1)
+        clear.append(c.reshape(len(chunk), -1).min(axis=1))
         for i in range(len(points)):        # (summed in point order, as over_disc sums them)
             total[a:a + step] += t[:, i]
-    return total / len(points)
+    return total / len(points), np.concatenate(clear)
 
 
 PAIRS = 1 << 14         # (ray, light point) pairs _each_point traces together

@@ -445,6 +445,115 @@ def test_a_scene_edited_in_a_box_patches_its_bake_and_equals_a_fresh_one(light, 
         assert all(np.array_equal(a, b) for a, b in zip(t, Scene(edited).bake(light, "final")))
 
 
+@pytest.mark.parametrize("light", [Light("sun", (0.45, -0.5, 0.74), size=0.05),
+                                   Light("point", (0.3, 0.2, 0.6), size=0.03)],
+                         ids=["sun", "point"])
+def test_edits_patched_by_their_clearance_equal_fresh_bakes_and_trace_fewer_pixels(
+        light, monkeypatch):
+    """core/layer_edits.rays_lifted (issue 61): a part of the front layer inflated again
+    (its heights moved by ½ px at a dab and by thousandths of a pixel 20 px away, its slab
+    kept), a dab that paints it bigger (α grows), one that erases it (α shrinks), each
+    patched from the one before (the clearances kept shrink by each move): every patched
+    bake equals a fresh one bit for bit, and with a sun (the table's clearances) fewer
+    pixels are traced than by the rule that knows no clearance (rays_changed alone)."""
+    import dynpaint_addon.core.layers as core_layers
+    size = 64
+    layers = [Layer(images, p, name, depth)
+              for name, depth, images, p in builtin_scene_layers(size)]
+    x, y = (np.arange(size)[None, :] + 0.5) / size, (np.arange(size)[:, None] + 0.5) / size
+    near = np.hypot(x - 0.47, y - 0.35) * size                  # px from the dab, on an arm
+    tip = np.hypot(x - 0.55, y - 0.35) < 0.03                   # past an arm's tip
+
+    def inflated(images):
+        shape = images["shape"].pixels
+        lift = np.float32(0.13) * np.exp(-near / 3.0).astype(np.float32)[..., None]
+        lift *= shape > 0
+        return {**images, "shape": ImageData(shape + lift, images["shape"].bits)}
+
+    def cut(alpha):
+        def edit(images):
+            dark = images["dark"].pixels.copy()
+            dark[..., 3] = np.where(tip, alpha, dark[..., 3])
+            return {**images, "dark": ImageData(dark, images["dark"].bits)}
+        return edit
+    traced = []
+    whole = core_layers.transmittance
+    monkeypatch.setattr(core_layers, "transmittance", lambda o, *a, only=None, **k: traced.append(
+        o.shape[0] * o.shape[1] if only is None else int(only.sum())) or whole(o, *a, only=only,
+                                                                               **k))
+
+    fresh = {}
+
+    def patched_chain():
+        scene = Scene(layers)
+        scene.bake(light, "final")
+        counts, edited = [], list(layers)
+        for step, edit in enumerate((inflated, cut(1.0), inflated, cut(0.0))):
+            edited[2] = Layer(edit(dict(edited[2].images)), layers[2].p, layers[2].name,
+                              layers[2].depth)
+            traced.clear()
+            scene = Scene(list(edited), prepared={i: scene.ready[i] for i in (0, 1)},
+                          before=scene)
+            t = scene.bake(light, "final")
+            counts.append(sum(traced))
+            if step not in fresh:
+                fresh[step] = Scene(edited).bake(light, "final")
+            assert all(np.array_equal(a, b) for a, b in zip(t, fresh[step]))
+        return counts
+    with_clearance = patched_chain()
+    monkeypatch.setattr(core_layers, "rays_lifted", lambda origins, *a: (
+        np.ones(origins.shape[:2], bool), np.zeros(origins.shape[:2], np.float32)))
+    without = patched_chain()
+    assert all(0 < a <= b for a, b in zip(with_clearance, without))
+    if light.kind == "sun":
+        assert sum(with_clearance) < 0.6 * sum(without)
+
+
+CLEARANCE_LIGHTS = {"sun": Light("sun", (0.6, 0.3, 0.5), size=0.05),
+                    "hard sun": Light("sun", (-0.8, 0.2, 0.45)),
+                    "point": Light("point", (-0.3, 0.1, 0.35), size=0.03)}
+
+
+@pytest.mark.parametrize("quality, light, glass", [
+    (q, name, False) for q in ("final", "draft", "reference") for name in CLEARANCE_LIGHTS
+    if q != "reference" or name == "hard sun"] + [("final", "hard sun", True)])
+def test_a_pixels_clearance_bounds_the_relief_move_that_can_change_its_T(light, quality,
+                                                                         glass):
+    """transmittance's `clearance`: a pixel whose rays all keep their answers keeps its T —
+    every relief moved by a random amount up to δ (noise, not a smooth move), a pixel whose
+    clearance and whose neighbours' exceed δ + CLEARANCE has the same T after, bit for bit
+    (the neighbours: the edge test compares them); and some pixels do change. A layer of
+    one opacity (a sun's table), and of two (glass: the march's first point inside gives
+    its ρ). (The reference only with a hard sun: a sized light's 256 points take 3–12 s.)"""
+    from dynpaint_addon.core.layer_edits import CLEARANCE
+    from dynpaint_addon.core.layers import LAYER_QUALITY
+    from dynpaint_addon.core.strokes import widened
+    rng, light = np.random.default_rng(7), CLEARANCE_LIGHTS[light]
+    n = 40
+    yy, xx = np.mgrid[0:n, 0:n]
+    dome = np.clip(4.9 - np.hypot(xx - 20, yy - 20) / 2, 0, None).astype(np.float32)
+    alpha = (dome > 0).astype(np.float32)
+    q = LAYER_QUALITY[quality]
+    origins = np.dstack([xx + 0.5, yy + 0.5, np.zeros((n, n))]).astype(np.float32)
+    options = dict(canvas=(n, n), spacing=q["spacing"], disc=q["disc"],
+                   penumbra=q["penumbra"], maps=quality != "reference",
+                   antialias=q["antialias"], edge_points=q["edge_points"])
+    rho = np.where(xx < 20, 1.0, 0.5) if glass else np.ones((n, n))
+    front = Occluder(alpha, dome, 3.0, 2.0, rho)
+    t, clear = transmittance(origins, light, [front], **options, clearance=True)
+    changed = 0
+    for delta in (0.003, 0.03, 0.3):
+        noise = rng.uniform(-delta, delta, dome.shape).astype(np.float32)
+        noise[20, 20] = 0.0                            # (the tallest kept: the slab stays)
+        moved = Occluder(alpha, np.clip(dome + noise * (dome > 0), 0, 5.0), 3.0, 2.0, rho)
+        assert moved.top == front.top
+        after = transmittance(origins, light, [moved], **options)
+        kept = ~widened(~(clear > delta + CLEARANCE))
+        assert np.array_equal(after[kept], t[kept]), delta
+        changed += int((after != t).sum())
+    assert changed > 0
+
+
 def test_an_occluders_change_is_moved_where_it_moved_far_and_grazed_where_it_moved_little():
     """core/layer_edits.solid_change (§15 "An edited scene"): a relief raised by more than
     ¼ px in a box is `moved` there (every ray meeting it traced); heights that moved by
