@@ -19,7 +19,7 @@ figures (no 3D truth: nothing is): their circulation against the limit, and the 
 streaked pixels auto leaves (testkit.example_paintings.streak_share, the no-streak test's
 measure; goal 0).
 
-    .venv/bin/python benchmarks/relief_choice.py --sizes 128 256 512 --out docs/relief-choice.md
+    .venv/bin/python benchmarks/relief_choice.py --sizes 128 256 512 1024 --out docs/relief-choice.md
 """
 import argparse
 import os
