@@ -70,8 +70,8 @@ DRAFTS = (f"a stroke's draft (drawn {DRAFT_WIDTH} px across; a dab of its own)",
           f"its part inflated again)")
 STROKE = ("a stroke's final lit result as a script waits for it (redrawn, baked in place; "
           "a dab of its own)")
-STROKE_COAT = ("the same, a dab on the figure's coat (its part inflated again: the edges of "
-               "the figure's shadow traced again)")
+STROKE_COAT = ("the same, a dab on the figure's coat (its part inflated again: the rays "
+               "its moves can flip traced again)")
 STROKE_UI = "a stroke with a UI: until its final shadows are written (the pause not waited)"
 HELD = "the longest Blender's main thread was held meanwhile"
 ANEW = "a stroke past the drawing's bounds: the lit copy framed anew (as a script does)"
@@ -277,10 +277,12 @@ def main(argv=None):
               "before the stroke: only the rays that can meet what the stroke changed are "
               "traced again (core/layer_edits.py) — the dab's own box, and where a dab "
               "re-inflates a figure (its heights move by hundredths of a pixel far from the "
-              "dab) the rays that graze it: the pixels on the edges of that part's shadow, "
-              "each traced with its 16 rays at 4 of the sun's points (the slab's faces sit "
-              "on a ¼-pixel lattice, so the layer's other parts keep their rays unless its "
-              "tallest point crosses a step). With a UI Blender is held only for the draft and the "
+              "dab) the rays those moves can flip: the bake kept each pixel's clearance (how "
+              "near its rays pass the relief they are compared with), and a pixel whose "
+              "clearance exceeds the move its rays meet keeps its T (docs/pipeline.md §15 "
+              "\"Clearance\"; the slab's faces sit on a ¼-pixel lattice, so the slab stays "
+              "unless the tallest point crosses a step). The layers behind are traced side "
+              "by side, a thread each. With a UI Blender is held only for the draft and the "
               "writes; the drawing, its paintings and the final bake run in worker "
               "threads."]
     publish(lines, args.out)

@@ -206,8 +206,10 @@ def rays_lifted(origins, points, change, before, clear, px=1.0):
     keeps it (more solid only adds to what each ray meets, and of one opacity: at the
     same ρ); where it only shrank, one none of whose rays meets a solid (T = 1)."""
     lifted = np.zeros(origins.shape[:2], np.float32)
-    for box, bound in reversed(change.lifts):      # the largest box, the smallest move, first
-        lifted[rays_meeting(origins, points, box)] = bound
+    lifts = change.lifts[::-1]                     # the largest box, the smallest move, first
+    for (_, bound), meets in zip(lifts, rays_meeting_each(origins, points,
+                                                          [box for box, _ in lifts])):
+        lifted[meets] = bound
     keeps = clear > lifted + CLEARANCE                          # (NaN: not known, traced)
     may = (lifted > 0) & ~keeps
     cover = SolidChange(change.cover_moved, change.cover_grazed, TOLERANCE)
@@ -252,36 +254,48 @@ def rays_meeting(origins, points, change, margin=1.0):
     s·g sideways, g = d_xy / d_z (a sun: one g per point; a point light at P: (P_xy − o_xy) /
     (P_z − o_z), each end of P's box): its sideways reach is bounded by the corners of
     [s_lo, s_hi] × [g_min, g_max]. A light at or below the slab's top: every pixel."""
-    zt = change[5]
-    vectors = np.array([v for _, v in points], np.float64)
+    return rays_meeting_each(origins, points, [change], margin)[0]
+
+
+def rays_meeting_each(origins, points, changes, margin=1.0):
+    """rays_meeting of each of `changes` → [(H, W) bool], the rays' reach found once (a
+    relief's nested boxes, rays_lifted)."""
+    shape, vectors = origins.shape[:2], np.array([v for _, v in points], np.float64)
+    if not changes:
+        return []
     if points[0][0] == "sun":
         if vectors[:, 2].min() <= 1e-9:
-            return np.ones(origins.shape[:2], bool)
+            return [np.ones(shape, bool) for _ in changes]
         g = vectors[:, :2] / vectors[:, 2:3]
         ranges = [(g[:, a].min(), g[:, a].max()) for a in (0, 1)]
         # a sun's g is the same for every pixel: only pixels within the reach of the lowest
-        # and highest origins can meet it (a grid's rows and columns: a block to test)
-        rows, cols = _within(origins, change, ranges, margin)
-        meets = np.zeros(origins.shape[:2], bool)
-        meets[rows, cols] = _meeting(origins[rows, cols], change, ranges, margin)
-        return meets
-    if vectors[:, 2].min() <= zt:
-        return np.ones(origins.shape[:2], bool)
-    oz = origins[..., 2].astype(np.float64)
-    rise = [vectors[:, 2].min() - oz, vectors[:, 2].max() - oz]
+        # and highest origins can meet a change (a grid's rows and columns: a block to test)
+        union = tuple(f(c[a] for c in changes) for a, f in enumerate((min, min, max, max,
+                                                                       min, max)))
+        rows, cols = _within(origins, union, ranges, margin)
+        block = [origins[rows, cols, a].astype(np.float64) for a in range(3)]
+        out = []
+        for change in changes:
+            out.append(np.zeros(shape, bool))
+            out[-1][rows, cols] = _meeting(block, change, ranges, margin)
+        return out
+    o = [origins[..., a].astype(np.float64) for a in range(3)]
+    rise = [vectors[:, 2].min() - o[2], vectors[:, 2].max() - o[2]]
     ranges = []
     for a in (0, 1):
-        o = origins[..., a].astype(np.float64)
-        ends = [(p - o) / r for p in (vectors[:, a].min(), vectors[:, a].max()) for r in rise]
+        ends = [(p - o[a]) / r for p in (vectors[:, a].min(), vectors[:, a].max())
+                for r in rise]
         ranges.append((np.minimum.reduce(ends), np.maximum.reduce(ends)))
-    return _meeting(origins, change, ranges, margin)
+    return [np.ones(shape, bool) if vectors[:, 2].min() <= change[5] else
+            _meeting(o, change, ranges, margin) for change in changes]
 
 
 def _meeting(origins, change, ranges, margin):
     """rays_meeting's test of each pixel, its sideways reach per axis bounded by `ranges`
-    ((g_min, g_max) per axis: numbers, or arrays per pixel)."""
+    ((g_min, g_max) per axis: numbers, or arrays per pixel); origins: its x, y, z
+    (float64 arrays)."""
     x0, y0, x1, y1, zb, zt = change
-    ox, oy, oz = (origins[..., a].astype(np.float64) for a in range(3))
+    ox, oy, oz = origins
     s_lo, s_hi = np.maximum(zb - oz, 0.0), zt - oz
     meets = s_hi >= 0
     for o, (g_min, g_max), lo_edge, hi_edge in ((ox, ranges[0], x0, x1), (oy, ranges[1], y0, y1)):

@@ -7,6 +7,7 @@ each pixel's surface point toward the light (core/transmittance.py, each layer i
 `Occluder`, core/occluders.py); the scene is then composited back to front
 (`render_scene`), and `scene_notes` says what an artist should know of it.
 """
+import contextlib
 import copy
 import os
 import threading
@@ -240,8 +241,10 @@ class Scene:
             self.own[i] = (seen, t_own)
             through = self.through(i, [light], level, reduced, t_own.shape)
             return t_own if through is None else t_own * through[0].astype(t_own.dtype)
-        with ThreadPoolExecutor(min(BAKE_THREADS, len(self.order))) as pool:
-            for position, (i, t) in enumerate(zip(self.order, pool.map(layer, self.order))):
+        threads = min(BAKE_THREADS, len(self.order))
+        with ThreadPoolExecutor(threads) if threads > 1 else contextlib.nullcontext() as pool:
+            baked = map(layer, self.order) if pool is None else pool.map(layer, self.order)
+            for position, (i, t) in enumerate(zip(self.order, baked)):
                 out[i] = t
                 if progress is not None:
                     progress((position + 1) / len(self.order))
