@@ -204,7 +204,10 @@ painting and final shadows are made in worker threads and Blender is held only t
 them (at most ~70 ms at 1024² here; the images so written are packed when the file is
 saved); at once in scripts and renders, after a depsgraph evaluation. The final shadows
 after a stroke trace again only the rays that can meet what it changed (0.34–0.59 s for a dab
-of its own at 1024² here, 1.0–1.5 s for one that re-inflates a figure: the edges of that part's shadow). A stroke
+of its own at 1024² here, 0.7–0.9 s for one that re-inflates a figure: of the rays that pass
+that part, those its hundredths-of-a-pixel moves can flip, told by the clearance each pixel's
+rays kept from its relief; docs/pipeline.md §15 "Clearance"), the layers behind side by side
+in threads. A stroke
 past the drawing's bounds (its draft shows it as far as the lit copy reaches) frames the lit
 copy anew in place — the same objects and materials, each layer's images resized, its plane
 placed and shaped for the new bounds, a layer at a time with a UI (Blender held at most
