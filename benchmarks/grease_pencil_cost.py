@@ -282,7 +282,7 @@ def main(argv=None):
               "clearance exceeds the move its rays meet keeps its T (docs/pipeline.md §15 "
               "\"Clearance\"; the slab's faces sit on a ¼-pixel lattice, so the slab stays "
               "unless the tallest point crosses a step). The layers behind are traced side "
-              "by side, a thread each. With a UI Blender is held only for the draft and the "
+              "by side, two threads. With a UI Blender is held only for the draft and the "
               "writes; the drawing, its paintings and the final bake run in worker "
               "threads."]
     publish(lines, args.out)

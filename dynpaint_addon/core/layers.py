@@ -51,9 +51,10 @@ LAYER_QUALITY = {
                   "edge_points": 0},
 }
 MAX_LAYERS = 8           # documented limit: the web page draws up to 8 (issue 30)
-BAKE_THREADS = os.cpu_count() or 1    # layers a bake works on at once (numpy lets go of
-                                      # Python's lock in its loops: a stroke's two layers
-                                      # behind are traced again side by side)
+BAKE_THREADS = min(2, os.cpu_count() or 1)   # layers a bake works on at once (numpy lets go
+                        # of Python's lock in its loops: a stroke's two layers behind are traced
+                        # side by side); two, as each layer in flight holds its own full-size
+                        # arrays (the final of 3 layers at 1024²: 1.87× one layer's peak, ≤ 2×)
 
 
 @dataclass
