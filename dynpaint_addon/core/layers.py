@@ -7,11 +7,9 @@ each pixel's surface point toward the light (core/transmittance.py, each layer i
 `Occluder`, core/occluders.py); the scene is then composited back to front
 (`render_scene`), and `scene_notes` says what an artist should know of it.
 """
-import contextlib
 import copy
 import os
 import threading
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -242,13 +240,11 @@ class Scene:
             self.own[i] = (seen, t_own)
             through = self.through(i, [light], level, reduced, t_own.shape)
             return t_own if through is None else t_own * through[0].astype(t_own.dtype)
-        threads = min(BAKE_THREADS, len(self.order))
-        with ThreadPoolExecutor(threads) if threads > 1 else contextlib.nullcontext() as pool:
-            baked = map(layer, self.order) if pool is None else pool.map(layer, self.order)
-            for position, (i, t) in enumerate(zip(self.order, baked)):
-                out[i] = t
-                if progress is not None:
-                    progress((position + 1) / len(self.order))
+        baked = _side_by_side(layer, self.order, min(BAKE_THREADS, len(self.order)))
+        for position, (i, t) in enumerate(zip(self.order, baked)):
+            out[i] = t
+            if progress is not None:
+                progress((position + 1) / len(self.order))
         e = self._earlier             # (every bake it had made again: let it go)
         if e is not None and set(e.throughs) <= set(self._throughs) and \
                 set(e.owns) <= set(self._owns):
@@ -371,6 +367,38 @@ class Scene:
             t = shadow_term(ready.n, ready.z_px, ready.slopes, seen[0], p, own_size=seen[3])
         self._owns[slot] = (light_key, t)
         return t
+
+
+def _side_by_side(fn, items, threads):
+    """fn of each of `items`, in `threads` daemon threads (1: here) → their results in the
+    items' order, as each is ready (one's exception raised there). Daemon threads, as a UI's
+    worker bake runs in: a Blender that quits mid-bake does not wait for it."""
+    if threads <= 1:
+        yield from map(fn, items)
+        return
+    items, claimed = list(items), threading.Lock()
+    results, ready, queue = [None] * len(items), [threading.Event() for _ in items], \
+        iter(range(len(items)))
+
+    def work():
+        while True:
+            with claimed:
+                j = next(queue, None)
+            if j is None:
+                return
+            try:
+                results[j] = (True, fn(items[j]))
+            except BaseException as exc:        # (raised in the caller's thread)
+                results[j] = (False, exc)
+            ready[j].set()
+    for _ in range(threads):
+        threading.Thread(target=work, daemon=True).start()
+    for j in range(len(items)):
+        ready[j].wait()
+        ok, value = results[j]
+        if not ok:
+            raise value
+        yield value
 
 
 def _edited_from(before, layers, i):

@@ -554,6 +554,33 @@ def test_a_pixels_clearance_bounds_the_relief_move_that_can_change_its_T(light, 
     assert changed > 0
 
 
+@pytest.mark.parametrize("threads", [1, 2, 3])
+def test_layers_baked_side_by_side_come_back_in_order_and_raise_where_one_fails(threads):
+    """Scene.bake's threads (core/layers._side_by_side): results in the layers' order however
+    long each takes, in daemon threads (a quitting Blender does not wait), and a layer's
+    exception raised in the caller's thread when its turn comes."""
+    import threading
+    import time
+    from dynpaint_addon.core.layers import _side_by_side
+    seen = []
+
+    def slow(i):
+        time.sleep(0.02 * (3 - i))
+        seen.append(threading.current_thread().daemon)
+        return i * i
+    assert list(_side_by_side(slow, range(4), threads)) == [0, 1, 4, 9]
+    assert all(seen) == (threads > 1)
+
+    def failing(i):
+        if i == 2:
+            raise ValueError("layer 2")
+        return i
+    got = _side_by_side(failing, range(4), threads)
+    assert [next(got), next(got)] == [0, 1]
+    with pytest.raises(ValueError, match="layer 2"):
+        next(got)
+
+
 def test_an_occluders_change_is_moved_where_it_moved_far_and_grazed_where_it_moved_little():
     """core/layer_edits.solid_change (§15 "An edited scene"): a relief raised by more than
     ¼ px in a box is `moved` there (every ray meeting it traced); heights that moved by
