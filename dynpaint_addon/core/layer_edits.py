@@ -155,10 +155,7 @@ def solid_change(before, after):
 
 
 def _canvas_box(k, box):
-    """A box of occluder k's pixels (r0, r1, c0, c1) → its canvas box (x0, y0, x1, y1)
-    (None: None)."""
-    if box is None:
-        return None
+    """A box of occluder k's pixels (r0, r1, c0, c1) → its canvas box (x0, y0, x1, y1)."""
     r0, r1, c0, c1 = box
     x0, y0, _ = k.place.to_canvas(c0, r0, 0.0)
     x1, y1, _ = k.place.to_canvas(c1, r1, 0.0)

@@ -76,13 +76,13 @@ def _toward(o, kind, vector):
     return to / np.maximum(length, 1e-12)[:, None], length
 
 
-def _march(o, d, length, k, spacing, steps):
+def _march(o, d, length, k, spacing, steps, clearance=True):
     """(v, ρ, clearance) of one occluder for rays (N, 3) from o along d up to length,
     marched: whether each ray passes through its solid, the opacity where it first does, and
     how far its relief may move (canvas px, up or down, everywhere) before that can change
-    (CLEARANCE)."""
+    (CLEARANCE; None without `clearance`: a line map keeps none)."""
     hit, rho = np.zeros(len(o), bool), np.zeros(len(o), np.float32)
-    clear = np.full(len(o), np.inf, np.float32)
+    clear = np.full(len(o), np.inf, np.float32) if clearance else None
     with np.errstate(divide="ignore", invalid="ignore"):
         s0 = np.where(d[:, 2] > 0, (k.bottom - o[:, 2]) / d[:, 2], np.inf)
         s1 = np.where(d[:, 2] > 0, (k.top - o[:, 2]) / d[:, 2], -np.inf)
@@ -120,9 +120,10 @@ def _march_part(o, d, a, b, k, spacing, steps, todo, idx, hit, rho, clear):
     """March rays `todo` (positions into idx) over [a, b] of their crossing, from below: n
     points from end to end sample the silhouette, the relief only where it covers; the first
     point inside marks the ray hit, its ρ the opacity there, and the least |height − relief|
-    of the points up to it (of all, for a ray that misses) bounds its clearance (arrays over
-    all rays, indexed by idx) → the rays still not inside. Every point of a group of rays at once (MARCH_POINTS
-    at a time): a loop over the points paid Python's overhead at each (a preview 2.3× slower)."""
+    of the points up to it (of all, for a ray that misses) bounds its clearance where `clear`
+    is kept (arrays over all rays, indexed by idx) → the rays still not inside. Every point
+    of a group of rays at once (MARCH_POINTS at a time): a loop over the points paid
+    Python's overhead at each (a preview 2.3× slower)."""
     todo = todo[b[todo] > a[todo]]
     if not todo.size:
         return todo
@@ -143,14 +144,16 @@ def _march_part(o, d, a, b, k, spacing, steps, todo, idx, hit, rho, clear):
         over = (x >= 0) & (x <= lw) & (y >= 0) & (y <= lh)
         over[over] = sample_layer(k.alpha, x[over], y[over]) >= 0.5
         surface = k.z_px + sample_layer(k.relief_px, x[over], y[over])
-        gap = np.full(over.shape, np.inf, np.float32)   # |height − relief| on the silhouette
-        gap[over] = np.abs(p[..., 2][over] - surface)
+        if clear is not None:
+            gap = np.full(over.shape, np.inf, np.float32)   # |height − relief| on the silhouette
+            gap[over] = np.abs(p[..., 2][over] - surface)
         over[over] = p[..., 2][over] <= surface
         inside = over.any(axis=1)
         first = np.argmax(over[inside], axis=1)     # the first point inside, from below
         rows = np.flatnonzero(inside)
-        gap[rows] = np.where(np.arange(n)[None, :] <= first[:, None], gap[rows], np.inf)
-        clear[idx[group]] = np.minimum(clear[idx[group]], gap.min(axis=1))
+        if clear is not None:
+            gap[rows] = np.where(np.arange(n)[None, :] <= first[:, None], gap[rows], np.inf)
+            clear[idx[group]] = np.minimum(clear[idx[group]], gap.min(axis=1))
         hit[idx[group[inside]]] = True
         rho[idx[group[inside]]] = sample_layer(k.opacity, x[rows, first], y[rows, first])
         missed.append(group[~inside])
@@ -182,7 +185,8 @@ def _line_map(k, kind, vector, spacing, steps):
             back = np.where(d[:, 2] > 0, (k.z_px - k.bottom) / d[:, 2], 0.0)
             length = np.where(d[:, 2] > 0, (k.top - k.bottom) / d[:, 2], 0.0)
         start = q - back[:, None] * d                 # where the line enters the slab
-        hit, rho, _ = _march(start - 1e-9 * d, d, length + 2e-9, k, spacing, steps)
+        hit, rho, _ = _march(start - 1e-9 * d, d, length + 2e-9, k, spacing, steps,
+                             clearance=False)
         shape = (rows.stop - rows.start, cols.stop - cols.start)
         hmap[rows, cols], rmap[rows, cols] = hit.reshape(shape), rho.reshape(shape)
     return hmap, rmap
@@ -229,8 +233,8 @@ def _receiver(o, k):
 
 
 def _through_one(o, r, kind, vector, k, spacing, steps, maps, centre, exact):
-    """(v, ρ, clearance) of occluder k for rays from o (N, 3) toward one light point (r: _receiver(o, k);
-    vector (3,), or (N, 3): each ray's own point of the light, _shared). With `maps`: a sun
+    """(v, ρ, clearance) of occluder k for rays from o (N, 3) toward one light point (r:
+    _receiver(o, k); vector (3,), or (N, 3): each ray's own point of the light, _shared). With `maps`: a sun
     over a layer of one opacity by its SunTable, every ray that starts under the slab's top; otherwise the line map toward the light's centre point (`centre`),
     read where a ray crosses the occluder's plane, for rays that start below the slab and
     whose light lies above it; the rest by a march of each ray. (For a point of a light's
@@ -347,7 +351,7 @@ def transmittance(origins, light, occluders, steps=64, *, canvas=None, spacing=N
         neighbours' centres too (the edge test compares them): each equals the whole bake's
         pixel bit for bit (every ray is traced on its own).
     clearance : bool
-        Return each pixel's clearance from each occluder too (CLEARANCE).
+        Return each pixel's clearance too: the least over every occluder (below).
 
     Returns
     -------
