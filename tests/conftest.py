@@ -7,7 +7,9 @@ tests/blender are marked `blender`, so `pytest -m "not blender"` runs the rest i
 With DYNPAINT_NO_BPY=1 importing bpy fails, which proves that they need no Blender.
 """
 import base64
+import contextlib
 import dataclasses
+import io
 import os
 import signal
 import subprocess
@@ -58,6 +60,27 @@ def flat_normals(h, w, dtype=np.float32):
     n = np.zeros((h, w, 3), dtype)
     n[..., 2] = 1
     return n
+
+
+def cli_in_process(*args, cwd=None):
+    """Run the command line's main(ARGS) in this process → CompletedProcess (text), as
+    run_cli would give it: for the numpy tier's commands that need no Blender (a fresh
+    Python costs ~0.5 s of start-up per run; `python -m dynpaint_addon` itself is run in a
+    fresh process by the Blender tests)."""
+    from dynpaint_addon.cli import main       # (here: ~0.4 s that most workers never need)
+    out, err, here = io.StringIO(), io.StringIO(), os.getcwd()
+    args = list(map(str, args))
+    try:
+        os.chdir(cwd or REPO)
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            try:
+                code = main(args)
+            except SystemExit as exc:          # argparse's own errors
+                code = exc.code
+    finally:
+        os.chdir(here)
+    return subprocess.CompletedProcess(["dynpaint", *args], code, out.getvalue(),
+                                       err.getvalue())
 
 
 def run_cli(*args, cwd=None, timeout=600):

@@ -56,3 +56,14 @@ def test_overhead_lights_prints_a_ratio_per_case(one_run, capsys):
     worst = overhead_lights.main(["--size", "64", "--levels", "draft"])
     out = capsys.readouterr().out
     assert np.isfinite(worst) and out.count("| draft |") == 8 and "goal ≤ 1.2×" in out
+
+
+def test_suite_speed_reads_pytests_count_and_refuses_a_run_without_one():
+    """benchmarks/suite_speed.py (issue 62) keeps each run's count of tests from pytest's
+    last line, and a run that printed none (it failed before testing) is not a number."""
+    import suite_speed
+    assert suite_speed.pytest_summary("694 passed in 45.13s")[0] == 694
+    assert suite_speed.pytest_summary("== 1380 passed, 2 skipped, 1 warning in 841.2s ==") == \
+        (1380, 841.2)
+    with pytest.raises(RuntimeError, match="no pytest summary"):
+        suite_speed.pytest_summary("ERROR: file or directory not found: tests/x")

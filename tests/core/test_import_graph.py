@@ -39,27 +39,29 @@ def modules():
 
 
 @functools.lru_cache(maxsize=None)
-def parsed(path):
-    """(syntax tree, ids of the nodes inside a function) of a module (parsed once for every
-    test: the trees are only read)."""
-    tree = ast.parse(open(path, encoding="utf-8").read())
-    in_function = set()
-    for node in ast.walk(tree):
-        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
-            in_function |= {id(n) for n in ast.walk(node) if n is not node}
-    return tree, in_function
+def import_nodes(path):
+    """[(import statement, inside a function)] of a module, found in one walk of its tree
+    (once for every test: they only read them)."""
+    found = []
+
+    def visit(node, in_function):
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, (ast.Import, ast.ImportFrom)):
+                found.append((child, in_function))
+            visit(child, in_function or isinstance(child, (ast.FunctionDef,
+                                                           ast.AsyncFunctionDef)))
+    visit(ast.parse(open(path, encoding="utf-8").read()), False)
+    return found
 
 
 def imports(name, path, known):
     """[(imported module, inside a function, line)] of one module's own-package imports."""
     is_package = path.endswith("__init__.py")
-    tree, in_function = parsed(path)
     out = []
-    for node in ast.walk(tree):
-        targets = []
+    for node, in_function in import_nodes(path):
         if isinstance(node, ast.Import):
             targets = [a.name for a in node.names]
-        elif isinstance(node, ast.ImportFrom):
+        else:
             if node.level:
                 base = name.split(".") if is_package else name.split(".")[:-1]
                 base = base[:len(base) - node.level + 1]
@@ -70,7 +72,7 @@ def imports(name, path, known):
             targets = [f"{module}.{a.name}" if f"{module}.{a.name}" in known else module
                        for a in node.names]
         for target in targets:
-            out.append((target, id(node) in in_function, node.lineno))
+            out.append((target, in_function, node.lineno))
     return out
 
 
@@ -174,10 +176,9 @@ def test_no_single_letter_module_aliases():
     known = modules()
     short = []
     for name, path in known.items():
-        for node in ast.walk(parsed(path)[0]):
-            if isinstance(node, (ast.Import, ast.ImportFrom)):
-                short += [f"{name}:{node.lineno} {a.name} as {a.asname}" for a in node.names
-                          if a.asname and len(a.asname) == 1]
+        for node, _ in import_nodes(path):
+            short += [f"{name}:{node.lineno} {a.name} as {a.asname}" for a in node.names
+                      if a.asname and len(a.asname) == 1]
     assert short == []
 
 
@@ -186,13 +187,12 @@ BPY_FREE = ("core", "tables", "nodegraph", "shapes", "web", "farm", "cli", "entr
 
 def bpy_imports(path):
     """[(line, inside a function)] of a module's imports of bpy (or its submodules)."""
-    tree, in_function = parsed(path)
     found = []
-    for node in ast.walk(tree):
+    for node, in_function in import_nodes(path):
         names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
-                 [node.module or ""] if isinstance(node, ast.ImportFrom) and not node.level else [])
+                 [node.module or ""] if not node.level else [])
         if any(n.split(".")[0] == "bpy" for n in names):
-            found.append((node.lineno, id(node) in in_function))
+            found.append((node.lineno, in_function))
     return found
 
 

@@ -4,7 +4,7 @@ heights out, bit for bit (EXR frames: no Blender needed)."""
 import numpy as np
 import pytest
 
-from conftest import run_cli
+from conftest import cli_in_process as run_cli
 from dynpaint_addon.cli import main as cli_main
 from dynpaint_addon.core import laplace
 from dynpaint_addon.core.frames import SheetGrid, sheet_cell

@@ -28,10 +28,15 @@ def _stroke(rng, px):
     n = px.shape[0]
     r = rng.integers(1, 24)
     cy, cx = rng.integers(-8, n + 8, 2)
-    y, x = np.ogrid[0:n, 0:n]
+    # the cone reaches r px from its centre: only that box is computed (the whole image's
+    # cone took longer than the edit it tests at 768²)
+    y0, y1, x0, x1 = (max(0, cy - r), max(0, min(n, cy + r + 1)),
+                      max(0, cx - r), max(0, min(n, cx + r + 1)))
+    y, x = np.ogrid[y0:y1, x0:x1]
     cone = np.clip(1 - np.hypot(x - cx, y - cy) / r, 0, 1)[..., None]
     out = px.copy()
-    out[..., :3] = np.clip(out[..., :3] + rng.uniform(-0.3, 0.3) * cone, 0, 1)
+    part = out[y0:y1, x0:x1, :3]
+    part[:] = np.clip(part + rng.uniform(-0.3, 0.3) * cone, 0, 1)
     return out
 
 
@@ -62,9 +67,11 @@ def _carry(ts, lights, shape, normals_box, heights_box, whole, edited):
 
 @pytest.mark.parametrize("preblur", [0.0, 1.5])
 def test_random_strokes_on_a_height_map_equal_the_whole_decode_and_bake(preblur):
-    """200 random strokes on a 160² height map, 5 suns (one straight up: baked whole): after
+    """120 random strokes on a 160² height map, 5 suns (one straight up: baked whole): after
     each the edited decode equals the whole decode bit for bit, and the cos-θ terms carried
-    from stroke to stroke equal whole bakes (checked every 20 strokes) within 1e-6."""
+    from stroke to stroke equal whole bakes (checked every 20 strokes) within 1e-6. (A
+    chain of 200 caught no fault that 120 do not: a stroke's rays left out fail at the first
+    stroke, margins narrowed to nothing at neither length.)"""
     rng = np.random.default_rng(41)
     p = params.defaults()
     p.shape.kind, p.shape.height_scale, p.shape.preblur = "height", 0.2, preblur
@@ -72,7 +79,7 @@ def test_random_strokes_on_a_height_map_equal_the_whole_decode_and_bake(preblur)
     shape = shape_normals(img, p)
     ts = [crossings.sun_cos_theta(shape[0], sun, 0.01, heights_px=shape[1]) for sun in SUNS]
     retraced = 0
-    for k, img, (shape, normals_box, heights_box) in _stroked(rng, img, p, shape, 200):
+    for k, img, (shape, normals_box, heights_box) in _stroked(rng, img, p, shape, 120):
         whole = shape_normals(img, p)
         assert np.array_equal(shape[0], whole[0]) and np.array_equal(shape[1], whole[1]), k
         retraced += _carry(ts, SUNS, shape, normals_box, heights_box,
@@ -81,7 +88,7 @@ def test_random_strokes_on_a_height_map_equal_the_whole_decode_and_bake(preblur)
             for sun, t in zip(SUNS, ts):
                 full = crossings.sun_cos_theta(whole[0], sun, 0.01, heights_px=whole[1])
                 assert np.abs(t - full).max() <= 1e-6, (k, sun.vector)
-    assert retraced >= 150 * 4          # every sun but the overhead one re-traced
+    assert retraced >= 90 * 4           # every sun but the overhead one re-traced
 
 
 def test_random_strokes_on_a_normal_maps_slopes_equal_the_whole_bake():
