@@ -1,5 +1,7 @@
 """The compositor node group: the same description as the material, relighting images with no
 3D scene; checked against the numpy core on the parity suite's recipes (issue 5)."""
+import warnings
+
 import numpy as np
 import pytest
 
@@ -65,8 +67,12 @@ def test_operator_adds_a_wired_group_for_the_active_painting(tmp_path):
     assert bpy.ops.dynpaint.add(directory=folder, files=[{"name": n} for n in (
         "normal.png", "dark.png", "bright.png")]) == {"FINISHED"}
     scene = bpy.context.scene
-    assert bpy.ops.dynpaint.add_compositor_group() == {"FINISHED"}
-    tree = scene.compositing_node_group
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        assert bpy.ops.dynpaint.add_compositor_group() == {"FINISHED"}
+    # nothing Blender says it will remove (5.3: Scene.compositing_node_group, removal in 6.0)
+    assert [str(w.message) for w in caught if issubclass(w.category, DeprecationWarning)] == []
+    tree = compositor.compositor_tree(scene)
     node = next(n for n in tree.nodes if n.bl_idname == "CompositorNodeGroup")
     assert node.inputs["Shape"].is_linked and node.inputs["Dark"].is_linked
     assert node.outputs["Image"].is_linked
@@ -156,7 +162,7 @@ def test_passes_per_light_match_core(paths, tmp_path):
     recipe = make_recipe("two_lights_coloured", paths)
     compositor.composite_recipe(recipe, str(tmp_path / "c.exr"))
     scene = bpy.context.scene
-    tree = scene.compositing_node_group
+    tree = compositor.compositor_tree(scene)
     node = next(n for n in tree.nodes if n.bl_idname == "CompositorNodeGroup")
     out = next(n for n in tree.nodes if n.bl_idname == "NodeGroupOutput")
     from dynpaint_addon.core.pipeline import light_terms, shape_normals

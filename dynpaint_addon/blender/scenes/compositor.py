@@ -27,6 +27,26 @@ from .painting_scene import output_settings
 GROUP_NAME = "Dynamic Painting"
 
 
+def compositor_tree(scene):
+    """The node group the scene's compositor runs, or None. Blender 5.3 keeps it on the
+    scene's active compositor effect; Scene.compositing_node_group, 5.0's way, reads that
+    effect there but is deprecated, to go in 6.0 (docs/blender-notes.md)."""
+    effects = getattr(scene, "compositor_effects", None)
+    if effects is None:
+        return scene.compositing_node_group
+    return effects.active.node_group if effects.active else None
+
+
+def set_compositor_tree(scene, tree):
+    """Make `tree` the node group the scene's compositor runs: on 5.3 the active effect's, a
+    new effect where the scene has none (as compositing_node_group's setter does there)."""
+    effects = getattr(scene, "compositor_effects", None)
+    if effects is None:
+        scene.compositing_node_group = tree
+    else:
+        (effects.active or effects.new(name="Scene Effect")).node_group = tree
+
+
 def build_group(features, name=GROUP_NAME):
     """A compositor node group for `features` (a new one; an existing name gets a suffix)."""
     group = bpy.data.node_groups.new(name, "CompositorNodeTree")
@@ -113,7 +133,7 @@ def composite_recipe(recipe, out, shadow_folder=None):
     group = build_group(f)
     tree = bpy.data.node_groups.new("Composite", "CompositorNodeTree")
     tree.interface.new_socket("Image", in_out="OUTPUT", socket_type="NodeSocketColor")
-    scene.compositing_node_group = tree
+    set_compositor_tree(scene, tree)
     node = tree.nodes.new("CompositorNodeGroup")
     node.node_tree = group
     for channel, img in images.items():
@@ -163,11 +183,11 @@ def features_for_options(kind, suns, points, shadows, specular, channels, silhou
 
 def add_group_node(scene, group):
     """Put a group node into the scene's compositor (made if the scene has none) → the node."""
-    tree = scene.compositing_node_group
+    tree = compositor_tree(scene)
     if tree is None:
         tree = bpy.data.node_groups.new("Compositor", "CompositorNodeTree")
         tree.interface.new_socket("Image", in_out="OUTPUT", socket_type="NodeSocketColor")
-        scene.compositing_node_group = tree
+        set_compositor_tree(scene, tree)
         out = tree.nodes.new("NodeGroupOutput")
         out.location = (600, 0)
     node = tree.nodes.new("CompositorNodeGroup")
@@ -187,7 +207,7 @@ def wire_painting(scene, node, mat, state):
     """Feed a group node built for a painting its images, settings and current lights
     (state: the painting's PaintingState)."""
     s = mat.dynamic_painting
-    tree = scene.compositing_node_group
+    tree = compositor_tree(scene)
     images = dict(state.images)
     for item in s.derived:        # numpy-prepared copies: height, blurred E/B; the frame a
         #                           moving painting shows (§16: remade as the frame changes)
