@@ -5,8 +5,9 @@ The tier — README's command, `pytest -q -n auto --dist loadfile -m "not blende
 run --runs times in this checkout and as many in a git worktree of --baseline, alternately:
 this machine's speed drifts by a fifth from hour to hour (the same code measured 42 s and
 52 s on one day), and runs taken in turn see the same drift. Each run keeps its wall time
-(from the start of its Python to its exit), its CPU time (user + system of every process it started) and its
-count of tests; the report gives each checkout's median and range and the ratio of medians.
+(from the start of its Python to its exit), its CPU time (user + system of every process it
+started) and its count of tests; the report gives each checkout's median and range and the
+ratio of medians.
 
     .venv/bin/python benchmarks/suite_speed.py --baseline 1cdb38e --runs 4 --out docs/suite-speed.md
 """

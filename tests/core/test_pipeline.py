@@ -178,7 +178,8 @@ def test_random_parameter_sweep_stays_finite_and_in_range():
     """§14 across the whole pipeline: 500 random parameter sets (each number at its min, its
     max or between: each extreme of each number drawn ~170 times, each pair of two numbers'
     extremes ~55 times) and random lights on a small painting with every channel present: no
-    NaN/Inf, every value in [0, 1]. (tests/test_sweeps.py renders such sets in Blender.)"""
+    NaN/Inf, every value in [0, 1]. (tests/blender/test_sweeps.py renders such sets in
+    Blender.)"""
     from parity_recipes import random_lights, random_params
     rng = np.random.default_rng(42)
     size = 12
