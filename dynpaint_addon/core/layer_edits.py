@@ -276,6 +276,8 @@ def rays_meeting_each(origins, points, changes, margin=1.0):
             out.append(np.zeros(shape, bool))
             out[-1][rows, cols] = _meeting(block, change, ranges, margin)
         return out
+    if all(vectors[:, 2].min() <= change[5] for change in changes):
+        return [np.ones(shape, bool) for _ in changes]     # (no reach to bound)
     o = [origins[..., a].astype(np.float64) for a in range(3)]
     rise = [vectors[:, 2].min() - o[2], vectors[:, 2].max() - o[2]]
     ranges = []
