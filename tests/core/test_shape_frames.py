@@ -4,7 +4,7 @@ heights out, bit for bit (EXR frames: no Blender needed)."""
 import numpy as np
 import pytest
 
-from conftest import cli_in_process as run_cli
+from conftest import cli_in_process
 from dynpaint_addon.cli import main as cli_main
 from dynpaint_addon.core import laplace
 from dynpaint_addon.core.frames import SheetGrid, sheet_cell
@@ -51,8 +51,8 @@ def test_a_part_that_does_not_change_keeps_its_heights_bit_for_bit():
 
 def test_a_sequence_in_gives_a_sequence_out_each_frame_as_alone(tmp_path):
     write_sequence(str(tmp_path / "mask_####.exr"), _masks())
-    r = run_cli("make-shape", "inflate", tmp_path / "mask_####.exr", "--profile", "flat",
-                "--out", tmp_path / "height_####.exr")
+    r = cli_in_process("make-shape", "inflate", tmp_path / "mask_####.exr", "--profile", "flat",
+                       "--out", tmp_path / "height_####.exr")
     assert r.returncode == 0, r.stderr
     assert "frame 5/6 (mask_0005.exr): the same pixels as frame 3: its shape" in r.stdout
     assert "wrote 6 frames" in r.stdout and "the figure is where" in r.stderr
@@ -68,9 +68,9 @@ def test_a_sheet_in_gives_a_sheet_of_the_same_grid_out(tmp_path):
     masks = _masks()
     write_sheet(str(tmp_path / "sheet.exr"), masks, 4, 2, margin=3, spacing=2)
     write_sequence(str(tmp_path / "mask_####.exr"), masks)
-    r = run_cli("make-shape", "inflate", tmp_path / "sheet.exr", "--columns", "4", "--rows",
-                "2", "--count", "6", "--margin", "3", "--spacing", "2",
-                "--out", tmp_path / "heights.exr")
+    r = cli_in_process("make-shape", "inflate", tmp_path / "sheet.exr", "--columns", "4", "--rows",
+                       "2", "--count", "6", "--margin", "3", "--spacing", "2", "--out",
+                       tmp_path / "heights.exr")
     assert r.returncode == 0, r.stderr
     assert "wrote a sheet of 6 frames, 4 × 2 cells" in r.stdout
     assert cli_main(["make-shape", "inflate", str(tmp_path / "mask_####.exr"),
@@ -90,8 +90,8 @@ def test_integrated_frames_share_one_floor(tmp_path):
     for i, m in enumerate(masks):
         n = _cut_out_normals(m)
         write_exr(str(tmp_path / f"n_{i + 1:04d}.exr"), np.dstack([(n + 1) / 2, m]))
-    r = run_cli("make-shape", "integrate", tmp_path / "n_####.exr", "--mask", "alpha",
-                "--encoding", "rgb", "--strength", "1", "--out", tmp_path / "z_####.exr")
+    r = cli_in_process("make-shape", "integrate", tmp_path / "n_####.exr", "--mask", "alpha",
+                       "--encoding", "rgb", "--strength", "1", "--out", tmp_path / "z_####.exr")
     assert r.returncode == 0, r.stderr
     frames = [read_image(str(tmp_path / f"z_{i:04d}.exr")).pixels[..., 0] for i in range(1, 5)]
     assert min(f.min() for f in frames) == 0
@@ -109,7 +109,7 @@ def test_integrated_frames_share_one_floor(tmp_path):
 ])
 def test_bad_frames_say_what_is_wrong(tmp_path, args, message):
     write_sequence(str(tmp_path / "mask_####.exr"), _masks(frames=2))
-    r = run_cli("make-shape", "inflate", *args, cwd=tmp_path)
+    r = cli_in_process("make-shape", "inflate", *args, cwd=tmp_path)
     assert r.returncode != 0 and message in r.stderr, r.stderr
     assert "Traceback" not in r.stderr
 
@@ -123,12 +123,12 @@ def test_photometric_methods_run_frame_by_frame_too(tmp_path):
         for side in ("left", "right", "top"):
             write_exr(str(tmp_path / f"lit_{side}_{n:04d}.exr"),
                       rng.random((16, 16, 3), np.float32))
-    r = run_cli("make-shape", "rg-photo", tmp_path / "photo_####.exr",
-                "--out", tmp_path / "n_####.exr")
+    r = cli_in_process("make-shape", "rg-photo", tmp_path / "photo_####.exr", "--out",
+                       tmp_path / "n_####.exr")
     assert r.returncode == 0 and "wrote 2 frames" in r.stdout, r.stderr
-    r = run_cli("make-shape", "profiles", "--left", tmp_path / "lit_left_####.exr", "--right",
-                tmp_path / "lit_right_####.exr", "--top", tmp_path / "lit_top_####.exr",
-                "--out", tmp_path / "p_####.exr")
+    r = cli_in_process("make-shape", "profiles", "--left", tmp_path / "lit_left_####.exr",
+                       "--right", tmp_path / "lit_right_####.exr", "--top",
+                       tmp_path / "lit_top_####.exr", "--out", tmp_path / "p_####.exr")
     assert r.returncode == 0 and "wrote 2 frames" in r.stdout, r.stderr
     assert cli_main(["make-shape", "rg-photo", str(tmp_path / "photo_0002.exr"), "--out",
                      str(tmp_path / "alone.exr")]) == 0
